@@ -1,0 +1,52 @@
+"""The ``oacc`` command line: one module per subcommand.
+
+Each module in :data:`COMMANDS` has ``register(subparsers)``, which adds its
+parser and sets ``func`` to a function ``(args) -> int``. Modules import heavy
+dependencies (MuJoCo, placo, matplotlib) inside that function, not at the top,
+so that ``oacc compile`` starts fast. Errors derived from
+:class:`~oacdsl.errors.OacError` become one line on stderr and their exit code.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from oacdsl import __version__
+from oacdsl.errors import OacError
+
+#: Subcommand modules, in the order ``oacc --help`` lists them.
+COMMANDS: list[str] = [
+    "oacdsl.cli.skills_cmd",
+]
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The full argument parser with every subcommand registered."""
+    parser = argparse.ArgumentParser(
+        prog="oacc",
+        description="Reproduce a demonstrated manipulation task with Object-Action Complexes.",
+    )
+    parser.add_argument("--version", action="version", version=f"oacc {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for name in COMMANDS:
+        importlib.import_module(name).register(sub)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run ``oacc`` with ``argv`` (default: ``sys.argv[1:]``); return the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        status: int = args.func(args)
+    except OacError as error:
+        print(f"oacc: error: {error}", file=sys.stderr)
+        return error.exit_code
+    except KeyboardInterrupt:
+        print("oacc: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        return 0
+    return status

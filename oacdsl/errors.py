@@ -1,0 +1,69 @@
+"""The package's exceptions: one root, one subclass per part of the pipeline.
+
+Every error the command line can meet derives from :class:`OacError`; the CLI
+prints ``str(error)`` on one line and exits with ``error.exit_code``, never a
+traceback. Messages name the location (``file:line:col`` or ``file``) first
+when there is one, and list the valid names when a name was wrong.
+"""
+
+from __future__ import annotations
+
+
+class OacError(Exception):
+    """Root of every error raised on purpose by oacdsl."""
+
+    #: Exit status the command line uses for this error (2 = usage or I/O).
+    exit_code: int = 2
+
+    def __init__(self, message: str, *, location: str | None = None) -> None:
+        self.message = message
+        self.location = location
+        super().__init__(f"{location}: {message}" if location else message)
+
+
+class UsageError(OacError):
+    """A command was called with arguments that do not fit."""
+
+
+class InputError(OacError):
+    """A file could not be read: missing, undecodable, truncated or corrupt."""
+
+
+class LanguageError(OacError):
+    """The ``.oac`` text or library is invalid (carries diagnostics)."""
+
+    exit_code = 1
+
+
+class RecordingError(InputError):
+    """A motion-capture recording is unreadable or inconsistent."""
+
+
+class SegmentationError(OacError):
+    """Segmentation parameters or inputs are invalid."""
+
+
+class MatchingError(OacError):
+    """A sub-action could not be matched or a composition is unsound."""
+
+    exit_code = 1
+
+
+class RuntimeFailure(OacError):
+    """Execution on the simulated robot failed (unreachable target, force limit, …)."""
+
+    exit_code = 1
+
+
+def did_you_mean(name: str, valid: object) -> str:
+    """Return `` (did you mean 'x'?)`` or a list of the valid names, for messages."""
+    import difflib
+
+    names = sorted(str(v) for v in valid)  # type: ignore[attr-defined]
+    close = difflib.get_close_matches(name, names, n=1)
+    if close:
+        return f" (did you mean '{close[0]}'?)"
+    if not names:
+        return ""
+    shown = ", ".join(names[:12]) + (", …" if len(names) > 12 else "")
+    return f" (valid: {shown})"

@@ -1,0 +1,226 @@
+"""The typed model of the OAC language (pydantic, frozen, hashable).
+
+Every node may carry the :class:`Span` of the text it came from and the comments
+written before it; both are *trivia*: kept for diagnostics and for the printer,
+but left out of equality and hashing, so ``parse(print(m)) == m`` compares
+meaning, not layout. Collections whose order carries no meaning (parents,
+preconditions, effects) are normalised to sorted, de-duplicated tuples when a
+node is built, so two models that mean the same compare equal.
+
+Units: grasp offsets are metres in the object's frame.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+from oacdsl.world import NOTHING
+
+_TRIVIA = frozenset({"span", "comments", "note"})
+
+
+class Span(BaseModel):
+    """Where a node stands in its source: 1-based line and column, end exclusive."""
+
+    model_config = ConfigDict(frozen=True)
+
+    file: str
+    line: int
+    column: int
+    end_line: int
+    end_column: int
+
+    def __str__(self) -> str:
+        return f"{self.file}:{self.line}:{self.column}"
+
+
+class Node(BaseModel):
+    """Base of every model node: frozen, hashable, trivia outside equality."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    span: Span | None = Field(default=None, repr=False)
+    comments: tuple[str, ...] = Field(default=(), repr=False)
+
+    def _key(self) -> tuple[Any, ...]:
+        return tuple(v for k, v in self.__dict__.items() if k not in _TRIVIA)
+
+    def __eq__(self, other: object) -> bool:
+        return type(self) is type(other) and self._key() == other._key()  # type: ignore[attr-defined]
+
+    def __hash__(self) -> int:
+        return hash((type(self).__name__, self._key()))
+
+
+class ObjectClass(Node):
+    """``class Cup : Graspable, Container`` — a class with zero or more parents."""
+
+    kind: Literal["class"] = "class"
+    name: str
+    parents: tuple[str, ...] = ()
+
+    @field_validator("parents")
+    @classmethod
+    def _sort_parents(cls, v: tuple[str, ...]) -> tuple[str, ...]:
+        return tuple(sorted(set(v)))
+
+
+class Instance(Node):
+    """A named object of a scene; its name is the label of its marker group.
+
+    ``markers`` optionally lists the motion-capture marker names of the group
+    (an explicit mapping); ``environment`` marks geometry that is not tracked
+    (the table in the paper's scene): it takes no part in touching relations.
+    """
+
+    name: str
+    classes: tuple[str, ...]
+    markers: tuple[str, ...] = ()
+    environment: bool = False
+
+    @field_validator("classes")
+    @classmethod
+    def _sort_classes(cls, v: tuple[str, ...]) -> tuple[str, ...]:
+        return tuple(sorted(set(v)))
+
+
+class Scene(Node):
+    """``scene kitchen { … }`` — the instances of one demonstration setting."""
+
+    kind: Literal["scene"] = "scene"
+    name: str
+    instances: tuple[Instance, ...]
+
+    @field_validator("instances")
+    @classmethod
+    def _sort_instances(cls, v: tuple[Instance, ...]) -> tuple[Instance, ...]:
+        return tuple(sorted(v, key=lambda i: i.name))
+
+    def instance(self, name: str) -> Instance | None:
+        """The instance called ``name``, or None."""
+        for inst in self.instances:
+            if inst.name == name:
+                return inst
+        return None
+
+    def tracked(self) -> tuple[Instance, ...]:
+        """Instances that take part in touching relations."""
+        return tuple(i for i in self.instances if not i.environment)
+
+
+class Grasp(Node):
+    """``grasp Cup { … }`` — how the robot grasps objects of a class.
+
+    ``offset`` is the grasp point in the object frame, metres; ``approach`` is the
+    direction the hand comes from (``side``, ``top``, ``front``); ``type`` is the
+    hand shape (``power``, ``precision``, ``rim``, ``handle``).
+    """
+
+    kind: Literal["grasp"] = "grasp"
+    cls: str
+    type: str
+    approach: str
+    offset: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+
+class Atom(Node):
+    """A touching statement ``a <-> b``, ``a <-> nothing`` or its negation.
+
+    ``left``/``right`` are variable names (or instance names); the pair is
+    stored sorted unless ``right`` is :data:`~oacdsl.world.NOTHING`, which always
+    stays on the right. ``note`` is a trailing comment (the composer's provenance).
+    """
+
+    left: str
+    right: str
+    negated: bool = False
+    note: str | None = Field(default=None, repr=False)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _canonical(cls, data: Any) -> Any:
+        if isinstance(data, dict):
+            left, right = data.get("left"), data.get("right")
+            if left == NOTHING and right != NOTHING:
+                data = {**data, "left": right, "right": left}
+            elif isinstance(left, str) and isinstance(right, str) and right != NOTHING and right < left:
+                data = {**data, "left": right, "right": left}
+        return data
+
+    @property
+    def about_nothing(self) -> bool:
+        """True for ``x <-> nothing``."""
+        return self.right == NOTHING
+
+    def sort_key(self) -> tuple[str, str, bool]:
+        return (self.left, self.right, self.negated)
+
+
+def _atoms(v: tuple[Atom, ...]) -> tuple[Atom, ...]:
+    unique: dict[Atom, Atom] = {}
+    for atom in v:
+        unique.setdefault(atom, atom)
+    return tuple(sorted(unique.values(), key=Atom.sort_key))
+
+
+class Param(Node):
+    """A typed variable (wildcard) ``h: Hand``; ``default`` is an instance name."""
+
+    name: str
+    cls: str
+    default: str | None = None
+
+
+class Call(Node):
+    """One step of a composed OAC: ``grasp(h1, c1)`` — arguments are variable names."""
+
+    oac: str
+    args: tuple[str, ...]
+
+
+class Oac(Node):
+    """An Object-Action Complex: typed parameters, preconditions, effects, execution.
+
+    Exactly one of ``skill`` (a runtime skill by name) and ``steps`` (an ordered
+    list of OAC calls, for a composed OAC) is set.
+    """
+
+    kind: Literal["oac"] = "oac"
+    name: str
+    params: tuple[Param, ...]
+    pre: tuple[Atom, ...] = ()
+    effect: tuple[Atom, ...] = ()
+    skill: str | None = None
+    steps: tuple[Call, ...] | None = None
+
+    @field_validator("pre", "effect")
+    @classmethod
+    def _normalise_atoms(cls, v: tuple[Atom, ...]) -> tuple[Atom, ...]:
+        return _atoms(v)
+
+    @property
+    def composed(self) -> bool:
+        return self.steps is not None
+
+    def param(self, name: str) -> Param | None:
+        for p in self.params:
+            if p.name == name:
+                return p
+        return None
+
+
+Decl = ObjectClass | Scene | Grasp | Oac
+
+
+class Module(Node):
+    """The declarations of one ``.oac`` file, in source order."""
+
+    path: str
+    decls: tuple[Decl, ...]
+    #: Comments after the last declaration of the file.
+    trailing: tuple[str, ...] = Field(default=(), repr=False)
+
+    def _key(self) -> tuple[Any, ...]:
+        return (self.decls,)
