@@ -59,6 +59,10 @@ class RecordingError(InputError):
     """A motion-capture recording is unreadable or inconsistent."""
 
 
+class RecordingWarning(UserWarning):
+    """A recording was read, but something in it deserves a look (e.g. fewer frames than declared)."""
+
+
 class SegmentationError(OacError):
     """Segmentation parameters or inputs are invalid."""
 
