@@ -251,3 +251,39 @@ def test_merge_keeps_frame_zero_with_the_state_after_its_group():
     merged = merge_keyframes(kfs, 0.3)
     assert [(k.frame, k.time_s, k.state.sorted_relations()) for k in merged] == [
         (0, 0.0, [("a", "b")]), (200, 2.0, [("a", "b"), ("a", "c")])]
+
+
+class ThresholdDetector:
+    """A plug-in for the test: touching exactly while closer than d (dense, no hysteresis)."""
+
+    history_frames = 0
+    delay_frames = 0
+    reach_m = None
+
+    def __init__(self, params):
+        self.d = params.distance_m
+
+    def begin(self, recording, table):
+        self.state = np.zeros(table.n_pairs, dtype=bool)
+
+    def step(self, chunk):
+        from oacdsl.segmentation.detectors import PairChanges
+
+        states = chunk.dist_m[:, chunk.history:] < self.d
+        changes = PairChanges.from_states(chunk.pairs, states, self.state[chunk.pairs], chunk.start)
+        self.state[chunk.pairs] = states[:, -1]
+        return changes
+
+
+def test_a_detector_plugs_in_by_mode_name(monkeypatch):
+    from _aas_helpers import grid_scene
+
+    from oacdsl.segmentation import detectors
+
+    monkeypatch.setitem(detectors.DETECTORS, "threshold", f"{__name__}:ThresholdDetector")
+    rec = grid_scene(np.random.default_rng(3), 150, n_inst=3, markers=2, gap_rate=0.0)
+    plugged = segment(rec, AasParams(mode="threshold", distance_m=0.155, merge_s=0), chunk_frames=17)
+    paper = segment(rec, AasParams(distance_m=0.155, speed_m_s=math.inf, frames=1, merge_s=0))
+    assert plugged.parameters["mode"] == "threshold"
+    assert len(plugged.keyframes) > 3
+    assert plugged.keyframes == paper.keyframes

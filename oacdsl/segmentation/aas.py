@@ -2,13 +2,13 @@
 
 ``segment(recording, params)`` runs in chunks of frames: for each chunk it
 computes the distances of the marker pairs that can matter (broad phase, see
-:mod:`~oacdsl.segmentation.geometry`), asks the touch detector for each pair's
-touching state, reduces "instances touch while any pair of their markers
-touches" per instance pair, and records the frames where an instance pair
-changes. The detector's state (and the instance pairs' state) is carried across
-chunk borders, and each chunk re-reads the few frames before it that the
-detector needs, so the result does not depend on the chunk size. Memory is
-O(chunk × pairs), independent of the recording's length.
+:mod:`~oacdsl.segmentation.geometry`), asks the touch detector when each pair
+starts and stops touching, and reduces that to instance pairs ("instances
+touch while any pair of their markers touches", see
+:mod:`~oacdsl.segmentation.instances`). The detector's state and the instance
+pairs' state are carried across chunk borders, and each chunk re-reads the few
+frames before it that the detector needs, so the result does not depend on the
+chunk size. Memory is O(chunk × pairs), independent of the recording's length.
 """
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ import numpy as np
 from oacdsl.errors import SegmentationError
 from oacdsl.segmentation.detectors import DistanceChunk, TouchDetector, make_detector
 from oacdsl.segmentation.geometry import BOUND_MARGIN_M, ChunkGeometry
+from oacdsl.segmentation.instances import InstanceTouch
 from oacdsl.segmentation.keyframes import keyframes_from_changes, merge_keyframes
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
@@ -85,8 +86,8 @@ def _changes(
     """Causal frames, instance pairs and new states of every instance-pair change."""
     geometry = ChunkGeometry(recording, table)
     det.begin(recording, table)
+    tracker = InstanceTouch(table)
     n_frames, n_q = recording.n_frames, table.n_instance_pairs
-    touching = np.zeros(n_q, dtype=bool)  # instance-pair state at the frame before the chunk
     all_blocks = np.arange(n_q, dtype=np.intp)
     found: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
     # the first chunk holds two frames at least: frame 0 borrows frame 1's distance change
@@ -99,26 +100,17 @@ def _changes(
         else:
             with np.errstate(invalid="ignore"):
                 near = geometry.lower_bounds(x) <= det.reach_m + BOUND_MARGIN_M
-            blocks = np.flatnonzero(near | touching)
+            blocks = np.flatnonzero(near | tracker.touching)
         pairs, dist = geometry.distances(x, blocks)
         chunk = DistanceChunk(start, stop, start - lo, recording.times_s[lo:stop], pairs, dist,
                               recording.positions_m[lo:stop])
-        answer = det.step(chunk)
-        state = np.zeros((n_q, stop - start), dtype=bool)
-        state[table.block[answer.steady]] = True
-        if answer.pairs.size:
-            q_of = table.block[answer.pairs]
-            heads = np.flatnonzero(np.r_[True, q_of[1:] != q_of[:-1]])
-            state[q_of[heads]] |= np.logical_or.reduceat(answer.states, heads, axis=0)
-        previous = np.concatenate([touching[:, None], state[:, :-1]], axis=1)
-        q_idx, col = np.nonzero(state != previous)
-        if q_idx.size:
-            found.append((col + start, q_idx, state[q_idx, col]))
-        touching = state[:, -1].copy()
+        changed = tracker.apply(det.step(chunk))
+        if changed[0].size:
+            found.append(changed)
         if progress is not None:
             progress(stop, n_frames)
     if not found:
         empty = np.zeros(0, dtype=np.intp)
-        return empty, empty, np.zeros(0, dtype=bool)
+        return empty, empty.copy(), np.zeros(0, dtype=bool)
     return (np.concatenate([f[0] for f in found]), np.concatenate([f[1] for f in found]),
             np.concatenate([f[2] for f in found]))

@@ -22,7 +22,7 @@ import numpy as np
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.recording import Recording
 
-__all__ = ["BOUND_BLOCK_FRAMES", "BOUND_MARGIN_M", "ChunkGeometry"]
+__all__ = ["BOUND_BLOCK_FRAMES", "BOUND_MARGIN_M", "ChunkGeometry", "closest_distances"]
 
 #: Safety margin, metres, added to the reach in the broad phase against float32 rounding.
 BOUND_MARGIN_M = 1e-3
@@ -115,3 +115,25 @@ def _centre(positions: np.ndarray) -> np.ndarray:
             frame = block[rows[0]]
             return np.asarray(frame[~np.isnan(frame[:, 0])].mean(axis=0), dtype=np.float64)
     return np.zeros(3, dtype=np.float64)
+
+
+def closest_distances(recording: Recording, table: PairTable | None = None,
+                      chunk_frames: int = 4096) -> tuple[PairTable, np.ndarray]:
+    """Per instance pair and frame, the smallest marker-pair distance, metres.
+
+    Returns the pair table and a (Q, F) float32 array, NaN where no marker pair of
+    the two instances is visible. Memory O(Q × F); for plots and reports.
+    """
+    table = table or PairTable.of(recording)
+    geometry = ChunkGeometry(recording, table)
+    n_q = table.n_instance_pairs
+    out = np.full((n_q, recording.n_frames), np.nan, dtype=np.float32)
+    if n_q == 0:
+        return table, out
+    blocks = np.arange(n_q, dtype=np.intp)
+    heads = table.block_offsets[:-1]
+    for lo in range(0, recording.n_frames, chunk_frames):
+        hi = min(recording.n_frames, lo + chunk_frames)
+        _, dist = geometry.distances(geometry.coordinates(lo, hi), blocks)
+        out[:, lo:hi] = np.fmin.reduceat(dist, heads, axis=0)
+    return table, out
