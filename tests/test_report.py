@@ -230,3 +230,18 @@ def test_figures_are_png_and_show_what_changed(base):
     assert marker_snapshot_png(rec, 0).startswith(PNG)
     with pytest.raises(ValueError, match="outside the recording"):
         marker_snapshot_png(rec, rec.n_frames)
+
+
+def test_oacc_report_renders_the_page_again_from_result_json(work, capsys):
+    from oacdsl.cli import main
+
+    out, result = work
+    write_report(result, out)
+    (out / "report.html").unlink()
+    assert main(["report", str(out / "result.json")]) == 0
+    assert capsys.readouterr().out.strip() == str(out / "report.html")
+    assert len(img_sources((out / "report.html").read_text(encoding="utf-8"))) == 2 + 9 * 3 + 8
+    (out / "bad.json").write_text('{"demonstration": {"recording": "x"}}')
+    assert main(["report", str(out / "bad.json")]) == 2
+    err = capsys.readouterr().err
+    assert err == f"oacc: error: {out / 'bad.json'}: verdict: Field required\n"

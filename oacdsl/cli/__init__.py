@@ -20,6 +20,7 @@ from oacdsl.errors import OacError
 COMMANDS: list[str] = [
     "oacdsl.cli.skills_cmd",
     "oacdsl.cli.stats_cmd",
+    "oacdsl.cli.report_cmd",
 ]
 
 

@@ -30,13 +30,14 @@ class Report:
 
 
 def render_html(
-    result: dict[str, Any], base_dir: str | os.PathLike[str] | None = None
+    result: dict[str, Any], base_dir: str | os.PathLike[str] | None = None, *, source: str = "result"
 ) -> tuple[str, list[str]]:
     """The page for ``result`` (validated first) and the warnings about pictures.
 
-    Image paths in the result are resolved against ``base_dir`` (the report's folder).
+    Image paths in the result are resolved against ``base_dir`` (the report's folder); ``source``
+    names the result in error messages.
     """
-    r = validate_result(result)
+    r = validate_result(result, source=source)
     images = Images(Path(base_dir) if base_dir is not None else None)
     body = "".join([
         header(r),
@@ -58,17 +59,20 @@ def render_html(
     return page, images.warnings
 
 
-def write_report(result: dict[str, Any], out_dir: str | os.PathLike[str]) -> Report:
+def write_report(
+    result: dict[str, Any], out_dir: str | os.PathLike[str], *, source: str = "result"
+) -> Report:
     """Write ``out_dir/result.json`` and ``out_dir/report.html`` (each atomically) from ``result``.
 
     ``result`` follows the schema in :mod:`oacdsl.report.schema` (docs/report.md). Pictures it
-    references are embedded into the page as data URIs, so the page can be mailed or archived
-    alone. Raises :class:`~oacdsl.errors.InputError` when ``result`` does not fit the schema or
-    cannot be written as JSON, and ``OSError`` subclasses as InputError when writing fails.
+    references (paths relative to ``out_dir``) are embedded into the page as data URIs, so the
+    page can be mailed or archived alone. ``source`` names the result in error messages.
+    Raises :class:`~oacdsl.errors.InputError` when ``result`` does not fit the schema, cannot be
+    written as JSON, or the files cannot be written.
     """
     out = Path(out_dir)
     doc = result if "schema_version" in result else {"schema_version": SCHEMA_VERSION, **result}
-    page, warnings = render_html(doc, out)
+    page, warnings = render_html(doc, out, source=source)
     try:
         text = json.dumps(doc, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
     except (TypeError, ValueError) as e:
