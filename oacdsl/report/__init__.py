@@ -7,6 +7,7 @@ pictures embedded as data URIs, no JavaScript, no network) and ``result.json``.
 """
 
 from oacdsl.report.atomic import write_atomic
+from oacdsl.report.build import bound_conditions, reliability_doc
 from oacdsl.report.page import Report, render_html, write_report
 from oacdsl.report.schema import SCHEMA_VERSION, Result, validate_result
 
@@ -14,6 +15,8 @@ __all__ = [
     "SCHEMA_VERSION",
     "Report",
     "Result",
+    "bound_conditions",
+    "reliability_doc",
     "render_html",
     "validate_result",
     "write_atomic",
