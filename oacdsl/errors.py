@@ -79,6 +79,10 @@ class RuntimeFailure(OacError):
     exit_code = 1
 
 
+class StoreError(OacError):
+    """The run store (SQLite database of run outcomes) is unusable: foreign, newer, unreadable."""
+
+
 def did_you_mean(name: str, valid: object) -> str:
     """Return `` (did you mean 'x'?)`` or a list of the valid names, for messages."""
     import difflib
