@@ -126,7 +126,7 @@ def _flips(sets: np.ndarray, resets: np.ndarray,
     edges[:, 0] = sets[:, 0] | resets[:, 0]
     np.greater(sets[:, 1:], sets[:, :-1], out=edges[:, 1:])
     edges[:, 1:] |= resets[:, 1:] > resets[:, :-1]
-    rows, cols = np.divmod(np.flatnonzero(edges), edges.shape[1])  # faster than 2-D nonzero
+    rows, cols = np.divmod(np.flatnonzero(edges), sets.shape[1])  # faster than 2-D nonzero
     kind = sets[rows, cols]
     previous = np.empty_like(kind)
     previous[1:] = kind[:-1]
