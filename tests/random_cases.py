@@ -44,7 +44,7 @@ def scenes(draw, classes: list[ObjectClass], min_size: int = 2, max_size: int = 
 def atoms_over(draw, variables: list[str], n_min: int = 0, n_max: int = 3) -> tuple[Atom, ...]:
     out = []
     for _ in range(draw(st.integers(n_min, n_max))):
-        kind = draw(st.sampled_from(["pos", "pos", "neg", "none", "some"]))
+        kind = draw(st.sampled_from(["pos", "pos", "neg", "none", "pos", "neg", "none", "some"]))
         a = draw(st.sampled_from(variables))
         if kind in ("none", "some") or len(variables) < 2:
             out.append(Atom(left=a, right=NOTHING, negated=kind == "some"))
@@ -54,16 +54,40 @@ def atoms_over(draw, variables: list[str], n_min: int = 0, n_max: int = 3) -> tu
     return tuple(out)
 
 
+def consistent(atoms: tuple[Atom, ...]) -> bool:
+    """True when the atoms can hold in one state."""
+    keys = {(a.left, a.right, a.negated) for a in atoms}
+    for x, y, neg in keys:
+        if (x, y, not neg) in keys:
+            return False
+        if y != NOTHING and not neg and ((x, NOTHING, False) in keys or (y, NOTHING, False) in keys):
+            return False
+    return True
+
+
 @st.composite
-def oacs(draw, classes: list[ObjectClass], name: str, constants: list[str] = ()) -> Oac:  # type: ignore[assignment]
+def oacs(draw, classes: list[ObjectClass], name: str, constants: list[str] = (),  # type: ignore[assignment]
+         fit: Library | None = None, scene: Scene | None = None) -> Oac:
+    """A random OAC; with ``fit`` and ``scene``, its parameters' classes are classes of
+    distinct instances of the scene (so the OAC can bind)."""
     n = draw(st.sampled_from([2, 3, 1, 4]))
     class_names = [c.name for c in classes]
-    params = tuple(Param(name=f"v{k}", cls=draw(st.sampled_from(class_names))) for k in range(n))
+    if fit is not None and scene is not None:
+        of = fit.instance_classes(scene)
+        picked = draw(st.permutations(sorted(of)))[: n]
+        params = tuple(Param(name=f"v{k}", cls=draw(st.sampled_from(sorted(of[i]))))
+                       for k, i in enumerate(picked))
+    else:
+        params = tuple(Param(name=f"v{k}", cls=draw(st.sampled_from(class_names))) for k in range(n))
     names = [p.name for p in params]
     if constants and draw(st.booleans()):
         names = [*names, draw(st.sampled_from(list(constants)))]
-    pre = draw(atoms_over(names, 0, 3))
-    effect = draw(atoms_over(names, 1, 3))
+    if fit is not None:  # atoms that can hold together: a usable OAC
+        pre = draw(atoms_over(names, 0, 3).filter(consistent))
+        effect = draw(atoms_over(names, 1, 3).filter(consistent))
+    else:
+        pre = draw(atoms_over(names, 0, 3))
+        effect = draw(atoms_over(names, 1, 3))
     return Oac(name=name, params=params, pre=pre, effect=effect, skill="mix")
 
 
@@ -152,3 +176,67 @@ def brute_force(library: Library, classes: Mapping[str, frozenset[str]], before:
                     continue
             found.add((oac.name, tuple(zip(params, values, strict=True))))
     return found
+
+
+@st.composite
+def demonstrations(draw, max_steps: int = 5):
+    """(library, scene, steps): a random library and a chain of real (strict) matches.
+
+    Each step is an OAC under an injective binding whose bound preconditions hold in
+    the current state and whose bound effects hold in the state they produce.
+    """
+    from oacdsl.matching.composer import Step
+
+    classes = draw(hierarchies())
+    scene = draw(scenes(classes, 3, 6))
+    inst = [i.name for i in scene.instances]
+    n_oacs = draw(st.integers(1, 4))
+    base = Library([Module(path="<random>", decls=(*classes, scene))])
+    lib_oacs = [draw(oacs(classes, f"o{k}", fit=base, scene=scene)) for k in range(n_oacs)]
+    library = Library([Module(path="<random>", decls=(*classes, scene, *lib_oacs))])
+    cls = library.instance_classes(scene)
+    options = {o.name: [v for v in itertools.permutations(inst, len(o.params))
+                        if all(p.cls in cls[i] for p, i in zip(o.params, v, strict=True))] for o in lib_oacs}
+    usable = [o for o in lib_oacs if options[o.name]]
+    steps: list[Step] = []
+    current = draw(states(inst))
+    for _ in range(12 if usable else 0):  # a first step, its preconditions forced into the first state
+        oac = draw(st.sampled_from(usable))
+        values = draw(st.sampled_from(options[oac.name]))
+        binding = dict(zip([p.name for p in oac.params], values, strict=True))
+        pre, eff = bind_atoms(oac.pre, binding), bind_atoms(oac.effect, binding)
+        undo = [Atom(left=a.left, right=a.right, negated=not a.negated)
+                for a in eff if not a.about_nothing]
+        start = apply_effects(apply_effects(current, undo), pre)
+        after = apply_effects(start, eff)
+        if all(holds(a, start) for a in pre) and all(holds(a, after) for a in eff) and after != start:
+            steps.append(Step(oac, tuple(binding.items()), start, after, 0))
+            current = after
+            break
+    # Later steps: any OAC and binding whose preconditions hold now (found by a pre-only matcher).
+    from oacdsl.matching import Matcher
+
+    pre_only = Matcher([o.model_copy(update={"effect": ()}) for o in lib_oacs], cls)
+    for k in range(1, draw(st.integers(2, max_steps)) if steps else 0):
+        valid = []
+        found = pre_only.raw_matches(current, current, "paper")
+        for co, b in sorted(found, key=lambda x: (x[0].index, x[1])):
+            oac = lib_oacs[co.index]
+            binding = dict(zip(co.names, b, strict=True))
+            eff = bind_atoms(oac.effect, binding)
+            after = apply_effects(current, eff)
+            if after != current and all(holds(a, after) for a in eff):
+                valid.append((oac, tuple((p.name, binding[p.name]) for p in oac.params), after))
+        if not valid:
+            break
+        oac, binding_items, after = draw(st.sampled_from(valid))
+        steps.append(Step(oac, binding_items, current, after, k))
+        current = after
+    return library, scene, steps
+
+
+@st.composite
+def states_satisfying(draw, instances: list[str], atoms: tuple[Atom, ...]):
+    """A random state in which the bound ``atoms`` hold (None when they cannot be forced)."""
+    s = apply_effects(draw(states(instances)), atoms)
+    return s if all(holds(a, s) for a in atoms) else None
