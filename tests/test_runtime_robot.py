@@ -39,8 +39,18 @@ FACTS = {
 }
 TCP0 = {"r": (513.0, -319.5, 1077.5), "l": (513.0, 319.5, 1077.5)}
 TORSO = ["hip_pitch", "hip_roll", "hip_yaw"]
-ARM = {s: [f"shoulder_1_{s}", f"shoulder_2_{s}", f"upperarm_{s}", f"elbow_{s}", f"underarm_{s}",
-           f"wrist_1_{s}", f"wrist_2_{s}"] for s in "rl"}
+ARM = {
+    s: [
+        f"shoulder_1_{s}",
+        f"shoulder_2_{s}",
+        f"upperarm_{s}",
+        f"elbow_{s}",
+        f"underarm_{s}",
+        f"wrist_1_{s}",
+        f"wrist_2_{s}",
+    ]
+    for s in "rl"
+}
 
 
 def rot(axis, angle):
@@ -61,12 +71,18 @@ def reference_tcp(side, q):
 
 def poses():
     rng = np.random.default_rng(7)
-    out = [{}, {"elbow_r": math.radians(-86), "elbow_l": math.radians(-86)},
-           {"shoulder_1_r": -0.8, "shoulder_2_l": -0.5, "hip_pitch": 0.3}]
+    out = [
+        {},
+        {"elbow_r": math.radians(-86), "elbow_l": math.radians(-86)},
+        {"shoulder_1_r": -0.8, "shoulder_2_l": -0.5, "hip_pitch": 0.3},
+    ]
     for _ in range(5):
         q = {n: float(rng.uniform(*FACTS[n][2])) for n in FACTS}
-        q.update(base_x=float(rng.uniform(-0.3, 0.3)), base_y=float(rng.uniform(-0.3, 0.3)),
-                 base_yaw=float(rng.uniform(-1, 1)))
+        q.update(
+            base_x=float(rng.uniform(-0.3, 0.3)),
+            base_y=float(rng.uniform(-0.3, 0.3)),
+            base_yaw=float(rng.uniform(-1, 1)),
+        )
         out.append(q)
     return out
 
@@ -124,6 +140,7 @@ def test_tcp_orientation_matches_the_facts():
 
 
 def test_shipped_urdf_is_up_to_date():
-    assert urdf.URDF_PATH.read_text(encoding="utf-8") == urdf.urdf_text(), \
+    assert urdf.URDF_PATH.read_text(encoding="utf-8") == urdf.urdf_text(), (
         "run: python -m oacdsl.runtime.urdf"
+    )
     assert urdf.COLLISIONS_PATH.read_text(encoding="utf-8") == urdf.collisions_text()

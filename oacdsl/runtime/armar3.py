@@ -18,8 +18,21 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-__all__ = ["JointFact", "FrameFact", "JOINTS", "FRAMES", "S15", "C15", "MM", "ARM_JOINTS",
-           "TORSO_JOINTS", "BASE_JOINTS", "HEAD_JOINTS", "joint", "simox_name"]
+__all__ = [
+    "JointFact",
+    "FrameFact",
+    "JOINTS",
+    "FRAMES",
+    "S15",
+    "C15",
+    "MM",
+    "ARM_JOINTS",
+    "TORSO_JOINTS",
+    "BASE_JOINTS",
+    "HEAD_JOINTS",
+    "joint",
+    "simox_name",
+]
 
 #: sin 15° and cos 15°: the facts' axis components 0.259 / 0.966, exact.
 S15 = math.sin(math.radians(15.0))
@@ -67,9 +80,16 @@ def _mm(x: float, y: float, z: float) -> tuple[float, float, float]:
     return (x * MM, y * MM, z * MM)
 
 
-def _j(name: str, simox: str, parent: str | None, origin_mm: tuple[float, float, float],
-       axis: tuple[float, float, float], limits: tuple[float, float], mass: float,
-       kind: str = "revolute") -> JointFact:
+def _j(
+    name: str,
+    simox: str,
+    parent: str | None,
+    origin_mm: tuple[float, float, float],
+    axis: tuple[float, float, float],
+    limits: tuple[float, float],
+    mass: float,
+    kind: str = "revolute",
+) -> JointFact:
     return JointFact(name, simox, parent, kind, _mm(*origin_mm), axis, limits, mass)
 
 
@@ -105,8 +125,15 @@ _ARM_R = [
     _j("upperarm_r", "Upperarm R", "shoulder_2_r", (0, 0, 0), (0, S15, C15), (-1.8869, 1.2905), 1.55685),
     _j("elbow_r", "Elbow R", "upperarm_r", (20.0, -80.2, -299.4), (0, -C15, S15), (-1.9998, 0.9599), 1.15744),
     _j("underarm_r", "Underarm R", "elbow_r", (0.0, -7.2, 1.9), (-1, 0, 0), (-1.2156, 1.8893), 2.26566087),
-    _j("wrist_1_r", "Wrist 1 R", "underarm_r", (240.0, 0.0, 0.0), (0, -S15, -C15), (-0.5093, 0.5215),
-       1.29945309),
+    _j(
+        "wrist_1_r",
+        "Wrist 1 R",
+        "underarm_r",
+        (240.0, 0.0, 0.0),
+        (0, -S15, -C15),
+        (-0.5093, 0.5215),
+        1.29945309,
+    ),
     # Wrist 2 mass is "just guessed" (0.2 kg) in the file.
     _j("wrist_2_r", "Wrist 2 R", "wrist_1_r", (0, 0, 0), (0, C15, -S15), (-0.5393, 0.8878), 0.2),
 ]
@@ -117,8 +144,15 @@ _ARM_L = [
     _j("upperarm_l", "Upperarm L", "shoulder_2_l", (0, 0, 0), (0, -S15, C15), (-1.2156, 1.8893), 1.55685),
     _j("elbow_l", "Elbow L", "upperarm_l", (20.0, 80.2, -299.4), (0, -C15, -S15), (-2.1461, 0.9599), 1.15744),
     _j("underarm_l", "Underarm L", "elbow_l", (0.0, 7.2, 1.9), (-1, 0, 0), (-1.8893, 1.2156), 2.26566087),
-    _j("wrist_1_l", "Wrist 1 L", "underarm_l", (240.0, 0.0, 0.0), (0, S15, -C15), (-0.5124, 0.4208),
-       1.29945309),
+    _j(
+        "wrist_1_l",
+        "Wrist 1 L",
+        "underarm_l",
+        (240.0, 0.0, 0.0),
+        (0, S15, -C15),
+        (-0.5124, 0.4208),
+        1.29945309,
+    ),
     _j("wrist_2_l", "Wrist 2 L", "wrist_1_l", (0, 0, 0), (0, C15, S15), (-0.6702, 0.7735), 0.2),
 ]
 
@@ -158,8 +192,9 @@ def _frames(side: str) -> list[FrameFact]:
         FrameFact(f"hand_base_{side}", f"Hand {up} Base", w, (0.0, 0.0, 0.0), _hand_axes(side)),
         FrameFact(f"tcp_{side}", f"TCP {up}", w, _mm(130.0, 0.0, 0.0), _hand_axes(side)),
         FrameFact(f"gcp_{side}", f"GCP {up}", w, _mm(90.0, -s * 29.7, 33.5), _grasp_axes(side)),
-        FrameFact(f"tcp_{side}_precision", f"TCP {up} Precision", w, _mm(144.0, -s * 21.7, 81.1),
-                  _grasp_axes(side)),
+        FrameFact(
+            f"tcp_{side}_precision", f"TCP {up} Precision", w, _mm(144.0, -s * 21.7, 81.1), _grasp_axes(side)
+        ),
         FrameFact(f"tcp_{side}_power", f"TCP {up} Power", w, _mm(115.0, -s * 28.4, 44.2), _grasp_axes(side)),
     ]
 

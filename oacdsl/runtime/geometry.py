@@ -39,8 +39,12 @@ def rotation_to_rpy(r: np.ndarray) -> tuple[float, float, float]:
     return (roll, pitch, yaw)
 
 
-def segment(p0_mm: tuple[float, float, float], p1_mm: tuple[float, float, float], radius_mm: float,
-            rgba: tuple[float, float, float, float] = (0.7, 0.7, 0.75, 1.0)) -> Shape:
+def segment(
+    p0_mm: tuple[float, float, float],
+    p1_mm: tuple[float, float, float],
+    radius_mm: float,
+    rgba: tuple[float, float, float, float] = (0.7, 0.7, 0.75, 1.0),
+) -> Shape:
     """A cylinder from ``p0`` to ``p1`` (world, mm) — returned in world metres."""
     a, b = np.array(p0_mm) * 1e-3, np.array(p1_mm) * 1e-3
     d = b - a
@@ -55,15 +59,19 @@ def segment(p0_mm: tuple[float, float, float], p1_mm: tuple[float, float, float]
     return Shape("cylinder", (radius_mm * 1e-3, length), centre, rpy, rgba)
 
 
-def _box(lo: tuple[float, float, float], hi: tuple[float, float, float],
-         rgba: tuple[float, float, float, float] = (0.7, 0.7, 0.75, 1.0)) -> Shape:
+def _box(
+    lo: tuple[float, float, float],
+    hi: tuple[float, float, float],
+    rgba: tuple[float, float, float, float] = (0.7, 0.7, 0.75, 1.0),
+) -> Shape:
     c = tuple((a + b) / 2e3 for a, b in zip(lo, hi, strict=True))
     s = tuple((b - a) / 1e3 for a, b in zip(lo, hi, strict=True))
     return Shape("box", s, (c[0], c[1], c[2]), rgba=rgba)
 
 
-def _sphere(c: tuple[float, float, float], r: float,
-            rgba: tuple[float, float, float, float] = (0.7, 0.7, 0.75, 1.0)) -> Shape:
+def _sphere(
+    c: tuple[float, float, float], r: float, rgba: tuple[float, float, float, float] = (0.7, 0.7, 0.75, 1.0)
+) -> Shape:
     return Shape("sphere", (r * 1e-3,), (c[0] * 1e-3, c[1] * 1e-3, c[2] * 1e-3), rgba=rgba)
 
 

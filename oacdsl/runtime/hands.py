@@ -24,8 +24,16 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["HandJoint", "HandBox", "hand_joints", "hand_boxes", "GRASP_CENTRE_H", "OPEN", "CLOSED",
-           "finger_joint_names"]
+__all__ = [
+    "HandJoint",
+    "HandBox",
+    "hand_joints",
+    "hand_boxes",
+    "GRASP_CENTRE_H",
+    "OPEN",
+    "CLOSED",
+    "finger_joint_names",
+]
 
 
 @dataclass(frozen=True)
@@ -64,8 +72,10 @@ def _m(v: tuple[float, float, float], side: str) -> tuple[float, float, float]:
 def finger_joint_names(side: str) -> dict[str, str]:
     """Suffix (``fingers_j0`` …) → joint name (``fingers_r_j0`` …) for one hand."""
     return {
-        "fingers_j0": f"fingers_{side}_j0", "fingers_j1": f"fingers_{side}_j1",
-        "thumb_j0": f"thumb_{side}_j0", "thumb_j1": f"thumb_{side}_j1",
+        "fingers_j0": f"fingers_{side}_j0",
+        "fingers_j1": f"fingers_{side}_j1",
+        "thumb_j0": f"thumb_{side}_j0",
+        "thumb_j1": f"thumb_{side}_j1",
     }
 
 
@@ -79,13 +89,16 @@ def hand_joints(side: str) -> list[HandJoint]:
     n = finger_joint_names(side)
     hand = f"hand_{side}"
     return [
-        HandJoint(n["fingers_j0"], hand, _m((-0.0087, -0.0135, 0.1054), side), (0.0, -1.0, 0.0),
-                  (0.0, 1.6), 0.1),
-        HandJoint(n["fingers_j1"], f"{n['fingers_j0']}_link", (0.0, 0.0, 0.0402), (0.0, -1.0, 0.0),
-                  (0.0, 1.6), 0.1),
+        HandJoint(
+            n["fingers_j0"], hand, _m((-0.0087, -0.0135, 0.1054), side), (0.0, -1.0, 0.0), (0.0, 1.6), 0.1
+        ),
+        HandJoint(
+            n["fingers_j1"], f"{n['fingers_j0']}_link", (0.0, 0.0, 0.0402), (0.0, -1.0, 0.0), (0.0, 1.6), 0.1
+        ),
         HandJoint(n["thumb_j0"], hand, _m((-0.0489, 0.0, 0.0652), side), (0.0, 1.0, 0.0), (-0.5, 1.6), 0.1),
-        HandJoint(n["thumb_j1"], f"{n['thumb_j0']}_link", (-0.0402, 0.0, 0.0), (0.0, 1.0, 0.0),
-                  (0.0, 1.6), 0.1),
+        HandJoint(
+            n["thumb_j1"], f"{n['thumb_j0']}_link", (-0.0402, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 1.6), 0.1
+        ),
     ]
 
 

@@ -24,8 +24,17 @@ from oacdsl.runtime.armar3 import FRAMES, JOINTS
 from oacdsl.runtime.geometry import Shape, body_shapes, rotation_to_rpy
 from oacdsl.runtime.hands import GRASP_CENTRE_H, hand_boxes, hand_joints
 
-__all__ = ["urdf_text", "URDF_PATH", "ASSETS", "COLLISIONS_PATH", "SELF_COLLISION_PAIRS", "collisions_text",
-           "write_urdf", "hand_rotation", "link_world_positions"]
+__all__ = [
+    "urdf_text",
+    "URDF_PATH",
+    "ASSETS",
+    "COLLISIONS_PATH",
+    "SELF_COLLISION_PAIRS",
+    "collisions_text",
+    "write_urdf",
+    "hand_rotation",
+    "link_world_positions",
+]
 
 ASSETS = Path(__file__).resolve().parent / "assets"
 #: The generated robot description shipped with the package.
@@ -36,9 +45,16 @@ URDF_PATH = ASSETS / "armar3.urdf"
 #: Self-collision avoidance costs per pair, so only pairs a manipulation task can bring
 #: together are listed; MuJoCo ignores robot-robot contacts altogether.
 SELF_COLLISION_PAIRS: tuple[tuple[str, str], ...] = (
-    *((f"{part}_{s}", body) for s in ("r", "l") for part in ("hand", "underarm")
-      for body in ("hip_yaw_link", "base_yaw_link", "head_tilt_link")),
-    ("hand_r", "hand_l"), ("underarm_r", "underarm_l"), ("hand_r", "underarm_l"), ("hand_l", "underarm_r"),
+    *(
+        (f"{part}_{s}", body)
+        for s in ("r", "l")
+        for part in ("hand", "underarm")
+        for body in ("hip_yaw_link", "base_yaw_link", "head_tilt_link")
+    ),
+    ("hand_r", "hand_l"),
+    ("underarm_r", "underarm_l"),
+    ("hand_r", "underarm_l"),
+    ("hand_l", "underarm_r"),
 )
 COLLISIONS_PATH = ASSETS / "collisions.json"
 
@@ -87,8 +103,10 @@ def _inertial(mass: float, shapes: list[Shape]) -> str:
     ixx = mass * (d[1] ** 2 + d[2] ** 2) / 12
     iyy = mass * (d[0] ** 2 + d[2] ** 2) / 12
     izz = mass * (d[0] ** 2 + d[1] ** 2) / 12
-    return (f'    <inertial><origin xyz="{_v(c)}" rpy="0 0 0"/><mass value="{_f(mass)}"/>'
-            f'<inertia ixx="{ixx:.6g}" ixy="0" ixz="0" iyy="{iyy:.6g}" iyz="0" izz="{izz:.6g}"/></inertial>')
+    return (
+        f'    <inertial><origin xyz="{_v(c)}" rpy="0 0 0"/><mass value="{_f(mass)}"/>'
+        f'<inertia ixx="{ixx:.6g}" ixy="0" ixz="0" iyy="{iyy:.6g}" iyz="0" izz="{izz:.6g}"/></inertial>'
+    )
 
 
 def _half_extent(s: Shape) -> np.ndarray:
@@ -106,32 +124,47 @@ def _link(name: str, mass: float | None, shapes: list[Shape]) -> str:
         lines.append(_inertial(mass, shapes))
     for i, s in enumerate(shapes):
         origin = f'<origin xyz="{_v(s.xyz)}" rpy="{_v(s.rpy)}"/>'
-        lines.append(f'    <visual name="{name}_v{i}">{origin}<geometry>{_geometry(s)}</geometry>'
-                     f'<material name="{name}_m{i}"><color rgba="{_v(s.rgba)}"/></material></visual>')
-        lines.append(f'    <collision name="{name}_c{i}">{origin}'
-                     f'<geometry>{_geometry(s)}</geometry></collision>')
+        lines.append(
+            f'    <visual name="{name}_v{i}">{origin}<geometry>{_geometry(s)}</geometry>'
+            f'<material name="{name}_m{i}"><color rgba="{_v(s.rgba)}"/></material></visual>'
+        )
+        lines.append(
+            f'    <collision name="{name}_c{i}">{origin}<geometry>{_geometry(s)}</geometry></collision>'
+        )
     lines.append("  </link>")
     return "\n".join(lines)
 
 
-def _joint(name: str, kind: str, parent: str, child: str, xyz: tuple[float, ...] | np.ndarray,
-           rpy: tuple[float, ...] = (0.0, 0.0, 0.0), axis: tuple[float, ...] | None = None,
-           limits: tuple[float, float] | None = None) -> str:
-    lines = [f'  <joint name="{name}" type="{kind}">',
-             f'    <parent link="{parent}"/><child link="{child}"/>',
-             f'    <origin xyz="{_v(xyz)}" rpy="{_v(rpy)}"/>']
+def _joint(
+    name: str,
+    kind: str,
+    parent: str,
+    child: str,
+    xyz: tuple[float, ...] | np.ndarray,
+    rpy: tuple[float, ...] = (0.0, 0.0, 0.0),
+    axis: tuple[float, ...] | None = None,
+    limits: tuple[float, float] | None = None,
+) -> str:
+    lines = [
+        f'  <joint name="{name}" type="{kind}">',
+        f'    <parent link="{parent}"/><child link="{child}"/>',
+        f'    <origin xyz="{_v(xyz)}" rpy="{_v(rpy)}"/>',
+    ]
     if axis is not None:
         lines.append(f'    <axis xyz="{_v(axis)}"/>')
     if limits is not None:
-        lines.append(f'    <limit lower="{_f(limits[0])}" upper="{_f(limits[1])}"'
-                     ' effort="1000" velocity="10"/>')
+        lines.append(
+            f'    <limit lower="{_f(limits[0])}" upper="{_f(limits[1])}" effort="1000" velocity="10"/>'
+        )
     lines.append("  </joint>")
     return "\n".join(lines)
 
 
 def _to_link(shapes: list[Shape], origin: np.ndarray) -> list[Shape]:
-    return [Shape(s.kind, s.size, tuple(float(x) for x in np.array(s.xyz) - origin), s.rpy, s.rgba)  # type: ignore[arg-type]
-            for s in shapes]
+    return [
+        Shape(s.kind, s.size, tuple(float(x) for x in np.array(s.xyz) - origin), s.rpy, s.rgba)  # type: ignore[arg-type]
+        for s in shapes
+    ]
 
 
 def _hand_shapes(side: str) -> dict[str, list[Shape]]:
@@ -146,11 +179,13 @@ def urdf_text() -> str:
     """The complete URDF of the model (deterministic)."""
     world = link_world_positions()
     shapes = body_shapes()
-    parts = ['<?xml version="1.0"?>',
-             "<!-- Generated by oacdsl.runtime.urdf from the ARMAR-III facts table; do not edit. -->",
-             '<robot name="armar3">',
-             '  <mujoco><compiler discardvisual="false" fusestatic="false" angle="radian"/></mujoco>',
-             '  <link name="base_link"/>']
+    parts = [
+        '<?xml version="1.0"?>',
+        "<!-- Generated by oacdsl.runtime.urdf from the ARMAR-III facts table; do not edit. -->",
+        '<robot name="armar3">',
+        '  <mujoco><compiler discardvisual="false" fusestatic="false" angle="radian"/></mujoco>',
+        '  <link name="base_link"/>',
+    ]
     for j in JOINTS:
         link = f"{j.name}_link"
         parent = "base_link" if j.parent is None else f"{j.parent}_link"
@@ -160,13 +195,22 @@ def urdf_text() -> str:
         hshapes = _hand_shapes(side)
         hand = f"hand_{side}"
         parts.append(_link(hand, _HAND_MASS_KG, hshapes.get(hand, [])))
-        parts.append(_joint(f"{hand}_fixed", "fixed", f"wrist_2_{side}_link", hand, (0.0, 0.0, 0.0),
-                            rotation_to_rpy(hand_rotation(side))))
+        parts.append(
+            _joint(
+                f"{hand}_fixed",
+                "fixed",
+                f"wrist_2_{side}_link",
+                hand,
+                (0.0, 0.0, 0.0),
+                rotation_to_rpy(hand_rotation(side)),
+            )
+        )
         for hj in hand_joints(side):
             link = f"{hj.name}_link"
             parts.append(_link(link, hj.mass_kg, hshapes.get(link, [])))
-            parts.append(_joint(hj.name, "revolute", hj.parent, link, hj.origin, axis=hj.axis,
-                                limits=hj.limits))
+            parts.append(
+                _joint(hj.name, "revolute", hj.parent, link, hj.origin, axis=hj.axis, limits=hj.limits)
+            )
         g = GRASP_CENTRE_H if side == "r" else (GRASP_CENTRE_H[0], -GRASP_CENTRE_H[1], GRASP_CENTRE_H[2])
         parts.append(f'  <link name="grasp_{side}"/>')
         parts.append(_joint(f"grasp_{side}_fixed", "fixed", hand, f"grasp_{side}", g))
@@ -175,8 +219,11 @@ def urdf_text() -> str:
             continue
         rot = np.column_stack([np.array(a, dtype=float) for a in fr.axes])
         parts.append(f'  <link name="{fr.name}"/>')
-        parts.append(_joint(f"{fr.name}_fixed", "fixed", f"{fr.parent}_link", fr.name, fr.offset_m,
-                            rotation_to_rpy(rot)))
+        parts.append(
+            _joint(
+                f"{fr.name}_fixed", "fixed", f"{fr.parent}_link", fr.name, fr.offset_m, rotation_to_rpy(rot)
+            )
+        )
     parts.append("</robot>")
     return "\n".join(parts) + "\n"
 
