@@ -52,7 +52,7 @@ WIPING = Scene(
 GRASPS = [
     Grasp(cls="Cup", type="power", approach="side", offset=(0.0, 0.0, 0.05)),
     Grasp(cls="Mixer", type="power", approach="side", offset=(0.0, 0.0, 0.22)),
-    Grasp(cls="Sponge", type="power", approach="top", offset=(0.0, 0.0, 0.04)),
+    Grasp(cls="Sponge", type="power", approach="side", offset=(0.0, 0.0, 0.10)),
 ]
 
 

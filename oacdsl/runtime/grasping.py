@@ -13,8 +13,10 @@ front of the palm) on that point, and orients the hand:
 
 Rotationally symmetric objects (cups, bowls, the mixer) have no preferred azimuth:
 the offset is turned about the object's vertical axis to face the hand's approach,
-keeping its radius and height. The approach stops early when the hand touches the
-object (guarded move), so an offset that is a few centimetres off still works.
+keeping its radius and height. A few variants (the side approach turned by ±30°/±60°,
+top grasps along other headings or tilted by 25°) are offered in order of preference;
+the skill takes the first the whole-body IK reaches. The approach stops early when
+the hand touches the object (guarded move), so an offset a few centimetres off still works.
 """
 
 from __future__ import annotations
@@ -25,9 +27,9 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.model import Grasp
-from oacdsl.runtime.transforms import make_T
+from oacdsl.runtime.transforms import make_T, rot_axis
 
-__all__ = ["GraspPlan", "plan_grasp", "SYMMETRIC_KINDS", "APPROACHES", "hand_rotation_for"]
+__all__ = ["GraspPlan", "plan_grasps", "SYMMETRIC_KINDS", "APPROACHES", "hand_rotation_for"]
 
 SYMMETRIC_KINDS = frozenset({"cup", "bowl", "mixer"})
 APPROACHES = ("side", "top", "front")
@@ -68,15 +70,16 @@ def _unit(v: np.ndarray) -> np.ndarray:
     return v / np.linalg.norm(v)
 
 
-def plan_grasp(
+def plan_grasps(
     grasp: Grasp,
     kind: str,
     t_world_object: np.ndarray,
     side: str,
     forward: np.ndarray | None = None,
     support_z: float | None = None,
-) -> GraspPlan:
-    """The grasp of an object of ``kind`` at ``t_world_object`` by hand ``side``.
+) -> list[GraspPlan]:
+    """Candidate grasps of an object of ``kind`` at ``t_world_object`` by hand ``side``,
+    most natural first (the skill takes the first the whole-body IK can reach).
 
     ``forward``: the robot's forward direction in the world (default +x). ``support_z``:
     height of the surface the object stands on; a side or front grasp is raised so that
@@ -90,35 +93,54 @@ def plan_grasp(
         )
     fwd = _unit(np.array(forward if forward is not None else (1.0, 0.0, 0.0), dtype=float))
     up = np.array([0.0, 0.0, 1.0])
-    left = np.cross(up, fwd)
     r_obj, p_obj = t_world_object[:3, :3], t_world_object[:3, 3]
     offset = np.array(grasp.offset, dtype=float)
     radius = float(np.hypot(offset[0], offset[1]))
     symmetric = kind in SYMMETRIC_KINDS
+    plans: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []  # (point, rotation, approach)
     if grasp.approach == "side":
-        d = left if side == "r" else -left  # the right hand comes from the right, moving left
-        point = p_obj + (np.array([0.0, 0.0, offset[2]]) - radius * d if symmetric else r_obj @ offset)
-        rot = hand_rotation_for(d, fwd)
+        base = np.cross(up, fwd) if side == "r" else -np.cross(up, fwd)  # the right hand comes from the right
+        turns = (0.0, -30.0, 30.0, -60.0, 60.0) if symmetric else (0.0,)
+        for deg in turns:
+            d = rot_axis(up, np.radians(deg if side == "r" else -deg)) @ base
+            point = p_obj + (np.array([0.0, 0.0, offset[2]]) - radius * d if symmetric else r_obj @ offset)
+            plans.append(
+                (
+                    point,
+                    hand_rotation_for(d, _unit(np.cross(d, up)) if side == "r" else _unit(np.cross(up, d))),
+                    d,
+                )
+            )
     elif grasp.approach == "top":
-        d = -up
         if symmetric:
-            point = p_obj + np.array([0.0, 0.0, offset[2]]) + radius * fwd
-            fingers = fwd
+            headings = [rot_axis(up, np.radians(a)) @ fwd for a in (0.0, -45.0, 45.0, -90.0, 90.0)]
         else:
-            point = p_obj + r_obj @ offset
-            horizontal = (r_obj @ offset)[:2]
-            axis = r_obj[:, 0] if np.linalg.norm(horizontal) < 0.01 else np.array([*horizontal, 0.0])
-            fingers = _unit(np.array([axis[0], axis[1], 0.0]))
-            if np.dot(fingers, fwd) < 0:
-                fingers = -fingers
-        rot = hand_rotation_for(d, fingers)
-    else:  # front
+            axes = [r_obj[:, 0], -r_obj[:, 0], r_obj[:, 1], -r_obj[:, 1]]
+            headings = sorted(
+                (_unit(np.array([a[0], a[1], 0.0])) for a in axes), key=lambda h: -float(h @ fwd)
+            )
+        for h in headings:
+            point = p_obj + (np.array([0.0, 0.0, offset[2]]) + radius * h if symmetric else r_obj @ offset)
+            for tilt in (0.0, 25.0):
+                d = rot_axis(np.cross(up, h), np.radians(tilt)) @ -up
+                plans.append(
+                    (point, hand_rotation_for(d, rot_axis(np.cross(up, h), np.radians(tilt)) @ h), d)
+                )
+    else:  # front: from the robot towards the object, fingers up
         d = fwd
         point = p_obj + (np.array([0.0, 0.0, offset[2]]) - radius * fwd if symmetric else r_obj @ offset)
-        rot = hand_rotation_for(d, up)
-    if support_z is not None and grasp.approach != "top":
-        point[2] = max(point[2], support_z + HAND_BELOW_CENTRE_M + CLEARANCE_M)
-    grasp_pose = make_T(rot, point)
-    return GraspPlan(
-        grasp_pose, make_T(rot, point - PRE_GRASP_M * d), d, make_T(rot, point + OVERSHOOT_M * d)
-    )
+        plans.append((point, hand_rotation_for(d, up), d))
+    out = []
+    for point, rot, d in plans:
+        point = point.copy()
+        if support_z is not None and grasp.approach != "top":
+            point[2] = max(point[2], support_z + HAND_BELOW_CENTRE_M + CLEARANCE_M)
+        out.append(
+            GraspPlan(
+                make_T(rot, point),
+                make_T(rot, point - PRE_GRASP_M * d),
+                d,
+                make_T(rot, point + OVERSHOOT_M * d),
+            )
+        )
+    return out

@@ -32,6 +32,7 @@ __all__ = [
     "GRASP_CENTRE_H",
     "OPEN",
     "CLOSED",
+    "TOP_PRESHAPE",
     "finger_joint_names",
 ]
 
@@ -63,6 +64,9 @@ GRASP_CENTRE_H: tuple[float, float, float] = (-0.0501, 0.0160, 0.115)
 #: Joint targets of an open and a closed hand (rad), per joint suffix.
 OPEN: dict[str, float] = {"fingers_j0": 0.0, "fingers_j1": 0.0, "thumb_j0": -0.4, "thumb_j1": 0.0}
 CLOSED: dict[str, float] = {"fingers_j0": 1.5, "fingers_j1": 1.5, "thumb_j0": 1.5, "thumb_j1": 1.2}
+#: Hand shape before a grasp from above: the thumb folded along the palm, so that it does
+#: not reach down past the object (an open thumb sticks 12 cm out of the palm).
+TOP_PRESHAPE: dict[str, float] = {"fingers_j0": 0.0, "fingers_j1": 0.0, "thumb_j0": 1.3, "thumb_j1": 0.0}
 
 
 def _m(v: tuple[float, float, float], side: str) -> tuple[float, float, float]:

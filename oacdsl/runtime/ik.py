@@ -98,7 +98,7 @@ class WholeBodyIK:
             task.set_joints({n: home.get(n, 0.0) for n in names})
             task.configure(f"posture_{label}", "soft", weight)
             self.posture.append(task)
-        self.solver.add_regularization_task(1e-4)
+        self.solver.add_regularization_task(1e-3)
         if self_collision:
             c = self.solver.add_avoid_self_collisions_constraint()
             c.self_collisions_margin = 0.01  # m

@@ -69,7 +69,7 @@ SHAPES: dict[str, Shape3D] = {
     ),
     "mixer": Shape3D("mixer", 0.04, 0.28, 0.65, 0.0, ((0.0, 0.0, 0.0), (0.0, 0.0, 0.16), (0.0, 0.0, 0.28))),
     "sponge": Shape3D(
-        "sponge", 0.06, 0.04, 0.05, 0.0, ((0.05, 0.0, 0.04), (-0.05, 0.0, 0.04), (0.0, 0.035, 0.0))
+        "sponge", 0.06, 0.135, 0.1, 0.0, ((0.05, 0.0, 0.045), (-0.05, 0.0, 0.045), (0.0, 0.0, 0.135))
     ),
     "tray": Shape3D(
         "tray", 0.17, 0.012, 0.6, 0.0, ((0.15, 0.0, 0.012), (-0.15, 0.0, 0.012), (0.0, 0.11, 0.012))
@@ -195,17 +195,19 @@ def add_object(
         _geom(body, f"{name}/head", cyl, (0.04, 0.025), (0.0, 0.0, 0.025), (0.75, 0.75, 0.8, 1.0), mass=0.4)
         _geom(body, f"{name}/rod", cyl, (0.008, 0.055), (0.0, 0.0, 0.105), (0.75, 0.75, 0.8, 1.0), mass=0.05)
         _geom(body, f"{name}/handle", cyl, (0.02, 0.06), (0.0, 0.0, 0.22), rgba, mass=0.2)
-    elif kind == "sponge":
+    elif kind == "sponge":  # a sponge block with an upright grip, held like the mixer
+        box, cyl = mujoco.mjtGeom.mjGEOM_BOX, mujoco.mjtGeom.mjGEOM_CYLINDER
         _geom(
             body,
             f"{name}/body",
-            mujoco.mjtGeom.mjGEOM_BOX,
-            (0.05, 0.035, 0.02),
-            (0.0, 0.0, 0.02),
+            box,
+            (0.05, 0.035, 0.0225),
+            (0.0, 0.0, 0.0225),
             rgba,
-            mass=s.mass,
+            mass=0.06,
             friction=(1.2, 0.005, 0.0001),
         )
+        _geom(body, f"{name}/grip", cyl, (0.017, 0.045), (0.0, 0.0, 0.09), (0.3, 0.3, 0.35, 1.0), mass=0.04)
     elif kind == "tray":
         _geom(
             body,

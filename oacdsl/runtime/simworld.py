@@ -5,7 +5,8 @@ wrist force/torque readings, marker points.
 Touching relations (the runtime's world state) come from MuJoCo contacts between the
 bodies of two different tracked instances: a hand is all of its hand's bodies (palm,
 finger plate, thumb), a liquid touches what any of its balls touches, and the table
-(environment) and the rest of the robot take no part.
+(environment) and the rest of the robot take no part. Two liquids whose balls meet (both
+poured into one bowl) are mixed, not touching: that pair is never reported.
 """
 
 from __future__ import annotations
@@ -59,6 +60,9 @@ class SimWorld:
                     self._body_instance[b] = index[inst]
                     self.hand_bodies[side].append(b)
         self._geom_instance = self._body_instance[m.geom_bodyid]
+        # two liquids in one container are mixed, not "touching": their pairs are ignored
+        liquid_index = [index[liq] for liq in built.balls]
+        self._ignored = {(min(a, b), max(a, b)) for a in liquid_index for b in liquid_index if a != b}
         self._actuator = {m.actuator(i).name: i for i in range(m.nu)}
         self._qadr = {n: int(m.jnt_qposadr[m.joint(n).id]) for n in built.robot_joints}
         self._ball_ids = {liq: np.array([m.body(b).id for b in names]) for liq, names in built.balls.items()}
@@ -114,7 +118,8 @@ class SimWorld:
         g = self.data.contact.geom[:n]
         a, b = self._geom_instance[g[:, 0]], self._geom_instance[g[:, 1]]
         keep = (a >= 0) & (b >= 0) & (a != b)
-        return {(int(min(x, y)), int(max(x, y))) for x, y in zip(a[keep], b[keep], strict=True)}
+        pairs = {(int(min(x, y)), int(max(x, y))) for x, y in zip(a[keep], b[keep], strict=True)}
+        return pairs - self._ignored
 
     def relations(self) -> WorldState:
         """The touching relations among the tracked instances, now."""

@@ -4,7 +4,10 @@ from __future__ import annotations
 
 from oacdsl.runtime.skills.base import Skill, SkillContext
 from oacdsl.runtime.skills.grasp import reach_and_grasp
+from oacdsl.runtime.skills.mix import mix
 from oacdsl.runtime.skills.place import place
+from oacdsl.runtime.skills.pour import pour
+from oacdsl.runtime.skills.wipe import wipe
 
 __all__ = ["IMPLEMENTATIONS", "Skill", "SkillContext"]
 
@@ -12,4 +15,7 @@ __all__ = ["IMPLEMENTATIONS", "Skill", "SkillContext"]
 IMPLEMENTATIONS: dict[str, Skill] = {
     "reach_and_grasp": reach_and_grasp,
     "place": place,
+    "pour": pour,
+    "mix": mix,
+    "wipe": wipe,
 }

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from typing import TypeVar
 
 import mujoco
 import numpy as np
@@ -22,6 +23,9 @@ from oacdsl.runtime.control import Controller
 from oacdsl.runtime.simworld import SimWorld
 
 __all__ = ["SkillContext", "Skill", "fmt_xyz"]
+
+
+T = TypeVar("T")
 
 
 def fmt_xyz(p: np.ndarray) -> str:
@@ -82,6 +86,24 @@ class SkillContext:
                 f" solution leaves the hand {res.position_m * 100:.0f} cm and"
                 f" {np.degrees(res.angle_rad):.0f}° from the target"
             )
+
+    def first_reachable(self, side: str, options: list[tuple[np.ndarray, T]], what: str) -> T:
+        """The payload of the first option whose target pose hand ``side`` can reach; when
+        none can, a failure naming the closest miss."""
+        best: tuple[float, float, np.ndarray] | None = None
+        for target, payload in options:
+            res = self.ctl.ik.try_reach(side, target)
+            if res.position_m <= REACH_TOLERANCE_M and res.angle_rad <= REACH_TOLERANCE_RAD:
+                return payload
+            if best is None or res.position_m < best[0]:
+                best = (res.position_m, res.angle_rad, target)
+        if best is None:
+            raise RuntimeFailure(f"{what}: nothing to reach")
+        hand = next(h for h, s in self.world.layout.hands.items() if s == side)
+        raise RuntimeFailure(
+            f"{what} at {fmt_xyz(best[2][:3, 3])} is out of reach of {hand}: the best whole-body IK"
+            f" solution leaves the hand {best[0] * 100:.0f} cm and {np.degrees(best[1]):.0f}° from the target"
+        )
 
     def reach_error(self, side: str, target: np.ndarray) -> float:
         """A score of how well ``target`` can be reached (m, angle weighted 0.1 m/rad)."""

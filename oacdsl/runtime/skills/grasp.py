@@ -10,7 +10,8 @@ from __future__ import annotations
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.grasping import plan_grasp
+from oacdsl.runtime.grasping import plan_grasps
+from oacdsl.runtime.hands import TOP_PRESHAPE
 from oacdsl.runtime.skills.base import SkillContext, fmt_xyz
 from oacdsl.runtime.transforms import make_T
 
@@ -31,14 +32,16 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
     grasp = ctx.grasp_for(obj)
     t_obj = world.body_pose(obj)
     support = ctx.support_height(t_obj[:2, 3], exclude=obj)
-    plan = plan_grasp(grasp, ctx.kind(obj), t_obj, side, support_z=support)
     ctl.activity = f"reaching for {obj}"
-    ctx.check_reachable(side, plan.grasp, obj)
+    plans = plan_grasps(grasp, ctx.kind(obj), t_obj, side, support_z=support)
+    plan = ctx.first_reachable(side, [(p.grasp, p) for p in plans], obj)
     current = ctl.ik.frame(f"grasp_{side}")
     via = plan.pre_grasp.copy()
     via[2, 3] = max(via[2, 3], plan.grasp[2, 3]) + 0.08
     if current[2, 3] > via[2, 3]:
         via[2, 3] = 0.5 * (via[2, 3] + current[2, 3])
+    if grasp.approach == "top":
+        ctl.set_fingers(side, TOP_PRESHAPE)
     ctl.move(side, via, 1.2)
     ctl.move(side, plan.pre_grasp, 0.6)
     travel = float(np.linalg.norm(plan.end[:3, 3] - plan.pre_grasp[:3, 3]))
