@@ -31,16 +31,18 @@ class Step:
         return tuple(self.binding[p.name] for p in self.oac.params)
 
 
-def choose_scene(library: Library, oac: Oac, name: str | None = None) -> Scene:
-    """The scene called ``name``, else the one scene of the library, else the scene that
-    holds the OAC's default bindings."""
+def choose_scene(
+    library: Library, oac: Oac, name: str | None = None, given: Mapping[str, str] | None = None
+) -> Scene:
+    """The scene called ``name``, else the one scene of the library, else the one scene that
+    holds the instances of the OAC's defaults and of ``given`` (the ``--bind`` values)."""
     if name is not None:
         if name not in library.scenes:
             raise RuntimeFailure(f"no scene {name!r} in the library{did_you_mean(name, library.scenes)}")
         return library.scenes[name]
     if len(library.scenes) == 1:
         return next(iter(library.scenes.values()))
-    defaults = {p.default for p in oac.params if p.default is not None}
+    defaults = {p.default for p in oac.params if p.default is not None} | set((given or {}).values())
     fitting = [s for s in library.scenes.values() if defaults and defaults <= {i.name for i in s.instances}]
     if len(fitting) == 1:
         return fitting[0]

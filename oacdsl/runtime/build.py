@@ -27,6 +27,7 @@ from oacdsl.runtime.objects import (
     add_table,
     colour_for,
 )
+from oacdsl.runtime.transforms import quat_from_matrix
 from oacdsl.runtime.urdf import URDF_PATH
 
 __all__ = [
@@ -132,11 +133,28 @@ def _add_environment(spec: mujoco.MjSpec, table: str) -> None:
         g.contype, g.conaffinity = OBJECT_CONTYPE, OBJECT_CONAFFINITY
     light = spec.worldbody.add_light()
     light.pos, light.dir, light.castshadow = (0.5, -0.5, 3.0), (0.0, 0.2, -1.0), False
-    cam = spec.worldbody.add_camera()
-    cam.name, cam.pos = "overview", (1.95, -1.15, 1.75)
-    cam.mode = mujoco.mjtCamLight.mjCAMLIGHT_TARGETBODY
-    cam.targetbody = table
+    for name, pos, target in CAMERAS:
+        cam = spec.worldbody.add_camera()
+        cam.name, cam.pos, cam.quat = name, pos, _look_at(np.array(pos), np.array(target))
     spec.visual.global_.offwidth, spec.visual.global_.offheight = 1280, 960
+    spec.visual.quality.offsamples = 0  # no multisampling: software GL renders twice as fast
+
+
+#: Fixed cameras: name, position and the point they look at (m).
+CAMERAS = (
+    ("overview", (1.75, 1.05, 1.75), (0.5, -0.05, 0.9)),
+    ("front", (1.9, 0.0, 1.45), (0.45, 0.0, 0.95)),
+)
+
+
+def _look_at(pos: np.ndarray, target: np.ndarray) -> tuple[float, float, float, float]:
+    """Camera quaternion (w, x, y, z) looking from ``pos`` at ``target`` with z up."""
+    f = (target - pos) / np.linalg.norm(target - pos)
+    x = np.cross(f, (0.0, 0.0, 1.0))
+    x /= np.linalg.norm(x)
+    y = np.cross(x, f)
+    q = quat_from_matrix(np.column_stack([x, y, -f]))
+    return (float(q[0]), float(q[1]), float(q[2]), float(q[3]))
 
 
 def build_model(layout: Layout, seed: int | None = None) -> BuiltModel:

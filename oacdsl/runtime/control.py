@@ -61,6 +61,13 @@ class Controller:
         self.activity = "idle"
         self._observe()
 
+    def add_observer(self, observer: Observer) -> None:
+        """Call ``observer`` from now on, at its rate."""
+        self.observers.append(observer)
+        self._due.append(self.world.time_s)
+        observer(self.world)
+        self._due[-1] += 1.0 / observer.rate_hz
+
     # --- one tick -------------------------------------------------------------------------------
     def tick(self) -> None:
         q = self.ik.step()

@@ -39,7 +39,7 @@ from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.skills import IMPLEMENTATIONS, SkillContext
 from oacdsl.world import NOTHING, WorldState
 
-__all__ = ["execute", "RunResult", "StepResult", "Run", "prepare"]
+__all__ = ["execute", "RunResult", "StepResult", "Run", "prepare", "run_prepared"]
 
 _UNSTABLE = ("mjWARN_BADQACC", "mjWARN_BADQPOS", "mjWARN_BADQVEL", "mjWARN_BADCTRL")
 
@@ -104,6 +104,7 @@ class Run:
     world: SimWorld
     controller: Controller
     context: SkillContext
+    seed: int | None = None
 
 
 def prepare(
@@ -116,13 +117,14 @@ def prepare(
     fill: Mapping[str, str] | None = None,
     observers: Sequence[Observer] = (),
     self_collision: bool = True,
+    places: Mapping[str, tuple[float, float]] | None = None,
 ) -> Run:
     """Bind, lay out and build everything :func:`execute` needs (raises RuntimeFailure)."""
     if isinstance(oac, str):
         if oac not in library.oacs:
             raise RuntimeFailure(f"no oac {oac!r} in the library{did_you_mean(oac, library.oacs)}")
         oac = library.oacs[oac]
-    sc = scene if isinstance(scene, Scene) else choose_scene(library, oac, scene)
+    sc = scene if isinstance(scene, Scene) else choose_scene(library, oac, scene, binding)
     bound = bind(library, oac, sc, binding)
     steps = flatten(library, oac, bound)
     for step in steps:
@@ -133,11 +135,11 @@ def prepare(
             )
     contents = liquid_contents(library, sc, oac, bound)
     contents.update(fill or {})
-    layout = plan_layout(library, sc, contents, seed)
+    layout = plan_layout(library, sc, contents, seed, places)
     world = SimWorld(build_model(layout, seed))
     controller = Controller(world, WholeBodyIK(self_collision=self_collision), list(observers))
     context = SkillContext(controller, library, library.instance_classes(sc))
-    return Run(oac, sc, bound, steps, world, controller, context)
+    return Run(oac, sc, bound, steps, world, controller, context, seed)
 
 
 def _pair(a: str, b: str) -> list[str]:
@@ -168,13 +170,15 @@ def execute(
     fill: Mapping[str, str] | None = None,
     observers: Sequence[Observer] = (),
     self_collision: bool = True,
+    places: Mapping[str, tuple[float, float]] | None = None,
     on_step: Any = None,
 ) -> RunResult:
     """Run ``oac`` in simulation and report per step (see the module docstring).
 
     ``recorder`` is called with the world at its ``rate_hz`` (e.g. a
     :class:`~oacdsl.runtime.recorder.MarkerRecorder`); ``observers`` likewise (video);
-    ``on_step(index, step_result, world)`` is called after every step (frame snapshots).
+    ``on_step(index, step_result, world)`` is called after every step (frame snapshots);
+    ``places`` puts named objects at given (x, y) on the table instead of their nominal places.
     """
     wall0 = time.perf_counter()
     run = prepare(
@@ -186,8 +190,15 @@ def execute(
         fill=fill,
         observers=[*([recorder] if recorder is not None else []), *observers],
         self_collision=self_collision,
+        places=places,
     )
-    world, ctx = run.world, run.context
+    return run_prepared(run, on_step=on_step, wall0=wall0)
+
+
+def run_prepared(run: Run, *, on_step: Any = None, wall0: float | None = None) -> RunResult:
+    """Execute a :func:`prepare`-d run (observers may be added to ``run.controller`` first)."""
+    wall0 = time.perf_counter() if wall0 is None else wall0
+    world, ctx, seed = run.world, run.context, run.seed
     results: list[StepResult] = []
     states = [world.relations()]
     top_pre = _check(

@@ -40,6 +40,8 @@ NOMINAL: dict[str, tuple[float, float]] = {
     "sponge": (0.56, -0.28),
     "tray": (0.68, 0.02),
 }
+#: Where the paper's liquids start when nothing else says (red cup: liquid one).
+NOMINAL_CONTENTS: dict[str, str] = {"liquid_one": "red_cup", "liquid_two": "green_cup"}
 _SLOTS: tuple[tuple[float, float], ...] = (
     (0.64, 0.0),
     (0.56, 0.28),
@@ -50,7 +52,7 @@ _SLOTS: tuple[tuple[float, float], ...] = (
     (0.82, -0.18),
 )
 #: Region of the table objects may stand in: footprint x range and |y| limit, metres.
-_X_RANGE = (TABLE_FRONT + 0.04, TABLE_FRONT + TABLE_DEPTH - 0.10)
+_X_RANGE = (TABLE_FRONT + 0.04, TABLE_FRONT + 0.56)
 _Y_LIMIT = 0.60
 
 
@@ -104,9 +106,14 @@ def _kind(library: Library, cls_names: frozenset[str]) -> str | None:
 
 
 def plan_layout(
-    library: Library, scene: Scene, contents: Mapping[str, str] | None = None, seed: int | None = None
+    library: Library,
+    scene: Scene,
+    contents: Mapping[str, str] | None = None,
+    seed: int | None = None,
+    places: Mapping[str, tuple[float, float]] | None = None,
 ) -> Layout:
-    """The layout of ``scene``; ``contents`` maps liquids to their starting containers."""
+    """The layout of ``scene``; ``contents`` maps liquids to their starting containers;
+    ``places`` puts named objects at given (x, y) positions on the table (metres)."""
     classes = library.instance_classes(scene)
     kinds: dict[str, str] = {}
     table = "table"
@@ -132,6 +139,17 @@ def plan_layout(
     names = sorted(n for n, k in kinds.items() if k in SHAPES)
     nominal = _nominal(names, kinds)
     placed = nominal if seed is None else _shuffle(nominal, kinds, np.random.default_rng(seed))
+    for name, xy in (places or {}).items():
+        if name not in placed:
+            raise RuntimeFailure(
+                f"cannot place {name!r}: not an object on the table{did_you_mean(name, placed)}"
+            )
+        r = SHAPES[kinds[name]].radius
+        if not (
+            TABLE_FRONT <= xy[0] - r and xy[0] + r <= TABLE_FRONT + TABLE_DEPTH and abs(xy[1]) + r <= 0.8
+        ):
+            raise RuntimeFailure(f"cannot place {name!r} at ({xy[0]:.2f}, {xy[1]:.2f}) m: off the table")
+        placed[name] = (float(xy[0]), float(xy[1]))
     placements = tuple(Placement(n, kinds[n], placed[n][0], placed[n][1]) for n in names)
     return Layout(scene.name, placements, liquids, hands, table, seed, kinds=kinds)
 
@@ -171,6 +189,10 @@ def _liquids(kinds: Mapping[str, str], contents: dict[str, str]) -> dict[str, st
     free_cups = [c for c in containers if kinds[c] == "cup" and c not in taken]
     for liquid in sorted(n for n, k in kinds.items() if k == "liquid"):
         if liquid in contents:
+            continue
+        if NOMINAL_CONTENTS.get(liquid) in free_cups:
+            contents[liquid] = NOMINAL_CONTENTS[liquid]
+            free_cups.remove(contents[liquid])
             continue
         if not free_cups:
             raise RuntimeFailure(

@@ -33,7 +33,7 @@ __all__ = [
 #: Height of the table top above the floor and its front edge (x), metres.
 TABLE_TOP = 0.80
 TABLE_FRONT = 0.40
-TABLE_DEPTH = 0.70
+TABLE_DEPTH = 1.00
 TABLE_WIDTH = 1.60
 #: Radius of a liquid ball, metres (the paper's robot runs used small balls).
 BALL_RADIUS = 0.009
