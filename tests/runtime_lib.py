@@ -131,3 +131,79 @@ DOUGH = Oac(
 
 def library(*extra):
     return Library([Module(path="std.oac", decls=(*CLASSES, KITCHEN, WIPING, *GRASPS, *OACS, DOUGH, *extra))])
+
+
+# --- small scenes and OACs for testing one skill at a time -------------------------------------------
+POURING = Scene(
+    name="pouring",
+    instances=(
+        inst("left_hand", "Hand"),
+        inst("right_hand", "Hand"),
+        inst("green_cup", "Cup"),
+        inst("liquid_two", "Liquid"),
+        inst("orange_bowl", "Bowl"),
+        inst("table", "Table", environment=True),
+    ),
+)
+MIXING = Scene(
+    name="mixing",
+    instances=(
+        inst("left_hand", "Hand"),
+        inst("right_hand", "Hand"),
+        inst("mixer", "Mixer"),
+        inst("orange_bowl", "Bowl"),
+        inst("table", "Table", environment=True),
+    ),
+)
+
+
+def composed(name, params, calls):
+    return Oac(
+        name=name,
+        params=tuple(p(*x) for x in params),
+        steps=tuple(Call(oac=c, args=tuple(a)) for c, *a in calls),
+    )
+
+
+TASKS = [
+    composed(
+        "pick_and_place",
+        [("h", "Hand", "right_hand"), ("o", "Cup", "green_cup")],
+        [("grasp", "h", "o"), ("place", "h", "o")],
+    ),
+    composed(
+        "pour_task",
+        [
+            ("h", "Hand", "right_hand"),
+            ("c", "Cup", "green_cup"),
+            ("l", "Liquid", "liquid_two"),
+            ("b", "Bowl", "orange_bowl"),
+        ],
+        [("grasp", "h", "c"), ("pour", "h", "c", "l", "b"), ("place", "h", "c")],
+    ),
+    composed(
+        "left_pour",
+        [
+            ("h", "Hand", "left_hand"),
+            ("c", "Cup", "red_cup"),
+            ("l", "Liquid", "liquid_one"),
+            ("b", "Bowl", "orange_bowl"),
+        ],
+        [("grasp", "h", "c"), ("pour", "h", "c", "l", "b"), ("place", "h", "c")],
+    ),
+    composed(
+        "mix_task",
+        [("h", "Hand", "right_hand"), ("m", "Mixer", "mixer"), ("b", "Bowl", "orange_bowl")],
+        [("grasp", "h", "m"), ("mix", "h", "m", "b")],
+    ),
+    composed(
+        "wipe_task",
+        [("h", "Hand", "right_hand"), ("s", "Sponge", "sponge"), ("t", "Tray", "tray")],
+        [("grasp", "h", "s"), ("wipe", "h", "s", "t")],
+    ),
+]
+
+
+def task_library():
+    """The standard mirror plus the small scenes and the one-skill tasks."""
+    return library(POURING, MIXING, *TASKS)

@@ -120,13 +120,22 @@ def load_inputs(paths: list[str], scene: str | None) -> tuple[Any, str | None]:
 
 
 def _prepare_backend(args: argparse.Namespace) -> None:
-    if not (args.video or args.frames) or "mujoco" in sys.modules:
+    """Settle MuJoCo's OpenGL backend before MuJoCo is imported (it reads MUJOCO_GL once)."""
+    if "mujoco" in sys.modules:
         return
-    from oacdsl.runtime.render import choose_backend
+    from oacdsl.runtime.render import backend_available, choose_backend
 
-    backend = choose_backend()
-    if backend and not os.environ.get("MUJOCO_GL"):
-        os.environ["MUJOCO_GL"] = backend  # before MuJoCo is imported: it reads this once
+    chosen = os.environ.get("MUJOCO_GL")
+    if chosen and not backend_available(chosen):
+        print(
+            f"oacc: warning: MUJOCO_GL={chosen} but its library is not installed; running without rendering",
+            file=sys.stderr,
+        )
+        os.environ["MUJOCO_GL"] = "disable"
+    elif not chosen and (args.video or args.frames):
+        backend = choose_backend()
+        if backend:
+            os.environ["MUJOCO_GL"] = backend
 
 
 def run(args: argparse.Namespace) -> int:
@@ -142,6 +151,10 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(
             f"the robot runtime needs the 'robot' extra (pip install oacdsl[robot]): {error}"
         ) from None
+    except Exception as error:  # MuJoCo refuses to start, e.g. an invalid MUJOCO_GL
+        first = (str(error).strip().splitlines() or [type(error).__name__])[0]
+        gl = os.environ.get("MUJOCO_GL", "unset")
+        raise UsageError(f"MuJoCo could not start (MUJOCO_GL={gl}): {first}") from None
     run_ = prepare(
         library,
         args.name,

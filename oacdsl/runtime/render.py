@@ -37,6 +37,15 @@ class RenderUnavailable(OacError):
     """No offscreen OpenGL backend could be used (the run itself is not affected)."""
 
 
+_LIBRARIES = {"egl": "EGL", "osmesa": "OSMesa"}
+
+
+def backend_available(name: str) -> bool:
+    """Whether the shared library an offscreen backend needs is installed (glfw: assumed)."""
+    lib = _LIBRARIES.get(name.lower())
+    return lib is None or ctypes.util.find_library(lib) is not None
+
+
 def choose_backend(environ: dict[str, str] | None = None) -> str | None:
     """The backend to use: ``MUJOCO_GL`` when set, else ``egl`` when libEGL is present,
     else ``osmesa`` when libOSMesa is present, else None. Reads, never writes, ``environ``."""
