@@ -24,6 +24,7 @@ COMMANDS: list[str] = [
     "oacdsl.cli.segment_cmd",
     "oacdsl.cli.stats_cmd",
     "oacdsl.cli.report_cmd",
+    "oacdsl.cli.run_cmd",
 ]
 
 
