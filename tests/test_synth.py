@@ -154,9 +154,9 @@ def test_gaps_include_contacts_and_a_whole_instance(demo):
 def test_pass_by_comes_within_d_but_is_too_fast_to_touch(demo):
     pb = demo.truth["realism"]["pass_by"]
     assert pb["hand"] == "right_hand" and pb["object"] == "green_cup"
-    assert pb["min_distance_m"] < RULE.distance_m - 0.05
-    assert pb["min_change_within_d_m_s"] > RULE.speed_m_s and pb["hand_speed_m_s"] > 0.8
-    assert pb["longest_slow_run_frames"] < RULE.frames
+    assert pb["min_distance_m"] < RULE.distance_m - 0.05 and pb["hand_speed_m_s"] > 0.8
+    # within d, a marker pair's distance changes slower than v only briefly (around its closest point)
+    assert 0 < pb["longest_slow_run_frames"] < RULE.frames
     got, _ = reference_keyframes(demo.recording)
     for f, rels in got:
         if abs(f - pb["frame"]) < 50:
@@ -184,8 +184,11 @@ def test_truth_refuses_a_rule_the_scene_is_not_laid_out_for():
         dough_demonstration(DEFAULT_SEED, rule=PaperRule(distance_m=0.30))
 
 
-@pytest.mark.parametrize("rule", [PaperRule(speed_m_s=0.03), PaperRule(speed_m_s=0.08), PaperRule(frames=5),
-                                  PaperRule(merge_s=0.25)])
+NEARBY_RULES = [PaperRule(speed_m_s=0.05, frames=3), PaperRule(speed_m_s=0.08, frames=5),
+                PaperRule(speed_m_s=0.05), PaperRule(speed_m_s=0.12), PaperRule(merge_s=0.25)]
+
+
+@pytest.mark.parametrize("rule", NEARBY_RULES)
 def test_story_holds_for_nearby_parameters(rule):
     """The layout does not hinge on the exact defaults: nearby rules give the same story."""
     d = dough_demonstration(DEFAULT_SEED, rule=rule)

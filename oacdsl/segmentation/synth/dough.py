@@ -37,7 +37,7 @@ GRAVITY_M_S2 = 9.81
 _BOWL_AT_M = np.array([0.0, 0.06, TABLE_Z_M])
 _RED_CUP_AT_M = np.array([-0.36, -0.02, TABLE_Z_M])
 _GREEN_CUP_AT_M = np.array([0.36, -0.02, TABLE_Z_M])
-_MIXER_AT_M = np.array([0.20, 0.40, TABLE_Z_M])
+_MIXER_AT_M = np.array([0.25, 0.42, TABLE_Z_M])
 _REST_M = {"left_hand": np.array([-0.45, -0.42, TABLE_Z_M + 0.03]),
            "right_hand": np.array([0.45, -0.42, TABLE_Z_M + 0.03])}
 #: Palm down on the table: back of the hand up, fingers forward.
@@ -58,9 +58,16 @@ _SETTLE_ROLL_M = 0.005
 #: Motions that end in a contact (or leave one) are cut minimum-jerk profiles: they stop
 #: (start) at 80 % of the profile, still moving at about 40 % of the peak speed.
 _CONTACT_TAU = 0.8
+#: Reaches finish turning the hand at this fraction of their duration and then only translate.
+_TURN = 0.7
 _DROP_M = 0.005       # the red cup is let go this high above the table, metres
 _RESTITUTION = 0.3
 _UP_M = np.array([0.0, 0.0, 0.12])  # carried objects arc this much above the straight line
+#: Control points (from the mixer's handle, m) of the reach to the mixer: low over the green cup
+#: (the pass-by), then above the mixer so that the hand comes down onto the handle.
+_MIXER_VIA_M = np.array([[0.20, -0.40, 0.10], [0.30, 0.0, 0.05]])
+_LOWER_S = 0.8        # lowering the beaters into the bowl, seconds
+_INTO_BOWL_TAU = 0.75  # the beaters reach the bottom still moving briskly
 _MIX_RADIUS_M = 0.010
 _MIX_PERIOD_S = 5.0
 
@@ -139,11 +146,11 @@ def dough_script(rng: np.random.Generator, rate_hz: float = 100.0) -> Script:
         # reach the handle, arriving along the handle's axis, and close the hand
         t_reach = t + dur(1.2)
         target = _grasp_target(cup, CUP_HANDLE_GRASP_M, r_cup_hand)
-        hd.move(t_reach, *target, via_m=target[0] + _approach(side), end_tau=_CONTACT_TAU)
+        hd.move(t_reach, *target, via_m=target[0] + _approach(side), end_tau=_CONTACT_TAU, turn_until=_TURN)
         steps.append(Step("grasp", (h, cup_name), t_reach, ((h, cup_name),), ()))
         marks[f"grasp_{cup_name}"] = t_reach
         t_closed = t_reach + dur(0.35)
-        grips[h].append((t_reach - 0.05, t_closed, 1.0))
+        grips[h].append((t_reach, t_closed, 1.0))
         hd.hold(t_closed)
         cup.hold(t_closed)
         liq.follow(cup, t_closed)
@@ -185,24 +192,25 @@ def dough_script(rng: np.random.Generator, rate_hz: float = 100.0) -> Script:
                  end_tau=1.0 if bounce else _CONTACT_TAU)
         hd.follow(cup, t_home)
         if bounce:
-            # let go: the cup drops the last few mm and bounces; the hand flinches back 2.5 cm,
-            # hovers (touching again by the rule) and then leaves: three changes within 0.3 s
+            # let go: the cup drops the last few mm and bounces; the hand flinches back 5 cm,
+            # hovers (touching again by the rule) and then leaves: three changes, each within
+            # 0.3 s of the next, each lasting longer than the rule's n frames (0.1 s)
             t_let = t_home + 0.03
             cup.hold(t_let)
             hd.hold(t_let)
             cup.path(t_let + 0.3, lambda ts: home + np.outer(_bounce_height(ts - t_let), [0.0, 0.0, 1.0]))
             grips[h].append((t_let - 0.02, t_let + 0.1, 0.0))
-            hd.hold(t_let + 0.05)
+            hd.hold(t_let + 0.03)
             p_hand, r_hand = hd.last_pose
-            hd.move(t_let + 0.15, p_hand + 0.025 * r_hand[:, 0], r_hand, start_tau=1.0 - _CONTACT_TAU)
-            t_leave = t_let + 0.22
+            hd.move(t_let + 0.15, p_hand + 0.05 * r_hand[:, 0], r_hand, start_tau=0.2, end_tau=0.8)
+            t_leave = t_let + 0.38
             marks["bounce"] = t_let
         else:
             t_leave = t_home + dur(0.3)
             grips[h].append((t_home, t_leave, 0.0))
         hd.hold(t_leave)
         t_away = t_leave + dur(1.0)
-        out = hd.last_pose[0] + 1.5 * _approach(side)  # straight out along the handle, then home
+        out = hd.last_pose[0] + _retreat(side)  # straight out along the handle, then home
         hd.move(t_away, _REST_M[h], _R_REST, via_m=np.array([out, _REST_M[h] + _UP_M]),
                 start_tau=1.0 - _CONTACT_TAU)
         steps.append(Step("place", (h, cup_name), t_leave, (), ((h, cup_name),)))
@@ -224,21 +232,22 @@ def dough_script(rng: np.random.Generator, rate_hz: float = 100.0) -> Script:
     t_reach = t0 + dur(1.5)
     target = _grasp_target(mixer, MIXER_HANDLE_GRASP_M, _R_MIXER_HAND)
     # first control point: low over the green cup; second: above the mixer, so the hand comes down onto it
-    via = target[0] + np.array([[0.20, -0.40, -0.05], [0.10, 0.0, 0.22]])
-    rh.move(t_reach, *target, via_m=via, end_tau=_CONTACT_TAU)
+    via = target[0] + _MIXER_VIA_M
+    rh.move(t_reach, *target, via_m=via, end_tau=_CONTACT_TAU, turn_until=_TURN)
     marks["pass_by"] = t0 + 0.5 * (t_reach - t0)
     steps.append(Step("grasp", ("right_hand", "mixer"), t_reach, (("right_hand", "mixer"),), ()))
     marks["grasp_mixer"] = t_reach
     t_closed = t_reach + dur(0.35)
-    grips["right_hand"].append((t_reach - 0.05, t_closed, 1.0))
+    grips["right_hand"].append((t_reach, t_closed, 1.0))
     rh.hold(t_closed)
     mixer.hold(t_closed)
     # lift over the bowl, lower the beaters in, mix in slow circles until the end
     t_over = t_closed + dur(1.3)
-    mixer.move(t_over, _BOWL_AT_M + np.array([0.0, 0.0, 0.17]))
-    t_in = t_over + dur(1.0)
+    over = _BOWL_AT_M + np.array([0.0, 0.0, 0.20])
+    mixer.move(t_over, over, via_m=0.5 * (mixer.last_pose[0] + over) + 2.0 * _UP_M)
+    t_in = t_over + dur(_LOWER_S)
     bottom = _BOWL_AT_M + np.array([0.0, 0.0, 0.02])
-    mixer.move(t_in, bottom, end_tau=_CONTACT_TAU)
+    mixer.move(t_in, bottom, end_tau=_INTO_BOWL_TAU)
     steps.append(Step("mix", ("right_hand", "mixer", "orange_bowl"), t_in, (("mixer", "orange_bowl"),), ()))
     marks["mix"] = t_in
     t_end = t_in + dur(4.0)
@@ -268,8 +277,17 @@ def dough_script(rng: np.random.Generator, rate_hz: float = 100.0) -> Script:
 
 
 def _approach(side: float) -> np.ndarray:
-    """Offset (m) from a cup's handle to the control point of a reach: out along the handle, a bit up."""
-    return np.array([side * 0.20, -0.05, 0.04])
+    """Offset (m) from a cup's handle to the control point of a reach: far out along the handle axis.
+
+    The hand then arrives almost straight along the handle, so every hand–cup marker pair
+    closes in fast until the hand stops at the handle (no pair slides past sideways).
+    """
+    return np.array([side * 0.35, -0.10, -0.02])
+
+
+def _retreat(side: float) -> np.ndarray:
+    """Offset (m) from the handle to where a hand letting go heads first: straight out and up."""
+    return np.array([side * 0.30, -0.07, 0.06])
 
 
 def _bounce_height(t_s: np.ndarray) -> np.ndarray:

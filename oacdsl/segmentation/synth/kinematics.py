@@ -160,7 +160,7 @@ class Track:
 
     def move(self, t1_s: float, position_m: np.ndarray | None = None, rotation: np.ndarray | None = None,
              pivot_m: np.ndarray | None = None, via_m: np.ndarray | None = None,
-             start_tau: float = 0.0, end_tau: float = 1.0) -> Track:
+             start_tau: float = 0.0, end_tau: float = 1.0, turn_until: float = 1.0) -> Track:
         """Minimum-jerk move from the last pose to a target pose reached at ``t1_s``.
 
         ``position_m`` is the target of the body point ``pivot_m`` (body frame,
@@ -174,7 +174,9 @@ class Track:
         ``start_tau``/``end_tau`` cut the minimum-jerk profile: with ``end_tau`` < 1
         the body still moves when it reaches the target and stops there at once,
         as a hand stopped by the handle it grasps or a cup by the table; with
-        ``start_tau`` > 0 it leaves at once (a hand letting go).
+        ``start_tau`` > 0 it leaves at once (a hand letting go). ``turn_until`` < 1
+        finishes the rotation (its own minimum-jerk profile) at that fraction of the
+        duration, so that the last part of the move is a pure translation.
         """
         frames = self._span(t1_s)
         p0, r0 = self.last_pose
@@ -183,8 +185,9 @@ class Track:
         a0 = p0 + r0 @ pivot
         a1 = a0 if position_m is None else np.asarray(position_m, dtype=float)
         t0 = self.now_s
-        s = _cut_profile((self.times_s[frames] - t0) / max(t1_s - t0, 1e-9), start_tau, end_tau)
-        rots = slerp_matrices(r0, r1, s)
+        u = (self.times_s[frames] - t0) / max(t1_s - t0, 1e-9)
+        s = _cut_profile(u, start_tau, end_tau)
+        rots = slerp_matrices(r0, r1, s if turn_until >= 1.0 else min_jerk(u / turn_until))
         if via_m is None:
             anchor = a0 + s[:, None] * (a1 - a0)
         else:

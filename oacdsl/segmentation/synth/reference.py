@@ -27,11 +27,15 @@ __all__ = ["PaperRule", "merge_keyframes", "pair_distances", "touching", "world_
 
 @dataclass(frozen=True)
 class PaperRule:
-    """The paper's parameters: distance d (m), distance change v (m/s), n frames, merge window (s)."""
+    """The paper's parameters: distance d (m), distance change v (m/s), n frames, merge window (s).
+
+    The defaults are the project's AAS defaults (``AasParams()`` resolved at 100 Hz:
+    d = 150 mm, v = 100 mm/s, n = 0.1 s = 10 frames, merge 0.3 s).
+    """
 
     distance_m: float = 0.15
-    speed_m_s: float = 0.05
-    frames: int = 3
+    speed_m_s: float = 0.1
+    frames: int = 10
     merge_s: float = 0.3
 
 

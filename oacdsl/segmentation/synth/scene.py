@@ -116,9 +116,9 @@ _BOWL_M = np.array([
 #: Grasp point on the mixer's handle, mixer frame, metres.
 MIXER_HANDLE_GRASP_M = np.array([0.0, -0.05, 0.235])
 _MIXER_M = np.array([
-    [0.020, -0.120, 0.160],  # body, rear
-    [-0.025, 0.045, 0.200],  # body, front top
-    [0.040, -0.030, 0.195],  # body, right side
+    [-0.030, -0.120, 0.160],  # body, rear
+    [-0.020, 0.050, 0.210],   # body, front top
+    [-0.045, -0.030, 0.185],  # body, left side (the hand holds it from the right)
 ])
 
 #: Every tracked body of the dough scene, by instance name.

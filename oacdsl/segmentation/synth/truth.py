@@ -97,12 +97,10 @@ def pass_by_facts(script: Script, hand: str, obj: str, rule: PaperRule) -> dict[
             run = run + 1 if v else 0
             longest = max(longest, run)
     speed = np.linalg.norm(np.diff(script.markers_m[hand][lo - 1:hi].mean(axis=1), axis=0), axis=1) * rate
-    within = dist[k] < rule.distance_m
     return {
         "hand": hand, "object": obj, "frame": lo + k, "time_s": round((lo + k) / rate, 4),
         "min_distance_m": round(float(dist[k].min()), 5),
         "hand_speed_m_s": round(float(speed[k]), 4),
-        "min_change_within_d_m_s": round(float(change[k][within].min()), 4) if within.any() else None,
         "longest_slow_run_frames": int(longest),
     }
 
