@@ -19,6 +19,7 @@ from oacdsl.errors import OacError
 #: Subcommand modules, in the order ``oacc --help`` lists them.
 COMMANDS: list[str] = [
     "oacdsl.cli.skills_cmd",
+    "oacdsl.cli.inspect_cmd",
 ]
 
 
