@@ -59,6 +59,10 @@ class RecordingError(InputError):
     """A motion-capture recording is unreadable or inconsistent."""
 
 
+class RecordingWarning(UserWarning):
+    """A recording was read, but something in it deserves a look (e.g. fewer frames than declared)."""
+
+
 class SegmentationError(OacError):
     """Segmentation parameters or inputs are invalid."""
 
@@ -73,6 +77,10 @@ class RuntimeFailure(OacError):
     """Execution on the simulated robot failed (unreachable target, force limit, …)."""
 
     exit_code = 1
+
+
+class StoreError(OacError):
+    """The run store (SQLite database of run outcomes) is unusable: foreign, newer, unreadable."""
 
 
 def did_you_mean(name: str, valid: object) -> str:
