@@ -33,6 +33,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from oacdsl.segmentation import AasParams, segment  # noqa: E402
+from oacdsl.segmentation.aas import DEFAULT_CHUNK_FRAMES  # noqa: E402
 from oacdsl.segmentation.pairs import PairTable  # noqa: E402
 from oacdsl.segmentation.recording import Recording  # noqa: E402
 from oacdsl.segmentation.reference import pair_frames, segment_reference  # noqa: E402
@@ -160,7 +161,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--scenario", choices=[*SCENARIOS, "both"], default="table")
     parser.add_argument("--repeats", type=int, default=3, help="runs per measurement; medians (default 3)")
     parser.add_argument("--slice", type=int, default=300, help="frames timed for (a) (default 300)")
-    parser.add_argument("--chunk", type=int, default=2048, help="frames per chunk for segment()")
+    parser.add_argument("--chunk", type=int, default=DEFAULT_CHUNK_FRAMES, help="frames per chunk")
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args(argv)
     names = list(SCENARIOS) if args.scenario == "both" else [args.scenario]
