@@ -23,6 +23,7 @@ COMMANDS: list[str] = [
     "oacdsl.cli.skills_cmd",
     "oacdsl.cli.inspect_cmd",
     "oacdsl.cli.segment_cmd",
+    "oacdsl.cli.synth_cmd",
     "oacdsl.cli.stats_cmd",
     "oacdsl.cli.report_cmd",
     "oacdsl.cli.run_cmd",
