@@ -22,6 +22,8 @@ COMMANDS: list[str] = [
     "oacdsl.cli.fmt_cmd",
     "oacdsl.cli.skills_cmd",
     "oacdsl.cli.segment_cmd",
+    "oacdsl.cli.match_cmd",
+    "oacdsl.cli.compose_cmd",
     "oacdsl.cli.stats_cmd",
     "oacdsl.cli.report_cmd",
 ]
