@@ -26,8 +26,9 @@ __all__ = ["Net", "Requirements", "Step", "decide_precondition", "key", "net_eff
 class Step:
     """One matched sub-action: the OAC, its binding and the keyframes around it.
 
-    ``index`` is the sub-action's index (it runs from keyframe ``index`` to
-    ``index + 1``); the frames, when known, are recording frames.
+    ``index`` is the sub-action's index, from 0 (it runs from keyframe ``index`` to
+    ``index + 1``); the frames, when known, are recording frames. Messages and notes
+    count steps from 1: step ``index + 1`` ends at keyframe ``index + 1``.
     """
 
     oac: Oac
@@ -43,12 +44,12 @@ class Step:
         return dict(self.binding)
 
     def text(self) -> str:
-        return f"step {self.index} {call_text(self.oac.name, self.binding)}"
+        return f"step {self.index + 1} {call_text(self.oac.name, self.binding)}"
 
     def note(self, end: bool) -> str:
         frame = self.end_frame if end else self.start_frame
         where = f"keyframe {self.index + int(end)}" + (f", frame {frame}" if frame is not None else "")
-        return f"step {self.index} {self.oac.name}, {where}"
+        return f"step {self.index + 1} {self.oac.name}, {where}"
 
 def key(atom: Atom) -> tuple[str, str, bool]:
     return (atom.left, atom.right, atom.negated)

@@ -127,6 +127,11 @@ def compose(
             warnings.append("the paper's effects differ from the steps' net effects ("
                             + ", ".join(atom_text(a) for a in effects) + "): the OAC is not sound")
         effects = paper
+    if not effects:
+        raise MatchingError(
+            "the composed OAC would have no effect: the demonstration ends as it began"
+            f" (steps: {', '.join(s.oac.name for s in steps)}); an OAC must change something"
+        )
     return _lifted(name, steps, tuple(req.atoms.values()), effects, added, ended, classes, library, warnings)
 
 def _lifted(
