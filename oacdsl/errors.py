@@ -8,6 +8,9 @@ when there is one, and list the valid names when a name was wrong.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import Any
+
 
 class OacError(Exception):
     """Root of every error raised on purpose by oacdsl."""
@@ -30,13 +33,34 @@ class InputError(OacError):
 
 
 class LanguageError(OacError):
-    """The ``.oac`` text or library is invalid (carries diagnostics)."""
+    """The ``.oac`` text or library is invalid (carries diagnostics).
+
+    ``diagnostics`` holds every :class:`oacdsl.lang.Diagnostic` found, sorted by
+    position; ``rendered`` the full report (source lines, carets, notes). The str
+    of the error is the first error's line ``file:line:col: error[CODE]: message``.
+    """
 
     exit_code = 1
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        location: str | None = None,
+        diagnostics: Sequence[Any] = (),
+        rendered: str | None = None,
+    ) -> None:
+        super().__init__(message, location=location)
+        self.diagnostics: tuple[Any, ...] = tuple(diagnostics)
+        self.rendered: str = rendered if rendered is not None else str(self)
 
 
 class RecordingError(InputError):
     """A motion-capture recording is unreadable or inconsistent."""
+
+
+class RecordingWarning(UserWarning):
+    """A recording was read, but something in it deserves a look (e.g. fewer frames than declared)."""
 
 
 class SegmentationError(OacError):
@@ -53,6 +77,10 @@ class RuntimeFailure(OacError):
     """Execution on the simulated robot failed (unreachable target, force limit, …)."""
 
     exit_code = 1
+
+
+class StoreError(OacError):
+    """The run store (SQLite database of run outcomes) is unusable: foreign, newer, unreadable."""
 
 
 def did_you_mean(name: str, valid: object) -> str:

@@ -18,7 +18,12 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 
 from oacdsl.world import NOTHING
 
-_TRIVIA = frozenset({"span", "comments", "note"})
+_TRIVIA = frozenset({"span", "comments", "note", "parts"})
+
+#: Hand shapes a ``grasp`` declaration may name (``type``).
+GRASP_TYPES: tuple[str, ...] = ("handle", "power", "precision", "rim")
+#: Directions a hand may approach an object from (``approach``), in the object frame.
+APPROACHES: tuple[str, ...] = ("front", "side", "top")
 
 
 class Span(BaseModel):
@@ -37,12 +42,28 @@ class Span(BaseModel):
 
 
 class Node(BaseModel):
-    """Base of every model node: frozen, hashable, trivia outside equality."""
+    """Base of every model node: frozen, hashable, trivia outside equality.
+
+    Trivia: ``span`` (the whole node), ``comments`` (the comment lines written
+    before it, without ``#``), ``note`` (a comment at the end of its last line)
+    and ``parts`` (the spans of the names inside it, keyed like ``"name"``,
+    ``"cls"``, ``"parents:Cup"`` (sorted collections: by name) or ``"args.1"``
+    (ordered ones: by index), for diagnostics that point at one name).
+    """
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 
     span: Span | None = Field(default=None, repr=False)
     comments: tuple[str, ...] = Field(default=(), repr=False)
+    note: str | None = Field(default=None, repr=False)
+    parts: tuple[tuple[str, Span], ...] = Field(default=(), repr=False)
+
+    def part(self, key: str) -> Span | None:
+        """The span of the part ``key`` (e.g. ``"parents:Cup"``), else the node's span."""
+        for k, span in self.parts:
+            if k == key:
+                return span
+        return self.span
 
     def _key(self) -> tuple[Any, ...]:
         return tuple(v for k, v in self.__dict__.items() if k not in _TRIVIA)
@@ -136,7 +157,6 @@ class Atom(Node):
     left: str
     right: str
     negated: bool = False
-    note: str | None = Field(default=None, repr=False)
 
     @model_validator(mode="before")
     @classmethod

@@ -18,7 +18,13 @@ from oacdsl.errors import OacError
 
 #: Subcommand modules, in the order ``oacc --help`` lists them.
 COMMANDS: list[str] = [
+    "oacdsl.cli.compile_cmd",
+    "oacdsl.cli.fmt_cmd",
     "oacdsl.cli.skills_cmd",
+    "oacdsl.cli.inspect_cmd",
+    "oacdsl.cli.segment_cmd",
+    "oacdsl.cli.stats_cmd",
+    "oacdsl.cli.report_cmd",
     "oacdsl.cli.run_cmd",
 ]
 

@@ -1,0 +1,173 @@
+"""Throughput and memory of the AAS against (a) a per-frame Python loop and (b) the brute-force floor.
+
+Data: a synthetic recording (random walks, generated here) of 12 objects with 4
+markers and two hands with 5 markers, at 100 Hz, one hour by default: 1,561
+cross-instance marker pairs × 360,000 frames = 562 M marker-pair-frames.
+
+- ours: ``oacdsl.segmentation.segment`` with default parameters;
+- (a) ``segment_reference``: the same equations, one frame and one pair at a time in
+  Python, timed on a slice and extrapolated linearly;
+- (b) the floor: one vectorised numpy pass (in chunks, float32) computing every
+  cross-instance marker distance of the same data, and nothing else.
+
+Targets (issue 3): ours ≥ 100× (a); ours no slower than 1.5× (b); peak memory < 1 GiB.
+Times are medians of ``--repeats`` runs. Run on a quiet machine:
+
+    python benchmarks/segmentation.py            # one hour, ~3 minutes
+    python benchmarks/segmentation.py --minutes 5 --scenario both
+"""
+
+from __future__ import annotations
+
+import argparse
+import resource
+import statistics
+import sys
+import time
+import tracemalloc
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from oacdsl.segmentation import AasParams, segment  # noqa: E402
+from oacdsl.segmentation.aas import DEFAULT_CHUNK_FRAMES  # noqa: E402
+from oacdsl.segmentation.pairs import PairTable  # noqa: E402
+from oacdsl.segmentation.recording import Recording  # noqa: E402
+from oacdsl.segmentation.reference import pair_frames, segment_reference  # noqa: E402
+
+OBJECTS, OBJECT_MARKERS, HANDS, HAND_MARKERS = 12, 4, 2, 5
+RATE_HZ = 100.0
+#: workspace boxes (metres): a kitchen table top, or everything crammed together
+SCENARIOS = {
+    "table": ((0.0, 0.0, 0.75), (1.2, 0.8, 1.15)),
+    "dense": ((0.0, 0.0, 0.75), (0.25, 0.25, 0.9)),
+}
+
+
+Box = tuple[tuple[float, ...], tuple[float, ...]]
+
+
+def make_recording(minutes: float, box: Box, seed: int = 0) -> Recording:
+    """Random-walk marker clusters (hands fast, objects slow) with noise and occlusion gaps."""
+    rng = np.random.default_rng(seed)
+    n_frames = int(round(minutes * 60 * RATE_HZ))
+    sizes = [HAND_MARKERS] * HANDS + [OBJECT_MARKERS] * OBJECTS
+    names = [f"hand{i}" for i in range(HANDS)] + [f"object{i:02d}" for i in range(OBJECTS)]
+    speeds = [0.4] * HANDS + [0.03] * OBJECTS  # m/s, typical
+    lo, hi = np.array(box[0]), np.array(box[1])
+    pos = np.empty((n_frames, sum(sizes), 3), dtype=np.float64)
+    groups: dict[str, tuple[int, ...]] = {}
+    col = 0
+    dt = 1.0 / RATE_HZ
+    for name, k, speed in zip(names, sizes, speeds, strict=True):
+        # velocity: white noise smoothed over 0.5 s; position: its integral, folded into the box
+        noise = rng.normal(size=(n_frames + 50, 3))
+        c = np.cumsum(noise, axis=0)
+        vel = (c[50:] - c[:-50]) / np.sqrt(50.0) * speed
+        walk = np.cumsum(vel, axis=0) * dt + rng.random(3) * (hi - lo)
+        span = hi - lo
+        folded = np.mod(walk, 2 * span)
+        centre = lo + span - np.abs(folded - span)
+        yaw = np.cumsum(rng.normal(scale=0.01, size=n_frames))
+        offsets = rng.normal(scale=0.03, size=(k, 3))
+        cos, sin = np.cos(yaw)[:, None], np.sin(yaw)[:, None]
+        block = pos[:, col:col + k, :]
+        block[..., 0] = centre[:, None, 0] + cos * offsets[:, 0] - sin * offsets[:, 1]
+        block[..., 1] = centre[:, None, 1] + sin * offsets[:, 0] + cos * offsets[:, 1]
+        block[..., 2] = centre[:, None, 2] + offsets[:, 2]
+        block += rng.normal(scale=1e-4, size=block.shape)  # 0.1 mm marker noise
+        for m in range(k):  # occlusions: ~20 gaps of up to 0.5 s per marker and hour
+            for start in rng.integers(0, n_frames, size=max(1, int(20 * minutes / 60))):
+                block[start:start + int(rng.integers(1, 50)), m] = np.nan
+        groups[name] = tuple(range(col, col + k))
+        col += k
+    marker_names = tuple(f"{n}_{j}" for n, k in zip(names, sizes, strict=True) for j in range(k))
+    times = np.arange(n_frames) * dt
+    return Recording(f"synthetic {minutes:g} min", RATE_HZ, times, marker_names, pos, groups)
+
+
+def floor_pass(recording: Recording, chunk: int = 4096) -> float:
+    """(b) all cross-instance marker distances, vectorised, chunked; returns a checksum."""
+    table = PairTable.of(recording)
+    first, second = table.first, table.second
+    total = 0.0
+    for lo in range(0, recording.n_frames, chunk):
+        x = recording.positions_m[lo:lo + chunk].astype(np.float32)
+        diff = x[:, first] - x[:, second]
+        dist = np.sqrt(np.einsum("fpk,fpk->fp", diff, diff))
+        total += float(np.nansum(dist[-1]))
+    return total
+
+
+def median_time(fn: Callable[[], object], repeats: int) -> float:
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times)
+
+
+def run_scenario(name: str, args: argparse.Namespace) -> bool:
+    t0 = time.perf_counter()
+    rec = make_recording(args.minutes, SCENARIOS[name], seed=args.seed)
+    pf = pair_frames(rec)
+    gen = time.perf_counter() - t0
+    print(f"\n== scenario {name!r}: {rec.n_frames} frames at {RATE_HZ:g} Hz, "
+          f"{pf // rec.n_frames} marker pairs, {pf / 1e6:.0f} M marker-pair-frames "
+          f"(data {rec.positions_m.nbytes / 2**20:.0f} MiB, generated in {gen:.1f} s)")
+    params = AasParams()
+
+    tracemalloc.start()
+    seg = segment(rec, params, chunk_frames=args.chunk)
+    _, traced_peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    rss_peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # Linux: KiB
+    t_ours = median_time(lambda: segment(rec, params, chunk_frames=args.chunk), args.repeats)
+    t_floor = median_time(lambda: floor_pass(rec), args.repeats)
+
+    sl = Recording(rec.source, rec.rate_hz, rec.times_s[:args.slice], rec.marker_names,
+                   rec.positions_m[:args.slice], rec.groups)
+    t_slice = median_time(lambda: segment_reference(sl, params), args.repeats)
+    t_ref = t_slice * rec.n_frames / args.slice
+    agree = segment(sl, params).keyframes == segment_reference(sl, params).keyframes
+
+    def row(label: str, seconds: float) -> str:
+        return f"  {label:<44} {seconds:9.2f} s  {pf / seconds / 1e6:9.1f} M pair-frames/s"
+
+    print(f"  {len(seg.keyframes)} keyframes; vectorised and per-frame agree on the slice: {agree}")
+    print(row("ours: segment()", t_ours))
+    print(row(f"(a) per-frame Python ({args.slice} frames, extrapolated)", t_ref))
+    print(row("(b) floor: all distances, one numpy pass", t_floor))
+    speedup = t_ref / t_ours
+    vs_floor = t_ours / t_floor
+    data_mib = rec.positions_m.nbytes / 2**20
+    print(f"  peak memory: segment() {traced_peak / 2**20:.0f} MiB allocated (tracemalloc); "
+          f"process {rss_peak / 2**20:.0f} MiB max RSS incl. the {data_mib:.0f} MiB data")
+    ok_a, ok_b, ok_m = speedup >= 100, vs_floor <= 1.5, rss_peak < 2**30
+    print(f"  ours vs (a): {speedup:7.0f}x faster    target >= 100x   {'PASS' if ok_a else 'FAIL'}")
+    print(f"  ours / (b):  {vs_floor:7.2f}x the time  target <= 1.5x   {'PASS' if ok_b else 'FAIL'}")
+    print(f"  peak RSS:    {rss_peak / 2**30:7.2f} GiB         target < 1 GiB   {'PASS' if ok_m else 'FAIL'}")
+    return ok_a and ok_b and ok_m and agree
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--minutes", type=float, default=60.0, help="recording length (default 60)")
+    parser.add_argument("--scenario", choices=[*SCENARIOS, "both"], default="table")
+    parser.add_argument("--repeats", type=int, default=3, help="runs per measurement; medians (default 3)")
+    parser.add_argument("--slice", type=int, default=300, help="frames timed for (a) (default 300)")
+    parser.add_argument("--chunk", type=int, default=DEFAULT_CHUNK_FRAMES, help="frames per chunk")
+    parser.add_argument("--seed", type=int, default=0)
+    args = parser.parse_args(argv)
+    names = list(SCENARIOS) if args.scenario == "both" else [args.scenario]
+    ok = all([run_scenario(name, args) for name in names])
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

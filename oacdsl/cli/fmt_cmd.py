@@ -1,0 +1,102 @@
+"""``oacc fmt PATH... [--check]``: rewrite .oac files in canonical form."""
+
+from __future__ import annotations
+
+import argparse
+import difflib
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+from oacdsl.errors import InputError
+
+_HELP = """\
+Print the .oac files at PATH (files, or folders searched recursively) in
+canonical form: sorted where order carries no meaning, aligned, comments kept.
+Files are rewritten in place (atomically); with --check nothing is written and
+the files that would change are listed. 'oacc fmt -' formats stdin to stdout.
+Exit status: 0 done (or nothing to change), 1 a file would change (--check) or
+has a syntax error, 2 usage or I/O error."""
+
+
+def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    p = sub.add_parser(
+        "fmt",
+        help="rewrite .oac files in canonical form",
+        description=_HELP,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("paths", nargs="+", metavar="PATH", help=".oac file, folder, or '-' for stdin")
+    p.add_argument("--check", action="store_true", help="write nothing; exit 1 if a file would change")
+    p.add_argument("--diff", action="store_true", help="with --check: show what would change as a diff")
+    p.set_defaults(func=run)
+
+
+def write_atomically(path: Path, text: str) -> None:
+    """Write ``text`` to a temporary file next to ``path``, then rename it over ``path``."""
+    mode = path.stat().st_mode & 0o7777 if path.exists() else None
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as f:
+            f.write(text)
+        if mode is not None:
+            os.chmod(tmp, mode)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def run(args: argparse.Namespace) -> int:
+    from oacdsl.errors import LanguageError
+    from oacdsl.lang.loader import collect_files
+    from oacdsl.lang.parser import parse_text, read_source
+    from oacdsl.lang.printer import print_module
+
+    if args.paths == ["-"]:
+        text = sys.stdin.read()
+        try:
+            print(print_module(parse_text(text, "<stdin>")), end="")
+        except LanguageError as error:
+            print(error.rendered, file=sys.stderr)
+            return 1
+        return 0
+    files = collect_files(args.paths)
+    changed: list[Path] = []
+    broken = 0
+    for path in files:
+        source = read_source(path)
+        try:
+            text = print_module(parse_text(source, str(path)))
+        except LanguageError as error:
+            print(error.rendered, file=sys.stderr)
+            broken += 1
+            continue
+        if text == source:
+            continue
+        changed.append(path)
+        if args.check:
+            if args.diff:
+                sys.stdout.writelines(
+                    difflib.unified_diff(
+                        source.splitlines(keepends=True),
+                        text.splitlines(keepends=True),
+                        f"{path} (now)",
+                        f"{path} (formatted)",
+                    )
+                )
+            else:
+                print(path)
+        else:
+            try:
+                write_atomically(path, text)
+            except OSError as error:
+                raise InputError(f"cannot write: {error.strerror or error}", location=str(path)) from None
+            print(f"formatted {path}")
+    if args.check and changed:
+        print(
+            f"{len(changed)} of {len(files)} file{'s' if len(files) != 1 else ''} would be reformatted",
+            file=sys.stderr,
+        )
+    return 1 if broken or (args.check and changed) else 0

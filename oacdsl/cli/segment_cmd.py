@@ -1,0 +1,190 @@
+"""``oacc segment``: cut a motion-capture recording into keyframes where objects start/stop touching."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from typing import Any
+
+DESCRIPTION = """\
+Automatic action segmentation (AAS, Wächter et al. 2013, III-A). Two markers of
+different instances start touching when they are closer than --distance and their
+distance changes slower than --speed for --frames consecutive frames (Eq. 1); they
+stop when, for --frames consecutive frames, they are farther or their distance
+changes faster (Eq. 2). Instances touch while any pair of their markers touches.
+Every change of the world state is a keyframe; keyframes closer than --merge are
+merged into the last of them. Frames count from 0 at the file's first frame;
+keyframe 0 is the initial world state.
+
+Values carry units: --distance 150mm (or 15cm, 0.15m), --speed 100mm/s,
+--merge 0.3s (or 300ms); --frames is a whole number of frames.
+"""
+
+EPILOG = """\
+examples:
+  oacc segment demo.c3d
+  oacc segment Pour.mmm.xml --preset kit --distance 100mm --json
+  oacc segment demo.c3d --scene library/ --scene-name kitchen --plot aas.png --graphs graphs/
+"""
+
+
+def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    p = sub.add_parser(
+        "segment",
+        help="segment a recording into keyframes of touching relations (AAS)",
+        description=DESCRIPTION,
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("recording", metavar="RECORDING", help="a .c3d, .mmm.xml/.xml, .tsv or .csv file")
+    p.add_argument("--format", metavar="FMT", help="read as this format, not by the file's extension")
+    groups = p.add_argument_group("marker groups (default: as the file groups them)")
+    groups.add_argument("--scene", metavar="PATH", action="append",
+                        help=".oac file or folder (repeatable, loaded as one library) with a scene whose"
+                             " instances and markers define the groups")
+    groups.add_argument("--scene-name", metavar="NAME", help="which scene (needed if there are several)")
+    groups.add_argument("--preset", metavar="NAME", help="built-in marker grouping, e.g. 'kit' (KIT hands)")
+    aas = p.add_argument_group("AAS parameters")
+    aas.add_argument("--distance", metavar="LEN", help="distance threshold d (default: 150mm)")
+    aas.add_argument("--speed", metavar="SPEED", help="distance-change threshold v (default: 100mm/s)")
+    aas.add_argument("--frames", metavar="N",
+                     help="consecutive frames n (default: the frames in 0.1 s, at least 2)")
+    aas.add_argument("--merge", metavar="TIME", help="keyframe merge window (default: 0.3s; 0s = off)")
+    aas.add_argument("--mode", metavar="MODE", default="paper", help="touch detector (default: paper)")
+    out = p.add_argument_group("output")
+    out.add_argument("--json", action="store_true", help="print the segmentation as JSON")
+    out.add_argument("--plot", metavar="OUT.png",
+                     help="draw distances, thresholds and keyframes over time (the paper's Fig. 3)")
+    out.add_argument("--graphs", metavar="DIR",
+                     help="write the world state of every keyframe as a graph picture (the paper's Fig. 4)")
+    p.set_defaults(func=run)
+
+
+def params_from_args(args: argparse.Namespace) -> Any:
+    """:class:`AasParams` from the command-line values (units and mode checked)."""
+    from oacdsl.errors import UsageError, did_you_mean
+    from oacdsl.segmentation.detectors import DETECTORS
+    from oacdsl.segmentation.params import AasParams
+    from oacdsl.units import parse_quantity
+
+    if args.mode not in DETECTORS:
+        raise UsageError(f"--mode: unknown mode {args.mode!r}{did_you_mean(args.mode, DETECTORS)}")
+    kwargs: dict[str, Any] = {"mode": args.mode}
+    if args.distance is not None:
+        kwargs["distance_m"] = parse_quantity(args.distance, "m", what="--distance")
+    if args.speed is not None:
+        kwargs["speed_m_s"] = parse_quantity(args.speed, "m/s", what="--speed")
+    if args.frames is not None:
+        kwargs["frames"] = int(parse_quantity(args.frames, "frames", what="--frames"))
+    if args.merge is not None:
+        kwargs["merge_s"] = parse_quantity(args.merge, "s", what="--merge")
+    return AasParams(**kwargs)
+
+
+def load(args: argparse.Namespace) -> Any:
+    """The recording, grouped by --scene or --preset when given."""
+    from oacdsl.errors import UsageError
+    from oacdsl.segmentation.readers import read_recording
+
+    if args.scene and args.preset:
+        raise UsageError("--scene and --preset both define the marker groups; give one of them")
+    recording = read_recording(args.recording, args.format)
+    if args.preset:
+        from oacdsl.segmentation.grouping import apply_preset
+
+        recording = apply_preset(recording, args.preset)
+    if args.scene:
+        from oacdsl.segmentation.grouping import apply_scene_groups
+
+        recording = apply_scene_groups(recording, pick_scene(args.scene, args.scene_name))
+    elif args.scene_name:
+        raise UsageError("--scene-name needs --scene FILE")
+    return recording
+
+
+def pick_scene(paths: list[str], name: str | None) -> Any:
+    """The scene ``name`` of the library at ``paths`` (or its only scene)."""
+    from oacdsl.errors import UsageError, did_you_mean
+    from oacdsl.lang import load_library
+
+    scenes = load_library(paths).scenes
+    where = ", ".join(paths)
+    if name is not None:
+        if name not in scenes:
+            raise UsageError(f"no scene {name!r}{did_you_mean(name, scenes)}", location=where)
+        return scenes[name]
+    if len(scenes) != 1:
+        listed = ", ".join(sorted(scenes)) or "none"
+        raise UsageError(f"{len(scenes)} scenes ({listed}); choose one with --scene-name", location=where)
+    return next(iter(scenes.values()))
+
+
+def run(args: argparse.Namespace) -> int:
+    from oacdsl.segmentation import segment
+
+    params = params_from_args(args)  # bad units fail before any reading
+    recording = load(args)
+    seg = segment(recording, params, progress=_progress_printer(recording.n_frames))
+    if args.json:
+        print(json.dumps(seg.to_json(), indent=2))
+    else:
+        print(format_table(seg))
+    if args.plot:
+        from oacdsl.segmentation.plots import save_distance_plot
+
+        written = save_distance_plot(recording, seg, args.plot)
+        print(f"wrote {written}", file=sys.stderr)
+    if args.graphs:
+        from oacdsl.segmentation.plots import write_graphs
+
+        files = write_graphs(seg, args.graphs)
+        print(f"wrote {len(files)} keyframe graph(s) to {args.graphs}", file=sys.stderr)
+    return 0
+
+
+def format_table(seg: Any) -> str:
+    """The readable summary: one line per keyframe with the relations it adds and removes."""
+    from oacdsl.segmentation.plots import change_labels
+    from oacdsl.units import format_quantity
+
+    p = seg.parameters
+    speed = "off" if p.get("speed_m_s") is None else format_quantity(p["speed_m_s"], "m/s")
+    duration = seg.frames / seg.rate_hz
+    lines = [
+        f"{seg.recording}: {seg.frames} frames at {seg.rate_hz:g} Hz ({duration:.2f} s),"
+        f" {len(seg.instances)} instances: {', '.join(seg.instances) or '(none)'}",
+        f"d = {format_quantity(p['distance_m'], 'm')}, v = {speed}, n = {p['frames']} frames,"
+        f" merge = {format_quantity(p['merge_s'], 's')}, mode = {p['mode']}",
+        "",
+        f"{'#':>3}  {'frame':>7}  {'time [s]':>9}  relations",
+    ]
+    prev = None
+    for i, k in enumerate(seg.keyframes):
+        if prev is None:
+            rels = [f"{a} <-> {b}" for a, b in k.state.sorted_relations()]
+            changes = ["initial: " + (", ".join(rels) if rels else "nothing touches")]
+        else:
+            changes = change_labels(prev, k.state)
+        lines.append(f"{i:>3}  {k.frame:>7}  {k.time_s:>9.3f}  {changes[0]}")
+        lines.extend(f"{'':>3}  {'':>7}  {'':>9}  {c}" for c in changes[1:])
+        prev = k.state
+    n_sub = max(len(seg.keyframes) - 1, 0)
+    lines += ["", f"{len(seg.keyframes)} keyframe(s), {n_sub} sub-action(s)"]
+    return "\n".join(lines)
+
+
+def _progress_printer(total: int) -> Any:
+    """Progress on stderr for long recordings when stderr is a terminal, else None."""
+    if total < 200_000 or not sys.stderr.isatty():
+        return None
+    last = [-1]
+
+    def show(done: int, total: int) -> None:
+        pct = 100 * done // total
+        if pct != last[0]:
+            last[0] = pct
+            end = "\n" if done >= total else ""
+            print(f"\rsegmenting: {pct:3d}% of {total} frames", end=end, file=sys.stderr, flush=True)
+
+    return show

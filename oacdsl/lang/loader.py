@@ -1,0 +1,115 @@
+"""Find, parse and validate the ``.oac`` files of a library.
+
+A library is every ``.oac`` file under the given paths (folders are searched
+recursively, in sorted order), merged: a file may use the classes, instances
+and OACs of any other. There is no ``import``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from oacdsl.errors import InputError, LanguageError
+from oacdsl.lang.checks import check_modules
+from oacdsl.lang.diagnostics import Diagnostic, language_error, sort_diagnostics
+from oacdsl.lang.parser import parse_source, read_source
+from oacdsl.library import Library
+from oacdsl.model import Module
+
+__all__ = ["CompileResult", "collect_files", "compile_paths", "compile_sources", "load_library"]
+
+
+@dataclass
+class CompileResult:
+    """What compiling a set of files found: modules, diagnostics, and the texts read."""
+
+    modules: list[Module] = field(default_factory=list)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    sources: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def errors(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if d.is_error]
+
+    @property
+    def ok(self) -> bool:
+        return not self.errors
+
+    def error(self) -> LanguageError:
+        """The :class:`LanguageError` for these diagnostics (raise it when not ``ok``)."""
+        return language_error(self.diagnostics, self.sources)
+
+
+def collect_files(paths: Sequence[str | Path]) -> list[Path]:
+    """The ``.oac`` files named by ``paths`` (files as given, folders searched recursively).
+
+    :class:`~oacdsl.errors.InputError` for a missing path or a folder without ``.oac`` files.
+    """
+    if not paths:
+        raise InputError("no library path given")
+    files: list[Path] = []
+    for raw in paths:
+        path = Path(raw)
+        if path.is_dir():
+            found = sorted(p for p in path.rglob("*.oac") if p.is_file())
+            if not found:
+                raise InputError("folder contains no .oac files", location=str(path))
+            files += found
+        elif path.is_file():
+            files.append(path)
+        elif path.exists():
+            raise InputError("neither a file nor a folder", location=str(path))
+        else:
+            raise InputError("no such file or folder", location=str(path))
+    unique: dict[Path, Path] = {}
+    for f in files:
+        unique.setdefault(f.resolve(), f)
+    return list(unique.values())
+
+
+def compile_sources(sources: dict[str, str]) -> CompileResult:
+    """Parse and validate already-read texts (path → text) as one library.
+
+    Syntax errors are reported per file; the semantic checks run only when
+    every file parsed (otherwise names defined in a broken file would show up
+    as spurious "unknown" errors).
+    """
+    result = CompileResult(sources=dict(sources))
+    syntax_failed = False
+    for path, text in sources.items():
+        try:
+            module, warnings = parse_source(text, path)
+        except LanguageError as error:
+            result.diagnostics += list(error.diagnostics)
+            syntax_failed = True
+            continue
+        result.modules.append(module)
+        result.diagnostics += warnings
+    if not syntax_failed:
+        result.diagnostics += check_modules(result.modules)
+    result.diagnostics = sort_diagnostics(result.diagnostics)
+    return result
+
+
+def compile_paths(paths: Sequence[str | Path]) -> CompileResult:
+    """Read, parse and validate the library at ``paths`` (I/O problems raise InputError)."""
+    files = collect_files(paths)
+    return compile_sources({str(f): read_source(f) for f in files})
+
+
+def load_library(paths: Sequence[str | Path]) -> Library:
+    """The validated library at ``paths`` (files or folders, recursive ``*.oac``).
+
+    Raises :class:`~oacdsl.errors.LanguageError` when there are errors (its str
+    is the first error line ``file:line:col: error[CODE]: message``; it carries
+    all ``.diagnostics``) and :class:`~oacdsl.errors.InputError` when a path
+    cannot be read. Warnings do not stop loading (:func:`compile_paths` returns them).
+    """
+    if isinstance(paths, str | Path):
+        paths = [paths]
+    result = compile_paths(paths)
+    if not result.ok:
+        raise result.error()
+    return Library(result.modules)

@@ -1,0 +1,117 @@
+"""Parse ``.oac`` text into a :class:`~oacdsl.model.Module`.
+
+The grammar is ``grammar/oac.lark`` (installed as package data); the Lark LALR
+parser is built once per process. Comments reach us through a lexer callback
+and are attached to nodes afterwards (:mod:`oacdsl.lang.comments`). Syntax
+errors become :class:`~oacdsl.errors.LanguageError` with one diagnostic
+(:mod:`oacdsl.lang.syntax`).
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib.resources
+import threading
+from pathlib import Path
+
+from lark import Lark, Token, UnexpectedInput
+
+from oacdsl.errors import InputError
+from oacdsl.lang.comments import Comment, attach_comments, comment_text
+from oacdsl.lang.diagnostics import Diagnostic, language_error
+from oacdsl.lang.transform import ModelBuilder
+from oacdsl.model import Module
+
+__all__ = ["grammar_text", "lark_parser", "parse_file", "parse_source", "parse_text", "read_source"]
+
+_local = threading.local()
+
+
+def grammar_text() -> str:
+    """The text of ``grammar/oac.lark`` as installed with the package."""
+    return importlib.resources.files("oacdsl").joinpath("grammar/oac.lark").read_text(encoding="utf-8")
+
+
+def _on_comment(token: Token) -> Token:
+    sink = getattr(_local, "comments", None)
+    if sink is not None:
+        sink.append(token)
+    return token
+
+
+@functools.lru_cache(maxsize=1)
+def lark_parser() -> Lark:
+    """The process-wide LALR parser (built on first use, ~0.1 s)."""
+    return Lark(
+        grammar_text(),
+        parser="lalr",
+        lexer="contextual",
+        propagate_positions=True,
+        maybe_placeholders=True,
+        lexer_callbacks={"COMMENT": _on_comment},
+    )
+
+
+def _comments(text: str, tokens: list[Token]) -> list[Comment]:
+    out = []
+    for tok in tokens:
+        start = tok.start_pos or 0
+        line_start = text.rfind("\n", 0, start) + 1
+        own_line = not text[line_start:start].strip()
+        out.append(Comment(tok.line or 0, tok.column or 0, own_line, comment_text(str(tok))))
+    return out
+
+
+def parse_source(text: str, path: str = "<string>") -> tuple[Module, list[Diagnostic]]:
+    """Parse ``text``; return the module and the warnings found while building it.
+
+    Raises :class:`~oacdsl.errors.LanguageError` (one E001/E002 diagnostic) on a
+    syntax error.
+    """
+    from oacdsl.lang.syntax import syntax_diagnostic
+
+    parser = lark_parser()
+    tokens: list[Token] = []
+    _local.comments = tokens
+    try:
+        tree = parser.parse(text)
+    except UnexpectedInput as error:
+        raise language_error([syntax_diagnostic(error, text, path)], {path: text}) from None
+    finally:
+        _local.comments = None
+    builder = ModelBuilder(path)
+    decls = builder.transform(tree)
+    decls, header, trailing = attach_comments(decls, _comments(text, tokens))
+    module = Module(path=path, decls=tuple(decls), comments=header, trailing=trailing)
+    return module, builder.diagnostics
+
+
+def parse_text(text: str, path: str = "<string>") -> Module:
+    """Parse one file's text (``path`` names it in diagnostics and spans)."""
+    return parse_source(text, path)[0]
+
+
+def read_source(path: str | Path) -> str:
+    """Read a ``.oac`` file as UTF-8; :class:`~oacdsl.errors.InputError` when that fails."""
+    p = Path(path)
+    try:
+        data = p.read_bytes()
+    except FileNotFoundError:
+        raise InputError("no such file", location=str(path)) from None
+    except IsADirectoryError:
+        raise InputError("is a directory, expected a .oac file", location=str(path)) from None
+    except OSError as error:
+        raise InputError(f"cannot read: {error.strerror or error}", location=str(path)) from None
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as error:
+        line = data.count(b"\n", 0, error.start) + 1
+        raise InputError(
+            f"not UTF-8 text (byte 0x{data[error.start]:02x} on line {line})", location=str(path)
+        ) from None
+    return text[1:] if text.startswith("\ufeff") else text
+
+
+def parse_file(path: str | Path) -> Module:
+    """Read and parse one ``.oac`` file."""
+    return parse_text(read_source(path), str(path))

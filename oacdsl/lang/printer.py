@@ -1,0 +1,274 @@
+"""The canonical printer: one layout for every model, comments kept.
+
+Deterministic: the model already keeps parents, instance classes, instances
+and atoms sorted; the printer keeps declarations, parameters, markers and
+steps in their order. Layout rules:
+
+* four spaces of indentation, one blank line between declarations except
+  between consecutive one-line ``class`` or ``grasp`` declarations;
+* instances one per line with their colons aligned;
+* ``pre``/``effect``/``execute`` aligned on one column; a section goes one
+  atom per line when an atom carries a comment or the line passes 100 columns;
+  parameters likewise go one per line when one carries a comment;
+* leading comments on their own lines above the node, notes after it.
+
+``parse_text(print_module(m)) == m`` and printing is idempotent (tests check both).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Iterable
+
+from oacdsl.errors import LanguageError
+from oacdsl.model import Atom, Call, Decl, Grasp, Instance, Module, Node, Oac, ObjectClass, Param, Scene
+from oacdsl.world import NOTHING
+
+__all__ = ["format_atom", "format_decl", "format_oac", "print_module"]
+
+_IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+_WIDTH = 100
+_IND = "    "
+
+
+def _name(name: str) -> str:
+    if not _IDENT.match(name):
+        raise LanguageError(
+            f"cannot print {name!r}: not a name (letters, digits, '_', not starting with a digit)"
+        )
+    return name
+
+
+def _number(x: float) -> str:
+    if not math.isfinite(x):
+        raise LanguageError(f"cannot print the number {x!r}: offsets must be finite (metres)")
+    return repr(float(x))
+
+
+def _string(s: str) -> str:
+    escaped = s.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n").replace("\t", "\\t")
+    return f'"{escaped}"'
+
+
+def _one_line(text: str) -> str:
+    return " ".join(text.split("\n")).rstrip()
+
+
+def _comment_lines(comments: Iterable[str], indent: str) -> list[str]:
+    out = []
+    for comment in comments:
+        for line in comment.split("\n"):
+            line = line.rstrip()
+            out.append(f"{indent}# {line}" if line else f"{indent}#")
+    return out
+
+
+def _with_note(text: str, node: Node) -> str:
+    if node.note is None:
+        return text
+    note = _one_line(node.note)
+    return f"{text}  # {note}" if note else f"{text}  #"
+
+
+def format_atom(atom: Atom) -> str:
+    """``not a <-> b`` — one relation, without its note."""
+    text = f"{_name(atom.left)} <-> {_name(atom.right)}"
+    return f"not {text}" if atom.negated else text
+
+
+def _class(decl: ObjectClass) -> list[str]:
+    text = f"class {_name(decl.name)}"
+    if decl.parents:
+        text += " : " + ", ".join(_name(p) for p in decl.parents)
+    return [_with_note(text, decl)]
+
+
+def _instance_line(names: list[str], inst: Instance, width: int) -> str:
+    text = f"{', '.join(_name(n) for n in names):<{width}} : " + ", ".join(_name(c) for c in inst.classes)
+    if inst.markers:
+        text += " markers (" + ", ".join(_string(m) for m in inst.markers) + ")"
+    if inst.environment:
+        text += " environment"
+    return _with_note(text, inst)
+
+
+def _groups(instances: tuple[Instance, ...]) -> list[list[Instance]]:
+    """Instances that differ only in name share a line (``a, b : Hand``), in name order.
+
+    An instance with markers or comments gets a line of its own.
+    """
+    groups: list[list[Instance]] = []
+    by_kind: dict[tuple[tuple[str, ...], bool], list[Instance]] = {}
+    for inst in instances:
+        if inst.markers or inst.comments or inst.note is not None:
+            groups.append([inst])
+            continue
+        key = (inst.classes, inst.environment)
+        if key in by_kind:
+            by_kind[key].append(inst)
+        else:
+            by_kind[key] = [inst]
+            groups.append(by_kind[key])
+    return groups
+
+
+def _scene(decl: Scene) -> list[str]:
+    lines = [f"scene {_name(decl.name)} {{"]
+    groups = _groups(decl.instances)
+    width = max((len(", ".join(i.name for i in g)) for g in groups), default=0)
+    for group in groups:
+        lines += _comment_lines(group[0].comments, _IND)
+        lines.append(_IND + _instance_line([i.name for i in group], group[0], width))
+    lines.append(_with_note("}", decl))
+    return lines
+
+
+def _grasp(decl: Grasp) -> list[str]:
+    offset = ", ".join(_number(x) for x in decl.offset)
+    text = (
+        f"grasp {_name(decl.cls)} {{ type {_name(decl.type)} approach {_name(decl.approach)} "
+        f"offset ({offset}) }}"
+    )
+    return [_with_note(text, decl)]
+
+
+def _param(param: Param) -> str:
+    text = f"{_name(param.name)}: {_name(param.cls)}"
+    if param.default is not None:
+        text += f" = {_name(param.default)}"
+    return text
+
+
+def _header(decl: Oac) -> list[str]:
+    head = f"oac {_name(decl.name)}("
+    params = [_param(p) for p in decl.params]
+    one = f"{head}{', '.join(params)}) {{"
+    if len(one) <= _WIDTH and not any(p.comments or p.note for p in decl.params):
+        return [one]
+    lines = [head]
+    for param, text in zip(decl.params, params, strict=True):
+        lines += _comment_lines(param.comments, _IND)
+        lines.append(_IND + _with_note(text + ",", param))
+    lines.append(") {")
+    return lines
+
+
+def _display(oac: Oac, atoms: tuple[Atom, ...]) -> list[tuple[Atom, str]]:
+    """Atoms in display order, each with its text.
+
+    Positive atoms come before negated ones, then by parameter position; a pair
+    is written with the earlier parameter on the left (``h <-> c`` for
+    ``pour(h: Hand, c: Container, …)``). Names that are not parameters come
+    after the parameters in alphabetical order; ``nothing`` is always on the right.
+    """
+    rank = {p.name: i for i, p in enumerate(oac.params)}
+    n = len(oac.params)
+
+    def key(name: str) -> tuple[int, str]:
+        if name == NOTHING:
+            return (n + 1, "")
+        return (rank[name], "") if name in rank else (n, name)
+
+    rows = []
+    for atom in atoms:
+        a, b = atom.left, atom.right
+        if b != NOTHING and key(b) < key(a):
+            a, b = b, a
+        text = f"{_name(a)} <-> {_name(b)}"
+        rows.append(((atom.negated, key(a), key(b)), atom, f"not {text}" if atom.negated else text))
+    rows.sort(key=lambda r: r[0])
+    return [(atom, text) for _, atom, text in rows]
+
+
+def _section(keyword: str, oac: Oac, atoms: tuple[Atom, ...]) -> list[str]:
+    lead = f"{_IND}{keyword:<8}"
+    shown = _display(oac, atoms)
+    one = lead + ", ".join(text for _, text in shown)
+    if len(one) <= _WIDTH and not any(a.comments or a.note for a in atoms):
+        return [one]
+    pad = " " * len(lead)
+    lines: list[str] = []
+    for i, (atom, text) in enumerate(shown):
+        comments = _comment_lines(atom.comments, pad)
+        if i == 0 and comments:
+            lines.append(lead.rstrip())
+        lines += comments
+        first = lead if i == 0 and not comments else pad
+        sep = "," if i < len(shown) - 1 else ""
+        lines.append(first + _with_note(text + sep, atom))
+    return lines
+
+
+def _call(call: Call) -> str:
+    return _with_note(f"{_name(call.oac)}(" + ", ".join(_name(a) for a in call.args) + ")", call)
+
+
+def _oac(decl: Oac) -> list[str]:
+    lines = _header(decl)
+    if decl.pre:
+        lines += _section("pre", decl, decl.pre)
+    if decl.effect:
+        lines += _section("effect", decl, decl.effect)
+    if decl.steps is not None and decl.skill is not None:
+        raise LanguageError(f"cannot print OAC '{decl.name}': it has both a skill and steps")
+    if decl.steps is not None:
+        lines.append(f"{_IND}steps {{")
+        for call in decl.steps:
+            lines += _comment_lines(call.comments, _IND * 2)
+            lines.append(_IND * 2 + _call(call))
+        lines.append(f"{_IND}}}")
+    elif decl.skill is not None:
+        lines.append(f"{_IND}{'execute':<8}{_name(decl.skill)}")
+    else:
+        raise LanguageError(f"cannot print OAC '{decl.name}': it has neither a skill nor steps")
+    lines.append(_with_note("}", decl))
+    return lines
+
+
+def _decl_lines(decl: Decl) -> list[str]:
+    if isinstance(decl, ObjectClass):
+        body = _class(decl)
+    elif isinstance(decl, Scene):
+        body = _scene(decl)
+    elif isinstance(decl, Grasp):
+        body = _grasp(decl)
+    elif isinstance(decl, Oac):
+        body = _oac(decl)
+    else:
+        raise LanguageError(f"cannot print {type(decl).__name__}: not a declaration")
+    return _comment_lines(decl.comments, "") + body
+
+
+def format_decl(decl: Decl) -> str:
+    """One declaration in canonical form (with its comments), ending in a newline."""
+    return "\n".join(_decl_lines(decl)) + "\n"
+
+
+def format_oac(oac: Oac) -> str:
+    """One OAC in canonical form, ending in a newline (what the composer writes)."""
+    return format_decl(oac)
+
+
+def _tight(prev: Decl, decl: Decl) -> bool:
+    return isinstance(decl, ObjectClass | Grasp) and type(prev) is type(decl) and not decl.comments
+
+
+def print_module(module: Module) -> str:
+    """The whole file in canonical form ("" for a file with nothing in it)."""
+    if not module.decls:
+        only = _comment_lines((*module.comments, *module.trailing), "")
+        return "\n".join(only) + "\n" if only else ""
+    lines: list[str] = _comment_lines(module.comments, "")
+    if lines:
+        lines.append("")
+    prev: Decl | None = None
+    for decl in module.decls:
+        if prev is not None and not _tight(prev, decl):
+            lines.append("")
+        lines += _decl_lines(decl)
+        prev = decl
+    if module.trailing:
+        lines.append("")
+        lines += _comment_lines(module.trailing, "")
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,303 @@
+"""Match a sub-action (world state before, after) against a library of OACs.
+
+The paper's rule (``mode="paper"``): a binding of the OAC's typed variables to
+instances matches when every bound precondition holds before and every bound
+effect holds after. A variable binds to an instance whose classes (inherited
+included) contain the variable's class; different variables bind to different
+instances.
+
+The strict rule (``mode="strict"``, the default) adds: every relation that
+changed is accounted for by the bound effects (a relation that started is a
+positive effect; one that ended is a ``not a <-> b`` effect or ``x <-> nothing``
+for one of its ends), and the OAC changes something. Under the paper's rule an
+OAC whose effects merely *remain* true (grasp, while the hand keeps holding the
+cup and something else happens) matches every later sub-action; strict
+matching links each sub-action to what caused its change, which is what the
+composition needs (its effects then reproduce the demonstration step by step).
+
+Strict matching is driven by the change: one changed relation is looked up in
+an index of effect atoms by the classes of their variables, which binds two
+variables (or one) at once; the rest of the binding follows the relations of
+the world states (:mod:`oacdsl.matching.search`).
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from collections.abc import Callable, Iterable, Mapping
+
+from oacdsl.errors import UsageError
+from oacdsl.library import Library
+from oacdsl.matching.explain import explain_no_match
+from oacdsl.matching.results import Match, MatchResult, Mode
+from oacdsl.matching.search import (
+    AFTER,
+    CompiledOac,
+    StateView,
+    compile_oac,
+    domains,
+    search,
+    seed_ok,
+)
+from oacdsl.model import Oac, Scene
+from oacdsl.world import Relation, WorldState
+
+__all__ = ["MODES", "Matcher", "match_sub_action"]
+
+MODES: tuple[Mode, ...] = ("strict", "paper")
+
+Raw = tuple[CompiledOac, tuple[str, ...]]
+
+
+def _check_mode(mode: str) -> Mode:
+    if mode not in MODES:
+        raise UsageError(f"unknown matching mode {mode!r} (valid: strict, paper)")
+    return mode  # type: ignore[return-value]
+
+
+class Matcher:
+    """An index over a library's OACs for one set of instances and their classes.
+
+    Args:
+        oacs: the OACs to match against.
+        instance_classes: instance → every class it belongs to (inherited included),
+            e.g. ``Library.instance_classes(scene)``.
+        ancestors: class → its classes (itself included); used for the specificity
+            ranking (``Library.ancestors``). Without it every class counts as depth 1.
+        mode: the default rule, ``"strict"`` or ``"paper"``.
+    """
+
+    def __init__(
+        self,
+        oacs: Iterable[Oac],
+        instance_classes: Mapping[str, Iterable[str]],
+        *,
+        ancestors: Callable[[str], frozenset[str]] | None = None,
+        mode: Mode = "strict",
+    ) -> None:
+        self.mode: Mode = _check_mode(mode)
+        self.ancestors = ancestors
+        self.oacs: tuple[Oac, ...] = tuple(oacs)
+        self.instance_classes = {i: frozenset(c) for i, c in instance_classes.items()}
+        self.compiled = tuple(compile_oac(o, k, self.depth) for k, o in enumerate(self.oacs))
+        keys: dict[str, tuple[str, ...]] = {}
+        members: dict[str, set[str]] = defaultdict(set)
+        for inst, classes in self.instance_classes.items():
+            keys[inst] = (*sorted(classes), "=" + inst)
+            for c in keys[inst]:
+                members[c].add(inst)
+        self._keys = keys
+        self._members = {c: frozenset(v) for c, v in members.items()}
+        self._restricted: dict[frozenset[str], dict[str, frozenset[str]]] = {}
+        pos: dict[tuple[str, str], list[tuple[int, int, int]]] = defaultdict(list)
+        neg: dict[tuple[str, str], list[tuple[int, int, int]]] = defaultdict(list)
+        clear: dict[str, list[tuple[int, int]]] = defaultdict(list)
+        for co in self.compiled:
+            if co.impossible:
+                continue
+            for index, pairs in ((pos, co.eff_pos), (neg, co.eff_neg)):
+                for i, j in pairs:
+                    index[(co.classes[i], co.classes[j])].append((co.index, i, j))
+                    index[(co.classes[j], co.classes[i])].append((co.index, j, i))
+            for i in co.eff_none:
+                clear[co.classes[i]].append((co.index, i))
+        self._pos, self._neg, self._clear = dict(pos), dict(neg), dict(clear)
+
+    @classmethod
+    def from_library(
+        cls,
+        library: Library,
+        scene: Scene | None = None,
+        *,
+        instance_classes: Mapping[str, Iterable[str]] | None = None,
+        mode: Mode = "strict",
+    ) -> Matcher:
+        """A matcher over all OACs of ``library`` for the instances of ``scene``
+        (or for ``instance_classes`` given directly)."""
+        if instance_classes is None:
+            if scene is None:
+                raise UsageError("give a scene or the instances' classes to match against")
+            instance_classes = library.instance_classes(scene)
+        oacs = [library.oacs[name] for name in sorted(library.oacs)]
+        return cls(oacs, instance_classes, ancestors=library.ancestors, mode=mode)
+
+    def depth(self, cls: str) -> int:
+        """How many classes ``cls`` belongs to (itself included): its specificity."""
+        return len(self.ancestors(cls)) if self.ancestors is not None else 1
+
+    def _class_members(self, known: frozenset[str]) -> Mapping[str, frozenset[str]]:
+        if known.issuperset(self._keys):
+            return self._members
+        cached = self._restricted.get(known)
+        if cached is None:
+            cached = {c: m & known for c, m in self._members.items()}
+            self._restricted[known] = cached
+        return cached
+
+    # ------------------------------------------------------------------ search
+
+    def raw_matches(self, before: WorldState, after: WorldState, mode: Mode | None = None) -> list[Raw]:
+        """Every (compiled OAC, binding) that matches, unranked; a binding lists one
+        instance per variable of ``CompiledOac.names``. The fast path for bulk use."""
+        mode = _check_mode(mode or self.mode)
+        views = (StateView(before), StateView(after))
+        members = self._class_members(before.instances & after.instances)
+        added = after.relations - before.relations
+        removed = before.relations - after.relations
+        found: list[Raw] = []
+        if mode == "paper":
+            for co in self.compiled:
+                if co.impossible:
+                    continue
+                doms = domains(co, members, views)
+                if doms is None:
+                    continue
+                out: list[tuple[str, ...]] = []
+                search(co, doms, views, {}, out)
+                found.extend((co, b) for b in set(out))
+            return found
+        if not added and not removed:
+            return found
+        for k, seeds in self._strict_seeds(added, removed).items():
+            co = self.compiled[k]
+            if len(added) > len(co.eff_pos):
+                continue
+            doms = domains(co, members, views)
+            if doms is None:
+                continue
+            out = []
+            for seed in seeds:
+                if seed_ok(co, seed, doms, views):
+                    search(co, doms, views, seed, out)
+            for b in set(out):
+                if _explained(co, b, added, removed) == len(added) + len(removed):
+                    found.append((co, b))
+        return found
+
+    def _strict_seeds(
+        self, added: frozenset[Relation], removed: frozenset[Relation]
+    ) -> dict[int, list[dict[int, str]]]:
+        """Partial bindings that account for one changed relation, per OAC index.
+
+        Every strict match accounts for *every* change, so for the first changed
+        relation in particular: the seeds cover all strict matches.
+        """
+        seeds: dict[int, list[dict[int, str]]] = defaultdict(list)
+        keys = self._keys
+        if added:
+            p, q = min(added)
+            indexes = (self._pos,)
+        else:
+            p, q = min(removed)
+            indexes = (self._neg,)
+            for x in (p, q):
+                for c in keys.get(x, ()):
+                    for k, i in self._clear.get(c, ()):
+                        seeds[k].append({i: x})
+        for index in indexes:
+            for ca in keys.get(p, ()):
+                for cb in keys.get(q, ()):
+                    for k, i, j in index.get((ca, cb), ()):
+                        seeds[k].append({i: p, j: q})
+        return seeds
+
+    # ------------------------------------------------------------------ results
+
+    def match(
+        self, before: WorldState, after: WorldState, *, mode: Mode | None = None, explain: bool = True
+    ) -> MatchResult:
+        """All matches of the sub-action ``before → after``, ranked, with the reason for
+        the first; when there is none (and ``explain``), the closest OACs and what failed."""
+        mode = _check_mode(mode or self.mode)
+        added = after.relations - before.relations
+        removed = before.relations - after.relations
+        view = StateView(before)
+        raw = self.raw_matches(before, after, mode)
+        matches = sorted((self._record(co, b, added, removed, view) for co, b in raw), key=Match.rank_key)
+        if matches:
+            return MatchResult(before, after, mode, tuple(matches), reason=_reason(matches))
+        if not explain:
+            return MatchResult(before, after, mode, ())
+        members = self._class_members(before.instances & after.instances)
+        near, text = explain_no_match(self.compiled, members, before, after, mode)
+        return MatchResult(before, after, mode, (), near_misses=near, explanation=text)
+
+    def _record(
+        self, co: CompiledOac, b: tuple[str, ...], added: frozenset[Relation],
+        removed: frozenset[Relation], before: StateView,
+    ) -> Match:
+        idle = 0
+        for i, j in co.eff_pos:
+            idle += b[j] in before.partners(b[i])
+        for i, j in co.eff_neg:
+            idle += b[j] not in before.partners(b[i])
+        for i in co.eff_none:
+            idle += b[i] in before.isolated
+        for i, when in co.some:
+            idle += when == AFTER and b[i] in before.touching
+        return Match(
+            oac=co.oac,
+            binding=tuple((co.names[v], b[v]) for v in range(co.n_params)),
+            explained=_explained(co, b, added, removed),
+            changes=len(added) + len(removed),
+            specificity=co.specificity,
+            idle=idle,
+        )
+
+
+def _explained(co: CompiledOac, b: tuple[str, ...], added: frozenset[Relation],
+               removed: frozenset[Relation]) -> int:
+    """How many changed relations the bound effects account for."""
+    pos = {(b[i], b[j]) if b[i] < b[j] else (b[j], b[i]) for i, j in co.eff_pos}
+    neg = {(b[i], b[j]) if b[i] < b[j] else (b[j], b[i]) for i, j in co.eff_neg}
+    cleared = {b[i] for i in co.eff_none}
+    n = sum(r in pos for r in added)
+    n += sum(r in neg or r[0] in cleared or r[1] in cleared for r in removed)
+    return n
+
+
+def _classes_text(m: Match) -> str:
+    return ", ".join(p.cls for p in m.oac.params)
+
+
+def _reason(matches: list[Match]) -> str | None:
+    """Why the first of the ranked ``matches`` was chosen over the second."""
+    if len(matches) < 2:
+        return None
+    a, b = matches[0], matches[1]
+    head = f"{len(matches)} matches; chose {a.text()}"
+    if a.explained != b.explained:
+        why = f"it explains {a.explained} of {a.changes} changed relations, {b.text()} only {b.explained}"
+    elif a.specificity != b.specificity:
+        why = (f"its classes are more specific ({_classes_text(a)}) than those of {b.text()}"
+               f" ({_classes_text(b)})")
+    elif a.idle != b.idle:
+        why = f"fewer of its effects already held before ({a.idle}, {b.text()}: {b.idle})"
+    else:
+        why = (f"ambiguous: it ties with {b.text()} on explained change, class specificity and"
+               " idle effects; chosen by name and binding order")
+    return f"{head}: {why}"
+
+
+def match_sub_action(
+    before: WorldState,
+    after: WorldState,
+    library: Library | Iterable[Oac],
+    classes: Scene | Mapping[str, Iterable[str]],
+    *,
+    mode: Mode = "strict",
+    explain: bool = True,
+) -> MatchResult:
+    """Match one sub-action; ``library`` is a Library or OACs, ``classes`` a scene of
+    the library or the instances' classes (inherited included) given directly."""
+    if isinstance(library, Library):
+        if isinstance(classes, Scene):
+            matcher = Matcher.from_library(library, classes, mode=mode)
+        else:
+            matcher = Matcher.from_library(library, instance_classes=classes, mode=mode)
+    else:
+        if isinstance(classes, Scene):
+            raise UsageError("a scene needs a Library to resolve its classes; pass the classes directly")
+        matcher = Matcher(library, classes, mode=mode)
+    return matcher.match(before, after, explain=explain)
+

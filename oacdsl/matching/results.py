@@ -1,0 +1,127 @@
+"""Result records of matching: a match, a near miss, the result for one sub-action."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Literal
+
+from oacdsl.matching.conditions import bind_atoms
+from oacdsl.model import Atom, Oac
+from oacdsl.world import Relation, WorldState
+
+__all__ = ["Match", "MatchResult", "Mode", "NearMiss", "call_text", "change_text"]
+
+#: ``strict`` (default): the paper's rule plus "the effects account for every change";
+#: ``paper``: the paper's rule alone (pre holds before, effects hold after).
+Mode = Literal["strict", "paper"]
+
+Binding = tuple[tuple[str, str], ...]
+
+
+def call_text(name: str, binding: Binding) -> str:
+    """``grasp(h=left_hand, o=red_cup)``."""
+    return f"{name}({', '.join(f'{v}={i}' for v, i in binding)})"
+
+
+def change_text(added: frozenset[Relation], removed: frozenset[Relation]) -> str:
+    """``+left_hand <-> red_cup, -liquid_one <-> red_cup`` (``no change`` when empty)."""
+    parts = [f"+{a} <-> {b}" for a, b in sorted(added)] + [f"-{a} <-> {b}" for a, b in sorted(removed)]
+    return ", ".join(parts) if parts else "no change"
+
+
+@dataclass(frozen=True)
+class Match:
+    """An OAC and a binding of its parameters under which a sub-action matches it.
+
+    Attributes:
+        oac: the matched OAC.
+        binding: (parameter, instance) pairs in parameter order.
+        explained: how many of the sub-action's changed relations the bound effects account for.
+        changes: how many relations changed in the sub-action.
+        specificity: sum over the parameters of the depth of their class (ancestors counted).
+        idle: bound effects that already held before (they describe no change).
+    """
+
+    oac: Oac
+    binding: Binding
+    explained: int
+    changes: int
+    specificity: int
+    idle: int
+
+    @property
+    def mapping(self) -> dict[str, str]:
+        """The binding as a dict, parameter → instance."""
+        return dict(self.binding)
+
+    @property
+    def pre(self) -> tuple[Atom, ...]:
+        """The bound preconditions (instances in place of variables)."""
+        return bind_atoms(self.oac.pre, self.mapping)
+
+    @property
+    def effect(self) -> tuple[Atom, ...]:
+        """The bound effects."""
+        return bind_atoms(self.oac.effect, self.mapping)
+
+    def text(self) -> str:
+        return call_text(self.oac.name, self.binding)
+
+    def rank_key(self) -> tuple[int, int, int, str, tuple[str, ...]]:
+        """Sort key, best first: more change explained, more specific classes,
+        fewer idle effects, then name and binding (deterministic)."""
+        instances = tuple(i for _, i in self.binding)
+        return (-self.explained, -self.specificity, self.idle, self.oac.name, instances)
+
+
+@dataclass(frozen=True)
+class NearMiss:
+    """An OAC that did not match, with the binding that came closest and what failed."""
+
+    oac: Oac
+    binding: Binding
+    failed: tuple[str, ...]
+    conditions: int
+    #: True when the search for the closest binding was cut off (the library is large).
+    truncated: bool = False
+
+    def text(self) -> str:
+        head = call_text(self.oac.name, self.binding) if self.binding else self.oac.name
+        if not self.conditions:
+            return f"{head}: {'; '.join(self.failed)}"
+        return f"{head} fails {len(self.failed)} of {self.conditions} conditions: {'; '.join(self.failed)}"
+
+
+@dataclass(frozen=True)
+class MatchResult:
+    """The matches of one sub-action (ranked, best first), or why there is none."""
+
+    before: WorldState
+    after: WorldState
+    mode: Mode
+    matches: tuple[Match, ...]
+    #: Why ``matches[0]`` was chosen; None when there are fewer than two matches.
+    reason: str | None = None
+    near_misses: tuple[NearMiss, ...] = field(default=())
+    #: Why nothing matched; None when something did.
+    explanation: str | None = None
+
+    @property
+    def chosen(self) -> Match | None:
+        return self.matches[0] if self.matches else None
+
+    @property
+    def added(self) -> frozenset[Relation]:
+        return self.after.relations - self.before.relations
+
+    @property
+    def removed(self) -> frozenset[Relation]:
+        return self.before.relations - self.after.relations
+
+    @property
+    def ambiguous(self) -> bool:
+        """True when the best two matches tie on everything but name and binding."""
+        if len(self.matches) < 2:
+            return False
+        a, b = self.matches[0].rank_key(), self.matches[1].rank_key()
+        return a[:3] == b[:3]

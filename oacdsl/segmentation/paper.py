@@ -1,0 +1,136 @@
+"""The paper's touch detector: Eq. 1 and Eq. 2 of Wächter et al. (2013), per marker pair.
+
+Vectorised over pairs and frames of a chunk; no per-frame state array and no
+sequential scan: the state of a pair can only flip where a run of ``n`` close
+frames (or of ``n`` far frames) *begins to be complete*, and those rising edges
+are few, so the flips are found among them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from oacdsl.segmentation.detectors import DistanceChunk, PairChanges
+from oacdsl.segmentation.pairs import PairTable
+from oacdsl.segmentation.params import AasParams
+from oacdsl.segmentation.recording import Recording
+
+__all__ = ["PaperDetector"]
+
+
+class PaperDetector:
+    """Eq. 1 / Eq. 2 per marker pair.
+
+    Per frame ``i`` (with ``Δt = t[i] - t[i-1]``):
+
+    - *close*: ``dist[i] < d`` and ``|dist[i] - dist[i-1]| < v Δt``;
+    - *far*: ``dist[i] > d`` or ``|dist[i] - dist[i-1]| > v Δt``;
+    - a gap (NaN) in frame ``i-1`` leaves the change unknown: the frame is far when
+      ``dist[i] > d`` and unknown otherwise; a gap in frame ``i`` makes it unknown;
+      so is a value exactly at its threshold.
+
+    Frame 0 has no predecessor and takes the distance change of frame 1.
+    Non-touching → touching at ``n0`` when frames ``n0 .. n0+n-1`` are all close;
+    touching → non-touching at ``n1`` when frames ``n1 .. n1+n-1`` are all far. An
+    unknown frame belongs to no run, so a gap neither starts nor ends touching.
+    The change is known at frame ``n0+n-1``: ``delay_frames = n - 1``.
+    """
+
+    def __init__(self, params: AasParams) -> None:
+        self.d = np.float32(params.distance_m)
+        self.v = float(params.speed_m_s)
+        self.n = params.n
+        self.history_frames = self.n  # n-1 for the run, one more for the distance change
+        self.delay_frames = self.n - 1
+        self.reach_m: float | None = float(params.distance_m)
+        self._state = np.zeros(0, dtype=bool)
+
+    def begin(self, recording: Recording, table: PairTable) -> None:
+        self._state = np.zeros(table.n_pairs, dtype=bool)
+
+    def step(self, chunk: DistanceChunk) -> PairChanges:
+        n, h = self.n, chunk.history
+        n_out = chunk.stop - chunk.start
+        state0 = self._state[chunk.pairs]
+        first_col = max(0, h - n + 1)  # frames that can be part of a run ending at an output frame
+        near = (chunk.dist_m[:, first_col:] < self.d).any(axis=1) | state0
+        sel = np.flatnonzero(near)
+        if sel.size == 0:
+            return PairChanges.none()
+        dist = chunk.dist_m[sel] if sel.size < near.size else chunk.dist_m
+        close, far, base = self._frame_conditions(dist, chunk.times_s, at_recording_start=chunk.start == h)
+        # close[:, j] describes frame chunk.start - h + base + j
+        first = h - base  # column of the first output frame
+        close_n = _windows(close, first, n_out, n)
+        far_n = _windows(far, first, n_out, n)
+        s0 = state0[sel]
+        rows, cols, value = _flips(close_n, far_n, s0)
+        pairs = chunk.pairs[sel]
+        if rows.size:
+            last = np.flatnonzero(np.r_[rows[1:] != rows[:-1], True])
+            self._state[pairs[rows[last]]] = value[last]
+        return PairChanges(pairs[rows], cols + chunk.start, value)
+
+    def _frame_conditions(self, dist: np.ndarray, times: np.ndarray,
+                          *, at_recording_start: bool) -> tuple[np.ndarray, np.ndarray, int]:
+        """close/far per pair and frame; ``base`` = column of the first frame described (0 or 1)."""
+        cur = dist[:, 1:]
+        change = np.abs(cur - dist[:, :-1])
+        limit = (self.v * np.diff(times)).astype(np.float32)
+        with np.errstate(invalid="ignore"):
+            close = (cur < self.d) & (change < limit)
+            far = (cur > self.d) | (change > limit)
+            if not at_recording_start:
+                return close, far, 1
+            if dist.shape[1] < 2:  # one frame: no distance change known
+                empty = np.zeros((dist.shape[0], 1), dtype=bool)
+                return empty, empty.copy(), 0
+            # frame 0 takes the distance change of frame 1
+            close0 = (dist[:, :1] < self.d) & (change[:, :1] < limit[0])
+            far0 = (dist[:, :1] > self.d) | (change[:, :1] > limit[0])
+        return np.concatenate([close0, close], axis=1), np.concatenate([far0, far], axis=1), 0
+
+
+def _windows(cond: np.ndarray, first: int, n_out: int, n: int) -> np.ndarray:
+    """(A, n_out): ``cond`` held in all ``n`` columns ending at each output column.
+
+    Columns before 0 count as "did not hold". Windows of length 2^k are built by
+    doubling, so the cost grows with log2(n), not n.
+    """
+    if first < n - 1:  # recording start: pad
+        pad = n - 1 - first
+        cond = np.concatenate([np.zeros((cond.shape[0], pad), dtype=bool), cond], axis=1)
+        first += pad
+    span = cond[:, first - n + 1:first + n_out]  # n_out + n - 1 columns
+    result = np.ones((cond.shape[0], n_out), dtype=bool)
+    offset, size, power = 0, 1, span  # power[:, j]: all of span[:, j:j+size]
+    while size <= n:
+        if n & size:
+            np.logical_and(result, power[:, offset:offset + n_out], out=result)
+            offset += size
+        if size * 2 <= n:
+            power = power[:, :-size] & power[:, size:]
+        size *= 2
+    return result
+
+
+def _flips(sets: np.ndarray, resets: np.ndarray,
+           state0: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Where a set/reset flip-flop changes: ``(rows, cols, new_state)``, sorted by row then column.
+
+    ``sets`` and ``resets`` are never true together. The state is the type of the
+    latest event (``state0`` before the first); it can only change at the first
+    column of a run of events of one type, so only those rising edges are examined.
+    """
+    edges = np.empty(sets.shape, dtype=bool)
+    edges[:, 0] = sets[:, 0] | resets[:, 0]
+    np.greater(sets[:, 1:], sets[:, :-1], out=edges[:, 1:])
+    edges[:, 1:] |= resets[:, 1:] > resets[:, :-1]
+    rows, cols = np.divmod(np.flatnonzero(edges), sets.shape[1])  # faster than 2-D nonzero
+    kind = sets[rows, cols]
+    previous = np.empty_like(kind)
+    previous[1:] = kind[:-1]
+    first_in_row = np.r_[True, rows[1:] != rows[:-1]] if rows.size else np.zeros(0, dtype=bool)
+    previous[first_in_row] = state0[rows[first_in_row]]
+    flip = kind != previous
+    return rows[flip], cols[flip], kind[flip]

@@ -1,0 +1,77 @@
+"""Motion-capture readers: one module per file format, one :class:`Recording` out.
+
+:func:`read_recording` picks the reader by extension (``.c3d``; ``.xml`` and
+``.mmm.xml``; ``.tsv``; ``.csv``) unless ``fmt`` names it. Every reader returns
+positions in metres with NaN in gaps, frame times from 0 at the file's first
+frame, and ``first_frame`` = the file's own number of that frame.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+from oacdsl.errors import RecordingError, did_you_mean
+from oacdsl.segmentation.readers.c3d import read_c3d, write_c3d
+from oacdsl.segmentation.recording import Recording
+
+__all__ = ["FORMATS", "read_recording", "read_c3d", "write_c3d", "format_of"]
+
+#: Format names accepted by ``fmt`` and the extensions that select them.
+FORMATS: dict[str, tuple[str, ...]] = {
+    "c3d": (".c3d",),
+    "mmm": (".mmm.xml", ".xml"),
+    "tsv": (".tsv",),
+    "csv": (".csv",),
+}
+
+
+def format_of(path: str | Path) -> str:
+    """The format name for ``path``'s extension, or a :class:`RecordingError`."""
+    name = Path(path).name.lower()
+    for fmt, extensions in FORMATS.items():
+        if name.endswith(extensions):
+            return fmt
+    known = ", ".join(e for exts in FORMATS.values() for e in exts)
+    raise RecordingError(f"unknown recording format (extensions: {known}; or give the format)",
+                         location=str(path))
+
+
+def _reader(fmt: str) -> Callable[..., Recording]:
+    if fmt == "c3d":
+        return read_c3d
+    if fmt == "mmm":
+        from oacdsl.segmentation.readers.mmm import read_mmm
+
+        return read_mmm
+    if fmt == "tsv":
+        from oacdsl.segmentation.readers.qualisys_tsv import read_tsv
+
+        return read_tsv
+    from oacdsl.segmentation.readers.plain_csv import read_csv
+
+    return read_csv
+
+
+def read_recording(path: str | Path, fmt: str | None = None, *, units: str | None = None) -> Recording:
+    """Read a recording; ``fmt`` (c3d, mmm, tsv, csv) overrides the extension.
+
+    ``units`` overrides the length unit of a TSV or CSV file (mm, cm, m); C3D and
+    MMM files declare their own.
+    """
+    path = Path(path)
+    if fmt is None:
+        fmt = format_of(path)
+    elif fmt not in FORMATS:
+        raise RecordingError(f"unknown recording format {fmt!r}{did_you_mean(fmt, FORMATS)}",
+                             location=str(path))
+    if not path.exists():
+        raise RecordingError("no such file", location=str(path))
+    if path.is_dir():
+        raise RecordingError("is a folder, not a recording", location=str(path))
+    if units is not None:
+        if fmt not in ("tsv", "csv"):
+            raise RecordingError(f"{fmt} files declare their own units; drop the units option",
+                                 location=str(path))
+        return _reader(fmt)(path, units=units)
+    return _reader(fmt)(path)

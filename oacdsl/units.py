@@ -1,0 +1,85 @@
+"""Physical quantities written with units on the command line: ``150mm``, ``50mm/s``, ``0.3s``.
+
+Inside the package every quantity is SI (metres, metres per second, seconds);
+only the command line and the docs speak millimetres. A length, a speed or a
+duration must carry its unit: a bare ``150`` is rejected because it is
+ambiguous (millimetres? metres?) and a wrong guess silently ruins a
+segmentation. A frame count is a bare integer (``3``), optionally followed by
+``frames``.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+from oacdsl.errors import UsageError
+
+__all__ = ["UNITS", "parse_quantity", "format_quantity"]
+
+#: For each SI unit the accepted spellings and their factor to SI.
+UNITS: dict[str, dict[str, float]] = {
+    "m": {"m": 1.0, "cm": 0.01, "mm": 0.001},
+    "m/s": {"m/s": 1.0, "cm/s": 0.01, "mm/s": 0.001},
+    "s": {"s": 1.0, "ms": 0.001},
+    "frames": {"": 1.0, "frames": 1.0, "frame": 1.0},
+}
+
+_KIND = {"m": "a length", "m/s": "a speed", "s": "a duration", "frames": "a frame count"}
+_EXAMPLE = {"m": "150mm", "m/s": "50mm/s", "s": "0.3s", "frames": "3"}
+_NUMBER = re.compile(r"^\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*([a-zA-Z/]*)\s*$")
+
+
+def parse_quantity(text: str, unit: str, *, what: str | None = None) -> float:
+    """Parse ``text`` (e.g. ``"150mm"``) as a quantity of SI ``unit``; return its SI value.
+
+    ``unit`` is one of ``"m"`` (lengths: m, cm, mm), ``"m/s"`` (speeds: m/s, cm/s, mm/s),
+    ``"s"`` (durations: s, ms) or ``"frames"`` (a non-negative integer, optionally
+    followed by ``frames``). ``what`` names the value in messages (``--distance``).
+    Raises :class:`~oacdsl.errors.UsageError` naming the expected units.
+    """
+    if unit not in UNITS:
+        raise ValueError(f"unknown unit kind {unit!r}; expected one of {sorted(UNITS)}")
+    label = f"{what}: " if what else ""
+    spellings = UNITS[unit]
+    expected = ", ".join(s for s in spellings if s) if unit != "frames" else "an integer such as 3"
+    match = _NUMBER.match(text)
+    if match is None:
+        raise UsageError(
+            f"{label}cannot read {text!r} as {_KIND[unit]}; expected a number with a unit"
+            f" ({expected}), e.g. {_EXAMPLE[unit]}"
+        )
+    number, suffix = match.group(1), match.group(2)
+    value = float(number)
+    if not math.isfinite(value):
+        raise UsageError(f"{label}{text!r} is not a finite number")
+    if unit == "frames":
+        if suffix.lower() not in spellings:
+            raise UsageError(f"{label}{text!r} is not a frame count; expected an integer such as 3")
+        if value != int(value):
+            raise UsageError(f"{label}{text!r} is not a whole number of frames")
+        return float(int(value))
+    if not suffix:
+        raise UsageError(
+            f"{label}{text!r} has no unit; write {_KIND[unit]} with one of {expected},"
+            f" e.g. {_EXAMPLE[unit]}"
+        )
+    factor = spellings.get(suffix) or spellings.get(suffix.lower())
+    if factor is None:
+        raise UsageError(
+            f"{label}unknown unit {suffix!r} in {text!r}; {_KIND[unit]} takes one of {expected}"
+        )
+    return value * factor
+
+
+def format_quantity(value: float, unit: str) -> str:
+    """The inverse for messages and tables: 0.15 m → ``150mm``, 0.05 m/s → ``50mm/s``."""
+    if unit == "m":
+        return f"{value * 1000:g}mm"
+    if unit == "m/s":
+        return f"{value * 1000:g}mm/s"
+    if unit == "s":
+        return f"{value:g}s"
+    if unit == "frames":
+        return f"{int(value)}"
+    raise ValueError(f"unknown unit kind {unit!r}")

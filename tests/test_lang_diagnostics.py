@@ -1,0 +1,283 @@
+"""Diagnostics: one table of bad snippets (code, message, position), rendering, JSON."""
+
+from pathlib import Path
+
+import pytest
+
+from oacdsl.errors import LanguageError
+from oacdsl.lang import CODES, compile_sources, load_library, parse_text, render
+
+ROOT = Path(__file__).resolve().parents[1]
+LIBRARY = {
+    str(p.relative_to(ROOT)): p.read_text(encoding="utf-8") for p in sorted((ROOT / "library").glob("*.oac"))
+}
+
+G = "oac g(h: Hand, o: Graspable) {\n"  # a prefix for OAC snippets; the body starts on line 2
+
+#: (snippet, code, message fragment, "line:col" of the first diagnostic with that code).
+#: Each snippet is compiled as bad.oac together with the standard library.
+BAD = [
+    # syntax: what was expected, in words
+    ("class", "E001", "unexpected end of input, expected a class name", "1:6"),
+    ("class Mug : Cup,\n", "E001", "expected a class name", "1:17"),
+    (
+        "class Mug Cup",
+        "E001",
+        "unexpected 'Cup', expected ':' and the parent classes, or a declaration",
+        "1:11",
+    ),
+    ("scene s {\n  a b\n}", "E001", "unexpected 'b', expected ':' and the instance's classes", "2:5"),
+    ('scene s { a : Cup markers ("m1" }', "E001", "expected ',' or ')' in the marker list", "1:33"),
+    ("grasp Cup { approach side }", "E001", "expected 'type' and a grasp type", "1:13"),
+    (
+        G + "  pre h <-> nothing\n  effect h <-> o\n",
+        "E001",
+        "unexpected end of input, expected ',', 'execute SKILL' or 'steps { … }'",
+        "3:17",
+    ),
+    (G + "  pre h <-> }", "E001", "unexpected '}', expected an object or 'nothing' after '<->'", "2:13"),
+    (G + "  execute\n}", "E001", "unexpected '}', expected the name of a skill", "3:1"),
+    ("oac g(h Hand) { }", "E001", "unexpected 'Hand', expected ':' and the parameter's class", "1:9"),
+    (G + "  effect h <-> o execute place steps { }", "E001", "expected '}' to close the OAC", "2:32"),
+    (G + "  pre h <- o", "E002", "unexpected character '<', expected '<->' between the two objects", "2:9"),
+    (G + "  pre h <-> o;", "E002", "unexpected character ';'", "2:14"),
+    ('scene s { a : Cup markers ("m1) }', "E002", "unterminated string", "1:28"),
+    # semantic
+    ("scene s {\n  a : Cpu\n}", "E003", "unknown class 'Cpu' (did you mean 'Cup'?)", "2:7"),
+    (
+        "class Mug : Graspable, Contaner",
+        "E003",
+        "unknown parent class 'Contaner' (did you mean 'Container'?)",
+        "1:24",
+    ),
+    ("grasp Spoon { type power approach side }", "E003", "unknown class 'Spoon'", "1:7"),
+    ("oac g(h: Hadn) { effect h <-> nothing execute place }", "E003", "did you mean 'Hand'", "1:10"),
+    (
+        "oac g(h: Hand = left_hnd) { effect h <-> nothing execute place }",
+        "E004",
+        "unknown instance 'left_hnd' (did you mean 'left_hand'?)",
+        "1:17",
+    ),
+    (
+        G + "  pre h <-> nothing\n  effect h <-> obj\n  execute reach_and_grasp\n}",
+        "E005",
+        "unbound variable 'obj'",
+        "3:16",
+    ),
+    ("class Cup", "E006", "class 'Cup' is defined twice", "1:7"),
+    (
+        "oac g(h: Hand, h: Hand) { effect h <-> nothing execute place }",
+        "E006",
+        "parameter 'h' is defined twice",
+        "1:16",
+    ),
+    ("scene s {\n  a : Cup\n  a : Bowl\n}", "E006", "instance 'a' is defined twice in scene 's'", "3:3"),
+    ("scene kitchen { }", "E006", "scene 'kitchen' is defined twice", "1:7"),
+    ("grasp Cup { type rim approach top }", "E006", "grasp for class 'Cup' is defined twice", "1:7"),
+    ("oac pour(h: Hand) { effect h <-> nothing execute pour }", "E006", "OAC 'pour' is defined twice", "1:5"),
+    ("class A : B\nclass B : C\nclass C : A", "E007", "cycle in the class hierarchy: A → B → C → A", "1:7"),
+    ("class Loop : Loop", "E007", "cycle in the class hierarchy: Loop → Loop", "1:7"),
+    (G + "  pre h <-> h\n  effect h <-> o\n  execute place\n}", "E008", "relates 'h' with itself", "2:7"),
+    (
+        G + "  pre h <-> nothing, h <-> o\n  effect not h <-> o\n  execute place\n}",
+        "E009",
+        "the precondition contradicts itself: 'h <-> nothing' and 'h <-> o'",
+        "2:7",
+    ),
+    (
+        G + "  pre h <-> nothing\n  effect h <-> o, not h <-> o\n  execute place\n}",
+        "E010",
+        "the effect contradicts itself: 'not h <-> o' and 'h <-> o'",
+        "3:19",
+    ),
+    (G + "  pre h <-> nothing\n  execute reach_and_grasp\n}", "E011", "OAC 'g' states no effect", "1:5"),
+    (
+        G + "  pre h <-> o\n  effect o <-> h\n  execute place\n}",
+        "E012",
+        "the effect of 'g' changes nothing: every effect is also a precondition",
+        "3:3",
+    ),
+    (
+        G + "  effect h <-> o\n  steps { grap(h, o) }\n}",
+        "E013",
+        "unknown OAC 'grap' (did you mean 'grasp'?)",
+        "3:11",
+    ),
+    (G + "  effect h <-> o\n  steps { grasp(h) }\n}", "E014", "'grasp' takes 2 arguments, 1 given", "3:11"),
+    (
+        "oac g(h: Hand, l: Liquid) {\n  effect h <-> l\n  steps { grasp(h, l) }\n}",
+        "E015",
+        "argument 'l' is a Liquid, but 'grasp' expects a Graspable for 'o'",
+        "3:20",
+    ),
+    (
+        G + "  effect h <-> o\n  steps { grasp(h, liquid_one) }\n}",
+        "E015",
+        "argument 'liquid_one' is a Liquid, but 'grasp' expects a Graspable",
+        "3:20",
+    ),
+    (
+        G + "  pre h <-> nothing\n  effect h <-> o\n  execute reach_and_grap\n}",
+        "E016",
+        "unknown skill 'reach_and_grap' (did you mean 'reach_and_grasp'?)",
+        "4:11",
+    ),
+    (
+        "oac g(h: Hand = red_cup) { effect h <-> nothing execute place }",
+        "E017",
+        "'red_cup' is a Cup, not a Hand",
+        "1:17",
+    ),
+    (
+        "oac g(nothing: Hand) { effect nothing <-> nothing execute place }",
+        "E018",
+        "'nothing' is a reserved word and cannot name a parameter",
+        "1:7",
+    ),
+    ("scene s { not : Cup }", "E018", "'not' is a reserved word and cannot name an instance", "1:11"),
+    (
+        "oac a(h: Hand) { effect h <-> nothing steps { b(h) } }\n"
+        "oac b(h: Hand) { effect h <-> nothing steps { a(h) } }",
+        "E019",
+        "composed OAC 'a' calls itself: a → b → a",
+        "1:5",
+    ),
+    ("grasp Bowl { type fist approach side }", "E020", "unknown grasp type 'fist'", "1:19"),
+    (
+        "grasp Bowl { type power approach sideways }",
+        "E020",
+        "unknown approach direction 'sideways' (did you mean 'side'?)",
+        "1:34",
+    ),
+    (
+        G + "  pre h <-> o\n  effect o <-> table\n  execute place\n}",
+        "E021",
+        "'table' is environment in scene 'kitchen'",
+        "3:16",
+    ),
+    (
+        'scene s {\n  a : Cup markers ("m1", "m2")\n  b : Cup markers ("m3", "m1")\n}',
+        "E022",
+        "marker \"m1\" is assigned to 'a' and to 'b'",
+        "3:26",
+    ),
+    (G + "  effect h <-> o\n  steps { }\n}", "E023", "composed OAC 'g' has no steps", "3:3"),
+    (
+        G + "  pre h <-> nothing\n  effect not h <-> nothing\n  execute reach_and_grasp\n}",
+        "W001",
+        "parameter 'o' of 'g' is never used",
+        "1:16",
+    ),
+    ("class Mug : Cup, Cup", "W002", "parent class 'Cup' is listed twice", "1:18"),
+    (
+        G + "  pre h <-> o, h <-> o\n  effect o <-> nothing\n  execute place\n}",
+        "W002",
+        "precondition 'h <-> o' is listed twice",
+        "2:16",
+    ),
+    (
+        "oac g(h: Hand, o: Graspable, c: Container) {\n"
+        "  pre h <-> o\n  effect h <-> o, o <-> c\n  execute place\n}",
+        "W003",
+        "effect 'h <-> o' already holds before",
+        "3:10",
+    ),
+    (
+        "class Spoon : Graspable\nscene s { spoon : Spoon }",
+        "W004",
+        "instance 'spoon' is Graspable but no grasp",
+        "2:11",
+    ),
+    ("grasp Bowl { type power approach side offset (0.0, 0.0, 60.0) }", "W005", "offsets are metres", "1:39"),
+]
+
+
+@pytest.mark.parametrize(
+    ("snippet", "code", "fragment", "where"), BAD, ids=[f"{b[1]}-{i}" for i, b in enumerate(BAD)]
+)
+def test_bad_snippet(snippet, code, fragment, where):
+    result = compile_sources({**LIBRARY, "bad.oac": snippet})
+    found = [d for d in result.diagnostics if d.code == code]
+    assert found, f"no {code}; got: " + "; ".join(d.header() for d in result.diagnostics)
+    first = found[0]
+    assert fragment in first.message
+    assert first.span is not None and first.span.file == "bad.oac"
+    assert f"{first.span.line}:{first.span.column}" == where
+    # no Lark terminal names in what authors read
+    for name in ("NAME", "RBRACE", "LBRACE", "$END", "__ANON", "COMMA", "LPAR"):
+        assert name not in first.message
+
+
+def test_every_code_is_exercised_by_the_table():
+    assert {b[1] for b in BAD} == set(CODES)
+
+
+def test_every_code_is_documented():
+    doc = (ROOT / "docs" / "language.md").read_text(encoding="utf-8")
+    for code in CODES:
+        assert f"| {code} |" in doc, f"{code} missing from docs/language.md"
+
+
+def test_rendering_has_location_source_line_caret_and_notes():
+    text = "scene s {\n\tmug : Cpu\n}\n"
+    result = compile_sources({**LIBRARY, "bad.oac": text})
+    out = render(result.diagnostics, result.sources)
+    lines = out.splitlines()
+    assert lines[0] == "bad.oac:2:8: error[E003]: unknown class 'Cpu' (did you mean 'Cup'?)"
+    assert lines[1] == "  2 | \tmug : Cpu"
+    assert lines[2] == "    | \t      ^^^"  # the tab is kept so that the caret lines up
+    assert lines[3].startswith("  library/classes.oac:") and lines[3].endswith(
+        "note: class 'Cup' is defined here"
+    )
+    assert lines[-1] == "1 error, 0 warnings"
+
+
+def test_duplicates_point_at_the_other_definition():
+    result = compile_sources({**LIBRARY, "bad.oac": "\n\nclass Hand\n"})
+    (dup,) = [d for d in result.diagnostics if d.code == "E006"]
+    assert dup.notes[0].message == "first defined here"
+    assert str(dup.notes[0].span) == "library/classes.oac:4:7"
+
+
+def test_all_errors_are_collected_and_sorted():
+    text = "scene s {\n  a : Cpu\n  b : Bwl\n}\nclass Mug : Cupp\n"
+    result = compile_sources({**LIBRARY, "bad.oac": text})
+    positions = [(d.span.line, d.span.column) for d in result.diagnostics]
+    assert positions == [(2, 7), (3, 7), (5, 13)]
+    assert not result.ok
+
+
+def test_syntax_error_in_one_file_is_reported_with_the_others():
+    result = compile_sources({**LIBRARY, "a.oac": "class", "b.oac": "scene {"})
+    assert [(d.span.file, d.code) for d in result.diagnostics] == [("a.oac", "E001"), ("b.oac", "E001")]
+
+
+def test_language_error_str_is_the_first_error_line():
+    with pytest.raises(LanguageError) as info:
+        parse_text("oac f(h: Hand) { pre h <-> }", "x.oac")
+    assert (
+        str(info.value)
+        == "x.oac:1:28: error[E001]: unexpected '}', expected an object or 'nothing' after '<->'"
+    )
+    assert [d.code for d in info.value.diagnostics] == ["E001"]
+    assert "^" in info.value.rendered
+
+
+def test_load_library_raises_with_all_diagnostics(tmp_path):
+    (tmp_path / "a.oac").write_text("class A : Missing\nclass B : Gone\n", encoding="utf-8")
+    with pytest.raises(LanguageError) as info:
+        load_library([tmp_path])
+    assert str(info.value).startswith(
+        f"{tmp_path / 'a.oac'}:1:11: error[E003]: unknown parent class 'Missing'"
+    )
+    assert len(info.value.diagnostics) == 2
+
+
+def test_json_diagnostics():
+    from oacdsl.lang.diagnostics import diagnostics_json
+
+    result = compile_sources({**LIBRARY, "bad.oac": "class Mug : Cupp"})
+    (doc,) = diagnostics_json(result.diagnostics)
+    assert doc["code"] == "E003" and doc["severity"] == "error"
+    assert (doc["file"], doc["line"], doc["column"], doc["end_column"]) == ("bad.oac", 1, 13, 17)
+    assert doc["notes"][0]["message"] == "class 'Cup' is defined here"

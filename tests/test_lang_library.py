@@ -1,0 +1,84 @@
+"""The standard library: clean, canonical, and what the other parts rely on."""
+
+from pathlib import Path
+
+from oacdsl.lang import compile_paths, load_library, print_module
+from oacdsl.skills import SKILLS
+
+ROOT = Path(__file__).resolve().parents[1]
+LIBRARY = ROOT / "library"
+
+
+def test_library_compiles_without_errors_or_warnings():
+    result = compile_paths([LIBRARY])
+    assert result.diagnostics == [], [d.header() for d in result.diagnostics]
+    assert len(result.modules) >= 3  # spread over several files that use each other's names
+
+
+def test_library_files_are_in_canonical_form():
+    result = compile_paths([LIBRARY])
+    for module in result.modules:
+        assert print_module(module) == result.sources[module.path], (
+            f"{module.path} is not canonical (oacc fmt)"
+        )
+
+
+def test_library_has_the_papers_oacs_exactly():
+    lib = load_library([LIBRARY])
+    assert set(lib.oacs) == {"grasp", "place", "pour", "mix", "wipe"}
+
+    def sig(name):
+        oac = lib.oacs[name]
+        fmt = lambda atoms: sorted(("not " if a.negated else "") + f"{a.left} <-> {a.right}" for a in atoms)  # noqa: E731
+        return [(p.name, p.cls) for p in oac.params], fmt(oac.pre), fmt(oac.effect), oac.skill
+
+    assert sig("grasp") == (
+        [("h", "Hand"), ("o", "Graspable")],
+        ["h <-> nothing"],
+        ["h <-> o"],
+        "reach_and_grasp",
+    )
+    assert sig("place") == ([("h", "Hand"), ("o", "Graspable")], ["h <-> o"], ["h <-> nothing"], "place")
+    assert sig("pour") == (
+        [("h", "Hand"), ("c", "Container"), ("l", "Liquid"), ("b", "Container")],
+        ["c <-> h", "c <-> l"],
+        ["b <-> l", "not c <-> l"],
+        "pour",
+    )
+    assert sig("mix") == (
+        [("h", "Hand"), ("m", "Mixer"), ("b", "Container")],
+        ["h <-> m"],
+        ["b <-> m"],
+        "mix",
+    )
+    assert sig("wipe") == (
+        [("h", "Hand"), ("s", "Sponge"), ("t", "Surface")],
+        ["h <-> s"],
+        ["s <-> t"],
+        "wipe",
+    )
+    assert {o.skill for o in lib.oacs.values()} <= set(SKILLS)
+
+
+def test_library_scenes_and_graspability():
+    lib = load_library([LIBRARY])
+    kitchen = lib.scenes["kitchen"]
+    assert {i.name for i in kitchen.tracked()} == {
+        "left_hand",
+        "right_hand",
+        "red_cup",
+        "green_cup",
+        "liquid_one",
+        "liquid_two",
+        "orange_bowl",
+        "mixer",
+    }
+    assert kitchen.instance("table").environment
+    classes = lib.instance_classes(kitchen)
+    assert {"Cup", "Graspable", "Container"} <= classes["red_cup"]
+    assert "Graspable" in classes["mixer"] and "Graspable" not in classes["liquid_one"]
+    assert lib.grasp_for(classes["red_cup"]).cls == "Cup"
+    wiping = lib.scenes["wiping"]
+    assert {"sponge", "tray"} <= {i.name for i in wiping.tracked()}
+    assert lib.is_subclass("Tray", "Surface") and lib.is_subclass("Sponge", "Graspable")
+    assert lib.grasp_for(lib.instance_classes(wiping)["sponge"]).cls == "Sponge"

@@ -1,0 +1,162 @@
+"""Property tests: printed models parse back equal; no input makes the language crash."""
+
+import re
+from pathlib import Path
+
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from oacdsl.errors import LanguageError
+from oacdsl.lang import compile_sources, parse_text, print_module
+from oacdsl.lang.checks import KEYWORDS
+from oacdsl.model import Atom, Call, Grasp, Instance, Module, Oac, ObjectClass, Param, Scene
+from oacdsl.world import NOTHING
+
+ROOT = Path(__file__).resolve().parents[1]
+LIBRARY = {
+    str(p.relative_to(ROOT)): p.read_text(encoding="utf-8") for p in sorted((ROOT / "library").glob("*.oac"))
+}
+SETTINGS = settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+lower = st.from_regex(r"[a-z_][a-z0-9_]{0,6}", fullmatch=True).filter(lambda s: s not in KEYWORDS)
+upper = st.from_regex(r"[A-Z][A-Za-z0-9_]{0,6}", fullmatch=True)
+# comments and notes: one line of any text (the printer keeps them, they are outside equality)
+line_text = st.text(st.characters(blacklist_categories=("Cc", "Cs", "Zl", "Zp")), max_size=12)
+comments = st.lists(line_text, max_size=2).map(tuple)
+note = st.none() | line_text
+trivia = {"comments": comments, "note": note}
+term = lower | st.just(NOTHING)
+
+atoms = st.builds(Atom, left=term, right=term, negated=st.booleans(), **trivia)
+params = st.builds(Param, name=lower, cls=upper, default=st.none() | lower, **trivia)
+calls = st.builds(Call, oac=lower, args=st.lists(lower, max_size=3).map(tuple), **trivia)
+oac_fields = dict(
+    name=lower,
+    params=st.lists(params, max_size=4).map(tuple),
+    pre=st.lists(atoms, max_size=4).map(tuple),
+    effect=st.lists(atoms, max_size=4).map(tuple),
+    **trivia,
+)
+oacs = st.builds(Oac, skill=lower, **oac_fields) | st.builds(
+    Oac, steps=st.lists(calls, max_size=3).map(tuple), **oac_fields
+)
+instances = st.builds(
+    Instance,
+    name=lower,
+    classes=st.lists(upper, min_size=1, max_size=2).map(tuple),
+    markers=st.lists(st.text(st.characters(blacklist_categories=("Cs",)), max_size=6), max_size=3).map(tuple),
+    environment=st.booleans(),
+    **trivia,
+)
+decls = st.one_of(
+    st.builds(ObjectClass, name=upper, parents=st.lists(upper, max_size=3).map(tuple), **trivia),
+    st.builds(Scene, name=lower, instances=st.lists(instances, max_size=4).map(tuple), **trivia),
+    st.builds(
+        Grasp,
+        cls=upper,
+        type=lower,
+        approach=lower,
+        offset=st.tuples(*[st.floats(allow_nan=False, allow_infinity=False, width=64)] * 3),
+        **trivia,
+    ),
+    oacs,
+)
+modules = st.builds(
+    Module,
+    path=st.just("gen.oac"),
+    decls=st.lists(decls, max_size=5).map(tuple),
+    comments=comments,
+    trailing=comments,
+)
+
+
+@SETTINGS
+@given(modules)
+def test_printed_models_parse_back_equal_and_printing_is_idempotent(module):
+    text = print_module(module)
+    again = parse_text(text, "gen.oac")
+    assert again == module
+    assert print_module(again) == text
+
+
+TERMINAL_NAMES = re.compile(r"\b(NAME|STRING|NUMBER|RBRACE|LBRACE|LPAR|RPAR|COMMA|COLON|__ANON_\d+)\b|\$END")
+
+
+def check_never_crashes(sources):
+    """Parsing and validating must return diagnostics or raise LanguageError, nothing else."""
+    result = compile_sources(sources)
+    for d in result.diagnostics:
+        assert d.code[0] in "EW" and d.span is not None
+        assert not TERMINAL_NAMES.search(d.message), d.message
+    for module in result.modules:
+        text = print_module(module)
+        assert parse_text(text, module.path) == module
+
+
+@SETTINGS
+@given(st.text(max_size=200))
+def test_arbitrary_text_gives_diagnostics_not_crashes(text):
+    try:
+        parse_text(text)
+    except LanguageError as error:
+        assert error.diagnostics and error.diagnostics[0].code in {"E001", "E002"}
+    check_never_crashes({"any.oac": text})
+
+
+@SETTINGS
+@given(st.sampled_from(sorted(LIBRARY)), st.data())
+def test_truncated_library_files(name, data):
+    text = LIBRARY[name]
+    cut = data.draw(st.integers(0, len(text)))
+    check_never_crashes({**LIBRARY, name: text[:cut]})
+
+
+EDITS = [
+    "{",
+    "}",
+    "(",
+    ")",
+    ",",
+    ":",
+    "<->",
+    "<-",
+    "not",
+    "nothing",
+    "class",
+    "scene",
+    "oac",
+    "grasp",
+    "pre",
+    "effect",
+    "execute",
+    "steps",
+    "markers",
+    "environment",
+    "offset",
+    "h",
+    "Cup",
+    "Hand",
+    '"',
+    '"m1"',
+    "#",
+    "\n",
+    "1.5",
+    "-",
+    "=",
+    "@",
+    "é",
+    "\t",
+    " ",
+]
+
+
+@SETTINGS
+@given(st.sampled_from(sorted(LIBRARY)), st.data())
+def test_randomly_edited_library_files(name, data):
+    text = LIBRARY[name]
+    for _ in range(data.draw(st.integers(1, 4))):
+        start = data.draw(st.integers(0, len(text)))
+        end = data.draw(st.integers(start, min(len(text), start + 12)))
+        insert = data.draw(st.lists(st.sampled_from(EDITS), max_size=3).map(" ".join))
+        text = text[:start] + insert + text[end:]
+    check_never_crashes({**LIBRARY, name: text})
