@@ -163,6 +163,8 @@ def build_model(layout: Layout, seed: int | None = None) -> BuiltModel:
     spec.option.timestep = TIMESTEP_S
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     spec.option.cone = mujoco.mjtCone.mjCONE_PYRAMIDAL
+    # island sleeping: objects and balls at rest cost nothing until something touches them
+    spec.option.enableflags |= int(mujoco.mjtEnableBit.mjENBL_SLEEP)
     _add_environment(spec, layout.table)
     joints = [j.name for j in spec.joints if j.type != mujoco.mjtJoint.mjJNT_FREE]
     _add_actuators(spec, joints)

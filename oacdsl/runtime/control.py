@@ -51,6 +51,7 @@ class Controller:
         self.observers = list(observers or [])
         self._due = [0.0 for _ in self.observers]
         self.force_limit_n = force_limit_n
+        self._ctrl = world.actuator_indices(ik.controlled)
         self.substeps = max(1, round(CONTROL_DT_S / world.model.opt.timestep))
         self.ik.solver.dt = self.substeps * world.model.opt.timestep
         self.ik.set_state(world.joint_positions())
@@ -70,8 +71,7 @@ class Controller:
 
     # --- one tick -------------------------------------------------------------------------------
     def tick(self) -> None:
-        q = self.ik.step()
-        self.world.set_targets(q)
+        self.world.set_ctrl(self._ctrl, self.ik.step())
         if self.observers:  # step to each observer's due time within the tick
             for _ in range(self.substeps):
                 self.world.step(1)
