@@ -57,11 +57,22 @@ def test_synth_truth_path_and_clean_option(tmp_path):
         (["synth", "dough"], "required: -o"),
     ],
 )
-def test_synth_bad_usage_is_one_line_exit_2(args, message, tmp_path):
-    result = oacc(*args)
-    assert result.returncode == 2, result.stderr
-    assert message in result.stderr and "Traceback" not in result.stderr
+def test_synth_bad_usage_is_one_line_exit_2(args, message, capsys, monkeypatch):
+    monkeypatch.chdir(ROOT)
+    try:
+        status = main(args)
+    except SystemExit as stop:  # argparse's own usage errors
+        status = stop.code
+    err = capsys.readouterr().err
+    assert status == 2, err
+    assert message in err.strip().splitlines()[-1]  # one error line (argparse prints its usage above it)
     assert not (ROOT / "x.c3d").exists() and not (ROOT / "x.truth.json").exists()
+
+
+def test_synth_error_from_the_shell_has_no_traceback():
+    result = oacc("synth", "dough", "-o", "README.md/x.c3d")
+    assert result.returncode == 2 and result.stderr.startswith("oacc: error: ")
+    assert "Traceback" not in result.stderr and len(result.stderr.strip().splitlines()) == 1
 
 
 def test_synth_help_explains_the_scene():
