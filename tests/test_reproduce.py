@@ -102,8 +102,8 @@ def test_reproduce_first_pour(short_demo: Path, library: Path, tmp_path: Path, g
     page = (out / "report.html").read_text()
     assert "Reproduced and verified" in page and "first_pour" in page
     assert (out / doc["segment"]["plot"]).is_file() and (out / v["plot"]).is_file()
-    if r.get("frame"):  # a rendering backend was available
-        assert all((out / s["frame"]).is_file() for s in r["steps"])
+    if r.get("frame"):  # a rendering backend was available: each step after it, and as predicted
+        assert all((out / s["frame"]).is_file() and (out / s["moment"]).is_file() for s in r["steps"])
     names = sorted(p.name for p in out.iterdir())
     assert names == ["figures", "first_pour.oac", "report.html", "result.json"]
 
@@ -231,3 +231,17 @@ def test_virtual_markers_sit_on_the_surfaces() -> None:
     assert near_cup < ROBOT_DISTANCE_M < near_hand
     rec = markers.to_recording()
     assert rec.n_frames == 1 and set(rec.instances) == set(points)
+
+
+def test_readme_main_command_runs_reproduce(capsys: pytest.CaptureFixture[str]) -> None:
+    import re
+
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    block = re.search(r"<!-- main-command -->\s*```(?:sh|bash)?\n(.+?)\n```", text, re.S)
+    assert block is not None
+    command = block.group(1).strip()
+    install = 'python3 -m venv .venv && .venv/bin/pip install -q -e ".[robot]"'
+    assert command == f"{install} && .venv/bin/oacc reproduce"
+    with pytest.raises(SystemExit) as exit_:
+        main(["reproduce", "--help"])
+    assert exit_.value.code == 0 and "bundled dough demonstration" in capsys.readouterr().out
