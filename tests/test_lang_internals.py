@@ -8,9 +8,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from lark import Lark, Token, UnexpectedInput
 
+from oacdsl.lang.fastmodel import make
 from oacdsl.lang.lexer import PATTERNS, OacLexer
 from oacdsl.lang.parser import grammar_text
-from oacdsl.lang.transform import make
 from oacdsl.model import Atom, Instance, Oac, Param, Span
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -47,6 +47,7 @@ def test_lexer_patterns_are_the_grammars():
 
 @pytest.mark.parametrize("index", range(len(TEXTS)))
 def test_fast_lexer_gives_the_same_parse_as_larks_contextual_lexer(index):
+    assert isinstance(_outcome(FAST, TEXTS[index]), list)
     assert _outcome(FAST, TEXTS[index]) == _outcome(CONTEXTUAL, TEXTS[index])
 
 
@@ -89,7 +90,13 @@ def test_fast_lexer_agrees_on_edited_text(text, data):
         start = data.draw(st.integers(0, len(text)))
         end = data.draw(st.integers(start, min(len(text), start + 8)))
         text = text[:start] + data.draw(st.sampled_from(EDITS)) + text[end:]
-    assert _outcome(FAST, text) == _outcome(CONTEXTUAL, text)
+    fast, contextual = _outcome(FAST, text), _outcome(CONTEXTUAL, text)
+    if isinstance(fast, list) or isinstance(contextual, list):
+        assert fast == contextual
+    else:
+        # both reject the text; Lark's contextual lexer may split a word like 'classh'
+        # into the keyword 'class' and 'h' and so report the error a little later
+        assert fast[1:] <= contextual[1:]
 
 
 def test_make_equals_validated_construction():
@@ -120,3 +127,19 @@ def test_parts_locate_names():
     assert str(oac.params[0].part("default")) == "p.oac:1:17"
     assert str(oac.part("effect")) == "p.oac:2:3" and oac.part("missing") == oac.span
     assert re.fullmatch(r"p\.oac:3:11", str(oac.part("skill")))
+
+
+def test_compiling_restores_the_garbage_collector_state():
+    import gc
+
+    from oacdsl.lang import compile_sources
+
+    assert gc.isenabled()
+    compile_sources({"a.oac": "class A"})
+    assert gc.isenabled()
+    gc.disable()
+    try:
+        compile_sources({"a.oac": "class A : B"})
+        assert not gc.isenabled()
+    finally:
+        gc.enable()
