@@ -25,7 +25,7 @@ EPILOG = """\
 examples:
   oacc segment demo.c3d
   oacc segment Pour.mmm.xml --preset kit --distance 100mm --json
-  oacc segment demo.c3d --scene library/kitchen.oac --plot aas.png --graphs graphs/
+  oacc segment demo.c3d --scene library/ --scene-name kitchen --plot aas.png --graphs graphs/
 """
 
 
@@ -40,9 +40,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p.add_argument("recording", metavar="RECORDING", help="a .c3d, .mmm.xml/.xml, .tsv or .csv file")
     p.add_argument("--format", metavar="FMT", help="read as this format, not by the file's extension")
     groups = p.add_argument_group("marker groups (default: as the file groups them)")
-    groups.add_argument("--scene", metavar="FILE",
-                        help=".oac file with a scene: its instances and their markers define the groups")
-    groups.add_argument("--scene-name", metavar="NAME", help="which scene of FILE (needed if it has several)")
+    groups.add_argument("--scene", metavar="PATH", action="append",
+                        help=".oac file or folder (repeatable, loaded as one library) with a scene whose"
+                             " instances and markers define the groups")
+    groups.add_argument("--scene-name", metavar="NAME", help="which scene (needed if there are several)")
     groups.add_argument("--preset", metavar="NAME", help="built-in marker grouping, e.g. 'kit' (KIT hands)")
     aas = p.add_argument_group("AAS parameters")
     aas.add_argument("--distance", metavar="LEN", help="distance threshold d (default: 150mm)")
@@ -102,19 +103,20 @@ def load(args: argparse.Namespace) -> Any:
     return recording
 
 
-def pick_scene(path: str, name: str | None) -> Any:
-    """The scene ``name`` of the .oac file ``path`` (or its only scene)."""
+def pick_scene(paths: list[str], name: str | None) -> Any:
+    """The scene ``name`` of the library at ``paths`` (or its only scene)."""
     from oacdsl.errors import UsageError, did_you_mean
     from oacdsl.lang import load_library
 
-    scenes = load_library([path]).scenes
+    scenes = load_library(paths).scenes
+    where = ", ".join(paths)
     if name is not None:
         if name not in scenes:
-            raise UsageError(f"no scene {name!r}{did_you_mean(name, scenes)}", location=path)
+            raise UsageError(f"no scene {name!r}{did_you_mean(name, scenes)}", location=where)
         return scenes[name]
     if len(scenes) != 1:
         listed = ", ".join(sorted(scenes)) or "none"
-        raise UsageError(f"{len(scenes)} scenes ({listed}); choose one with --scene-name", location=path)
+        raise UsageError(f"{len(scenes)} scenes ({listed}); choose one with --scene-name", location=where)
     return next(iter(scenes.values()))
 
 

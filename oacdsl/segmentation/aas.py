@@ -32,7 +32,7 @@ __all__ = ["segment", "DEFAULT_CHUNK_FRAMES"]
 
 #: Frames per chunk: large enough to amortise Python overhead, small enough that
 #: the broad phase stays tight and a chunk's arrays stay in cache-sized blocks.
-DEFAULT_CHUNK_FRAMES = 2048
+DEFAULT_CHUNK_FRAMES = 512
 
 Progress = Callable[[int, int], None]
 

@@ -2,9 +2,10 @@
 
 Four sources, in the order a reader or a user applies them:
 
-* **prefix** — labels ``boite:gauche_ext`` form the group ``boite``. When no label
-  carries a ``:``, the text before the first ``_`` is the prefix instead
-  (``pillow_top`` → ``pillow``). Labels with no separator stay ungrouped.
+* **prefix** — labels ``boite:gauche_ext`` form the group ``boite`` (labels without
+  a ``:`` stay ungrouped). When no label carries a ``:``, the text before the first
+  ``_`` is the prefix instead (``pillow_top`` → ``pillow``), and a label without
+  ``_`` is a group of its own (``hand``).
 * **subjects** — a C3D ``SUBJECTS`` group lists the prefixes explicitly (readers).
 * **motion** — an MMM file has one motion per object (readers).
 * **mapping** — an explicit ``{instance: [marker, …]}``, e.g. from a scene's
@@ -58,6 +59,8 @@ def prefix_groups(marker_names: Sequence[str]) -> dict[str, list[str]]:
         head, found, tail = name.partition(sep)
         if found and head and tail:
             groups.setdefault(head, []).append(name)
+        elif sep == "_" and not found:
+            groups.setdefault(name, []).append(name)
     return groups
 
 
@@ -132,7 +135,8 @@ def apply_scene_groups(recording: Recording, scene: Scene) -> Recording:
             groups[inst.name] = tuple(recording.groups[inst.name])
         else:
             available = ", ".join(recording.instances) or "none"
-            hint = did_you_mean(inst.name, recording.groups) if recording.groups else ""
+            hint = did_you_mean(inst.name, recording.groups)
+            hint = hint if hint.startswith(" (did you mean") else ""  # the groups are listed anyway
             raise RecordingError(
                 f"scene {scene.name!r}: instance {inst.name!r} has no marker group in the recording"
                 f" and lists no markers{hint} (groups in the recording: {available})",

@@ -58,7 +58,7 @@ def plot_distances(recording: Recording, segmentation: Segmentation, fig: Any, *
     params = segmentation.parameters
     d_mm = 1000.0 * float(params.get("distance_m", 0.15))
     v = params.get("speed_m_s")
-    table, dist = closest_distances(recording)
+    table, dist = closest_distances(recording, reach_m=3 * d_mm / 1000.0)  # the y-axis ends at 3 d
     times = np.asarray(recording.times_s, dtype=np.float64)
     related = {r for k in segmentation.keyframes for r in k.state.relations}
     closest = np.fmin.reduce(dist, axis=1)  # NaN only for a pair never visible

@@ -46,19 +46,15 @@ def segment_reference(recording: Recording, params: AasParams | None = None) -> 
     touching = [False] * len(pairs)
     close_run = [0] * len(pairs)
     far_run = [0] * len(pairs)
+    previous = [distance(1 if n_frames > 1 else 0, ma, mb) for ma, mb, _ in pairs]
     changes: list[tuple[int, int, bool]] = []  # (frame n0 or n1, pair, new state)
     for i in range(n_frames):
+        # frame 0 takes the distance change of frame 1 (its "previous" is frame 1)
+        limit = v * (times[i] - times[i - 1] if i > 0 else times[1] - times[0] if n_frames > 1 else 0.0)
         for p, (ma, mb, _) in enumerate(pairs):
             dist = distance(i, ma, mb)
-            if i == 0:  # frame 0 takes the distance change of frame 1
-                if n_frames < 2:
-                    change, limit = math.nan, 0.0
-                else:
-                    change = abs(distance(1, ma, mb) - dist)
-                    limit = v * (times[1] - times[0])
-            else:
-                change = abs(dist - distance(i - 1, ma, mb))
-                limit = v * (times[i] - times[i - 1])
+            change = abs(dist - previous[p]) if n_frames > 1 else math.nan
+            previous[p] = dist
             if math.isnan(dist):
                 close = far = False
             elif math.isnan(change):  # the other frame is a gap: only the distance is known

@@ -43,4 +43,4 @@ def rate_from_times(times_s: np.ndarray, location: str) -> float:
     steps = np.diff(times_s)
     if not np.all(np.isfinite(steps)) or np.any(steps <= 0):
         raise RecordingError("frame times are not strictly increasing", location=location)
-    return float(1.0 / np.median(steps))
+    return float(f"{1.0 / np.median(steps):.9g}")  # 10 Hz, not 9.999999999999996 Hz

@@ -108,7 +108,7 @@ def read_c3d(path: str | Path) -> Recording:
     to_m = metres_per_unit(unit, location, "POINT:UNITS")
 
     xyz = np.moveaxis(points[:3], 0, -1).transpose(1, 0, 2).copy()  # (F, M, 3)
-    gap = np.all(xyz == 0.0, axis=-1)
+    gap = np.all(xyz == 0.0, axis=-1) | np.isnan(xyz).any(axis=-1)
     meta = c3d["data"].get("meta_points") or {}
     residuals = meta.get("residuals") if isinstance(meta, dict) else None
     if residuals is not None and np.shape(residuals)[1:] == (n_markers, n_frames):

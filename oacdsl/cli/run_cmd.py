@@ -1,0 +1,219 @@
+"""``oacc run``: execute an OAC on the simulated ARMAR-III (MuJoCo + placo).
+
+Exit status 0 when every step succeeded and its predicted effects were observed,
+1 when the run failed (the reason is printed on one line), 2 for usage or I/O errors.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from pathlib import Path
+from typing import Any
+
+from oacdsl.errors import RuntimeFailure, UsageError
+from oacdsl.model import Scene
+
+__all__ = ["register", "run", "load_inputs"]
+
+
+def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    p = sub.add_parser(
+        "run",
+        help="execute an OAC on the simulated robot",
+        description="Execute a primitive or composed OAC on ARMAR-III in MuJoCo: bind its parameters,"
+        " check its preconditions in the simulated world, run each step's skill and compare the"
+        " observed touching relations with the predicted effects.",
+    )
+    p.add_argument("name", metavar="NAME", help="the OAC to execute")
+    p.add_argument(
+        "--library",
+        action="append",
+        metavar="DIR",
+        default=None,
+        help="OAC library folder or file (repeatable; default: library/)",
+    )
+    p.add_argument(
+        "--scene", metavar="FILE|NAME", help="a .oac file declaring the scene, or a scene name of the library"
+    )
+    p.add_argument(
+        "--seed",
+        type=int,
+        metavar="N",
+        help="move every object by up to 10 cm at random (default: nominal places)",
+    )
+    p.add_argument(
+        "--bind",
+        action="append",
+        default=[],
+        metavar="VAR=INSTANCE",
+        help="bind a parameter to an instance (repeatable; default: the OAC's defaults)",
+    )
+    p.add_argument(
+        "--fill",
+        action="append",
+        default=[],
+        metavar="LIQUID=CONTAINER",
+        help="start a liquid in a container (default: as the OAC's preconditions say)",
+    )
+    p.add_argument(
+        "--place",
+        action="append",
+        default=[],
+        metavar="OBJECT=X,Y",
+        help="put an object at (X, Y) metres on the table (repeatable)",
+    )
+    p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
+    p.add_argument(
+        "--video", metavar="OUT.mp4", help="record a video (an .mp4 file, or a folder of PNG frames)"
+    )
+    p.add_argument("--frames", metavar="DIR", help="write one PNG of the scene after every step")
+    p.add_argument("--view", action="store_true", help="show the run in MuJoCo's viewer (needs a display)")
+    p.add_argument(
+        "--no-self-collision",
+        action="store_true",
+        help="leave self-collision avoidance out of the IK (faster)",
+    )
+    p.set_defaults(func=run)
+
+
+def _pairs(items: list[str], flag: str) -> dict[str, str]:
+    out: dict[str, str] = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep or not key.strip() or not value.strip():
+            raise UsageError(f"{flag} {item!r}: expected NAME=INSTANCE")
+        out[key.strip()] = value.strip()
+    return out
+
+
+def _places(items: list[str]) -> dict[str, tuple[float, float]]:
+    out: dict[str, tuple[float, float]] = {}
+    for name, value in _pairs(items, "--place").items():
+        try:
+            x, y = (float(v) for v in value.split(","))
+        except ValueError:
+            raise UsageError(f"--place {name}={value}: expected OBJECT=X,Y in metres") from None
+        out[name] = (x, y)
+    return out
+
+
+def load_inputs(paths: list[str], scene: str | None) -> tuple[Any, str | None]:
+    """The library from ``paths`` (plus the scene file, when ``scene`` is a file) and the scene's name."""
+    try:
+        from oacdsl.lang import load_library, parse_file
+    except ImportError as error:  # the language part is not in this build
+        raise UsageError(f"cannot load .oac files: {error}") from None
+    for path in paths:
+        if not Path(path).exists():
+            raise UsageError(f"{path}: no such file or folder")
+    if scene is not None and (scene.endswith(".oac") or Path(scene).is_file()):
+        if not Path(scene).is_file():
+            raise UsageError(f"{scene}: no such file")
+        module = parse_file(scene)
+        names = [d.name for d in module.decls if isinstance(d, Scene)]
+        if len(names) != 1:
+            raise UsageError(f"{scene}: expected one scene declaration, found {len(names)}")
+        return load_library([*paths, scene]), names[0]
+    return load_library(paths), scene
+
+
+def _prepare_backend(args: argparse.Namespace) -> None:
+    """Settle MuJoCo's OpenGL backend before MuJoCo is imported (it reads MUJOCO_GL once)."""
+    if "mujoco" in sys.modules:
+        return
+    from oacdsl.runtime.render import backend_available, choose_backend
+
+    chosen = os.environ.get("MUJOCO_GL")
+    if chosen and not backend_available(chosen):
+        print(
+            f"oacc: warning: MUJOCO_GL={chosen} but its library is not installed; running without rendering",
+            file=sys.stderr,
+        )
+        os.environ["MUJOCO_GL"] = "disable"
+    elif not chosen and (args.video or args.frames):
+        backend = choose_backend()
+        if backend:
+            os.environ["MUJOCO_GL"] = backend
+
+
+def run(args: argparse.Namespace) -> int:
+    bindings = _pairs(args.bind, "--bind")
+    fill = _pairs(args.fill, "--fill")
+    places = _places(args.place)
+    library, scene = load_inputs(args.library or ["library"], args.scene)
+    _prepare_backend(args)
+    try:
+        from oacdsl.runtime.executor import prepare, run_prepared
+        from oacdsl.runtime.render import Renderer, RenderUnavailable, VideoRecorder, Viewer, write_png
+    except ImportError as error:
+        raise UsageError(
+            f"the robot runtime needs the 'robot' extra (pip install oacdsl[robot]): {error}"
+        ) from None
+    except Exception as error:  # MuJoCo refuses to start, e.g. an invalid MUJOCO_GL
+        first = (str(error).strip().splitlines() or [type(error).__name__])[0]
+        gl = os.environ.get("MUJOCO_GL", "unset")
+        raise UsageError(f"MuJoCo could not start (MUJOCO_GL={gl}): {first}") from None
+    run_ = prepare(
+        library,
+        args.name,
+        bindings,
+        scene,
+        args.seed,
+        fill=fill,
+        self_collision=not args.no_self_collision,
+        places=places,
+    )
+    out = sys.stderr if args.json else sys.stdout
+    closers: list[Any] = []
+    frames: Any = None
+    try:
+        if args.video:
+            try:
+                video = VideoRecorder(run_.world.model, args.video)
+                closers.append(video)
+                run_.controller.add_observer(video)
+            except RenderUnavailable as error:
+                print(f"oacc: warning: {error}; running without video", file=sys.stderr)
+        if args.frames:
+            try:
+                frames = Renderer(run_.world.model)
+                closers.append(frames)
+            except RenderUnavailable as error:
+                print(f"oacc: warning: {error}; running without frames", file=sys.stderr)
+        if args.view:
+            viewer = Viewer(run_.world.model, run_.world.data)
+            closers.append(viewer)
+            run_.controller.add_observer(viewer)
+        total = len(run_.steps)
+
+        def on_step(index: int, step: Any, world: Any) -> None:
+            args_text = ", ".join(step.binding.values())
+            status = "ok" if step.success else "FAILED"
+            print(
+                f"step {index + 1}/{total} {step.oac}({args_text}): {status} ({step.duration_s:.1f} s)",
+                file=out,
+            )
+            if frames is not None:
+                write_png(
+                    Path(args.frames) / f"step_{index + 1:02d}_{step.oac}.png", frames.render(world.data)
+                )
+
+        result = run_prepared(run_, on_step=on_step)
+    finally:
+        for c in closers:
+            c.close()
+    m = result.metrics
+    if args.json:
+        print(json.dumps(result.to_json(), indent=2))
+    else:
+        verdict = "success" if result.success else "failed"
+        print(
+            f"{result.oac}: {verdict} — {m['balls_in_bowl']}/{m['balls_total']} balls in a bowl,"
+            f" {m['sim_time_s']:.1f} s simulated in {m['wall_time_s']:.1f} s"
+        )
+    if not result.success:
+        raise RuntimeFailure(result.error or f"{result.oac} failed")
+    return 0

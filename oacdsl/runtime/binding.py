@@ -1,0 +1,147 @@
+"""Binding an OAC's parameters to a scene's instances, and its steps to primitive OACs.
+
+Light on purpose (no MuJoCo, no placo): the run command checks its arguments with
+these functions before it builds a simulation.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+from oacdsl.errors import RuntimeFailure, did_you_mean
+from oacdsl.library import Library
+from oacdsl.model import Atom, Oac, Scene
+from oacdsl.world import NOTHING, WorldState
+
+__all__ = ["Step", "bind", "flatten", "bound_atoms", "holds", "explain", "choose_scene", "liquid_contents"]
+
+_MAX_DEPTH = 16
+
+
+@dataclass(frozen=True)
+class Step:
+    """A primitive OAC with its parameters bound to instances."""
+
+    oac: Oac
+    binding: dict[str, str]
+
+    @property
+    def args(self) -> tuple[str, ...]:
+        return tuple(self.binding[p.name] for p in self.oac.params)
+
+
+def choose_scene(
+    library: Library, oac: Oac, name: str | None = None, given: Mapping[str, str] | None = None
+) -> Scene:
+    """The scene called ``name``, else the one scene of the library, else the one scene that
+    holds the instances of the OAC's defaults and of ``given`` (the ``--bind`` values)."""
+    if name is not None:
+        if name not in library.scenes:
+            raise RuntimeFailure(f"no scene {name!r} in the library{did_you_mean(name, library.scenes)}")
+        return library.scenes[name]
+    if len(library.scenes) == 1:
+        return next(iter(library.scenes.values()))
+    defaults = {p.default for p in oac.params if p.default is not None} | set((given or {}).values())
+    fitting = [s for s in library.scenes.values() if defaults and defaults <= {i.name for i in s.instances}]
+    if len(fitting) == 1:
+        return fitting[0]
+    if not library.scenes:
+        raise RuntimeFailure("the library declares no scene to run in (give one with --scene)")
+    raise RuntimeFailure(f"choose a scene with --scene (the library has {', '.join(sorted(library.scenes))})")
+
+
+def bind(library: Library, oac: Oac, scene: Scene, given: Mapping[str, str] | None = None) -> dict[str, str]:
+    """Instance per parameter: ``given`` first, then the parameter's default, then the only
+    instance of the scene of the parameter's class. Classes are checked (inherited too)."""
+    given = dict(given or {})
+    names = [p.name for p in oac.params]
+    for key in given:
+        if key not in names:
+            raise RuntimeFailure(f"oac {oac.name} has no parameter {key!r}{did_you_mean(key, names)}")
+    classes = library.instance_classes(scene)
+    tracked = [i.name for i in scene.tracked()]
+    binding: dict[str, str] = {}
+    for p in oac.params:
+        value = given.get(p.name) or p.default
+        if value is None:
+            candidates = [n for n in tracked if p.cls in classes[n]]
+            if len(candidates) != 1:
+                what = ", ".join(candidates) if candidates else "none"
+                raise RuntimeFailure(
+                    f"parameter {p.name}: {p.cls} of oac {oac.name} needs a binding"
+                    f" (instances of {p.cls} in scene {scene.name}: {what});"
+                    f" give one with --bind {p.name}=INSTANCE"
+                )
+            value = candidates[0]
+        if value not in classes:
+            raise RuntimeFailure(
+                f"parameter {p.name}: no instance {value!r} in scene {scene.name}"
+                f"{did_you_mean(value, tracked)}"
+            )
+        if p.cls not in classes[value]:
+            raise RuntimeFailure(
+                f"parameter {p.name}: {value} is not a {p.cls} (it is {', '.join(sorted(classes[value]))})"
+            )
+        binding[p.name] = value
+    return binding
+
+
+def flatten(library: Library, oac: Oac, binding: Mapping[str, str], depth: int = 0) -> list[Step]:
+    """The primitive steps of ``oac`` under ``binding`` (a primitive OAC is one step)."""
+    if depth > _MAX_DEPTH:
+        raise RuntimeFailure(f"oac {oac.name}: steps nest deeper than {_MAX_DEPTH} (a cycle?)")
+    if not oac.composed:
+        return [Step(oac, dict(binding))]
+    steps: list[Step] = []
+    for call in oac.steps or ():
+        callee = library.oacs.get(call.oac)
+        if callee is None:
+            raise RuntimeFailure(
+                f"oac {oac.name} calls unknown oac {call.oac!r}{did_you_mean(call.oac, library.oacs)}"
+            )
+        if len(call.args) != len(callee.params):
+            raise RuntimeFailure(
+                f"oac {oac.name}: {call.oac} takes {len(callee.params)} arguments, {len(call.args)} given"
+            )
+        inner = {p.name: binding.get(a, a) for p, a in zip(callee.params, call.args, strict=True)}
+        steps.extend(flatten(library, callee, inner, depth + 1))
+    return steps
+
+
+def bound_atoms(atoms: tuple[Atom, ...], binding: Mapping[str, str]) -> list[tuple[str, str, bool]]:
+    """``(a, b, negated)`` with variables replaced by instances (``nothing`` stays)."""
+    return [(binding.get(a.left, a.left), binding.get(a.right, a.right), a.negated) for a in atoms]
+
+
+def holds(state: WorldState, a: str, b: str, negated: bool) -> bool:
+    """Whether ``a <-> b`` (or its negation) holds in ``state``."""
+    if b == NOTHING:
+        value = state.touches_nothing(a)
+    elif a == NOTHING:
+        value = state.touches_nothing(b)
+    else:
+        value = state.touches(a, b)
+    return value != negated
+
+
+def explain(state: WorldState, a: str, b: str, negated: bool) -> str:
+    """One clause saying why ``a <-> b`` (negated or not) does not hold in ``state``."""
+    atom = f"{'not ' if negated else ''}{a} <-> {b}"
+    partners = sorted(state.partners(a))
+    now = f"{a} touches {', '.join(partners)}" if partners else f"{a} touches nothing"
+    return f"{atom} does not hold ({now})"
+
+
+def liquid_contents(library: Library, scene: Scene, oac: Oac, binding: Mapping[str, str]) -> dict[str, str]:
+    """Liquid → container named by the OAC's own preconditions (``l <-> c``): where the
+    runtime puts each liquid before the run, as the demonstrator filled the cups."""
+    classes = library.instance_classes(scene)
+    out: dict[str, str] = {}
+    for a, b, negated in bound_atoms(oac.pre, binding):
+        if negated or NOTHING in (a, b) or a not in classes or b not in classes:
+            continue
+        for liquid, container in ((a, b), (b, a)):
+            if "Liquid" in classes[liquid] and "Container" in classes[container] and liquid not in out:
+                out[liquid] = container
+    return out

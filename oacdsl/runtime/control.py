@@ -1,0 +1,151 @@
+"""The control loop: placo IK at 100 Hz feeding MuJoCo position actuators.
+
+Each control tick solves the whole-body IK once towards the current hand targets,
+sends the joint positions to the actuators, advances the simulation by one tick,
+checks the wrist force/torque sensors against the safety limit, and calls the
+observers (marker recorder, video) that are due. Motions are min-jerk
+interpolations of a hand pose; a *guard* can end a motion early (contact felt).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Protocol
+
+import numpy as np
+
+from oacdsl.errors import RuntimeFailure
+from oacdsl.runtime.hands import CLOSED, OPEN, finger_joint_names
+from oacdsl.runtime.ik import WholeBodyIK
+from oacdsl.runtime.simworld import SimWorld
+from oacdsl.runtime.transforms import interpolate, min_jerk
+
+__all__ = ["Controller", "Observer", "CONTROL_DT_S", "FORCE_LIMIT_N", "SIDE_NAME"]
+
+#: Control period (s): one IK solve per tick (50 Hz); observers still run at their own rate.
+CONTROL_DT_S = 0.02
+#: Safety limit on the change of a wrist force since the motion started, N.
+FORCE_LIMIT_N = 60.0
+SIDE_NAME = {"r": "right", "l": "left"}
+
+
+class Observer(Protocol):
+    """Called with the world every ``1 / rate_hz`` seconds of simulated time."""
+
+    rate_hz: float
+
+    def __call__(self, world: SimWorld) -> None: ...
+
+
+class Controller:
+    """Drives the simulated robot (see the module docstring)."""
+
+    def __init__(
+        self,
+        world: SimWorld,
+        ik: WholeBodyIK,
+        observers: list[Observer] | None = None,
+        force_limit_n: float = FORCE_LIMIT_N,
+    ) -> None:
+        self.world, self.ik = world, ik
+        self.observers = list(observers or [])
+        self._due = [0.0 for _ in self.observers]
+        self.force_limit_n = force_limit_n
+        self._ctrl = world.actuator_indices(ik.controlled)
+        self.substeps = max(1, round(CONTROL_DT_S / world.model.opt.timestep))
+        self.ik.solver.dt = self.substeps * world.model.opt.timestep
+        self.ik.set_state(world.joint_positions())
+        for side in ("r", "l"):
+            self.ik.hold_hand(side)
+        self._tare = {s: world.wrist_wrench(s)[0] for s in ("r", "l")}
+        self.fingers: dict[str, dict[str, float]] = {s: dict(OPEN) for s in ("r", "l")}
+        self.activity = "idle"
+        self._observe()
+
+    def add_observer(self, observer: Observer) -> None:
+        """Call ``observer`` from now on, at its rate."""
+        self.observers.append(observer)
+        self._due.append(self.world.time_s)
+        observer(self.world)
+        self._due[-1] += 1.0 / observer.rate_hz
+
+    # --- one tick -------------------------------------------------------------------------------
+    def tick(self) -> None:
+        self.world.set_ctrl(self._ctrl, self.ik.step())
+        if self.observers:  # step to each observer's due time within the tick
+            for _ in range(self.substeps):
+                self.world.step(1)
+                self._observe()
+        else:
+            self.world.step(self.substeps)
+        self._check_force()
+
+    def _observe(self) -> None:
+        t = self.world.time_s
+        for i, obs in enumerate(self.observers):
+            if t + 1e-9 >= self._due[i]:
+                obs(self.world)
+                self._due[i] = max(self._due[i] + 1.0 / obs.rate_hz, t)
+
+    def tare(self, side: str) -> None:
+        """Take the current wrist force of ``side`` as its zero (like a real F/T sensor)."""
+        self._tare[side] = self.world.wrist_wrench(side)[0].copy()
+
+    def force_change(self, side: str) -> np.ndarray:
+        """Wrist force of ``side`` minus its tare, world axes, N."""
+        return self.world.wrist_wrench(side)[0] - self._tare[side]
+
+    def _check_force(self) -> None:
+        for side in ("r", "l"):
+            f = float(np.linalg.norm(self.force_change(side)))
+            if f > self.force_limit_n:
+                raise RuntimeFailure(
+                    f"safety stop while {self.activity}: the {SIDE_NAME[side]} wrist felt {f:.0f} N"
+                    f" (limit {self.force_limit_n:.0f} N)"
+                )
+
+    # --- motions --------------------------------------------------------------------------------
+    def move(
+        self, side: str, goal: np.ndarray, duration_s: float, guard: Callable[[], bool] | None = None
+    ) -> bool:
+        """Move hand ``side``'s grasp frame to ``goal`` in ``duration_s`` (min-jerk).
+
+        Returns True when ``guard`` ended the motion early. The other hand holds still.
+        """
+        start = self.ik.target(side) if self.ik.active[side] else self.ik.frame(f"grasp_{side}")
+        other = "l" if side == "r" else "r"
+        if self.ik.active[other]:
+            self.ik.hold_hand(other, weight=0.5)
+        self.tare(side)
+        n = max(1, round(duration_s / CONTROL_DT_S))
+        for k in range(1, n + 1):
+            self.ik.set_hand_target(side, interpolate(start, goal, min_jerk(k / n)))
+            self.tick()
+            if guard is not None and guard():
+                # stay where the hand is now, not where the target was heading
+                self.ik.set_hand_target(side, self.ik.frame(f"grasp_{side}"))
+                return True
+        return False
+
+    def wait(self, duration_s: float, until: Callable[[], bool] | None = None) -> bool:
+        """Keep the targets for ``duration_s``; True when ``until`` became true first."""
+        for _ in range(max(1, round(duration_s / CONTROL_DT_S))):
+            self.tick()
+            if until is not None and until():
+                return True
+        return False
+
+    def set_fingers(self, side: str, targets: dict[str, float]) -> None:
+        self.fingers[side] = dict(targets)
+        names = finger_joint_names(side)
+        self.world.set_targets({names[k]: v for k, v in targets.items()})
+        self.ik.set_state({names[k]: v for k, v in targets.items()})
+
+    def close_hand(self, side: str, duration_s: float = 0.6) -> None:
+        """Close the fingers (force-limited actuators stop them on the object)."""
+        self.set_fingers(side, CLOSED)
+        self.wait(duration_s)
+
+    def open_hand(self, side: str, duration_s: float = 0.4) -> None:
+        self.set_fingers(side, OPEN)
+        self.wait(duration_s)

@@ -1,0 +1,263 @@
+"""Execute an OAC on the simulated ARMAR-III and measure what happened.
+
+:func:`execute` binds the OAC's parameters, sets the scene up (a liquid starts in the
+container the OAC's preconditions name), checks the preconditions against the
+touching relations the simulation reports, runs the primitive steps' skills one after
+the other, and after each step compares the observed relations with the step's
+predicted effects. It returns a :class:`RunResult` (the ``oacc run --json`` document);
+it never raises for a failure of the robot, only for a wrong call (unknown OAC, bad
+binding), as :class:`~oacdsl.errors.RuntimeFailure`.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import mujoco
+
+from oacdsl.errors import RuntimeFailure, did_you_mean
+from oacdsl.library import Library
+from oacdsl.model import Oac, Scene
+from oacdsl.runtime.binding import (
+    Step,
+    bind,
+    bound_atoms,
+    choose_scene,
+    explain,
+    flatten,
+    holds,
+    liquid_contents,
+)
+from oacdsl.runtime.build import build_model
+from oacdsl.runtime.control import Controller, Observer
+from oacdsl.runtime.ik import WholeBodyIK
+from oacdsl.runtime.layout import plan_layout
+from oacdsl.runtime.simworld import SimWorld
+from oacdsl.runtime.skills import IMPLEMENTATIONS, SkillContext
+from oacdsl.world import NOTHING, WorldState
+
+__all__ = ["execute", "RunResult", "StepResult", "Run", "prepare", "run_prepared"]
+
+_UNSTABLE = ("mjWARN_BADQACC", "mjWARN_BADQPOS", "mjWARN_BADQVEL", "mjWARN_BADCTRL")
+
+
+@dataclass
+class StepResult:
+    """One executed primitive step (one entry of the JSON ``steps`` list)."""
+
+    oac: str
+    binding: dict[str, str]
+    success: bool
+    duration_s: float
+    predicted: list[list[str]]
+    observed: list[list[str]]
+    error: str | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "oac": self.oac,
+            "binding": dict(self.binding),
+            "success": self.success,
+            "duration_s": round(self.duration_s, 4),
+            "predicted": self.predicted,
+            "observed": self.observed,
+            "error": self.error,
+        }
+
+
+@dataclass
+class RunResult:
+    """The outcome of :func:`execute`; ``to_json()`` is the ``oacc run --json`` document."""
+
+    oac: str
+    success: bool
+    steps: list[StepResult]
+    metrics: dict[str, float | int]
+    seed: int | None = None
+    states: list[WorldState] = field(default_factory=list)
+
+    @property
+    def error(self) -> str | None:
+        """The first step's error, if any step failed."""
+        return next((s.error for s in self.steps if s.error), None)
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "oac": self.oac,
+            "success": self.success,
+            "steps": [s.to_json() for s in self.steps],
+            "metrics": dict(self.metrics),
+        }
+
+
+@dataclass
+class Run:
+    """A prepared run: the bound steps and the simulation, before anything moved."""
+
+    oac: Oac
+    scene: Scene
+    binding: dict[str, str]
+    steps: list[Step]
+    world: SimWorld
+    controller: Controller
+    context: SkillContext
+    seed: int | None = None
+
+
+def prepare(
+    library: Library,
+    oac: Oac | str,
+    binding: Mapping[str, str] | None = None,
+    scene: Scene | str | None = None,
+    seed: int | None = None,
+    *,
+    fill: Mapping[str, str] | None = None,
+    observers: Sequence[Observer] = (),
+    self_collision: bool = True,
+    places: Mapping[str, tuple[float, float]] | None = None,
+) -> Run:
+    """Bind, lay out and build everything :func:`execute` needs (raises RuntimeFailure)."""
+    if isinstance(oac, str):
+        if oac not in library.oacs:
+            raise RuntimeFailure(f"no oac {oac!r} in the library{did_you_mean(oac, library.oacs)}")
+        oac = library.oacs[oac]
+    sc = scene if isinstance(scene, Scene) else choose_scene(library, oac, scene, binding)
+    bound = bind(library, oac, sc, binding)
+    steps = flatten(library, oac, bound)
+    for step in steps:
+        if step.oac.skill not in IMPLEMENTATIONS:
+            raise RuntimeFailure(
+                f"oac {step.oac.name} executes skill {step.oac.skill!r}, which the runtime"
+                f" lacks{did_you_mean(str(step.oac.skill), IMPLEMENTATIONS)}"
+            )
+    contents = liquid_contents(library, sc, oac, bound)
+    contents.update(fill or {})
+    layout = plan_layout(library, sc, contents, seed, places)
+    world = SimWorld(build_model(layout, seed))
+    controller = Controller(world, WholeBodyIK(self_collision=self_collision), list(observers))
+    context = SkillContext(controller, library, library.instance_classes(sc))
+    return Run(oac, sc, bound, steps, world, controller, context, seed)
+
+
+def _pair(a: str, b: str) -> list[str]:
+    if NOTHING in (a, b):
+        return [b if a == NOTHING else a, NOTHING]
+    return sorted([a, b])
+
+
+def _pairs(state: WorldState, mentioned: set[str]) -> list[list[str]]:
+    pairs = [list(r) for r in state.sorted_relations()]
+    pairs += [[x, NOTHING] for x in sorted(mentioned) if state.touches_nothing(x)]
+    return pairs
+
+
+def _check(state: WorldState, atoms: list[tuple[str, str, bool]], what: str) -> str | None:
+    failed = [explain(state, a, b, n) for a, b, n in atoms if not holds(state, a, b, n)]
+    return f"{what}: {'; '.join(failed)}" if failed else None
+
+
+def execute(
+    library: Library,
+    oac: Oac | str,
+    binding: Mapping[str, str] | None = None,
+    scene: Scene | str | None = None,
+    seed: int | None = None,
+    recorder: Observer | None = None,
+    *,
+    fill: Mapping[str, str] | None = None,
+    observers: Sequence[Observer] = (),
+    self_collision: bool = True,
+    places: Mapping[str, tuple[float, float]] | None = None,
+    on_step: Any = None,
+) -> RunResult:
+    """Run ``oac`` in simulation and report per step (see the module docstring).
+
+    ``recorder`` is called with the world at its ``rate_hz`` (e.g. a
+    :class:`~oacdsl.runtime.recorder.MarkerRecorder`); ``observers`` likewise (video);
+    ``on_step(index, step_result, world)`` is called after every step (frame snapshots);
+    ``places`` puts named objects at given (x, y) on the table instead of their nominal places.
+    """
+    wall0 = time.perf_counter()
+    run = prepare(
+        library,
+        oac,
+        binding,
+        scene,
+        seed,
+        fill=fill,
+        observers=[*([recorder] if recorder is not None else []), *observers],
+        self_collision=self_collision,
+        places=places,
+    )
+    return run_prepared(run, on_step=on_step, wall0=wall0)
+
+
+def run_prepared(run: Run, *, on_step: Any = None, wall0: float | None = None) -> RunResult:
+    """Execute a :func:`prepare`-d run (observers may be added to ``run.controller`` first)."""
+    wall0 = time.perf_counter() if wall0 is None else wall0
+    world, ctx, seed = run.world, run.context, run.seed
+    results: list[StepResult] = []
+    states = [world.relations()]
+    top_pre = _check(
+        states[0], bound_atoms(run.oac.pre, run.binding), f"precondition of {run.oac.name} not met"
+    )
+    for index, step in enumerate(run.steps):
+        atoms_pre = bound_atoms(step.oac.pre, step.binding)
+        effects = bound_atoms(step.oac.effect, step.binding)
+        predicted = sorted(_pair(a, b) for a, b, n in effects if not n)
+        mentioned = set(step.binding.values())
+        t0 = world.time_s
+        error = top_pre if index == 0 else None
+        error = error or _check(world.relations(), atoms_pre, f"precondition of {step.oac.name} not met")
+        if error is None:
+            error = _run_skill(ctx, step)
+        state = world.relations()
+        states.append(state)
+        if error is None:
+            error = _check(state, effects, f"{step.oac.name}: predicted effect not observed")
+        result = StepResult(
+            step.oac.name,
+            dict(step.binding),
+            error is None,
+            world.time_s - t0,
+            predicted,
+            _pairs(state, mentioned),
+            error,
+        )
+        results.append(result)
+        if on_step is not None:
+            on_step(index, result, world)
+        if error is not None:
+            break
+    success = bool(results) and all(r.success for r in results) and len(results) == len(run.steps)
+    if success and run.oac.composed:
+        final = _check(
+            states[-1], bound_atoms(run.oac.effect, run.binding), f"effect of {run.oac.name} not observed"
+        )
+        if final is not None:
+            results[-1].success, results[-1].error, success = False, final, False
+    bowls = [p.name for p in world.layout.placements if p.kind == "bowl"]
+    metrics: dict[str, float | int] = {
+        "balls_total": world.balls_total,
+        "balls_in_bowl": sum(world.balls_inside(b) for b in bowls),
+        "sim_time_s": round(world.time_s, 4),
+        "wall_time_s": round(time.perf_counter() - wall0, 4),
+    }
+    return RunResult(run.oac.name, success, results, metrics, seed, states)
+
+
+def _run_skill(ctx: SkillContext, step: Step) -> str | None:
+    skill = IMPLEMENTATIONS[str(step.oac.skill)]
+    try:
+        skill(ctx, *step.args)
+    except RuntimeFailure as failure:
+        return f"{step.oac.name}: {failure}"
+    except mujoco.FatalError as failure:
+        return f"{step.oac.name}: the simulation failed: {failure}"
+    unstable = {k: v for k, v in ctx.world.warnings().items() if k in _UNSTABLE}
+    if unstable:
+        return f"{step.oac.name}: the simulation became unstable ({', '.join(unstable)})"
+    return None

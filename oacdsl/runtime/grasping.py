@@ -1,0 +1,146 @@
+"""From a DSL grasp declaration and an object's simulated pose to a hand pose.
+
+A ``grasp Cls { type T approach A offset (x, y, z) }`` gives the grasp point in the
+object frame (metres) and the direction the hand comes from. The runtime puts the
+hand's grasp centre (``grasp_r``/``grasp_l``: the facts' *TCP Power* point, 50 mm in
+front of the palm) on that point, and orients the hand:
+
+* ``side``: the hand comes horizontally from its own side of the object (the right
+  hand from the right), palm facing the object, fingers pointing away from the robot;
+* ``top``: the hand comes down, palm facing down, fingers pointing away from the
+  robot (or along the offset's horizontal direction, e.g. outward over a bowl's rim);
+* ``front``: the hand comes from the robot towards the object, palm facing it, fingers up.
+
+Rotationally symmetric objects (cups, bowls, the mixer) have no preferred azimuth:
+the offset is turned about the object's vertical axis to face the hand's approach,
+keeping its radius and height. A few variants (the side approach turned by ±30°/±60°,
+top grasps along other headings or tilted by 25°) are offered in order of preference;
+the skill takes the first the whole-body IK reaches. The approach stops early when
+the hand touches the object (guarded move), so an offset a few centimetres off still works.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from oacdsl.errors import RuntimeFailure
+from oacdsl.model import Grasp
+from oacdsl.runtime.transforms import make_T, rot_axis
+
+__all__ = ["GraspPlan", "plan_grasps", "SYMMETRIC_KINDS", "APPROACHES", "hand_rotation_for"]
+
+SYMMETRIC_KINDS = frozenset({"cup", "bowl", "mixer"})
+APPROACHES = ("side", "top", "front")
+#: Distance of the pre-grasp pose from the grasp point, along the approach, metres.
+PRE_GRASP_M = 0.20
+#: How far the guarded approach may go past the grasp point, metres.
+OVERSHOOT_M = 0.06
+#: How far the sideways hand reaches below its grasp centre (the little finger's edge), metres.
+HAND_BELOW_CENTRE_M = 0.064
+#: Free space kept between the hand and the support, metres.
+CLEARANCE_M = 0.012
+
+
+@dataclass(frozen=True)
+class GraspPlan:
+    """Where the hand goes: grasp pose, pre-grasp pose and the approach direction (world)."""
+
+    grasp: np.ndarray
+    pre_grasp: np.ndarray
+    approach: np.ndarray
+    end: np.ndarray
+
+
+def hand_rotation_for(palm_normal: np.ndarray, fingers: np.ndarray) -> np.ndarray:
+    """R_world_hand with the palm facing ``palm_normal`` and the fingers along ``fingers``.
+
+    Hand frame (the facts' Hand Base): x = back of the hand (-palm normal), y = across
+    the fingers, z = along the fingers.
+    """
+    n = palm_normal / np.linalg.norm(palm_normal)
+    a = fingers - np.dot(fingers, n) * n
+    a /= np.linalg.norm(a)
+    y = np.cross(n, a)
+    return np.column_stack([-n, y, a])
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    return v / np.linalg.norm(v)
+
+
+def plan_grasps(
+    grasp: Grasp,
+    kind: str,
+    t_world_object: np.ndarray,
+    side: str,
+    forward: np.ndarray | None = None,
+    support_z: float | None = None,
+) -> list[GraspPlan]:
+    """Candidate grasps of an object of ``kind`` at ``t_world_object`` by hand ``side``,
+    most natural first (the skill takes the first the whole-body IK can reach).
+
+    ``forward``: the robot's forward direction in the world (default +x). ``support_z``:
+    height of the surface the object stands on; a side or front grasp is raised so that
+    the hand (which reaches :data:`HAND_BELOW_CENTRE_M` below its grasp centre when it
+    is held sideways) stays clear of it.
+    """
+    if grasp.approach not in APPROACHES:
+        raise RuntimeFailure(
+            f"grasp {grasp.cls}: unknown approach {grasp.approach!r}"
+            f" (the runtime knows {', '.join(APPROACHES)})"
+        )
+    fwd = _unit(np.array(forward if forward is not None else (1.0, 0.0, 0.0), dtype=float))
+    up = np.array([0.0, 0.0, 1.0])
+    r_obj, p_obj = t_world_object[:3, :3], t_world_object[:3, 3]
+    offset = np.array(grasp.offset, dtype=float)
+    radius = float(np.hypot(offset[0], offset[1]))
+    symmetric = kind in SYMMETRIC_KINDS
+    plans: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []  # (point, rotation, approach)
+    if grasp.approach == "side":
+        base = np.cross(up, fwd) if side == "r" else -np.cross(up, fwd)  # the right hand comes from the right
+        turns = (0.0, -30.0, 30.0, -60.0, 60.0) if symmetric else (0.0,)
+        for deg in turns:
+            d = rot_axis(up, np.radians(deg if side == "r" else -deg)) @ base
+            point = p_obj + (np.array([0.0, 0.0, offset[2]]) - radius * d if symmetric else r_obj @ offset)
+            plans.append(
+                (
+                    point,
+                    hand_rotation_for(d, _unit(np.cross(d, up)) if side == "r" else _unit(np.cross(up, d))),
+                    d,
+                )
+            )
+    elif grasp.approach == "top":
+        if symmetric:
+            headings = [rot_axis(up, np.radians(a)) @ fwd for a in (0.0, -45.0, 45.0, -90.0, 90.0)]
+        else:
+            axes = [r_obj[:, 0], -r_obj[:, 0], r_obj[:, 1], -r_obj[:, 1]]
+            headings = sorted(
+                (_unit(np.array([a[0], a[1], 0.0])) for a in axes), key=lambda h: -float(h @ fwd)
+            )
+        for h in headings:
+            point = p_obj + (np.array([0.0, 0.0, offset[2]]) + radius * h if symmetric else r_obj @ offset)
+            for tilt in (0.0, 25.0):
+                d = rot_axis(np.cross(up, h), np.radians(tilt)) @ -up
+                plans.append(
+                    (point, hand_rotation_for(d, rot_axis(np.cross(up, h), np.radians(tilt)) @ h), d)
+                )
+    else:  # front: from the robot towards the object, fingers up
+        d = fwd
+        point = p_obj + (np.array([0.0, 0.0, offset[2]]) - radius * fwd if symmetric else r_obj @ offset)
+        plans.append((point, hand_rotation_for(d, up), d))
+    out = []
+    for point, rot, d in plans:
+        point = point.copy()
+        if support_z is not None and grasp.approach != "top":
+            point[2] = max(point[2], support_z + HAND_BELOW_CENTRE_M + CLEARANCE_M)
+        out.append(
+            GraspPlan(
+                make_T(rot, point),
+                make_T(rot, point - PRE_GRASP_M * d),
+                d,
+                make_T(rot, point + OVERSHOOT_M * d),
+            )
+        )
+    return out

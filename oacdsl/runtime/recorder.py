@@ -1,0 +1,50 @@
+"""Virtual markers: per-frame 3D points on the hands and objects of a simulated run.
+
+:class:`MarkerRecorder` is an observer of the control loop (see
+:class:`~oacdsl.runtime.control.Controller`): every ``1 / rate_hz`` seconds of
+simulated time it stores a few points per instance — three on each hand, three on
+each object, the centre of every ball of a liquid — and :meth:`MarkerRecorder.to_recording`
+turns them into a :class:`~oacdsl.segmentation.recording.Recording` with one marker
+group per instance, which the segmentation can read like motion capture.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from oacdsl.errors import RuntimeFailure
+from oacdsl.runtime.simworld import SimWorld
+from oacdsl.segmentation.recording import Recording
+
+__all__ = ["MarkerRecorder", "MARKER_RATE_HZ"]
+
+#: Default sampling rate of the virtual markers, Hz (simulated time).
+MARKER_RATE_HZ = 100.0
+
+
+class MarkerRecorder:
+    """Collects marker points; use as an observer of the run (``execute(..., recorder=r)``)."""
+
+    def __init__(self, rate_hz: float = MARKER_RATE_HZ) -> None:
+        self.rate_hz = rate_hz
+        self.times_s: list[float] = []
+        self.frames: list[dict[str, np.ndarray]] = []
+
+    def __call__(self, world: SimWorld) -> None:
+        self.times_s.append(world.time_s)
+        self.frames.append({k: v.copy() for k, v in world.marker_points().items()})
+
+    def to_recording(self, source: str = "simulation") -> Recording:
+        """The recorded points as a Recording (markers named ``instance/k``, metres)."""
+        if not self.frames:
+            raise RuntimeFailure("the run recorded no marker frames")
+        instances = sorted(self.frames[0])
+        names: list[str] = []
+        groups: dict[str, tuple[int, ...]] = {}
+        for inst in instances:
+            k = len(self.frames[0][inst])
+            groups[inst] = tuple(range(len(names), len(names) + k))
+            names.extend(f"{inst}/{i}" for i in range(k))
+        positions = np.array([np.concatenate([f[i] for i in instances]) for f in self.frames])
+        times = np.array(self.times_s) - self.times_s[0]
+        return Recording(source, self.rate_hz, times, tuple(names), positions, groups)

@@ -1,0 +1,21 @@
+"""The runtime's skills, one per name of :data:`oacdsl.skills.SKILLS`."""
+
+from __future__ import annotations
+
+from oacdsl.runtime.skills.base import Skill, SkillContext
+from oacdsl.runtime.skills.grasp import reach_and_grasp
+from oacdsl.runtime.skills.mix import mix
+from oacdsl.runtime.skills.place import place
+from oacdsl.runtime.skills.pour import pour
+from oacdsl.runtime.skills.wipe import wipe
+
+__all__ = ["IMPLEMENTATIONS", "Skill", "SkillContext"]
+
+#: skill name → implementation; a test checks the keys equal :data:`oacdsl.skills.SKILLS`'s.
+IMPLEMENTATIONS: dict[str, Skill] = {
+    "reach_and_grasp": reach_and_grasp,
+    "place": place,
+    "pour": pour,
+    "mix": mix,
+    "wipe": wipe,
+}

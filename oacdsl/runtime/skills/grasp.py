@@ -1,0 +1,65 @@
+"""``reach_and_grasp``: approach an object along its declared grasp and close the hand.
+
+The grasp *holds by a weld* (a MuJoCo equality constraint between palm and object)
+that is switched on only when the hand is at the grasp pose and its fingers touch the
+object; see docs/runtime.md for why friction alone was not used.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from oacdsl.errors import RuntimeFailure
+from oacdsl.runtime.grasping import plan_grasps
+from oacdsl.runtime.hands import TOP_PRESHAPE
+from oacdsl.runtime.skills.base import SkillContext, fmt_xyz
+from oacdsl.runtime.transforms import make_T
+
+__all__ = ["reach_and_grasp", "GRASP_POSE_TOLERANCE_M", "LIFT_M"]
+
+#: How far the hand's grasp centre may be from the planned grasp point when it closes, m.
+GRASP_POSE_TOLERANCE_M = 0.07
+#: Height an object is lifted after grasping, m.
+LIFT_M = 0.10
+APPROACH_SPEED_M_S = 0.15
+
+
+def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
+    world, ctl = ctx.world, ctx.ctl
+    side = ctx.side(hand)
+    if world.held[side] is not None:
+        raise RuntimeFailure(f"{hand} already holds {world.held[side]}")
+    grasp = ctx.grasp_for(obj)
+    t_obj = world.body_pose(obj)
+    support = ctx.support_height(t_obj[:2, 3], exclude=obj)
+    ctl.activity = f"reaching for {obj}"
+    plans = plan_grasps(grasp, ctx.kind(obj), t_obj, side, support_z=support)
+    plan = ctx.first_reachable(side, [(p.grasp, p) for p in plans], obj)
+    current = ctl.ik.frame(f"grasp_{side}")
+    via = plan.pre_grasp.copy()
+    via[2, 3] = max(via[2, 3], plan.grasp[2, 3]) + 0.08
+    if current[2, 3] > via[2, 3]:
+        via[2, 3] = 0.5 * (via[2, 3] + current[2, 3])
+    if grasp.approach == "top":
+        ctl.set_fingers(side, TOP_PRESHAPE)
+    ctl.move(side, via, 1.2)
+    ctl.move(side, plan.pre_grasp, 0.6)
+    travel = float(np.linalg.norm(plan.end[:3, 3] - plan.pre_grasp[:3, 3]))
+    ctl.activity = f"approaching {obj}"
+    ctl.move(side, plan.end, travel / APPROACH_SPEED_M_S, guard=lambda: world.touching(hand, obj))
+    ctl.activity = f"closing {hand} on {obj}"
+    ctl.close_hand(side)
+    centre = world.frame_pose(f"grasp_{side}")[:3, 3]
+    off = float(np.linalg.norm(centre - plan.grasp[:3, 3]))
+    if off > GRASP_POSE_TOLERANCE_M:
+        raise RuntimeFailure(
+            f"could not grasp {obj}: {hand} ended {off * 100:.0f} cm from the grasp point"
+            f" {fmt_xyz(plan.grasp[:3, 3])}"
+        )
+    if not world.fingers_touch(side, obj):
+        raise RuntimeFailure(f"could not grasp {obj}: the fingers of {hand} do not touch it")
+    world.weld(side, obj)
+    ctx.picked[obj] = (t_obj, plan.approach)
+    ctl.activity = f"lifting {obj}"
+    lift = make_T(ctl.ik.target(side)[:3, :3], ctl.ik.target(side)[:3, 3] + np.array([0.0, 0.0, LIFT_M]))
+    ctl.move(side, lift, 1.0)

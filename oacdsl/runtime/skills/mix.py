@@ -1,0 +1,79 @@
+"""``mix``: put the held mixer into a container and stir, ending with it in the container.
+
+The mixer is carried upright above the container, lowered until it touches the
+container (contact, or the wrist feels more than the contact force), and moved in
+circles near the bottom; it stays in the container at the end, as the OAC's effect
+``m <-> b`` says.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from oacdsl.errors import RuntimeFailure
+from oacdsl.runtime.objects import SHAPES
+from oacdsl.runtime.skills.base import SkillContext
+from oacdsl.runtime.skills.place import CONTACT_FORCE_N, DESCENT_SPEED_M_S
+from oacdsl.runtime.transforms import make_T
+
+__all__ = ["mix", "STIR_RADIUS_M", "STIR_TURNS"]
+
+STIR_RADIUS_M = 0.03
+STIR_TURNS = 2
+STIR_PERIOD_S = 1.2
+
+
+def mix(ctx: SkillContext, hand: str, tool: str, container: str) -> None:
+    world, ctl = ctx.world, ctx.ctl
+    side = ctx.require_held(hand, tool)
+    t_hand = world.frame_pose(f"grasp_{side}")
+    t_tool = world.body_pose(tool)
+    tool_in_hand = np.linalg.inv(t_hand) @ t_tool
+    t_bowl = world.body_pose(container)
+    bowl = SHAPES[ctx.kind(container)]
+    centre = t_bowl[:3, 3]
+    upright = make_T(t_tool[:3, :3], (0.0, 0.0, 0.0))
+    upright[:3, :3] = _upright(t_tool[:3, :3])
+
+    def hand_for(p: np.ndarray) -> np.ndarray:
+        return make_T(upright[:3, :3], p) @ np.linalg.inv(tool_in_hand)
+
+    above = np.array([centre[0], centre[1], centre[2] + bowl.height + 0.04])
+    ctl.activity = f"bringing {tool} over {container}"
+    ctx.check_reachable(side, hand_for(above), f"the inside of {container}")
+    via = ctl.ik.target(side).copy()
+    via[2, 3] = max(via[2, 3], hand_for(above)[2, 3])
+    ctl.move(side, via, 0.6)
+    ctl.move(side, hand_for(above), 1.2)
+    ctl.activity = f"lowering {tool} into {container}"
+    bottom = np.array([centre[0], centre[1], centre[2] + 0.006])
+    depth = float(above[2] - bottom[2])
+    touched = ctl.move(
+        side,
+        hand_for(bottom),
+        depth / DESCENT_SPEED_M_S,
+        guard=lambda: (
+            world.touching(tool, container) or float(np.linalg.norm(ctl.force_change(side))) > CONTACT_FORCE_N
+        ),
+    )
+    if not touched:
+        raise RuntimeFailure(f"mix: {tool} went down into {container} without touching it")
+    level = world.body_pose(tool)[2, 3] - 0.003
+    ctl.activity = f"stirring {container} with {tool}"
+    n = 24
+    for k in range(1, STIR_TURNS * n + 1):
+        a = 2 * math.pi * k / n
+        r = STIR_RADIUS_M * min(1.0, k / n)
+        p = np.array([centre[0] + r * math.sin(a), centre[1] + r * (1 - math.cos(a)) * 0.5, level])
+        ctl.move(side, hand_for(p), STIR_PERIOD_S / n)
+    ctl.move(side, hand_for(np.array([centre[0], centre[1], level])), 0.4)
+    ctl.wait(0.3)
+
+
+def _upright(r: np.ndarray) -> np.ndarray:
+    """The rotation with the same heading as ``r`` and its z axis vertical."""
+    yaw = math.atan2(r[1, 0], r[0, 0])
+    c, s = math.cos(yaw), math.sin(yaw)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])

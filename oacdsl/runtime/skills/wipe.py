@@ -1,0 +1,58 @@
+"""``wipe``: press the held tool onto a surface and move it to and fro.
+
+The tool is carried above the middle of the surface, lowered until the wrist feels the
+contact, and moved in strokes across the surface while commanded slightly into it
+(a light press, limited by the arm's stiffness); it stays on the surface at the end,
+as the OAC's effect ``s <-> t`` says.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from oacdsl.runtime.objects import SHAPES
+from oacdsl.runtime.skills.base import SkillContext
+from oacdsl.runtime.skills.place import lower_until_contact
+from oacdsl.runtime.transforms import make_T
+
+__all__ = ["wipe", "STROKE_M", "STROKES"]
+
+STROKE_M = 0.06
+STROKES = 3
+PRESS_M = 0.004
+
+
+def wipe(ctx: SkillContext, hand: str, tool: str, surface: str) -> None:
+    world, ctl = ctx.world, ctx.ctl
+    side = ctx.require_held(hand, tool)
+    t_hand = world.frame_pose(f"grasp_{side}")
+    t_tool = world.body_pose(tool)
+    tool_in_hand = np.linalg.inv(t_hand) @ t_tool
+    t_surface = world.body_pose(surface)
+    top = t_surface[2, 3] + (SHAPES[ctx.kind(surface)].height if ctx.kind(surface) in SHAPES else 0.0)
+
+    def hand_for(p: np.ndarray) -> np.ndarray:
+        return make_T(t_tool[:3, :3], p) @ np.linalg.inv(tool_in_hand)
+
+    above = np.array([t_surface[0, 3], t_surface[1, 3], top + 0.04])
+    ctl.activity = f"bringing {tool} over {surface}"
+    ctx.check_reachable(side, hand_for(above), f"the middle of {surface}")
+    via = ctl.ik.target(side).copy()
+    via[2, 3] = max(via[2, 3], hand_for(above)[2, 3])
+    ctl.move(side, via, 0.6)
+    ctl.move(side, hand_for(above), 1.2)
+    ctl.activity = f"pressing {tool} onto {surface}"
+    contact = lower_until_contact(ctx, side, hand_for(above), 0.08, f"wiping {surface}")
+    press = contact.copy()
+    press[2, 3] -= PRESS_M
+    ctl.move(side, press, 0.3)
+    ctl.activity = f"wiping {surface} with {tool}"
+    sideways = t_surface[:3, 1] * STROKE_M
+    for k in range(STROKES):
+        for sign in (1.0, -1.0):
+            goal = press.copy()
+            goal[:3, 3] += sign * sideways
+            ctl.move(side, goal, 0.7)
+        del k
+    ctl.move(side, press, 0.4)
+    ctl.wait(0.3)

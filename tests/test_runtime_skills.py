@@ -1,0 +1,105 @@
+"""Every skill alone on a small scene, with the physical outcome checked in the simulation."""
+
+import math
+
+import numpy as np
+import pytest
+
+pytest.importorskip("mujoco", reason="the robot runtime needs the 'robot' extra (mujoco)")
+pytest.importorskip("placo", reason="the robot runtime needs the 'robot' extra (placo)")
+
+from runtime_lib import task_library  # noqa: E402
+
+from oacdsl.runtime.control import FORCE_LIMIT_N  # noqa: E402
+from oacdsl.runtime.executor import execute, prepare, run_prepared  # noqa: E402
+from oacdsl.runtime.objects import SHAPES  # noqa: E402
+from oacdsl.runtime.skills.place import CONTACT_FORCE_N  # noqa: E402
+
+
+class ForceLog:
+    """Observer: the largest wrist force change (N) of each hand since the start of each motion."""
+
+    rate_hz = 100.0
+
+    def __init__(self):
+        self.peak = {"r": 0.0, "l": 0.0}
+        self.controller = None
+
+    def __call__(self, world):
+        if self.controller is not None:
+            for s in "rl":
+                self.peak[s] = max(self.peak[s], float(np.linalg.norm(self.controller.force_change(s))))
+
+
+def run_task(name, scene, observers=()):
+    run = prepare(task_library(), name, scene=scene)
+    for obs in observers:
+        obs.controller = run.controller
+        run.controller.add_observer(obs)
+    return run, run_prepared(run)
+
+
+def test_grasp_then_place_puts_the_cup_back_by_force_sensing():
+    log = ForceLog()
+    run, result = run_task("pick_and_place", "pouring", [log])
+    assert result.success, result.error
+    grasp, place = result.steps
+    assert ["green_cup", "right_hand"] in grasp.observed
+    assert ["right_hand", "nothing"] in place.observed
+    world = run.world
+    t = world.body_pose("green_cup")
+    placement = world.layout.placement("green_cup")
+    assert math.dist(t[:2, 3], (placement.x, placement.y)) < 0.03
+    assert t[2, 2] > 0.99  # upright
+    assert world.held["r"] is None
+    # the descent was stopped by the wrist sensor: it felt the table, but never came near the limit
+    assert CONTACT_FORCE_N < log.peak["r"] < FORCE_LIMIT_N
+    assert world.warnings() == {}
+
+
+def test_pour_gets_at_least_90_percent_of_the_balls_into_the_bowl():
+    run, result = run_task("pour_task", "pouring")
+    assert result.success, result.error
+    pour = result.steps[1]
+    assert ["liquid_two", "orange_bowl"] in pour.observed
+    assert ["green_cup", "liquid_two"] not in pour.observed
+    assert run.world.balls_inside("orange_bowl", "liquid_two") >= 0.9 * 12
+    assert result.metrics["balls_in_bowl"] >= 11 and result.metrics["balls_total"] == 12
+
+
+def test_mix_ends_with_the_mixer_in_the_bowl():
+    run, result = run_task("mix_task", "mixing")
+    assert result.success, result.error
+    assert ["mixer", "orange_bowl"] in result.steps[-1].observed
+    world = run.world
+    mixer, bowl = world.body_pose("mixer"), world.body_pose("orange_bowl")
+    assert math.dist(mixer[:2, 3], bowl[:2, 3]) < SHAPES["bowl"].inner_radius
+    assert mixer[2, 3] < bowl[2, 3] + SHAPES["bowl"].height
+
+
+def test_wipe_keeps_the_sponge_on_the_tray():
+    run, result = run_task("wipe_task", "wiping")
+    assert result.success, result.error
+    assert ["sponge", "tray"] in result.steps[-1].observed
+    assert ["right_hand", "sponge"] in result.steps[-1].observed
+
+
+def test_a_force_above_the_safety_limit_aborts_the_skill_with_a_reason():
+    run = prepare(task_library(), "pick_and_place", scene="pouring")
+    run.controller.force_limit_n = 2.0  # N: any contact (or a brisk move) trips it
+    result = run_prepared(run)
+    assert not result.success
+    assert "safety stop" in result.steps[0].error and "wrist felt" in result.steps[0].error
+    assert len(result.steps) == 1
+
+
+def test_skills_read_object_poses_at_execution_time():
+    # the cup is not where the nominal layout has it: the grasp must follow it there
+    result = execute(
+        task_library(),
+        "grasp",
+        {"h": "right_hand", "o": "green_cup"},
+        "pouring",
+        places={"green_cup": (0.62, -0.36)},
+    )
+    assert result.success, result.error
