@@ -107,23 +107,20 @@ def test_binding_errors_name_what_is_wrong():
     ]
 
 
-WRAPPER = """
-import sys
-sys.path[:0] = [{root!r}, {tests!r}]
-import runtime_lib
-import oacdsl.cli.run_cmd as run_cmd
-run_cmd.load_inputs = lambda paths, scene: (runtime_lib.task_library(), scene)
-from oacdsl.cli import main
-sys.exit(main(sys.argv[1:]))
-"""
-
-
 def oacc_run(tmp_path, *args, env=None):
-    script = tmp_path / "oacc_test.py"
-    script.write_text(WRAPPER.format(root=str(ROOT), tests=str(TESTS)))
-    return subprocess.run(
-        [sys.executable, str(script), "run", *args], capture_output=True, text=True, env=env, timeout=300
-    )
+    """``oacc run`` in a subprocess on the standard library plus the test tasks."""
+    cmd = [
+        sys.executable,
+        "-m",
+        "oacdsl",
+        "run",
+        *args,
+        "--library",
+        str(ROOT / "library"),
+        "--library",
+        str(TESTS / "data" / "runtime_tasks.oac"),
+    ]
+    return subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=300, cwd=ROOT)
 
 
 def test_oacc_run_json_document_and_clean_failure(tmp_path):

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from oacdsl.errors import RuntimeFailure, UsageError
+from oacdsl.model import Scene
 
 __all__ = ["register", "run", "load_inputs"]
 
@@ -112,7 +113,7 @@ def load_inputs(paths: list[str], scene: str | None) -> tuple[Any, str | None]:
         if not Path(scene).is_file():
             raise UsageError(f"{scene}: no such file")
         module = parse_file(scene)
-        names = [d.name for d in module.decls if getattr(d, "kind", None) == "scene"]
+        names = [d.name for d in module.decls if isinstance(d, Scene)]
         if len(names) != 1:
             raise UsageError(f"{scene}: expected one scene declaration, found {len(names)}")
         return load_library([*paths, scene]), names[0]

@@ -46,6 +46,8 @@ TIMESTEP_S = 0.005
 ROBOT_CONTYPE, ROBOT_CONAFFINITY = 2, 4
 #: Geom groups: 0 = table and objects (what a downward ray may hit), 1 = balls, 2 = robot.
 ROBOT_GROUP = 2
+#: Distance up to which a hand counts as touching an object, m.
+TOUCH_MARGIN_M = 0.003
 
 _LIQUID_RGBA = {0: (0.2, 0.4, 0.95, 1.0), 1: (0.95, 0.9, 0.2, 1.0), 2: (0.85, 0.3, 0.85, 1.0)}
 
@@ -86,6 +88,10 @@ def _robot_spec() -> mujoco.MjSpec:
         spec.delete(g)
     for g in spec.geoms:
         g.contype, g.conaffinity, g.group = ROBOT_CONTYPE, ROBOT_CONAFFINITY, ROBOT_GROUP
+        if g.name.startswith(("hand_", "fingers_", "thumb_")):
+            # touching is reported up to 3 mm apart (contacts between margin - gap and margin
+            # are detected but exert no force), so a hand resting on an object stays "touching"
+            g.margin = g.gap = TOUCH_MARGIN_M
         g.friction = (1.5, 0.005, 0.0001)
         if g.name in colours:
             g.rgba = colours[g.name]

@@ -141,10 +141,11 @@ class Controller:
         self.world.set_targets({names[k]: v for k, v in targets.items()})
         self.ik.set_state({names[k]: v for k, v in targets.items()})
 
-    def close_hand(self, side: str, duration_s: float = 0.6) -> None:
-        """Close the fingers (force-limited actuators stop them on the object)."""
+    def close_hand(self, side: str, duration_s: float = 0.6, until: Callable[[], bool] | None = None) -> bool:
+        """Close the fingers (force-limited actuators stop them on the object); True when
+        ``until`` became true before ``duration_s`` was over."""
         self.set_fingers(side, CLOSED)
-        self.wait(duration_s)
+        return self.wait(duration_s, until=until)
 
     def open_hand(self, side: str, duration_s: float = 0.4) -> None:
         self.set_fingers(side, OPEN)

@@ -113,6 +113,7 @@ class SimWorld:
         self.data.ctrl[indices] = values
 
     def joint_positions(self) -> dict[str, float]:
+        """Every robot joint's position now (rad, m), fingers included."""
         return {n: float(self.data.qpos[a]) for n, a in self._qadr.items()}
 
     def joint_velocity(self, name: str) -> float:
