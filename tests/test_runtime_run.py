@@ -139,21 +139,28 @@ def test_oacc_run_json_document_and_clean_failure(tmp_path):
     ]
 
 
-def test_oacc_run_succeeds_and_renders_step_frames(tmp_path):
+def test_oacc_run_succeeds_in_a_scene_file_and_renders_step_frames(tmp_path):
+    scene = tmp_path / "bench.oac"
+    scene.write_text(
+        "scene bench {\n    left_hand, right_hand : Hand\n    blue_cup : Cup\n"
+        "    table : Table environment\n}\n"
+    )
     out = oacc_run(
         tmp_path,
         "grasp",
         "--scene",
-        "pouring",
+        str(scene),
+        "--seed",
+        "2",
         "--bind",
         "h=right_hand",
         "--bind",
-        "o=green_cup",
+        "o=blue_cup",
         "--frames",
         str(tmp_path / "frames"),
     )
     assert out.returncode == 0, out.stderr
-    assert "step 1/1 grasp(right_hand, green_cup): ok" in out.stdout and "success" in out.stdout
+    assert "step 1/1 grasp(right_hand, blue_cup): ok" in out.stdout and "success" in out.stdout
     if "no offscreen rendering" not in out.stderr:  # a machine without EGL/OSMesa warns instead
         assert (tmp_path / "frames" / "step_01_grasp.png").stat().st_size > 10_000
 

@@ -148,7 +148,7 @@ def _add_environment(spec: mujoco.MjSpec, table: str) -> None:
 
 #: Fixed cameras: name, position and the point they look at (m).
 CAMERAS = (
-    ("overview", (1.75, 1.05, 1.75), (0.5, -0.05, 0.9)),
+    ("overview", (1.6, 1.05, 1.75), (0.42, -0.05, 1.08)),
     ("front", (1.9, 0.0, 1.45), (0.45, 0.0, 0.95)),
 )
 
