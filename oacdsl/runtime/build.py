@@ -46,6 +46,8 @@ TIMESTEP_S = 0.005
 ROBOT_CONTYPE, ROBOT_CONAFFINITY = 2, 4
 #: Geom groups: 0 = table and objects (what a downward ray may hit), 1 = balls, 2 = robot.
 ROBOT_GROUP = 2
+#: Robot links whose geoms collide with objects and the table (the arms from the upper arm on).
+_TOUCHING_LINKS = ("hand_", "fingers_", "thumb_", "wrist_", "underarm_", "elbow_", "upperarm_")
 #: Distance up to which a hand counts as touching an object, m.
 TOUCH_MARGIN_M = 0.003
 
@@ -88,6 +90,9 @@ def _robot_spec() -> mujoco.MjSpec:
         spec.delete(g)
     for g in spec.geoms:
         g.contype, g.conaffinity, g.group = ROBOT_CONTYPE, ROBOT_CONAFFINITY, ROBOT_GROUP
+        if not g.name.startswith(_TOUCHING_LINKS):
+            # platform, torso, head and shoulders never reach the table top: no collisions
+            g.contype = g.conaffinity = 0
         if g.name.startswith(("hand_", "fingers_", "thumb_")):
             # touching is reported up to 3 mm apart (contacts between margin - gap and margin
             # are detected but exert no force), so a hand resting on an object stays "touching"

@@ -9,6 +9,7 @@ interpolations of a hand pose; a *guard* can end a motion early (contact felt).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import Protocol
 
@@ -57,7 +58,7 @@ class Controller:
         self.ik.set_state(world.joint_positions())
         for side in ("r", "l"):
             self.ik.hold_hand(side)
-        self._tare = {s: world.wrist_wrench(s)[0] for s in ("r", "l")}
+        self._tare = {s: world.wrist_force(s) for s in ("r", "l")}
         self.fingers: dict[str, dict[str, float]] = {s: dict(OPEN) for s in ("r", "l")}
         self.activity = "idle"
         self._observe()
@@ -89,15 +90,16 @@ class Controller:
 
     def tare(self, side: str) -> None:
         """Take the current wrist force of ``side`` as its zero (like a real F/T sensor)."""
-        self._tare[side] = self.world.wrist_wrench(side)[0].copy()
+        self._tare[side] = self.world.wrist_force(side)
 
     def force_change(self, side: str) -> np.ndarray:
         """Wrist force of ``side`` minus its tare, world axes, N."""
-        return self.world.wrist_wrench(side)[0] - self._tare[side]
+        return self.world.wrist_force(side) - self._tare[side]
 
     def _check_force(self) -> None:
         for side in ("r", "l"):
-            f = float(np.linalg.norm(self.force_change(side)))
+            d = self.force_change(side)
+            f = math.sqrt(float(d @ d))
             if f > self.force_limit_n:
                 raise RuntimeFailure(
                     f"safety stop while {self.activity}: the {SIDE_NAME[side]} wrist felt {f:.0f} N"

@@ -187,9 +187,9 @@ def add_object(
     body.quat = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
     body.add_freejoint().name = f"{name}/free"
     if kind == "cup":
-        _shell(body, name, s.inner_radius, s.radius - s.inner_radius, s.height, 0.006, 16, rgba, s.mass)
+        _shell(body, name, s.inner_radius, s.radius - s.inner_radius, s.height, 0.006, 12, rgba, s.mass)
     elif kind == "bowl":
-        _shell(body, name, s.inner_radius, s.radius - s.inner_radius, s.height, 0.008, 28, rgba, s.mass)
+        _shell(body, name, s.inner_radius, s.radius - s.inner_radius, s.height, 0.008, 20, rgba, s.mass)
     elif kind == "mixer":
         cyl = mujoco.mjtGeom.mjGEOM_CYLINDER
         # a stick mixer: whisk head 0-6 cm, neck, grip 7-22 cm (the hand takes it around 12 cm)

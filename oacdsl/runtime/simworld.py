@@ -221,6 +221,11 @@ class SimWorld:
             self.data.eq_active[self._weld_ids[(side, obj)]] = 0
         self.held[side] = None
 
+    def wrist_force(self, side: str) -> np.ndarray:
+        """Force (N) of the wrist F/T sensor ``side``, in world axes."""
+        site, force, _ = self._ft[side]
+        return self.data.site_xmat[site].reshape(3, 3) @ self.data.sensordata[force : force + 3]
+
     def wrist_wrench(self, side: str) -> tuple[np.ndarray, np.ndarray]:
         """Force (N) and torque (N·m) of the wrist F/T sensor ``side``, in world axes."""
         site, force, torque = self._ft[side]
