@@ -3,8 +3,9 @@
 Lark reports the terminals it would have accepted (``NAME``, ``RBRACE``,
 ``$END``); authors want "a class name", "'}'", "end of input". The parser
 state of the error is matched against a table of small bad snippets
-(:data:`EXAMPLES`, Lark's ``match_examples``) to say what belongs there; when
-no snippet matches, the accepted terminals are spelled out one by one.
+(:data:`EXAMPLES`, in the manner of Lark's ``match_examples``) to say what
+belongs there; when no snippet matches, the accepted terminals are spelled
+out one by one.
 """
 
 from __future__ import annotations
