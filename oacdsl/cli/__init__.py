@@ -20,12 +20,15 @@ from oacdsl.errors import OacError
 COMMANDS: list[str] = [
     "oacdsl.cli.compile_cmd",
     "oacdsl.cli.fmt_cmd",
-    "oacdsl.cli.skills_cmd",
     "oacdsl.cli.inspect_cmd",
     "oacdsl.cli.segment_cmd",
+    "oacdsl.cli.match_cmd",
+    "oacdsl.cli.compose_cmd",
+    "oacdsl.cli.run_cmd",
     "oacdsl.cli.stats_cmd",
     "oacdsl.cli.report_cmd",
-    "oacdsl.cli.run_cmd",
+    "oacdsl.cli.synth_cmd",
+    "oacdsl.cli.skills_cmd",
 ]
 
 

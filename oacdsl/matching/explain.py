@@ -162,7 +162,8 @@ def explain_no_match(
         return (), ("nothing changed between the two keyframes; under the strict rule an OAC must"
                     " change something (the paper's rule, --paper, accepts OACs whose effects already hold)")
     misses = [closest_binding(co, members, before, after, mode) for co in compiled]
-    misses.sort(key=lambda m: (m.conditions == 0, len(m.failed), m.oac.name))
+    # Closest first: the binding that satisfies the most conditions, then the fewest failures.
+    misses.sort(key=lambda m: (m.conditions == 0, -(m.conditions - len(m.failed)), len(m.failed), m.oac.name))
     near = tuple(misses[:limit])
     head = f"no OAC matches ({rule}) the change {change_text(added, removed)}"
     if not near:

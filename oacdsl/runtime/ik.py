@@ -38,6 +38,15 @@ BASE_LIMITS: dict[str, tuple[float, float]] = {
 }
 
 
+#: Joint speed limits in the IK (rad/s, m/s): slow enough that the arm never whips the
+#: hand around (the wrist sensor would feel its own inertia), fast enough for the skills.
+VELOCITY_LIMITS: tuple[tuple[tuple[str, ...], float], ...] = (
+    (("base_x", "base_y"), 0.3),
+    (("base_yaw",), 0.6),
+    (TORSO_JOINTS, 0.8),
+    ((*ARM_JOINTS["r"], *ARM_JOINTS["l"]), 1.5),
+)
+
 #: Weights of the posture tasks relative to a hand task (1.0 per metre of position error).
 POSTURE_WEIGHTS: dict[str, float] = {"base": 3e-3, "torso": 3e-3, "arms": 3e-4}
 
@@ -76,8 +85,14 @@ class WholeBodyIK:
     def __init__(self, *, self_collision: bool = True, dt: float = 0.02) -> None:
         flags = 0 if self_collision else placo.Flags.ignore_collisions
         self.robot = placo.RobotWrapper(str(URDF_PATH), flags)
+        #: The joints the IK drives, in the order of :meth:`step`'s result.
+        self.controlled: tuple[str, ...] = (*BASE_JOINTS, *TORSO_JOINTS, *ARM_JOINTS["r"], *ARM_JOINTS["l"])
+        self._offsets = np.array([self.robot.get_joint_offset(n) for n in self.controlled])
         for name, (lo, hi) in BASE_LIMITS.items():
             self.robot.set_joint_limits(name, lo, hi)
+        for names, limit in VELOCITY_LIMITS:
+            for name in names:
+                self.robot.set_velocity_limit(name, limit)
         self.solver = placo.KinematicsSolver(self.robot)
         self.solver.mask_fbase(True)
         self.solver.enable_joint_limits(True)
@@ -121,8 +136,15 @@ class WholeBodyIK:
         self.robot.update_kinematics()
 
     def joints(self, names: tuple[str, ...] | None = None) -> dict[str, float]:
-        names = names or (*BASE_JOINTS, *TORSO_JOINTS, *ARM_JOINTS["r"], *ARM_JOINTS["l"])
+        """Joint positions (rad, m) of ``names`` (default: :attr:`controlled`)."""
+        if names is None:
+            q = self.robot.state.q[self._offsets]
+            return dict(zip(self.controlled, q.tolist(), strict=True))
         return {n: float(self.robot.get_joint(n)) for n in names}
+
+    def controlled_positions(self) -> np.ndarray:
+        """Positions of :attr:`controlled` joints, in that order (a copy)."""
+        return np.array(self.robot.state.q[self._offsets])
 
     def frame(self, name: str) -> np.ndarray:
         """T_world_frame of a robot frame in the IK model."""
@@ -161,8 +183,9 @@ class WholeBodyIK:
         )
 
     # --- solving -------------------------------------------------------------------------------
-    def step(self) -> dict[str, float]:
-        """One QP solve and integration (one control tick); returns the joint targets."""
+    def step(self) -> np.ndarray:
+        """One QP solve and integration (one control tick); returns the targets of the
+        :attr:`controlled` joints."""
         try:
             self.solver.solve(True)
         except RuntimeError as error:  # placo raises QPError, a RuntimeError subclass
@@ -175,7 +198,7 @@ class WholeBodyIK:
                 residual_m=res.position_m,
             ) from None
         self.robot.update_kinematics()
-        return self.joints()
+        return self.controlled_positions()
 
     def converge(self, iterations: int = 200, tolerance_m: float = 1e-4) -> Residual:
         """Solve repeatedly towards the current targets (a static solve); the final residual

@@ -22,6 +22,7 @@ from oacdsl.world import WorldState
 
 __all__ = ["SimWorld", "pose_of"]
 
+_SLEEP = int(mujoco.mjtEnableBit.mjENBL_SLEEP)
 _HAND_MARKERS = ((0.0, 0.0, 0.05), (0.0, 0.04, 0.10), (-0.03, 0.0, 0.115))
 
 
@@ -68,6 +69,14 @@ class SimWorld:
         self._ball_ids = {liq: np.array([m.body(b).id for b in names]) for liq, names in built.balls.items()}
         self._weld_ids = {key: m.equality(name).id for key, name in built.welds.items()}
         self.held: dict[str, str | None] = {"r": None, "l": None}
+        self._ft = {
+            s: (
+                m.site(f"ft_{s}").id,
+                int(m.sensor(f"ft_{s}_force").adr[0]),
+                int(m.sensor(f"ft_{s}_torque").adr[0]),
+            )
+            for s in ("r", "l")
+        }
         self.reset()
 
     # --- time and control -------------------------------------------------------------------
@@ -95,7 +104,16 @@ class SimWorld:
         for name, value in q.items():
             self.data.ctrl[self._actuator[name]] = value
 
+    def actuator_indices(self, joints: tuple[str, ...]) -> np.ndarray:
+        """Indices into ``data.ctrl`` of the actuators of ``joints`` (for :meth:`set_ctrl`)."""
+        return np.array([self._actuator[n] for n in joints])
+
+    def set_ctrl(self, indices: np.ndarray, values: np.ndarray) -> None:
+        """Position-actuator targets by index (the fast path of the control loop)."""
+        self.data.ctrl[indices] = values
+
     def joint_positions(self) -> dict[str, float]:
+        """Every robot joint's position now (rad, m), fingers included."""
         return {n: float(self.data.qpos[a]) for n, a in self._qadr.items()}
 
     def joint_velocity(self, name: str) -> float:
@@ -110,12 +128,25 @@ class SimWorld:
         return self.body_pose(name)
 
     # --- relations ---------------------------------------------------------------------------
+    def contact_geoms(self) -> np.ndarray:
+        """(n, 2) geom ids of every contact now, sleeping bodies included.
+
+        With island sleeping on, MuJoCo skips collisions between resting bodies; the
+        contacts are then recomputed once with sleeping off (positions are unchanged)."""
+        m, d = self.model, self.data
+        if m.opt.enableflags & _SLEEP:
+            m.opt.enableflags &= ~_SLEEP
+            try:
+                mujoco.mj_collision(m, d)
+            finally:
+                m.opt.enableflags |= _SLEEP
+        return np.array(d.contact.geom[: d.ncon]).reshape(-1, 2)
+
     def contact_pairs(self) -> set[tuple[int, int]]:
         """Pairs of instance indices in contact now (index into :attr:`instances`)."""
-        n = self.data.ncon
-        if n == 0:
+        g = self.contact_geoms()
+        if len(g) == 0:
             return set()
-        g = self.data.contact.geom[:n]
         a, b = self._geom_instance[g[:, 0]], self._geom_instance[g[:, 1]]
         keep = (a >= 0) & (b >= 0) & (a != b)
         pairs = {(int(min(x, y)), int(max(x, y))) for x, y in zip(a[keep], b[keep], strict=True)}
@@ -131,13 +162,9 @@ class SimWorld:
 
     def fingers_touch(self, side: str, obj: str) -> bool:
         """True when the finger plate or the thumb (not just the palm) touches ``obj``."""
-        n = self.data.ncon
-        if n == 0:
-            return False
         target = self.instances.index(obj)
         fingers = {b for b in self.hand_bodies[side] if self.model.body(b).name != f"hand_{side}"}
-        for k in range(n):
-            g1, g2 = self.data.contact.geom[k]
+        for g1, g2 in self.contact_geoms():
             b1, b2 = int(self.model.geom_bodyid[g1]), int(self.model.geom_bodyid[g2])
             if (b1 in fingers and self._body_instance[b2] == target) or (
                 b2 in fingers and self._body_instance[b1] == target
@@ -194,12 +221,16 @@ class SimWorld:
             self.data.eq_active[self._weld_ids[(side, obj)]] = 0
         self.held[side] = None
 
+    def wrist_force(self, side: str) -> np.ndarray:
+        """Force (N) of the wrist F/T sensor ``side``, in world axes."""
+        site, force, _ = self._ft[side]
+        return self.data.site_xmat[site].reshape(3, 3) @ self.data.sensordata[force : force + 3]
+
     def wrist_wrench(self, side: str) -> tuple[np.ndarray, np.ndarray]:
         """Force (N) and torque (N·m) of the wrist F/T sensor ``side``, in world axes."""
-        r = self.data.site_xmat[self.model.site(f"ft_{side}").id].reshape(3, 3)
-        f = self.data.sensor(f"ft_{side}_force").data
-        t = self.data.sensor(f"ft_{side}_torque").data
-        return r @ f, r @ t
+        site, force, torque = self._ft[side]
+        r = self.data.site_xmat[site].reshape(3, 3)
+        return r @ self.data.sensordata[force : force + 3], r @ self.data.sensordata[torque : torque + 3]
 
     # --- markers and diagnostics -------------------------------------------------------------
     def marker_points(self) -> dict[str, np.ndarray]:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import mujoco
 import numpy as np
 
 __all__ = [
@@ -59,26 +60,16 @@ def min_jerk(s: float) -> float:
 
 def quat_from_matrix(r: np.ndarray) -> np.ndarray:
     """Unit quaternion (w, x, y, z) of a rotation matrix."""
-    w = math.sqrt(max(0.0, 1.0 + r[0, 0] + r[1, 1] + r[2, 2])) / 2.0
-    x = math.sqrt(max(0.0, 1.0 + r[0, 0] - r[1, 1] - r[2, 2])) / 2.0
-    y = math.sqrt(max(0.0, 1.0 - r[0, 0] + r[1, 1] - r[2, 2])) / 2.0
-    z = math.sqrt(max(0.0, 1.0 - r[0, 0] - r[1, 1] + r[2, 2])) / 2.0
-    x = math.copysign(x, r[2, 1] - r[1, 2])
-    y = math.copysign(y, r[0, 2] - r[2, 0])
-    z = math.copysign(z, r[1, 0] - r[0, 1])
-    q = np.array([w, x, y, z])
-    return q / np.linalg.norm(q)
+    q = np.empty(4)
+    mujoco.mju_mat2Quat(q, np.ascontiguousarray(r, dtype=float).reshape(9))
+    return q
 
 
 def matrix_from_quat(q: np.ndarray) -> np.ndarray:
-    w, x, y, z = q / np.linalg.norm(q)
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    )
+    """Rotation matrix of a quaternion (w, x, y, z), normalised first."""
+    r = np.empty(9)
+    mujoco.mju_quat2Mat(r, q / np.linalg.norm(q))
+    return r.reshape(3, 3)
 
 
 def interpolate(t0: np.ndarray, t1: np.ndarray, s: float) -> np.ndarray:
