@@ -2,7 +2,7 @@
 
 from pathlib import Path
 
-from oacdsl.lang import compile_paths, load_library, print_module
+from oacdsl.lang import compile_paths, compile_sources, load_library, print_module
 from oacdsl.skills import SKILLS
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -84,3 +84,14 @@ def test_library_scenes_and_graspability():
     assert {"sponge", "tray"} <= {i.name for i in wiping.tracked()}
     assert lib.is_subclass("Tray", "Surface") and lib.is_subclass("Sponge", "Graspable")
     assert lib.grasp_for(lib.instance_classes(wiping)["sponge"]).cls == "Sponge"
+
+
+def test_the_complete_example_of_the_docs_is_clean_and_canonical():
+    import re
+
+    doc = (ROOT / "docs" / "language.md").read_text(encoding="utf-8")
+    block = re.search(r"## A complete example\n\n```\n(.*?)```", doc, re.S)
+    assert block, "docs/language.md lost its complete example"
+    result = compile_sources({"example.oac": block.group(1)})
+    assert result.diagnostics == [], [d.header() for d in result.diagnostics]
+    assert print_module(result.modules[0]) == block.group(1)

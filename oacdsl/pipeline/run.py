@@ -197,7 +197,7 @@ def _stages(
             outside_scene=inputs.outside_scene,
             force=force,
         )
-        from oacdsl.report.atomic import write_atomic
+        from oacdsl.atomic import write_atomic
 
         write_atomic(staging / f"{name}.oac", done.emitted.text)
         return done
