@@ -213,7 +213,9 @@ def _stages(
         done = robot.verify_stage(
             seg.segmentation, inputs.params, executed.markers, inputs.library, inputs.scene
         )
-        done.doc["plot"] = figures.distance_plot(done.recording, done.segmentation, figs, "robot_aas.png")
+        done.doc["plot"] = figures.distance_plot(
+            figures.decimated(done.recording), done.segmentation, figs, "robot_aas.png"
+        )
         return done
 
     try:
