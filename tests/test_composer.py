@@ -75,6 +75,13 @@ def test_provenance_and_the_second_grasp_adds_no_precondition():
     assert notes["cup1 <-> liquid1"] == "step 2 pour, keyframe 1, frame 100"
     assert notes["hand2 <-> mixer"] == "step 7 grasp, keyframe 7, frame 700"
     assert notes["bowl <-> mixer"] == "step 8 mix, keyframe 8, frame 800"
+    records = {(r["kind"], tuple(r["relation"]), r["negated"]): (r["step"], r["keyframe"])
+               for r in comp.provenance}
+    assert records[("pre", ("right_hand", "nothing"), False)] == (3, 3)
+    assert records[("effect", ("mixer", "orange_bowl"), False)] == (7, 8)
+    assert records[("effect", ("liquid_one", "red_cup"), True)] == (1, 2)
+    assert records[("ended", ("green_cup", "liquid_two"), False)] == (4, 5)
+    assert len(records) == 4 + 6 + 2
 
 
 def test_paper_effects_view_and_its_warning():

@@ -170,3 +170,16 @@ def test_results_do_not_depend_on_instance_names_or_pair_order(case, mode, rnd):
     two = {(x.oac.name, x.binding) for x in r2.matches}
     assert one == two
     assert [len(n.failed) for n in r1.near_misses] == [len(n.failed) for n in r2.near_misses]
+
+
+def test_explanation_search_is_bounded_and_says_so():
+    from oacdsl.matching.explain import closest_binding
+
+    lib = kitchen_library()
+    m = Matcher.from_library(lib, KITCHEN)
+    pour = next(c for c in m.compiled if c.oac.name == "pour")
+    before, after = state(("left_hand", "mixer")), state(("left_hand", "mixer"), ("mixer", "red_cup"))
+    full = closest_binding(pour, m._members, before, after, "strict")
+    cut = closest_binding(pour, m._members, before, after, "strict", node_cap=5)
+    assert not full.truncated and cut.truncated and "cut off" in cut.text()
+    assert len(cut.failed) >= len(full.failed)

@@ -22,7 +22,9 @@ from oacdsl.model import Scene
 from oacdsl.segmentation.result import Keyframe, Segmentation
 from oacdsl.world import WorldState
 
-__all__ = ["Inputs", "add_input_options", "load_inputs", "read_segmentation_json"]
+__all__ = [
+    "Inputs", "add_input_options", "load_inputs", "open_library", "read_segmentation_json", "resolve_scene",
+]
 
 def add_input_options(p: argparse.ArgumentParser) -> None:
     """The demonstration, library and scene arguments, and the segmentation options."""
@@ -160,3 +162,16 @@ def load_inputs(args: argparse.Namespace) -> Inputs:
         raise InputError(f"the demonstration's instances {', '.join(unknown)} are not tracked instances of"
                          f" scene {scene.name!r}", location=str(source))
     return Inputs(library, library_path, scene, segmentation, str(source), outside)
+
+
+def open_library(path: Path) -> Library:
+    """The library at ``path`` (a folder without its drafts/, or a file), as ``--library`` reads it."""
+    return _library(path)
+
+
+def resolve_scene(
+    library: Library, instances: tuple[str, ...], value: str | None
+) -> tuple[Library, Scene, Path | None]:
+    """The scene for ``--scene value`` (a name, a .oac file, or None: found by ``instances``), the
+    library it belongs to, and the scene file when it lies outside the library."""
+    return _scene(library, instances, value)

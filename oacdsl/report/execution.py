@@ -117,7 +117,9 @@ def _change(c: ChangeDoc | None) -> str:
     items += [f'<div class="rel muted">− {esc(a)} ↔ {esc(b)}</div>' for a, b in c.removed]
     where = f"K{c.index}" + (f" · frame {c.frame}" if c.frame is not None else "")
     where += f" · {c.time_s:.2f} s" if c.time_s is not None else ""
-    return "".join(items) + f'<div class="small muted">{esc(where)}</div>'
+    oac = (c.model_extra or {}).get("oac")  # the robot's sub-action as matched, when the pipeline says
+    matched = f'<div class="small">matched: <span class="mono">{esc(oac)}</span></div>' if oac else ""
+    return "".join(items) + matched + f'<div class="small muted">{esc(where)}</div>'
 
 
 def verification_section(r: Result, images: Images) -> str:

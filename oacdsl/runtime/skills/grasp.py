@@ -11,7 +11,7 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.grasping import plan_grasps
-from oacdsl.runtime.hands import TOP_PRESHAPE
+from oacdsl.runtime.hands import CLOSED, TOP_PRESHAPE, finger_joint_names
 from oacdsl.runtime.skills.base import SkillContext, fmt_xyz
 from oacdsl.runtime.transforms import make_T
 
@@ -22,6 +22,8 @@ GRASP_POSE_TOLERANCE_M = 0.07
 #: Height an object is lifted after grasping, m.
 LIFT_M = 0.10
 APPROACH_SPEED_M_S = 0.15
+#: How much further than where they touched the object the fingers are told to close, rad.
+SQUEEZE_RAD = 0.08
 
 
 def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
@@ -48,7 +50,9 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
     ctl.activity = f"approaching {obj}"
     ctl.move(side, plan.end, travel / APPROACH_SPEED_M_S, guard=lambda: world.touching(hand, obj))
     ctl.activity = f"closing {hand} on {obj}"
-    ctl.close_hand(side)
+    # the weld is switched on the moment the fingers touch the object (if the hand is at the
+    # grasp pose): a closing finger would otherwise push a light object out of the hand
+    ctl.close_hand(side, until=lambda: world.fingers_touch(side, obj))
     centre = world.frame_pose(f"grasp_{side}")[:3, 3]
     off = float(np.linalg.norm(centre - plan.grasp[:3, 3]))
     if off > GRASP_POSE_TOLERANCE_M:
@@ -59,6 +63,11 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
     if not world.fingers_touch(side, obj):
         raise RuntimeFailure(f"could not grasp {obj}: the fingers of {hand} do not touch it")
     world.weld(side, obj)
+    # hold the fingers where they met the object, pressing lightly, so that they stay on it
+    names = finger_joint_names(side)
+    now = world.joint_positions()
+    ctl.set_fingers(side, {k: min(now[j] + SQUEEZE_RAD, CLOSED[k]) for k, j in names.items()})
+    ctl.wait(0.3)
     ctx.picked[obj] = (t_obj, plan.approach)
     ctl.activity = f"lifting {obj}"
     lift = make_T(ctl.ik.target(side)[:3, :3], ctl.ik.target(side)[:3, 3] + np.array([0.0, 0.0, LIFT_M]))
