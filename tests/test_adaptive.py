@@ -113,3 +113,20 @@ def test_settings_are_checked_and_usable_directly():
 def test_unknown_mode_lists_adaptive():
     with pytest.raises(SegmentationError, match="adaptive"):
         segment(recording(carry_scene()), AasParams(mode="adaptiv"))
+
+
+def test_invariant_to_marker_order_and_a_rigid_motion_of_the_scene():
+    rng = np.random.default_rng(11)
+    scene = carry_scene()
+    scene["cup"] = scene["cup"] + rng.normal(0, 0.0003, scene["cup"].shape)
+    rec = recording(scene)
+    base = segment(rec, AasParams(mode="adaptive")).keyframes
+    perm = rng.permutation(len(rec.marker_names))
+    inverse = np.argsort(perm)
+    groups = {g: tuple(int(inverse[i]) for i in idx) for g, idx in rec.groups.items()}
+    angle = 0.7
+    rot = np.array([[np.cos(angle), -np.sin(angle), 0], [np.sin(angle), np.cos(angle), 0], [0, 0, 1]])
+    moved = rec.positions_m[:, perm] @ rot.T + np.array([3.0, -2.0, 0.5])
+    names = tuple(rec.marker_names[i] for i in perm)
+    other = Recording("moved", rec.rate_hz, rec.times_s, names, moved, groups)
+    assert segment(other, AasParams(mode="adaptive")).keyframes == base
