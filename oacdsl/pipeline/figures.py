@@ -68,13 +68,12 @@ def relative(path: Path, base: Path) -> str:
     return path.relative_to(base).as_posix()
 
 
-def attach_frames(run_doc: dict[str, Any], frames: list[Path], base: Path) -> None:
-    """Put the rendered frames into the run document: ``frame`` before, ``steps[i].frame`` after."""
-    by_name = {p.name: p for p in frames}
-    first = by_name.get("robot_00.png")
-    if first is not None:
-        run_doc["frame"] = relative(first, base)
+def attach_frames(run_doc: dict[str, Any], frames: dict[str, Path], base: Path) -> None:
+    """Put the rendered frames into the run document: ``frame`` before the run, per step
+    ``frame`` after it and ``moment`` when its predicted effects first held."""
+    if "robot_00" in frames:
+        run_doc["frame"] = relative(frames["robot_00"], base)
     for i, step in enumerate(run_doc.get("steps", [])):
-        p = by_name.get(f"robot_{i + 1:02d}.png")
-        if p is not None:
-            step["frame"] = relative(p, base)
+        for key, name in (("frame", f"robot_{i + 1:02d}"), ("moment", f"robot_{i + 1:02d}_moment")):
+            if name in frames:
+                step[key] = relative(frames[name], base)

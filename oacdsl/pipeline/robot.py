@@ -18,29 +18,14 @@ from typing import Any
 
 from oacdsl.library import Library
 from oacdsl.model import Oac, Scene
+from oacdsl.pipeline.camera import StepCamera
 from oacdsl.pipeline.markers import VirtualMarkers, robot_params
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import Segmentation
 from oacdsl.world import NOTHING
 
-__all__ = ["FRAME_SIZE", "ExecuteStage", "VerifyStage", "execute_stage", "verify_stage"]
-
-#: Size of the rendered frames of the robot (width, height), pixels: small keeps software rendering fast.
-FRAME_SIZE = (480, 360)
-#: The view of the frames: a free camera looking at the table from the far side, a little from the
-#: robot's left: (look-at point m, azimuth deg, elevation deg, distance m).
-VIEW = ((0.5, 0.0, 0.98), 195.0, -28.0, 1.55)
-
-
-def _camera() -> Any:
-    import mujoco
-
-    cam = mujoco.MjvCamera()
-    cam.type = mujoco.mjtCamera.mjCAMERA_FREE
-    (cam.lookat[0], cam.lookat[1], cam.lookat[2]), cam.azimuth, cam.elevation, cam.distance = VIEW
-    return cam
-
+__all__ = ["ExecuteStage", "VerifyStage", "execute_stage", "verify_stage"]
 
 @dataclass
 class ExecuteStage:
@@ -49,11 +34,8 @@ class ExecuteStage:
     doc: dict[str, Any]
     #: Why there are no pictures (no rendering backend), else None.
     render_note: str | None = None
-    frames: list[Path] = field(default_factory=list)
-
-
-def _pair(a: str, b: str) -> list[str]:
-    return sorted([a, b])
+    #: The rendered frames by name: robot_00 (before), robot_NN (after step NN), robot_NN_moment.
+    frames: dict[str, Path] = field(default_factory=dict)
 
 
 def execute_stage(
@@ -65,51 +47,36 @@ def execute_stage(
     *,
     note: Callable[[str], None] | None = None,
 ) -> ExecuteStage:
-    """Execute ``oac``; with ``frames_dir``, write ``robot_00.png`` (before) and ``robot_NN.png``
-    (after step NN) there. Raises RuntimeFailure for a call that cannot run (bad binding)."""
+    """Execute ``oac``; with ``frames_dir``, render the robot there (:class:`StepCamera`).
+    Raises RuntimeFailure for a call that cannot run (bad binding)."""
     from oacdsl.report import bound_conditions
     from oacdsl.runtime.executor import prepare, run_prepared
 
     run = prepare(library, oac, scene=scene, seed=seed)
     markers = VirtualMarkers(run.world)
     run.controller.add_observer(markers)
-    renderer: Any = None
-    render_note = None
-    frames: list[Path] = []
-    if frames_dir is not None:
-        from oacdsl.runtime.render import Renderer, RenderUnavailable
-
-        try:
-            renderer = Renderer(run.world.model, FRAME_SIZE)
-            renderer.camera = _camera()
-        except RenderUnavailable as error:
-            render_note = str(error)
+    camera = StepCamera(run.world.model, run.steps, frames_dir) if frames_dir is not None else None
     total = len(run.steps)
 
-    def snapshot(name: str, world: Any) -> None:
-        if renderer is None or frames_dir is None:
-            return
-        from oacdsl.runtime.render import write_png
-
-        path = frames_dir / name
-        write_png(path, renderer.render(world.data))
-        frames.append(path)
+    def announce(index: int) -> None:
+        if note is not None and index < total:
+            s = run.steps[index]
+            note(f"step {index + 1}/{total}: {s.oac.name}({', '.join(s.args)})")
 
     def on_step(index: int, step: Any, world: Any) -> None:
-        snapshot(f"robot_{index + 1:02d}.png", world)
-        if note is not None and index + 1 < total:
-            nxt = run.steps[index + 1]
-            note(f"step {index + 2}/{total}: {nxt.oac.name}({', '.join(nxt.args)})")
+        if camera is not None:
+            camera.step_done(index, world)
+        announce(index + 1)
 
     try:
-        snapshot("robot_00.png", run.world)
-        if note is not None and run.steps:
-            first = run.steps[0]
-            note(f"step 1/{total}: {first.oac.name}({', '.join(first.args)})")
+        if camera is not None:
+            camera.snapshot("robot_00", run.world)
+            run.controller.add_observer(camera)
+        announce(0)
         result = run_prepared(run, on_step=on_step)
     finally:
-        if renderer is not None:
-            renderer.close()
+        if camera is not None:
+            camera.close()
     doc = result.to_json()
     doc["initial"] = [list(r) for r in result.states[0].sorted_relations()] if result.states else []
     before = doc["initial"]
@@ -127,7 +94,9 @@ def execute_stage(
     doc["grasp"] = "weld"
     if result.error:
         doc["error"] = result.error
-    return ExecuteStage(result, markers, doc, render_note, frames)
+    if camera is None:
+        return ExecuteStage(result, markers, doc)
+    return ExecuteStage(result, markers, doc, camera.unavailable, dict(camera.frames))
 
 
 @dataclass
