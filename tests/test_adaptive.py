@@ -45,7 +45,7 @@ def test_carried_object_touches_from_grasp_to_release():
     grasp, release = kfs[1][0], kfs[2][0]
     assert 90 <= grasp <= 110 and 345 <= release <= 365  # the hand arrives at 100, leaves after 350
     # the paper's rule at a distance that suits other objects (6 cm) never sees this grip (9 cm)
-    assert summary(segment(rec, AasParams(distance_m=0.06))) == [(0, [])]
+    assert summary(segment(rec, AasParams(distance_m=0.06, mode="paper"))) == [(0, [])]
 
 
 def test_hand_resting_beside_an_object_is_not_touching():
@@ -57,7 +57,7 @@ def test_hand_resting_beside_an_object_is_not_touching():
     relations = {r for _, rs in adaptive(rec) for r in rs}
     assert ("bowl", "hand") not in relations and ("cup", "hand") in relations
     # the paper's rule at its default 15 cm calls the resting hand a touch
-    assert ("bowl", "hand") in summary(segment(rec, AasParams()))[-1][1]
+    assert ("bowl", "hand") in summary(segment(rec, AasParams(mode="paper")))[-1][1]
 
 
 def test_object_held_by_the_other_hand_is_not_touched():
