@@ -56,13 +56,16 @@ class Node(BaseModel):
     span: Span | None = Field(default=None, repr=False)
     comments: tuple[str, ...] = Field(default=(), repr=False)
     note: str | None = Field(default=None, repr=False)
-    parts: tuple[tuple[str, Span], ...] = Field(default=(), repr=False)
+    #: (key, line, column, end_line, end_column) of names inside the node, in ``span.file``.
+    parts: tuple[tuple[str, int, int, int, int], ...] = Field(default=(), repr=False)
 
     def part(self, key: str) -> Span | None:
         """The span of the part ``key`` (e.g. ``"parents:Cup"``), else the node's span."""
-        for k, span in self.parts:
-            if k == key:
-                return span
+        if self.span is not None:
+            for k, line, column, end_line, end_column in self.parts:
+                if k == key:
+                    return Span(file=self.span.file, line=line, column=column, end_line=end_line,
+                                end_column=end_column)
         return self.span
 
     def _key(self) -> tuple[Any, ...]:

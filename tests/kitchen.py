@@ -89,3 +89,12 @@ DOUGH_STATES = [
     state(L1B, L2B, ("right_hand", "mixer"), ("mixer", "orange_bowl")),  # mix
 ]
 DOUGH_STEPS = ["grasp", "pour", "place", "grasp", "pour", "place", "grasp", "mix"]
+
+
+def dough_segmentation():
+    """The dough keyframes as a Segmentation (100 Hz, a keyframe every 1.5 s)."""
+    from oacdsl.segmentation.result import Keyframe, Segmentation
+
+    keyframes = tuple(Keyframe(150 * k, 1.5 * k, s) for k, s in enumerate(DOUGH_STATES))
+    return Segmentation("dough (hand-written)", 100.0, 150 * len(DOUGH_STATES), tuple(TRACKED), keyframes,
+                        {"distance_m": 0.15})

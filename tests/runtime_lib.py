@@ -12,9 +12,14 @@ ROOT = Path(__file__).resolve().parents[1]
 TASKS = ROOT / "tests" / "data" / "runtime_tasks.oac"
 
 
+#: The hand-written standard library: ``library/*.oac`` without ``learned/`` and ``drafts/``,
+#: which the main job writes to (a learned ``dough`` would clash with the test tasks' one).
+STANDARD = sorted((ROOT / "library").glob("*.oac"))
+
+
 @lru_cache(maxsize=1)
 def task_library():
-    return load_library([ROOT / "library", TASKS])
+    return load_library([*STANDARD, TASKS])
 
 
 def inst(name, *classes, environment=False):

@@ -37,9 +37,8 @@ def test_paper_rule_accepts_an_oac_that_explains_nothing_strict_does_not(matcher
     after = state(("left_hand", "red_cup"), ("right_hand", "mixer"))
     paper = {m.text() for m in matcher.match(before, after, mode="paper").matches}
     strict = {m.text() for m in matcher.match(before, after).matches}
-    assert strict == {"grasp(h=right_hand, o=mixer)"}
-    # mix(left_hand, …) needs left_hand <-> mixer: no; but place-like idle matches exist in paper mode?
-    assert strict <= paper
+    assert strict == {"grasp(h=right_hand, o=mixer)"} and strict <= paper
+    # An OAC whose effect merely stays true: the paper's rule accepts it, the strict rule does not.
     idle = Oac(name="hold", params=(Param(name="h", cls="Hand"), Param(name="o", cls="Graspable")),
                pre=(atom("h", "o"),), effect=(atom("h", "o"),), skill="place")
     m = Matcher([*OACS, idle], kitchen_library().instance_classes(KITCHEN))
@@ -132,7 +131,7 @@ def test_holds_semantics():
     assert not holds(Atom(left="ghost", right="nothing"), s)
 
 
-@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(cases(constants=True), st.sampled_from(["strict", "paper"]))
 def test_matcher_equals_brute_force(case, mode):
     library, scene, before, after = case
@@ -142,7 +141,7 @@ def test_matcher_equals_brute_force(case, mode):
     assert got == brute_force(library, classes, before, after, mode)
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=80, deadline=None)
 @given(cases(), st.sampled_from(["strict", "paper"]), st.randoms(use_true_random=False))
 def test_results_do_not_depend_on_instance_names_or_pair_order(case, mode, rnd):
     library, scene, before, after = case
@@ -170,3 +169,16 @@ def test_results_do_not_depend_on_instance_names_or_pair_order(case, mode, rnd):
     two = {(x.oac.name, x.binding) for x in r2.matches}
     assert one == two
     assert [len(n.failed) for n in r1.near_misses] == [len(n.failed) for n in r2.near_misses]
+
+
+def test_explanation_search_is_bounded_and_says_so():
+    from oacdsl.matching.explain import closest_binding
+
+    lib = kitchen_library()
+    m = Matcher.from_library(lib, KITCHEN)
+    pour = next(c for c in m.compiled if c.oac.name == "pour")
+    before, after = state(("left_hand", "mixer")), state(("left_hand", "mixer"), ("mixer", "red_cup"))
+    full = closest_binding(pour, m._members, before, after, "strict")
+    cut = closest_binding(pour, m._members, before, after, "strict", node_cap=5)
+    assert not full.truncated and cut.truncated and "cut off" in cut.text()
+    assert len(cut.failed) >= len(full.failed)

@@ -11,7 +11,7 @@ import pytest
 pytest.importorskip("mujoco", reason="the robot runtime needs the 'robot' extra (mujoco)")
 pytest.importorskip("placo", reason="the robot runtime needs the 'robot' extra (placo)")
 
-from runtime_lib import task_library  # noqa: E402
+from runtime_lib import STANDARD, task_library  # noqa: E402
 
 from oacdsl.errors import RuntimeFailure  # noqa: E402
 from oacdsl.runtime import MarkerRecorder, execute  # noqa: E402
@@ -117,10 +117,7 @@ def oacc_run(tmp_path, *args, env=None):
         "oacdsl",
         "run",
         *args,
-        "--library",
-        str(ROOT / "library"),
-        "--library",
-        str(TESTS / "data" / "runtime_tasks.oac"),
+        *(arg for p in (*STANDARD, TESTS / "data" / "runtime_tasks.oac") for arg in ("--library", str(p))),
     ]
     return subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=300, cwd=ROOT)
 

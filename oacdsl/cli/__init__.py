@@ -18,14 +18,18 @@ from oacdsl.errors import OacError
 
 #: Subcommand modules, in the order ``oacc --help`` lists them.
 COMMANDS: list[str] = [
+    "oacdsl.cli.reproduce_cmd",
     "oacdsl.cli.compile_cmd",
     "oacdsl.cli.fmt_cmd",
-    "oacdsl.cli.skills_cmd",
     "oacdsl.cli.inspect_cmd",
     "oacdsl.cli.segment_cmd",
+    "oacdsl.cli.match_cmd",
+    "oacdsl.cli.compose_cmd",
+    "oacdsl.cli.run_cmd",
     "oacdsl.cli.stats_cmd",
     "oacdsl.cli.report_cmd",
-    "oacdsl.cli.run_cmd",
+    "oacdsl.cli.synth_cmd",
+    "oacdsl.cli.skills_cmd",
 ]
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 from oacdsl.errors import did_you_mean
 from oacdsl.lang.checks import KEYWORDS, Context
 from oacdsl.lang.diagnostics import Note
-from oacdsl.model import Atom, Call, Oac, Param, Span
+from oacdsl.model import Atom, Call, Node, Oac, Param
 from oacdsl.skills import SKILLS
 from oacdsl.world import NOTHING
 
@@ -31,8 +31,8 @@ class _OacChecker:
         self.used: set[str] = set()
 
     # -- names -----------------------------------------------------------
-    def resolve(self, name: str, span: Span | None) -> list[frozenset[str]] | None:
-        """The class sets ``name`` may have (one per binding), or None after reporting."""
+    def resolve(self, name: str, node: Node, key: str) -> list[frozenset[str]] | None:
+        """The class sets ``name`` (at ``node.part(key)``) may have, one per binding; None after reporting."""
         self.used.add(name)
         param = self.params.get(name)
         if param is not None:
@@ -45,7 +45,7 @@ class _OacChecker:
                     "E021",
                     f"'{name}' is environment in scene '{env[0]}': it takes part in no "
                     "relation and cannot be named in an OAC",
-                    span,
+                    node.part(key),
                     Note("declared here", entries[0][1].part("name")),
                 )
                 return None
@@ -58,27 +58,28 @@ class _OacChecker:
             "E005",
             f"unbound variable '{name}': not a parameter of '{self.oac.name}' nor an "
             f"instance of a scene{did_you_mean(name, valid)}",
-            span,
+            node.part(key),
         )
         return None
 
     def check_params(self) -> None:
         for param in self.oac.params:
-            name_span = param.part("name")
             if param.name in self.params:
                 self.ctx.add(
                     "E006",
                     f"parameter '{param.name}' is defined twice in '{self.oac.name}'",
-                    name_span,
+                    param.part("name"),
                     Note("first defined here", self.params[param.name].part("name")),
                 )
                 continue
             self.params[param.name] = param
             if param.name in KEYWORDS:
                 self.ctx.add(
-                    "E018", f"'{param.name}' is a reserved word and cannot name a parameter", name_span
+                    "E018",
+                    f"'{param.name}' is a reserved word and cannot name a parameter",
+                    param.part("name"),
                 )
-            known = self.ctx.class_ok(param.cls, param.part("cls"))
+            known = self.ctx.class_ok(param.cls, param, "cls")
             if param.default is not None:
                 self.check_default(param, known)
 
@@ -114,7 +115,7 @@ class _OacChecker:
         for side in ("left", "right"):
             name = getattr(atom, side)
             if name != NOTHING:
-                self.resolve(name, atom.part(side))
+                self.resolve(name, atom, side)
 
     def contradictions(self, atoms: tuple[Atom, ...], code: str, what: str) -> None:
         positive = {(a.left, a.right): a for a in atoms if not a.negated}
@@ -180,21 +181,23 @@ class _OacChecker:
             hint = did_you_mean(call.oac, self.ctx.library.oacs)
             self.ctx.add("E013", f"unknown OAC '{call.oac}'{hint}", call.part("oac"))
             for i, arg in enumerate(call.args):
-                self.resolve(arg, call.part(f"args.{i}"))
+                self.resolve(arg, call, f"args.{i}")
             return
-        signature = ", ".join(f"{p.name}: {p.cls}" for p in callee.params)
-        defined = Note(f"'{callee.name}({signature})' is defined here", callee.part("name"))
+
+        def defined() -> Note:
+            signature = ", ".join(f"{p.name}: {p.cls}" for p in callee.params)
+            return Note(f"'{callee.name}({signature})' is defined here", callee.part("name"))
+
         if len(call.args) != len(callee.params):
             self.ctx.add(
                 "E014",
                 f"'{call.oac}' takes {len(callee.params)} argument"
                 f"{'s' if len(callee.params) != 1 else ''}, {len(call.args)} given",
                 call.span,
-                defined,
+                defined(),
             )
         for i, (arg, param) in enumerate(zip(call.args, callee.params, strict=False)):
-            span = call.part(f"args.{i}")
-            kinds = self.resolve(arg, span)
+            kinds = self.resolve(arg, call, f"args.{i}")
             if kinds is None or param.cls not in self.ctx.library.classes:
                 continue
             if not any(param.cls in classes for classes in kinds):
@@ -207,11 +210,11 @@ class _OacChecker:
                     "E015",
                     f"argument '{arg}' is a {declared}, but '{call.oac}' expects a "
                     f"{param.cls} for '{param.name}'",
-                    span,
-                    defined,
+                    call.part(f"args.{i}"),
+                    defined(),
                 )
         for i in range(len(callee.params), len(call.args)):
-            self.resolve(call.args[i], call.part(f"args.{i}"))
+            self.resolve(call.args[i], call, f"args.{i}")
 
     def run(self) -> None:
         oac = self.oac

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 from oacdsl.errors import did_you_mean
 from oacdsl.lang.diagnostics import Diagnostic, Note
 from oacdsl.library import Library
-from oacdsl.model import APPROACHES, GRASP_TYPES, Grasp, Instance, Module, Oac, ObjectClass, Scene, Span
+from oacdsl.model import APPROACHES, GRASP_TYPES, Grasp, Instance, Module, Node, Oac, ObjectClass, Scene, Span
 
 __all__ = ["KEYWORDS", "Context", "check_modules"]
 
@@ -72,10 +72,11 @@ class Context:
             notes.append(Note(f"class '{close}' is defined here", classes[close].part("name")))
         self.add("E003", f"unknown {what} '{name}'{hint}", span, *notes)
 
-    def class_ok(self, name: str, span: Span | None, what: str = "class") -> bool:
+    def class_ok(self, name: str, node: Node, key: str, what: str = "class") -> bool:
+        """True when class ``name`` exists; else E003 at ``node.part(key)``."""
         if name in self.library.classes:
             return True
-        self.unknown_class(name, span, what)
+        self.unknown_class(name, node.part(key), what)
         return False
 
     def instance_classes(self, name: str) -> list[frozenset[str]]:
@@ -121,7 +122,7 @@ def check_classes(ctx: Context) -> None:
     _duplicates(ctx, "class", ((d.name, d) for d in decls))
     for decl in decls:
         for parent in decl.parents:
-            ctx.class_ok(parent, decl.part(f"parents:{parent}"), "parent class")
+            ctx.class_ok(parent, decl, f"parents:{parent}", "parent class")
     _check_cycles(ctx)
 
 
@@ -212,21 +213,22 @@ def check_scenes(ctx: Context) -> None:
         seen: dict[str, Instance] = {}
         marker_owner: dict[str, tuple[Instance, int]] = {}
         for inst in sorted(scene.instances, key=lambda i: _pos(i.span)):
-            name_span = inst.part("name")
             if inst.name in seen:
                 ctx.add(
                     "E006",
                     f"instance '{inst.name}' is defined twice in scene '{scene.name}'",
-                    name_span,
+                    inst.part("name"),
                     Note("first defined here", seen[inst.name].part("name")),
                 )
             else:
                 seen[inst.name] = inst
             if inst.name in KEYWORDS:
-                ctx.add("E018", f"'{inst.name}' is a reserved word and cannot name an instance", name_span)
+                ctx.add(
+                    "E018", f"'{inst.name}' is a reserved word and cannot name an instance", inst.part("name")
+                )
             known = True
             for cls in inst.classes:
-                known = ctx.class_ok(cls, inst.part(f"classes:{cls}")) and known
+                known = ctx.class_ok(cls, inst, f"classes:{cls}") and known
             for i, marker in enumerate(inst.markers):
                 owner = marker_owner.get(marker)
                 if owner is not None and owner[0] is not inst:
@@ -245,7 +247,7 @@ def check_scenes(ctx: Context) -> None:
                         "W004",
                         f"instance '{inst.name}' is Graspable but no grasp declaration covers "
                         f"its classes ({', '.join(inst.classes)}): the robot will not know how to grasp it",
-                        name_span,
+                        inst.part("name"),
                     )
 
 
@@ -253,7 +255,7 @@ def check_grasps(ctx: Context) -> None:
     grasps = [d for d in _decls(ctx) if isinstance(d, Grasp)]
     _duplicates(ctx, "grasp for class", ((d.cls, d) for d in grasps), key="cls")
     for grasp in grasps:
-        ctx.class_ok(grasp.cls, grasp.part("cls"))
+        ctx.class_ok(grasp.cls, grasp, "cls")
         if grasp.type not in GRASP_TYPES:
             ctx.add(
                 "E020",

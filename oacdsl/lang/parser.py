@@ -1,7 +1,8 @@
 """Parse ``.oac`` text into a :class:`~oacdsl.model.Module`.
 
 The grammar is ``grammar/oac.lark`` (installed as package data); the Lark LALR
-parser is built once per process. Comments reach us through a lexer callback
+parser is built once per process and builds the model while it parses
+(:mod:`oacdsl.lang.transform`). Comments reach us through a lexer callback
 and are attached to nodes afterwards (:mod:`oacdsl.lang.comments`). Syntax
 errors become :class:`~oacdsl.errors.LanguageError` with one diagnostic
 (:mod:`oacdsl.lang.syntax`).
@@ -13,18 +14,22 @@ import functools
 import importlib.resources
 import threading
 from pathlib import Path
+from typing import cast
 
 from lark import Lark, Token, UnexpectedInput
 
 from oacdsl.errors import InputError
 from oacdsl.lang.comments import Comment, attach_comments, comment_text
 from oacdsl.lang.diagnostics import Diagnostic, language_error
+from oacdsl.lang.fastmodel import make
+from oacdsl.lang.lexer import OacLexer
 from oacdsl.lang.transform import ModelBuilder
-from oacdsl.model import Module
+from oacdsl.model import Decl, Module
 
 __all__ = ["grammar_text", "lark_parser", "parse_file", "parse_source", "parse_text", "read_source"]
 
-_local = threading.local()
+_lock = threading.Lock()
+_comment_sink: list[Token] = []
 
 
 def grammar_text() -> str:
@@ -33,21 +38,30 @@ def grammar_text() -> str:
 
 
 def _on_comment(token: Token) -> Token:
-    sink = getattr(_local, "comments", None)
-    if sink is not None:
-        sink.append(token)
+    _comment_sink.append(token)
     return token
 
 
 @functools.lru_cache(maxsize=1)
+def _builder() -> ModelBuilder:
+    return ModelBuilder()
+
+
+@functools.lru_cache(maxsize=1)
 def lark_parser() -> Lark:
-    """The process-wide LALR parser (built on first use, ~0.1 s)."""
+    """The process-wide LALR parser, building the model as it parses (built on first use).
+
+    The lexer is :class:`~oacdsl.lang.lexer.OacLexer` (Lark's contextual
+    lexer, faster).
+    Its ``parse`` returns the list of declarations; use :func:`parse_source`,
+    which also sets the file name and collects comments and warnings.
+    """
     return Lark(
         grammar_text(),
         parser="lalr",
-        lexer="contextual",
-        propagate_positions=True,
+        lexer=OacLexer,
         maybe_placeholders=True,
+        transformer=_builder(),
         lexer_callbacks={"COMMENT": _on_comment},
     )
 
@@ -71,19 +85,20 @@ def parse_source(text: str, path: str = "<string>") -> tuple[Module, list[Diagno
     from oacdsl.lang.syntax import syntax_diagnostic
 
     parser = lark_parser()
-    tokens: list[Token] = []
-    _local.comments = tokens
-    try:
-        tree = parser.parse(text)
-    except UnexpectedInput as error:
-        raise language_error([syntax_diagnostic(error, text, path)], {path: text}) from None
-    finally:
-        _local.comments = None
-    builder = ModelBuilder(path)
-    decls = builder.transform(tree)
+    builder = _builder()
+    with _lock:
+        builder.reset(path)
+        _comment_sink.clear()
+        try:
+            decls = cast(list[Decl], parser.parse(text))
+        except UnexpectedInput as error:
+            raise language_error([syntax_diagnostic(error, text, path)], {path: text}) from None
+        tokens = list(_comment_sink)
+        warnings = builder.diagnostics
+        _comment_sink.clear()
     decls, header, trailing = attach_comments(decls, _comments(text, tokens))
-    module = Module(path=path, decls=tuple(decls), comments=header, trailing=trailing)
-    return module, builder.diagnostics
+    module = make(Module, {"path": path, "decls": tuple(decls), "comments": header, "trailing": trailing})
+    return module, warnings
 
 
 def parse_text(text: str, path: str = "<string>") -> Module:

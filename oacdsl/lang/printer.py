@@ -144,7 +144,7 @@ def _header(decl: Oac) -> list[str]:
     head = f"oac {_name(decl.name)}("
     params = [_param(p) for p in decl.params]
     one = f"{head}{', '.join(params)}) {{"
-    if len(one) <= _WIDTH and not any(p.comments or p.note for p in decl.params):
+    if len(one) <= _WIDTH and not any(p.comments or p.note is not None for p in decl.params):
         return [one]
     lines = [head]
     for param, text in zip(decl.params, params, strict=True):
@@ -185,7 +185,7 @@ def _section(keyword: str, oac: Oac, atoms: tuple[Atom, ...]) -> list[str]:
     lead = f"{_IND}{keyword:<8}"
     shown = _display(oac, atoms)
     one = lead + ", ".join(text for _, text in shown)
-    if len(one) <= _WIDTH and not any(a.comments or a.note for a in atoms):
+    if len(one) <= _WIDTH and not any(a.comments or a.note is not None for a in atoms):
         return [one]
     pad = " " * len(lead)
     lines: list[str] = []

@@ -26,8 +26,9 @@ __all__ = ["Net", "Requirements", "Step", "decide_precondition", "key", "net_eff
 class Step:
     """One matched sub-action: the OAC, its binding and the keyframes around it.
 
-    ``index`` is the sub-action's index (it runs from keyframe ``index`` to
-    ``index + 1``); the frames, when known, are recording frames.
+    ``index`` is the sub-action's index, from 0 (it runs from keyframe ``index`` to
+    ``index + 1``); the frames, when known, are recording frames. Messages and notes
+    count steps from 1: step ``index + 1`` ends at keyframe ``index + 1``.
     """
 
     oac: Oac
@@ -43,12 +44,12 @@ class Step:
         return dict(self.binding)
 
     def text(self) -> str:
-        return f"step {self.index} {call_text(self.oac.name, self.binding)}"
+        return f"step {self.index + 1} {call_text(self.oac.name, self.binding)}"
 
     def note(self, end: bool) -> str:
         frame = self.end_frame if end else self.start_frame
         where = f"keyframe {self.index + int(end)}" + (f", frame {frame}" if frame is not None else "")
-        return f"step {self.index} {self.oac.name}, {where}"
+        return f"step {self.index + 1} {self.oac.name}, {where}"
 
 def key(atom: Atom) -> tuple[str, str, bool]:
     return (atom.left, atom.right, atom.negated)
@@ -188,9 +189,10 @@ def decide_precondition(atom: Atom, step: Step, net: Net, req: Requirements) -> 
         return
     req.add(atom, step)  # stronger than needed, true at the start: sound
 
-def net_effects(net: Net, req: Requirements) -> tuple[Atom, ...]:
-    """The net update as atoms, without what the preconditions make redundant."""
-    out: list[Atom] = []
+def net_effects(net: Net, req: Requirements) -> list[tuple[Atom, Step]]:
+    """The net update as atoms, without what the preconditions make redundant, each with
+    the step that wrote it last."""
+    out: list[tuple[Atom, Step]] = []
     assumed: set[str] = set()
     for x, step in sorted(net.cleared.items()):
         pairs = net.pairs_of(x)
@@ -204,19 +206,19 @@ def net_effects(net: Net, req: Requirements) -> tuple[Atom, ...]:
         assumed.add(x)
         for y in partners:
             if relation(x, y) not in net.added:
-                out.append(Atom(left=x, right=y, negated=True, note=step.note(True)))
+                out.append((Atom(left=x, right=y, negated=True, note=step.note(True)), step))
         req.warnings.append(
             f"{step.text()} ends every relation of {x}, then {net.added[pairs[0]].text()} adds"
             f" {pairs[0][0]} <-> {pairs[0][1]}; the effects end only the relations {x} had at the start"
             f" ({', '.join(partners)}), so the new OAC assumes {x} touches nothing else at the start"
         )
     cleared = {x: s for x, s in net.cleared.items() if not req.has(x, NOTHING) and x not in assumed}
-    out += [Atom(left=x, right=NOTHING, note=s.note(True)) for x, s in cleared.items()]
+    out += [(Atom(left=x, right=NOTHING, note=s.note(True)), s) for x, s in cleared.items()]
     for (a, b), s in net.removed.items():
         if a in cleared or b in cleared or req.has(a, b, True) or req.has(a, NOTHING) or req.has(b, NOTHING):
             continue
-        out.append(Atom(left=a, right=b, negated=True, note=s.note(True)))
+        out.append((Atom(left=a, right=b, negated=True, note=s.note(True)), s))
     for (a, b), s in net.added.items():
         if not req.has(a, b):
-            out.append(Atom(left=a, right=b, note=s.note(True)))
-    return tuple(out)
+            out.append((Atom(left=a, right=b, note=s.note(True)), s))
+    return out

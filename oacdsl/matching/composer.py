@@ -32,6 +32,7 @@ keyframe (and frame) that produced it.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -71,6 +72,10 @@ class Composition:
     steps: tuple[Step, ...]
     names: dict[str, str]
     warnings: tuple[str, ...] = field(default=())
+    #: Where each precondition, effect and ended relation comes from: ``{"kind": "pre" |
+    #: "effect" | "ended", "relation": [a, b], "negated": bool, "step": index into steps,
+    #: "keyframe": index into the keyframes, "note": str}`` (instance names).
+    provenance: tuple[dict[str, Any], ...] = field(default=())
 
     def to_json(self, file: str | None) -> dict[str, Any]:
         """The ``oacc compose --json`` document."""
@@ -115,7 +120,8 @@ def compose(
         for atom in bind_atoms(step.oac.pre, mapping):
             decide_precondition(atom, step, net, req)
         net.apply(step, bind_atoms(step.oac.effect, mapping))
-    effects = net_effects(net, req)
+    written = net_effects(net, req)
+    effects = tuple(a for a, _ in written)
     added = tuple(sorted(final.relations - initial.relations))
     ended = tuple(sorted(initial.relations - final.relations))
     warnings = req.warnings
@@ -127,7 +133,31 @@ def compose(
             warnings.append("the paper's effects differ from the steps' net effects ("
                             + ", ".join(atom_text(a) for a in effects) + "): the OAC is not sound")
         effects = paper
-    return _lifted(name, steps, tuple(req.atoms.values()), effects, added, ended, classes, library, warnings)
+        written = [(a, net.added.get((a.left, a.right))) for a in paper]  # type: ignore[misc]
+    provenance = [_source("pre", a, req.by[key(a)]) for a in req.atoms.values()]
+    provenance += [_source("effect", a, s) for a, s in written]
+    provenance += [_source("ended", Atom(left=a, right=b), (net.remover((a, b)) or (None,))[0])
+                   for a, b in ended]
+    if not effects:
+        raise MatchingError(
+            "the composed OAC would have no effect: the demonstration ends as it began"
+            f" (steps: {', '.join(s.oac.name for s in steps)}); an OAC must change something"
+        )
+    comp = _lifted(name, steps, tuple(req.atoms.values()), effects, added, ended, classes, library, warnings)
+    return dataclasses.replace(comp, provenance=tuple(provenance))
+
+
+def _source(kind: str, atom: Atom, step: Step | None) -> dict[str, Any]:
+    """One provenance record (the ``compose.provenance`` entries of ``result.json``)."""
+    end = kind != "pre"
+    return {
+        "kind": kind,
+        "relation": [atom.left, atom.right],
+        "negated": atom.negated,
+        "step": step.index if step is not None else None,
+        "keyframe": (step.index + int(end)) if step is not None else None,
+        "note": step.note(end) if step is not None else "world-state change",
+    }
 
 def _lifted(
     name: str, steps: Sequence[Step], pre: tuple[Atom, ...], effect: tuple[Atom, ...],

@@ -21,8 +21,8 @@ __all__ = ["RESERVED", "lift", "most_specific", "snake"]
 
 #: Words a parameter may not be called (keywords of the language, ``nothing``).
 RESERVED = frozenset({
-    "nothing", "not", "pre", "effect", "execute", "steps", "oac", "class", "scene", "grasp",
-    "type", "approach", "offset", "import", "true", "false",
+    "class", "scene", "grasp", "oac", "markers", "environment", "type", "approach", "offset",
+    "pre", "effect", "execute", "steps", "not", "nothing",
 })
 
 

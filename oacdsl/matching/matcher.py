@@ -47,6 +47,8 @@ __all__ = ["MODES", "Matcher", "match_sub_action"]
 MODES: tuple[Mode, ...] = ("strict", "paper")
 
 Raw = tuple[CompiledOac, tuple[str, ...]]
+#: The OACs that can account for one changed relation, and their seeds (partial bindings).
+_Accounting = tuple[frozenset[int], dict[int, tuple[dict[int, str], ...]]]
 
 
 def _check_mode(mode: str) -> Mode:
@@ -102,6 +104,8 @@ class Matcher:
             for i in co.eff_none:
                 clear[co.classes[i]].append((co.index, i))
         self._pos, self._neg, self._clear = dict(pos), dict(neg), dict(clear)
+        self._views: dict[WorldState, StateView] = {}
+        self._by_relation: dict[tuple[Relation, bool], _Accounting] = {}
 
     @classmethod
     def from_library(
@@ -140,7 +144,8 @@ class Matcher:
         """Every (compiled OAC, binding) that matches, unranked; a binding lists one
         instance per variable of ``CompiledOac.names``. The fast path for bulk use."""
         mode = _check_mode(mode or self.mode)
-        views = (StateView(before), StateView(after))
+        first_view = self.view(before)
+        views = (first_view, self.view(after, first_view))
         members = self._class_members(before.instances & after.instances)
         added = after.relations - before.relations
         removed = before.relations - after.relations
@@ -158,48 +163,80 @@ class Matcher:
             return found
         if not added and not removed:
             return found
-        for k, seeds in self._strict_seeds(added, removed).items():
+        # Every strict match accounts for every change: the OACs able to account for the first
+        # one give the seeds, those able to account for each other one prune them.
+        first = min(added) if added else min(removed)
+        viable, seeds = self._accounting(first, bool(added))
+        for r in added:
+            if r != first and viable:
+                viable = viable & self._accounting(r, True)[0]
+        for r in removed:
+            if r != first and viable:
+                viable = viable & self._accounting(r, False)[0]
+        cache: dict[tuple[str, tuple[tuple[int, bool], ...]], frozenset[str]] = {}
+        n_added = len(added)
+        for k in sorted(viable):
             co = self.compiled[k]
-            if len(added) > len(co.eff_pos):
+            if n_added > len(co.eff_pos):
                 continue
-            doms = domains(co, members, views)
+            doms = domains(co, members, views, cache)
             if doms is None:
                 continue
+            candidates = seeds[k]
             out = []
-            for seed in seeds:
+            n_vars = len(co.names)
+            for seed in candidates:
                 if seed_ok(co, seed, doms, views):
-                    search(co, doms, views, seed, out)
-            for b in set(out):
-                if _explained(co, b, added, removed) == len(added) + len(removed):
+                    if len(seed) == n_vars:  # the seed binds every variable: nothing to search
+                        out.append(tuple(seed[v] for v in range(n_vars)))
+                    else:
+                        search(co, doms, views, seed, out)
+            for b in set(out) if len(candidates) > 1 else out:
+                if _accounts_all(co, b, added, removed):
                     found.append((co, b))
         return found
 
-    def _strict_seeds(
-        self, added: frozenset[Relation], removed: frozenset[Relation]
-    ) -> dict[int, list[dict[int, str]]]:
-        """Partial bindings that account for one changed relation, per OAC index.
+    def view(self, state: WorldState, near: StateView | None = None) -> StateView:
+        """The adjacency view of ``state`` (the last few are kept: a keyframe's state is the
+        state after one sub-action and before the next); built from ``near``, the view of a
+        state that differs a little, when given and the instances agree."""
+        v = self._views.get(state)
+        if v is None:
+            if len(self._views) >= 4:
+                del self._views[next(iter(self._views))]
+            if near is not None and near.state.instances == state.instances:
+                v = StateView.changed(near, state)
+            else:
+                v = StateView(state)
+            self._views[state] = v
+        return v
 
-        Every strict match accounts for *every* change, so for the first changed
-        relation in particular: the seeds cover all strict matches.
-        """
-        seeds: dict[int, list[dict[int, str]]] = defaultdict(list)
+    def _accounting(
+        self, r: Relation, started: bool
+    ) -> _Accounting:
+        """The OACs with an effect atom whose classes fit the changed relation ``r`` (that
+        started, or ended), and the partial bindings that make it account for ``r``. It
+        depends on the instances' classes only: computed once per relation and kept."""
+        key = (r, started)
+        cached = self._by_relation.get(key)
+        if cached is not None:
+            return cached
         keys = self._keys
-        if added:
-            p, q = min(added)
-            indexes = (self._pos,)
-        else:
-            p, q = min(removed)
-            indexes = (self._neg,)
-            for x in (p, q):
+        p, q = r
+        seeds: dict[int, list[dict[int, str]]] = defaultdict(list)
+        index = self._pos if started else self._neg
+        for ca in keys.get(p, ()):
+            for cb in keys.get(q, ()):
+                for k, i, j in index.get((ca, cb), ()):
+                    seeds[k].append({i: p, j: q})
+        if not started:
+            for x in r:
                 for c in keys.get(x, ()):
                     for k, i in self._clear.get(c, ()):
                         seeds[k].append({i: x})
-        for index in indexes:
-            for ca in keys.get(p, ()):
-                for cb in keys.get(q, ()):
-                    for k, i, j in index.get((ca, cb), ()):
-                        seeds[k].append({i: p, j: q})
-        return seeds
+        result = (frozenset(seeds), {k: tuple(v) for k, v in seeds.items()})
+        self._by_relation[key] = result
+        return result
 
     # ------------------------------------------------------------------ results
 
@@ -211,7 +248,7 @@ class Matcher:
         mode = _check_mode(mode or self.mode)
         added = after.relations - before.relations
         removed = before.relations - after.relations
-        view = StateView(before)
+        view = self.view(before)
         raw = self.raw_matches(before, after, mode)
         matches = sorted((self._record(co, b, added, removed, view) for co, b in raw), key=Match.rank_key)
         if matches:
@@ -243,6 +280,22 @@ class Matcher:
             specificity=co.specificity,
             idle=idle,
         )
+
+
+def _accounts_all(co: CompiledOac, b: tuple[str, ...], added: frozenset[Relation],
+                  removed: frozenset[Relation]) -> bool:
+    """True when the bound effects account for every changed relation (the strict rule)."""
+    if added:
+        pos = {(b[i], b[j]) if b[i] < b[j] else (b[j], b[i]) for i, j in co.eff_pos}
+        if not added <= pos:
+            return False
+    if removed:
+        neg = {(b[i], b[j]) if b[i] < b[j] else (b[j], b[i]) for i, j in co.eff_neg}
+        cleared = {b[i] for i in co.eff_none}
+        for r in removed:
+            if r not in neg and r[0] not in cleared and r[1] not in cleared:
+                return False
+    return True
 
 
 def _explained(co: CompiledOac, b: tuple[str, ...], added: frozenset[Relation],

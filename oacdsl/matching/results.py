@@ -87,9 +87,11 @@ class NearMiss:
 
     def text(self) -> str:
         head = call_text(self.oac.name, self.binding) if self.binding else self.oac.name
+        cut = " (closest found before the search was cut off)" if self.truncated else ""
         if not self.conditions:
-            return f"{head}: {'; '.join(self.failed)}"
-        return f"{head} fails {len(self.failed)} of {self.conditions} conditions: {'; '.join(self.failed)}"
+            return f"{head}: {'; '.join(self.failed)}{cut}"
+        failed = "; ".join(self.failed)
+        return f"{head} fails {len(self.failed)} of {self.conditions} conditions{cut}: {failed}"
 
 
 @dataclass(frozen=True)

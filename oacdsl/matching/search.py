@@ -16,6 +16,7 @@ Different variables bind to different instances (the binding is injective).
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
+from collections.abc import Set as AbstractSet
 from dataclasses import dataclass, field
 
 from oacdsl.model import Oac
@@ -41,14 +42,45 @@ class StateView:
     def __init__(self, state: WorldState) -> None:
         adj: dict[str, set[str]] = {}
         for a, b in state.relations:
-            adj.setdefault(a, set()).add(b)
-            adj.setdefault(b, set()).add(a)
+            if a in adj:
+                adj[a].add(b)
+            else:
+                adj[a] = {b}
+            if b in adj:
+                adj[b].add(a)
+            else:
+                adj[b] = {a}
         self.state = state
-        self.adj: dict[str, frozenset[str]] = {k: frozenset(v) for k, v in adj.items()}
-        self.touching: frozenset[str] = frozenset(self.adj)
+        #: instance → the instances it touches (never mutated after construction).
+        self.adj: dict[str, set[str]] = adj
+        self.touching: frozenset[str] = frozenset(adj)
         self.isolated: frozenset[str] = state.instances - self.touching
 
-    def partners(self, x: str) -> frozenset[str]:
+    @classmethod
+    def changed(cls, base: StateView, state: WorldState) -> StateView:
+        """The view of ``state`` built from the view of a state it differs from a little."""
+        view = cls.__new__(cls)
+        adj = dict(base.adj)
+        touched: dict[str, set[str]] = {}
+        for rels, adding in ((base.state.relations - state.relations, False),
+                             (state.relations - base.state.relations, True)):
+            for a, b in rels:
+                for x, y in ((a, b), (b, a)):
+                    if x not in touched:
+                        touched[x] = set(adj.get(x, ()))
+                    (touched[x].add if adding else touched[x].discard)(y)
+        for x, partners in touched.items():
+            if partners:
+                adj[x] = partners
+            else:
+                adj.pop(x, None)
+        view.state = state
+        view.adj = adj
+        view.touching = frozenset(adj)
+        view.isolated = state.instances - view.touching
+        return view
+
+    def partners(self, x: str) -> AbstractSet[str]:
         return self.adj.get(x, _EMPTY)
 
 
@@ -72,6 +104,8 @@ class CompiledOac:
     #: A positive atom ``x <-> x``: the OAC can never match.
     impossible: bool
     specificity: int
+    #: Per variable: the states in which it must touch someone (True) or no one (False).
+    unary: tuple[tuple[tuple[int, bool], ...], ...] = ()
     plans: dict[frozenset[int], tuple[Step, ...]] = field(default_factory=dict, repr=False)
 
 
@@ -127,25 +161,36 @@ def compile_oac(oac: Oac, index: int, depth: Callable[[str], int]) -> CompiledOa
         eff_none=tuple(sorted(eff_none)),
         impossible=impossible,
         specificity=sum(depth(p.cls) for p in oac.params),
+        unary=tuple(
+            tuple(sorted({(w, False) for i, w in none if i == v} | {(w, True) for i, w in some if i == v}
+                         | {(w, True) for a, b, w in pos if v in (a, b)}))
+            for v in range(len(names))
+        ),
     )
 
 
 def domains(
-    co: CompiledOac, class_instances: Mapping[str, frozenset[str]], views: tuple[StateView, StateView]
+    co: CompiledOac,
+    class_instances: Mapping[str, frozenset[str]],
+    views: tuple[StateView, StateView],
+    cache: dict[tuple[str, tuple[tuple[int, bool], ...]], frozenset[str]] | None = None,
 ) -> list[frozenset[str]] | None:
-    """Per variable: the instances it may bind to (class and unary atoms); None if one is empty."""
-    out: list[frozenset[str]] = [class_instances.get(c, _EMPTY) for c in co.classes]
-    for i, when in co.none:
-        out[i] = out[i] & views[when].isolated
-    for i, when in co.some:
-        out[i] = out[i] & views[when].touching
-    for i, j, when in co.pos:
-        touching = views[when].touching
-        out[i] = out[i] & touching
-        out[j] = out[j] & touching
-    for d in out:
+    """Per variable: the instances it may bind to (its class, minus what the unary atoms
+    exclude: touching no one / someone, being in a positive atom); None if one is empty.
+    ``cache`` shares domains between OACs for the same ``views``."""
+    out: list[frozenset[str]] = []
+    for key in zip(co.classes, co.unary, strict=True):
+        d = cache.get(key) if cache is not None else None
+        if d is None:
+            d = class_instances.get(key[0], _EMPTY)
+            for when, touching in key[1]:
+                view = views[when]
+                d = d & (view.touching if touching else view.isolated)
+            if cache is not None:
+                cache[key] = d
         if not d:
             return None
+        out.append(d)
     return out
 
 

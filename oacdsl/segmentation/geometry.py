@@ -118,11 +118,12 @@ def _centre(positions: np.ndarray) -> np.ndarray:
 
 
 def closest_distances(recording: Recording, table: PairTable | None = None,
-                      chunk_frames: int = 4096) -> tuple[PairTable, np.ndarray]:
+                      chunk_frames: int = 4096, reach_m: float | None = None) -> tuple[PairTable, np.ndarray]:
     """Per instance pair and frame, the smallest marker-pair distance, metres.
 
     Returns the pair table and a (Q, F) float32 array, NaN where no marker pair of
-    the two instances is visible. Memory O(Q × F); for plots and reports.
+    the two instances is visible, and (with ``reach_m``) in chunks where the pair
+    stays farther apart than ``reach_m``. Memory O(Q × F); for plots and reports.
     """
     table = table or PairTable.of(recording)
     geometry = ChunkGeometry(recording, table)
@@ -131,9 +132,15 @@ def closest_distances(recording: Recording, table: PairTable | None = None,
     if n_q == 0:
         return table, out
     blocks = np.arange(n_q, dtype=np.intp)
-    heads = table.block_offsets[:-1]
     for lo in range(0, recording.n_frames, chunk_frames):
         hi = min(recording.n_frames, lo + chunk_frames)
-        _, dist = geometry.distances(geometry.coordinates(lo, hi), blocks)
-        out[:, lo:hi] = np.fmin.reduceat(dist, heads, axis=0)
+        x = geometry.coordinates(lo, hi)
+        if reach_m is not None:
+            with np.errstate(invalid="ignore"):
+                blocks = np.flatnonzero(geometry.lower_bounds(x) <= reach_m + BOUND_MARGIN_M)
+        if blocks.size == 0:
+            continue
+        pairs, dist = geometry.distances(x, blocks)
+        heads = np.flatnonzero(np.r_[True, table.block[pairs[1:]] != table.block[pairs[:-1]]])
+        out[blocks, lo:hi] = np.fmin.reduceat(dist, heads, axis=0)
     return table, out

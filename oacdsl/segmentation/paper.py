@@ -58,37 +58,38 @@ class PaperDetector:
         if sel.size == 0:
             return PairChanges.none()
         dist = chunk.dist_m[sel] if sel.size < near.size else chunk.dist_m
-        close, far, base = self._frame_conditions(dist, chunk.times_s, at_recording_start=chunk.start == h)
-        # close[:, j] describes frame chunk.start - h + base + j
+        cur, change, limit, base = self._distance_changes(dist, chunk.times_s, chunk.start == h)
+        # column j of cur/change describes frame chunk.start - h + base + j
         first = h - base  # column of the first output frame
-        close_n = _windows(close, first, n_out, n)
-        far_n = _windows(far, first, n_out, n)
         s0 = state0[sel]
-        rows, cols, value = _flips(close_n, far_n, s0)
         pairs = chunk.pairs[sel]
+        with np.errstate(invalid="ignore"):
+            close_n = _windows((cur < self.d) & (change < limit), first, n_out, n)
+            # a pair that does not touch and never completes a close run cannot flip
+            busy = s0 | close_n.any(axis=1)
+            if not busy.all():
+                cur, change, close_n = cur[busy], change[busy], close_n[busy]
+                s0, pairs = s0[busy], pairs[busy]
+            far_n = _windows((cur > self.d) | (change > limit), first, n_out, n)
+        rows, cols, value = _flips(close_n, far_n, s0)
         if rows.size:
             last = np.flatnonzero(np.r_[rows[1:] != rows[:-1], True])
             self._state[pairs[rows[last]]] = value[last]
         return PairChanges(pairs[rows], cols + chunk.start, value)
 
-    def _frame_conditions(self, dist: np.ndarray, times: np.ndarray,
-                          *, at_recording_start: bool) -> tuple[np.ndarray, np.ndarray, int]:
-        """close/far per pair and frame; ``base`` = column of the first frame described (0 or 1)."""
-        cur = dist[:, 1:]
-        change = np.abs(cur - dist[:, :-1])
+    def _distance_changes(self, dist: np.ndarray, times: np.ndarray,
+                          at_recording_start: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+        """``(dist, |Δdist|, v·Δt, base)`` per described frame; ``base`` = column of the first (0 or 1).
+
+        Frame 0 has no predecessor and takes the change of frame 1 (NaN in a one-frame recording).
+        """
+        change = np.abs(dist[:, 1:] - dist[:, :-1])
         limit = (self.v * np.diff(times)).astype(np.float32)
-        with np.errstate(invalid="ignore"):
-            close = (cur < self.d) & (change < limit)
-            far = (cur > self.d) | (change > limit)
-            if not at_recording_start:
-                return close, far, 1
-            if dist.shape[1] < 2:  # one frame: no distance change known
-                empty = np.zeros((dist.shape[0], 1), dtype=bool)
-                return empty, empty.copy(), 0
-            # frame 0 takes the distance change of frame 1
-            close0 = (dist[:, :1] < self.d) & (change[:, :1] < limit[0])
-            far0 = (dist[:, :1] > self.d) | (change[:, :1] > limit[0])
-        return np.concatenate([close0, close], axis=1), np.concatenate([far0, far], axis=1), 0
+        if not at_recording_start:
+            return dist[:, 1:], change, limit, 1
+        if dist.shape[1] < 2:
+            return dist, np.full(dist.shape, np.nan, dtype=np.float32), np.zeros(1, dtype=np.float32), 0
+        return dist, np.concatenate([change[:, :1], change], axis=1), np.r_[limit[:1], limit], 0
 
 
 def _windows(cond: np.ndarray, first: int, n_out: int, n: int) -> np.ndarray:

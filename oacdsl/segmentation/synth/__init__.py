@@ -23,7 +23,7 @@ from oacdsl.segmentation.synth.realism import Gap, NoiseModel, add_noise, apply_
 from oacdsl.segmentation.synth.reference import PaperRule, world_states
 from oacdsl.segmentation.synth.truth import pass_by_facts, time_script, truth_document
 
-__all__ = ["DEFAULT_SEED", "SCENES", "Demonstration", "PaperRule", "dough_demonstration"]
+__all__ = ["DEFAULT_SEED", "SCENES", "Demonstration", "PaperRule", "default_rule", "dough_demonstration"]
 
 #: The seed of the bundled demonstration ``data/dough.c3d``.
 DEFAULT_SEED = 2013
@@ -38,6 +38,14 @@ _SCRIPTED_GAPS: tuple[tuple[str, str, str, float, float, str], ...] = (
     ("orange_bowl", "OB2", "mix", 1.0, 0.3, "front rim marker hidden by the mixer while mixing"),
     ("mixer", "MX2", "mix", 2.0, 0.15, "mixer marker hidden by the hand while mixing"),
 )
+
+
+def default_rule(rate_hz: float = 100.0) -> PaperRule:
+    """The project's AAS defaults (:class:`~oacdsl.segmentation.params.AasParams`) at ``rate_hz``."""
+    from oacdsl.segmentation.params import AasParams
+
+    p = AasParams().resolved(rate_hz)
+    return PaperRule(p.distance_m, p.speed_m_s, p.n, p.merge_s)
 
 
 @dataclass(frozen=True)
@@ -67,12 +75,13 @@ def dough_demonstration(seed: int = DEFAULT_SEED, rate_hz: float = 100.0, rule: 
                         noise: NoiseModel | None = None, source: str = "synth:dough") -> Demonstration:
     """The paper's dough demonstration for ``seed``.
 
-    ``rule`` (default: the paper's parameters, d = 0.15 m, v = 0.05 m/s, n = 3, merge 0.3 s)
-    times the ground-truth keyframes on the noise-free scene. Raises
+    ``rule`` (default: :func:`default_rule`, the project's AAS defaults: d = 150 mm,
+    v = 100 mm/s, n = 0.1 s, merge 0.3 s) times the ground-truth keyframes on the
+    noise-free scene. Raises
     :class:`~oacdsl.errors.SegmentationError` if the scene does not produce the
     scripted keyframes under ``rule``.
     """
-    rule = rule or PaperRule()
+    rule = rule or default_rule(rate_hz)
     noise = noise or NoiseModel()
     rng = np.random.default_rng(seed)
     script = dough_script(rng, rate_hz)

@@ -64,7 +64,7 @@ _DROP_M = 0.005       # the red cup is let go this high above the table, metres
 _RESTITUTION = 0.3
 _UP_M = np.array([0.0, 0.0, 0.12])  # carried objects arc this much above the straight line
 #: Control points (from the mixer's handle, m) of the reach to the mixer: low over the green cup
-#: (the pass-by), then above the mixer so that the hand comes down onto the handle.
+#: (the pass-by), then to the right of the handle, so that the hand arrives from the side.
 _MIXER_VIA_M = np.array([[0.20, -0.40, 0.10], [0.30, 0.0, 0.05]])
 _LOWER_S = 0.8        # lowering the beaters into the bowl, seconds
 _INTO_BOWL_TAU = 0.75  # the beaters reach the bottom still moving briskly
@@ -154,7 +154,7 @@ def dough_script(rng: np.random.Generator, rate_hz: float = 100.0) -> Script:
         hd.hold(t_closed)
         cup.hold(t_closed)
         liq.follow(cup, t_closed)
-        # lift and carry to beside the bowl (upright, lip 10 cm outside the pouring point, high)
+        # lift and carry in an arc to beside the bowl: upright, lip 27 cm above the table, 14 cm off the axis
         t_carry = t_closed + dur(1.3)
         pre_lip = _BOWL_AT_M + np.array([side * 0.14, -0.01, 0.27])
         lip0 = home + home_rot @ CUP_LIP_M

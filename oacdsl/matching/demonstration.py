@@ -1,0 +1,143 @@
+"""Match every sub-action of a segmented demonstration and compose them into one OAC.
+
+The glue between segmentation (keyframes with world states), the matcher and
+the composer, used by ``oacc match`` and ``oacc compose``. It also picks the
+scene of a demonstration: the library's scene whose tracked instances are the
+recording's marker groups.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from oacdsl.errors import MatchingError, did_you_mean
+from oacdsl.library import Library
+from oacdsl.matching.composer import Composition, Step, compose
+from oacdsl.matching.drafts import propose_draft
+from oacdsl.matching.matcher import Matcher
+from oacdsl.matching.results import MatchResult, Mode
+from oacdsl.model import Oac, Scene
+from oacdsl.segmentation.result import Segmentation, SubAction
+from oacdsl.world import Relation
+
+__all__ = ["Demonstration", "SubActionMatch", "compose_demonstration", "find_scene", "match_segmentation"]
+
+
+def _pairs(relations: Iterable[Relation]) -> list[list[str]]:
+    return [list(r) for r in sorted(relations)]
+
+
+@dataclass(frozen=True)
+class SubActionMatch:
+    """One sub-action of a segmentation with its match result."""
+
+    sub_action: SubAction
+    result: MatchResult
+
+    @property
+    def index(self) -> int:
+        return self.sub_action.index
+
+    @property
+    def explanation(self) -> str | None:
+        """Why nothing matched, or why the chosen match won over the others (None: one match)."""
+        return self.result.explanation if not self.result.matches else self.result.reason
+
+    def to_json(self) -> dict[str, Any]:
+        """One entry of ``oacc match --json``'s ``sub_actions``."""
+        r = self.result
+        return {
+            "from_frame": int(self.sub_action.start.frame),
+            "to_frame": int(self.sub_action.end.frame),
+            "before": _pairs(r.before.relations),
+            "after": _pairs(r.after.relations),
+            "matches": [{"oac": m.oac.name, "binding": m.mapping} for m in r.matches],
+            "chosen": 0 if r.matches else None,
+            "explanation": self.explanation,
+        }
+
+
+def find_scene(library: Library, instances: Sequence[str], name: str | None = None) -> Scene:
+    """The scene called ``name``, or the one whose tracked instances are exactly ``instances``."""
+    if name is not None:
+        if name not in library.scenes:
+            raise MatchingError(f"no scene {name!r} in the library{did_you_mean(name, library.scenes)}")
+        return library.scenes[name]
+    wanted = set(instances)
+    fits = [s for s in library.scenes.values() if {i.name for i in s.tracked()} == wanted]
+    if len(fits) == 1:
+        return fits[0]
+    if len(fits) > 1:
+        names = ", ".join(sorted(s.name for s in fits))
+        raise MatchingError(f"several scenes have the recording's instances ({names});"
+                            " choose one with --scene")
+    known = ", ".join(sorted(library.scenes)) or "none"
+    raise MatchingError(
+        f"no scene of the library has exactly the recording's instances ({', '.join(sorted(wanted))});"
+        f" scenes: {known}; give one with --scene NAME or --scene FILE"
+    )
+
+
+def match_segmentation(
+    segmentation: Segmentation, matcher: Matcher, mode: Mode | None = None
+) -> list[SubActionMatch]:
+    """Match every sub-action of ``segmentation``, in time order."""
+    return [SubActionMatch(sa, matcher.match(sa.before, sa.after, mode=mode))
+            for sa in segmentation.sub_actions()]
+
+
+@dataclass(frozen=True)
+class Demonstration:
+    """A composition and the drafts proposed on the way (``propose=True``)."""
+
+    composition: Composition
+    #: (sub-action index, draft OAC) for every sub-action that matched no OAC.
+    drafts: tuple[tuple[int, Oac], ...] = ()
+
+
+def compose_demonstration(
+    name: str,
+    matches: Sequence[SubActionMatch],
+    library: Library,
+    scene: Scene,
+    *,
+    propose: bool = False,
+    paper_effects: bool = False,
+) -> Demonstration:
+    """Compose the chosen matches into a new OAC called ``name``.
+
+    A sub-action without a match stops the composition with its explanation,
+    unless ``propose``: then a draft OAC (:func:`~oacdsl.matching.drafts.propose_draft`)
+    stands for it and the composition goes on.
+    """
+    classes = library.instance_classes(scene)
+    steps: list[Step] = []
+    drafts: list[tuple[int, Oac]] = []
+    taken = set(library.oacs) | {name}
+    for m in matches:
+        sa, chosen = m.sub_action, m.result.chosen
+        if chosen is not None:
+            oac, binding = chosen.oac, chosen.binding
+        elif not propose:
+            raise MatchingError(
+                f"sub-action {sa.index + 1} (frames {sa.start.frame}–{sa.end.frame}) matches no OAC: "
+                f"{m.result.explanation}; write an OAC for it, or pass --propose for a draft"
+            )
+        else:
+            draft_name = f"{name}_step{sa.index + 1}"
+            while draft_name in taken:
+                draft_name += "_"
+            taken.add(draft_name)
+            note = (f"DRAFT proposed by oacc compose for {name}: sub-action {sa.index + 1},"
+                    f" frames {sa.start.frame}–{sa.end.frame}, matched no OAC.",
+                    "Review pre and effect, replace 'execute TODO' by a skill (oacc skills),",
+                    "then move this file out of drafts/.")
+            oac, mapping = propose_draft(draft_name, sa.before, sa.after, classes, library.ancestors,
+                                         comments=note)
+            binding = tuple((p.name, mapping[p.name]) for p in oac.params)
+            drafts.append((sa.index, oac))
+        steps.append(Step(oac, binding, sa.before, sa.after, sa.index, sa.start.frame, sa.end.frame))
+    composition = compose(name, steps, library, scene, paper_effects=paper_effects)
+    return Demonstration(composition, tuple(drafts))

@@ -1,0 +1,55 @@
+"""The golden test: the bundled dough demonstration composes into exactly the paper's new OAC."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+
+from oacdsl.cli import main
+from oacdsl.lang import compile_paths, load_library
+
+ROOT = Path(__file__).resolve().parents[1]
+DOUGH = ROOT / "data" / "dough.c3d"
+
+
+@pytest.fixture
+def lib_dir(tmp_path: Path) -> Path:
+    shutil.copytree(ROOT / "library", tmp_path / "library")
+    return tmp_path / "library"
+
+
+def test_compose_dough_gives_the_papers_oac(capsys, lib_dir):
+    code = main(["compose", str(DOUGH), "--library", str(lib_dir), "--name", "dough", "--json"])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    doc = json.loads(out)
+    # Wächter et al. 2013, IV-B: the new OAC's preconditions and effects
+    assert doc["pre"] == [["green_cup", "liquid_two"], ["left_hand", "nothing"],
+                          ["liquid_one", "red_cup"], ["right_hand", "nothing"]]
+    assert doc["effect"] == [["liquid_one", "orange_bowl"], ["liquid_two", "orange_bowl"],
+                             ["mixer", "orange_bowl"], ["mixer", "right_hand"]]
+    assert doc["ended"] == [["green_cup", "liquid_two"], ["liquid_one", "red_cup"]]
+    truth = json.loads((ROOT / "data" / "dough.truth.json").read_text())
+    assert [s["oac"] for s in doc["steps"]] == [s["oac"] for s in truth["sub_actions"]]
+    assert [s["binding"] for s in doc["steps"]] == [s["binding"] for s in truth["sub_actions"]]
+    assert {s["oac"] for s in doc["steps"]} == {"grasp", "pour", "place", "mix"}
+    # written into the library, compiling cleanly with it
+    assert doc["file"] == str(lib_dir / "learned" / "dough.oac")
+    assert compile_paths([lib_dir]).diagnostics == []
+    learned = load_library([lib_dir]).oacs["dough"]
+    assert [c.oac for c in learned.steps] == [s["oac"] for s in doc["steps"]]
+    assert {p.default for p in learned.params} == set(truth["instances"])
+
+
+def test_match_dough_one_oac_per_sub_action(capsys, lib_dir):
+    code = main(["match", str(DOUGH), "--library", str(lib_dir), "--json"])
+    doc = json.loads(capsys.readouterr().out)
+    assert code == 0
+    truth = json.loads((ROOT / "data" / "dough.truth.json").read_text())
+    got = [(s["from_frame"], s["to_frame"], s["matches"][s["chosen"]]) for s in doc["sub_actions"]]
+    assert got == [(t["from_frame"], t["to_frame"], {"oac": t["oac"], "binding": t["binding"]})
+                   for t in truth["sub_actions"]]
+    assert all(len(s["matches"]) == 1 for s in doc["sub_actions"])
