@@ -68,7 +68,9 @@ class Renderer:
 
         self._mujoco = mujoco
         try:
-            self.renderer = mujoco.Renderer(model, size[1], size[0])
+            with warnings.catch_warnings():  # GLFW warns before failing; the failure is reported below
+                warnings.simplefilter("ignore")
+                self.renderer = mujoco.Renderer(model, size[1], size[0])
         except Exception as error:  # GL context creation fails in many ways (no display, no EGL …)
             backend = os.environ.get("MUJOCO_GL", "unset")
             raise RenderUnavailable(
