@@ -45,11 +45,9 @@ def wipe(ctx: SkillContext, hand: str, tool: str, surface: str) -> None:
     ctl.move(side, press, 0.3)
     ctl.activity = f"wiping {surface} with {tool}"
     sideways = t_surface[:3, 1] * STROKE_M
-    for k in range(STROKES):
-        for sign in (1.0, -1.0):
-            goal = press.copy()
-            goal[:3, 3] += sign * sideways
-            ctl.move(side, goal, 0.7)
-        del k
+    for sign in (1.0, -1.0) * STROKES:
+        goal = press.copy()
+        goal[:3, 3] += sign * sideways
+        ctl.move(side, goal, 0.7)
     ctl.move(side, press, 0.4)
     ctl.wait(0.3)
