@@ -10,11 +10,9 @@ from oacdsl.model import Instance
 
 ROOT = Path(__file__).resolve().parents[1]
 TASKS = ROOT / "tests" / "data" / "runtime_tasks.oac"
-
-
-#: The hand-written standard library: ``library/*.oac`` without ``learned/`` and ``drafts/``,
-#: which the main job writes to (a learned ``dough`` would clash with the test tasks' one).
-STANDARD = sorted((ROOT / "library").glob("*.oac"))
+#: The hand-written standard library: the top-level files of ``library/`` (``learned/`` holds
+#: what ``oacc reproduce``/``oacc compose`` wrote, e.g. a composed ``dough`` like the one in TASKS).
+STANDARD = tuple(sorted((ROOT / "library").glob("*.oac")))
 
 
 @lru_cache(maxsize=1)

@@ -250,3 +250,41 @@ def test_readme_main_command_runs_reproduce(capsys: pytest.CaptureFixture[str]) 
     with pytest.raises(SystemExit) as exit_:
         main(["reproduce", "--help"])
     assert exit_.value.code == 0 and "bundled dough demonstration" in capsys.readouterr().out
+
+
+def test_a_closed_loop_that_differs_fails_the_run(short_demo: Path, library: Path, tmp_path: Path,
+                                                   monkeypatch: pytest.MonkeyPatch,
+                                                   capsys: pytest.CaptureFixture[str]) -> None:
+    """The orchestration alone (no simulation): the robot 'forgot' the last change."""
+    from types import SimpleNamespace
+
+    from oacdsl.pipeline import robot
+    from oacdsl.verify import verify
+
+    def fake_execute(library_, oac, scene, seed, frames_dir, *, note=None):  # noqa: ANN001, ANN202
+        steps = [{"oac": c.oac, "binding": dict(zip([p.name for p in library_.oacs[c.oac].params], c.args,
+                                                    strict=True)),
+                  "success": True, "duration_s": 4.5, "predicted": [], "observed": [], "error": None}
+                 for c in oac.steps]
+        doc = {"oac": oac.name, "success": True, "steps": steps, "metrics": {"sim_time_s": 13.5}}
+        return robot.ExecuteStage(SimpleNamespace(success=True), None, doc)  # type: ignore[arg-type]
+
+    def fake_verify(demonstration, params, markers, library_, scene):  # noqa: ANN001, ANN202
+        states = [k.state for k in demonstration.keyframes]
+        v = verify(states, states[:-1])
+        rec = read_recording(short_demo)
+        return robot.VerifyStage(rec, demonstration, v, v.to_json())
+
+    monkeypatch.setattr(robot, "execute_stage", fake_execute)
+    monkeypatch.setattr(robot, "verify_stage", fake_verify)
+    out, db = tmp_path / "out", tmp_path / "runs.sqlite3"
+    assert run(short_demo, "--library", library, "--out", out, "--db", db, "--quiet", "--no-render") == 1
+    printed = capsys.readouterr().out
+    assert printed.startswith("FAILED: The robot executed first_pour, but the closed loop differs")
+    doc = json.loads((out / "result.json").read_text())
+    assert (doc["verdict"]["success"], doc["verdict"]["failed_stage"]) == (False, "verify")
+    assert doc["verification"]["verified"] is False and doc["verification"]["counts"]["missing"] == 1
+    assert {s["name"]: s["status"] for s in doc["stages"]}["record"] == "ok"
+    with sqlite3.connect(db) as conn:  # the execution is recorded, with the closed loop's figures
+        assert conn.execute("SELECT success, edit_distance FROM runs").fetchall() == [(1, 1)]
+    assert "Not reproduced" in (out / "report.html").read_text()

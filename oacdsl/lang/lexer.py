@@ -65,6 +65,8 @@ class OacLexer(Lexer):
 
     def lex(self, lexer_state: LexerState, parser_state: Any) -> Iterator[Token]:
         text = lexer_state.text
+        if not isinstance(text, str):  # lark >= 1.3 hands the lexer a TextSlice, a view of the input
+            text = text.text[text.start : text.end]
         states = parser_state.parse_conf.states
         keywords, punctuation, on_comment = self.keywords, self.punctuation, self.on_comment
         match = _MASTER.match

@@ -3,7 +3,9 @@
 - ``aas.png``: the demonstration's distances over time with thresholds and keyframes
   (the paper's Fig. 3), drawn by :func:`oacdsl.segmentation.plots.plot_distances`;
 - ``keyframe_NN.png``: the demonstration's markers at every keyframe, seen from above;
-- ``robot_aas.png``: the same plot for the robot's virtual markers (verification).
+- ``robot_aas.png``: the same plot for the robot's virtual markers (verification), drawn
+  from every k-th frame (at most :data:`PLOT_FRAMES`): hundreds of markers make the
+  closest-distance curves costly, and the keyframes come from the full-rate segmentation.
 
 The rendered frames of the robot (``robot_NN.png``) are written by the execute stage.
 The world-state graphs are drawn by the report page from ``result.json`` itself.
@@ -24,6 +26,8 @@ __all__ = ["FIGURES", "distance_plot", "keyframe_snapshots"]
 FIGURES = "figures"
 #: Resolution of the distance plots, dots per inch (11 × 6.5 in).
 PLOT_DPI = 100
+#: The robot's distance plot is drawn from at most this many frames of its recording.
+PLOT_FRAMES = 1000
 
 
 def distance_plot(recording: Recording, segmentation: Segmentation, folder: Path, name: str) -> str:
@@ -47,6 +51,18 @@ def distance_plot(recording: Recording, segmentation: Segmentation, folder: Path
     fig.savefig(buf, format="png", dpi=PLOT_DPI)
     save_png(buf.getvalue(), folder / name)
     return f"{FIGURES}/{name}"
+
+
+def decimated(recording: Recording, max_frames: int = PLOT_FRAMES) -> Recording:
+    """Every k-th frame of ``recording`` so that at most ``max_frames`` remain (for plots only:
+    the closest-distance curves of a recording with hundreds of markers cost seconds)."""
+    from dataclasses import replace
+
+    step = max(1, -(-recording.n_frames // max_frames))
+    if step == 1:
+        return recording
+    return replace(recording, rate_hz=recording.rate_hz / step, times_s=recording.times_s[::step],
+                   positions_m=recording.positions_m[::step])
 
 
 def keyframe_snapshots(recording: Recording, segmentation: Segmentation, folder: Path) -> list[str]:

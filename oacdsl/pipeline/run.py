@@ -20,7 +20,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
 
-from oacdsl.errors import OacError
+from oacdsl.errors import InputError, OacError
 from oacdsl.pipeline.inputs import Inputs
 from oacdsl.progress import Progress
 
@@ -97,8 +97,12 @@ def reproduce(
         if warn is not None:
             warn(text)
 
-    out.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=".reproduce-", dir=out))
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=".reproduce-", dir=out))
+    except OSError as error:
+        why = error.strerror or str(error)
+        raise InputError(f"cannot write the report here: {why}", location=str(out)) from None
     try:
         figures = staging / "figures"
         figures.mkdir()
@@ -136,7 +140,11 @@ def reproduce(
             report = write_report(result, staging, source="result")
             for w in report.warnings:
                 note_warning(w)
-            files = publish(staging, out)
+            try:
+                files = publish(staging, out)
+            except OSError as error:
+                raise InputError(f"cannot move the report into place: {error.strerror or error}",
+                                 location=str(out)) from None
         code = 0 if result["verdict"]["success"] else max(failure[1].exit_code if failure else 1, 1)
         return Outcome(code, result, files, warnings)
     finally:
@@ -213,7 +221,9 @@ def _stages(
         done = robot.verify_stage(
             seg.segmentation, inputs.params, executed.markers, inputs.library, inputs.scene
         )
-        done.doc["plot"] = figures.distance_plot(done.recording, done.segmentation, figs, "robot_aas.png")
+        done.doc["plot"] = figures.distance_plot(
+            figures.decimated(done.recording), done.segmentation, figs, "robot_aas.png"
+        )
         return done
 
     try:
