@@ -8,9 +8,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from lark import Lark, Token, UnexpectedInput
 
+from oacdsl.lang.fastmodel import make
 from oacdsl.lang.lexer import PATTERNS, OacLexer
 from oacdsl.lang.parser import grammar_text
-from oacdsl.lang.transform import make
 from oacdsl.model import Atom, Instance, Oac, Param, Span
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -47,6 +47,7 @@ def test_lexer_patterns_are_the_grammars():
 
 @pytest.mark.parametrize("index", range(len(TEXTS)))
 def test_fast_lexer_gives_the_same_parse_as_larks_contextual_lexer(index):
+    assert isinstance(_outcome(FAST, TEXTS[index]), list)
     assert _outcome(FAST, TEXTS[index]) == _outcome(CONTEXTUAL, TEXTS[index])
 
 
@@ -89,7 +90,26 @@ def test_fast_lexer_agrees_on_edited_text(text, data):
         start = data.draw(st.integers(0, len(text)))
         end = data.draw(st.integers(start, min(len(text), start + 8)))
         text = text[:start] + data.draw(st.sampled_from(EDITS)) + text[end:]
-    assert _outcome(FAST, text) == _outcome(CONTEXTUAL, text)
+    fast, contextual = _outcome(FAST, text), _outcome(CONTEXTUAL, text)
+    if isinstance(fast, list):
+        assert fast == contextual
+    elif isinstance(contextual, list):
+        # Lark's contextual lexer split a word into a keyword and a name ('approachnotside'
+        # read as 'approach notside'); the fast lexer rejects the glued word.
+        assert _glued(contextual, text)
+    else:
+        # both reject the text; Lark's lexer may split 'classh' into 'class' 'h' and err later
+        assert fast[1:] <= contextual[1:]
+
+
+def _glued(tokens, text):
+    """True when a token starts right after a letter, digit or '_' (a word was split)."""
+    lines = text.split("\n")
+    return any(
+        col > 1 and (lines[line - 1][col - 2].isalnum() or lines[line - 1][col - 2] == "_")
+        for _, value, line, col, _, _ in tokens
+        if value[:1].isidentifier()
+    )
 
 
 def test_make_equals_validated_construction():
@@ -120,3 +140,19 @@ def test_parts_locate_names():
     assert str(oac.params[0].part("default")) == "p.oac:1:17"
     assert str(oac.part("effect")) == "p.oac:2:3" and oac.part("missing") == oac.span
     assert re.fullmatch(r"p\.oac:3:11", str(oac.part("skill")))
+
+
+def test_compiling_restores_the_garbage_collector_state():
+    import gc
+
+    from oacdsl.lang import compile_sources
+
+    assert gc.isenabled()
+    compile_sources({"a.oac": "class A"})
+    assert gc.isenabled()
+    gc.disable()
+    try:
+        compile_sources({"a.oac": "class A : B"})
+        assert not gc.isenabled()
+    finally:
+        gc.enable()

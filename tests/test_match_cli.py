@@ -26,7 +26,9 @@ PAPER_EFFECT = [["liquid_one", "orange_bowl"], ["liquid_two", "orange_bowl"], ["
 
 @pytest.fixture
 def lib_dir(tmp_path: Path) -> Path:
-    shutil.copytree(ROOT / "library", tmp_path / "library")
+    # learned/ and drafts/ hold what earlier runs wrote (oacc reproduce, oacc compose): not the test's
+    skip = shutil.ignore_patterns("learned", "drafts")
+    shutil.copytree(ROOT / "library", tmp_path / "library", ignore=skip)
     return tmp_path / "library"
 
 

@@ -8,7 +8,7 @@ import pytest
 pytest.importorskip("mujoco", reason="the robot runtime needs the 'robot' extra (mujoco)")
 pytest.importorskip("placo", reason="the robot runtime needs the 'robot' extra (placo)")
 
-from runtime_lib import KITCHEN, inst, task_library  # noqa: E402
+from runtime_lib import inst, task_library  # noqa: E402
 
 from oacdsl.errors import RuntimeFailure  # noqa: E402
 from oacdsl.model import Scene  # noqa: E402
@@ -18,6 +18,8 @@ from oacdsl.runtime.objects import SHAPES  # noqa: E402
 from oacdsl.runtime.simworld import SimWorld  # noqa: E402
 from oacdsl.runtime.skills import IMPLEMENTATIONS  # noqa: E402
 from oacdsl.skills import SKILLS  # noqa: E402
+
+KITCHEN = task_library().scenes["kitchen"]
 
 
 def test_every_skill_name_has_an_implementation():

@@ -12,6 +12,7 @@ from runtime_lib import task_library  # noqa: E402
 
 from oacdsl.runtime.control import FORCE_LIMIT_N  # noqa: E402
 from oacdsl.runtime.executor import execute, prepare, run_prepared  # noqa: E402
+from oacdsl.runtime.layout import BALLS_PER_LIQUID  # noqa: E402
 from oacdsl.runtime.objects import SHAPES  # noqa: E402
 from oacdsl.runtime.skills.place import CONTACT_FORCE_N  # noqa: E402
 
@@ -63,8 +64,10 @@ def test_pour_gets_at_least_90_percent_of_the_balls_into_the_bowl():
     pour = result.steps[1]
     assert ["liquid_two", "orange_bowl"] in pour.observed
     assert ["green_cup", "liquid_two"] not in pour.observed
-    assert run.world.balls_inside("orange_bowl", "liquid_two") >= 0.9 * 12
-    assert result.metrics["balls_in_bowl"] >= 11 and result.metrics["balls_total"] == 12
+    total = len(run.world.built.balls["liquid_two"])
+    assert total == BALLS_PER_LIQUID and result.metrics["balls_total"] == total
+    assert run.world.balls_inside("orange_bowl", "liquid_two") >= 0.9 * total
+    assert result.metrics["balls_in_bowl"] >= 0.9 * total
 
 
 def test_mix_ends_with_the_mixer_in_the_bowl():

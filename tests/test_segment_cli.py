@@ -155,3 +155,16 @@ def test_real_c3d_box_grasp_and_release(capsys):
     assert len(frames) == 3 and 105 <= frames[1] <= 120 and 400 <= frames[2] <= 415
     assert doc["keyframes"][1]["relations"] == [["Daphnee", "boite"]]
     assert doc["keyframes"][2]["relations"] == []
+
+
+@pytest.mark.mocap
+def test_real_kit_pour_with_the_kit_preset(capsys):
+    # a development clip; README: the left hand holds cup_small, the right hand milk_small
+    pour = mocap_file("kit_bimanual/Pour_files_motions_2967_Pour1_cs_ms_0_20l_04.mmm.xml")
+    code, out, _ = run(capsys, pour, "--preset", "kit", "--distance", "100mm", "--json")
+    doc = json.loads(out)
+    assert code == 0 and doc["rate_hz"] == 10.0 and doc["parameters"]["frames"] == 2
+    assert doc["instances"] == ["cup_small", "left_hand", "milk_small", "right_hand"]
+    seen = {tuple(r) for k in doc["keyframes"] for r in k["relations"]}
+    assert {("cup_small", "left_hand"), ("milk_small", "right_hand")} <= seen
+    assert doc["keyframes"][0]["relations"] == [] and doc["keyframes"][-1]["relations"] == []

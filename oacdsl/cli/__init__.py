@@ -18,6 +18,7 @@ from oacdsl.errors import OacError
 
 #: Subcommand modules, in the order ``oacc --help`` lists them.
 COMMANDS: list[str] = [
+    "oacdsl.cli.reproduce_cmd",
     "oacdsl.cli.compile_cmd",
     "oacdsl.cli.fmt_cmd",
     "oacdsl.cli.inspect_cmd",

@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import argparse
 import difflib
-import os
 import sys
-import tempfile
 from pathlib import Path
 
+from oacdsl.atomic import write_atomic
 from oacdsl.errors import InputError
 
 _HELP = """\
@@ -31,21 +30,6 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p.add_argument("--check", action="store_true", help="write nothing; exit 1 if a file would change")
     p.add_argument("--diff", action="store_true", help="with --check: show what would change as a diff")
     p.set_defaults(func=run)
-
-
-def write_atomically(path: Path, text: str) -> None:
-    """Write ``text`` to a temporary file next to ``path``, then rename it over ``path``."""
-    mode = path.stat().st_mode & 0o7777 if path.exists() else None
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as f:
-            f.write(text)
-        if mode is not None:
-            os.chmod(tmp, mode)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def run(args: argparse.Namespace) -> int:
@@ -90,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
                 print(path)
         else:
             try:
-                write_atomically(path, text)
+                write_atomic(path, text)
             except OSError as error:
                 raise InputError(f"cannot write: {error.strerror or error}", location=str(path)) from None
             print(f"formatted {path}")

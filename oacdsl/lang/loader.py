@@ -7,7 +7,9 @@ and OACs of any other. There is no ``import``.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import contextlib
+import gc
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -53,7 +55,10 @@ def collect_files(paths: Sequence[str | Path]) -> list[Path]:
     for raw in paths:
         path = Path(raw)
         if path.is_dir():
-            found = sorted(p for p in path.rglob("*.oac") if p.is_file())
+            try:
+                found = sorted(p for p in path.rglob("*.oac") if p.is_file())
+            except OSError as error:
+                raise InputError(f"cannot list: {error.strerror or error}", location=str(path)) from None
             if not found:
                 raise InputError("folder contains no .oac files", location=str(path))
             files += found
@@ -78,19 +83,39 @@ def compile_sources(sources: dict[str, str]) -> CompileResult:
     """
     result = CompileResult(sources=dict(sources))
     syntax_failed = False
-    for path, text in sources.items():
-        try:
-            module, warnings = parse_source(text, path)
-        except LanguageError as error:
-            result.diagnostics += list(error.diagnostics)
-            syntax_failed = True
-            continue
-        result.modules.append(module)
-        result.diagnostics += warnings
-    if not syntax_failed:
-        result.diagnostics += check_modules(result.modules)
+    with gc_paused():
+        for path, text in sources.items():
+            try:
+                module, warnings = parse_source(text, path)
+            except LanguageError as error:
+                result.diagnostics += list(error.diagnostics)
+                syntax_failed = True
+                continue
+            result.modules.append(module)
+            result.diagnostics += warnings
+        if not syntax_failed:
+            result.diagnostics += check_modules(result.modules)
     result.diagnostics = sort_diagnostics(result.diagnostics)
     return result
+
+
+@contextlib.contextmanager
+def gc_paused() -> Iterator[None]:
+    """Pause Python's cyclic garbage collector for the block, then restore its previous state.
+
+    Parsing allocates many small objects that all stay alive (the model) and
+    make no reference cycles; the collector's repeated scans of them cost about
+    a third of the time on a large library and grow with its size. Reference
+    counting still frees everything as usual; a collection runs at the next
+    allocation threshold after the block.
+    """
+    was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was_enabled:
+            gc.enable()
 
 
 def compile_paths(paths: Sequence[str | Path]) -> CompileResult:

@@ -21,8 +21,9 @@ from lark import Lark, Token, UnexpectedInput
 from oacdsl.errors import InputError
 from oacdsl.lang.comments import Comment, attach_comments, comment_text
 from oacdsl.lang.diagnostics import Diagnostic, language_error
+from oacdsl.lang.fastmodel import make
 from oacdsl.lang.lexer import OacLexer
-from oacdsl.lang.transform import ModelBuilder, make
+from oacdsl.lang.transform import ModelBuilder
 from oacdsl.model import Decl, Module
 
 __all__ = ["grammar_text", "lark_parser", "parse_file", "parse_source", "parse_text", "read_source"]

@@ -7,69 +7,29 @@ The parser applies it inline (no parse tree is built), so spans come from the
 tokens: the grammar keeps the tokens that start and end declarations
 (``CLASS``, ``RBRACE``, …).
 
-Nodes are built with :func:`make`, which fills a pydantic model's fields the
-way ``model_construct`` does but without its generic overhead, after applying
-the model's own normalisation (sorted parents, sorted instances, canonical
-atoms); a test checks that the result equals validated construction. Things
+Nodes are built with :func:`oacdsl.lang.fastmodel.make` after applying the
+model's own normalisation (sorted parents, sorted instances, canonical
+atoms). Things
 the model normalises away (a parent or an atom listed twice) are reported here
 as warnings (W002), since only the parse still shows them.
 """
 
 from __future__ import annotations
 
-from typing import Any, TypeVar
+from typing import Any
 
 from lark import Token, Transformer
 
 from oacdsl.lang.diagnostics import Diagnostic, Note
-from oacdsl.model import Atom, Call, Decl, Grasp, Instance, Node, Oac, ObjectClass, Param, Scene, Span
+from oacdsl.lang.fastmodel import make, unquote
+from oacdsl.model import Atom, Call, Decl, Grasp, Instance, Oac, ObjectClass, Param, Scene, Span
 from oacdsl.world import NOTHING
 
-__all__ = ["ModelBuilder", "make"]
+__all__ = ["ModelBuilder"]
 
-M = TypeVar("M", bound=Node | Span)
 _Pos = tuple[int, int, int, int]
 _PartT = tuple[str, int, int, int, int]
 _Parts = list[_PartT]
-_TEMPLATES: dict[type, dict[str, Any]] = {}
-_setattr = object.__setattr__
-
-
-def make(cls: type[M], values: dict[str, Any]) -> M:
-    """A model instance from already normalised ``values`` (like ``model_construct``, faster)."""
-    template = _TEMPLATES.get(cls)
-    if template is None:
-        template = {
-            name: None if field.is_required() else field.get_default(call_default_factory=True)
-            for name, field in cls.model_fields.items()
-        }
-        _TEMPLATES[cls] = template
-    fields = template.copy()
-    fields.update(values)
-    obj = cls.__new__(cls)
-    _setattr(obj, "__dict__", fields)
-    _setattr(obj, "__pydantic_fields_set__", set(values))
-    _setattr(obj, "__pydantic_extra__", None)
-    _setattr(obj, "__pydantic_private__", None)
-    return obj
-
-
-def _unquote(raw: str) -> str:
-    body = raw[1:-1]
-    if "\\" not in body:
-        return body
-    out: list[str] = []
-    i = 0
-    while i < len(body):
-        ch = body[i]
-        if ch == "\\" and i + 1 < len(body):
-            nxt = body[i + 1]
-            out.append({"n": "\n", "t": "\t"}.get(nxt, nxt))
-            i += 2
-        else:
-            out.append(ch)
-            i += 1
-    return "".join(out)
 
 
 def _part(key: str, tok: Token) -> _PartT:
@@ -167,7 +127,7 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
         cls = self._names(classes, "classes", shared, "class")
         marks: list[str] = []
         for i, tok in enumerate(markers[0] if markers else ()):
-            marks.append(_unquote(tok))
+            marks.append(unquote(tok))
             shared.append(_part(f"markers.{i}", tok))
         return [
             make(

@@ -17,13 +17,12 @@ replace it (``replaced``).
 
 from __future__ import annotations
 
-import os
-import tempfile
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
 
+from oacdsl.atomic import write_atomic
 from oacdsl.errors import InputError, LanguageError, MatchingError
 from oacdsl.matching.conditions import atom_text
 from oacdsl.model import Module, Oac
@@ -165,14 +164,6 @@ def emit(
 def _write(target: Path, text: str) -> None:
     """Write ``text`` to a temporary file next to ``target`` and rename it over ``target``."""
     try:
-        target.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-        try:
-            with os.fdopen(fd, "w", encoding="utf-8") as fh:
-                fh.write(text)
-            os.replace(tmp, target)
-        except BaseException:
-            Path(tmp).unlink(missing_ok=True)
-            raise
+        write_atomic(target, text)
     except OSError as error:
         raise InputError(f"cannot write: {error.strerror or error}", location=str(target)) from error

@@ -6,7 +6,7 @@ pictures embedded as data URIs, no JavaScript, no network) and ``result.json``.
 :mod:`oacdsl.report.figures` draws the pictures the pipeline may add.
 """
 
-from oacdsl.report.atomic import write_atomic
+from oacdsl.atomic import write_atomic
 from oacdsl.report.build import bound_conditions, reliability_doc
 from oacdsl.report.page import Report, render_html, write_report
 from oacdsl.report.schema import SCHEMA_VERSION, Result, validate_result

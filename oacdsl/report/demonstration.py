@@ -118,7 +118,10 @@ def _robot_cell(r: Result, images: Images, step: int | None) -> str:
         return '<span class="muted">no executed step</span>'
     s = r.run.steps[step]
     state = badge("ok", "ok") if s.success else badge("failed", "bad")
-    pic = images.tag(s.frame, f"the robot after step {step + 1}", "frame", missing="no rendered frame")
+    if s.moment:  # the moment the step's prediction came true: what the paper's Fig. 4 shows
+        pic = images.tag(s.moment, f"the robot as step {step + 1} makes its change", "frame")
+    else:
+        pic = images.tag(s.frame, f"the robot after step {step + 1}", "frame", missing="no rendered frame")
     return f'{pic}<div class="small">step {step + 1}: {esc(s.oac)} {state} {seconds(s.duration_s)}</div>'
 
 
@@ -128,7 +131,7 @@ def keyframes_section(r: Result, images: Images) -> str:
            " graph (black: relation held on, <span style=\"color:#d62728\">red: new</span>,"
            " grey dashed: ended),"
            " the OAC matched to the sub-action that leads to it with its bound constraints and the other"
-           " matches, and the robot after executing that OAC.</p>"]
+           " matches, and the robot executing that OAC (when its prediction came true, else after it).</p>"]
     s = r.segment
     if s is None or not s.keyframes:
         return "".join(out) + not_run(r, "segment", "The keyframes") + "</section>"

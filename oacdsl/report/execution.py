@@ -91,14 +91,21 @@ def execution_section(r: Result, images: Images) -> str:
     previous = run.initial
     for i, s in enumerate(run.steps):
         pic = images.tag(s.frame, f"the robot after step {i + 1}", "frame", missing="no rendered frame")
+        shot = "shot"
+        if s.moment:  # the moment the prediction came true, and the end of the step, side by side
+            shot = "shot two"
+            pic = ('<div class="pair"><div>'
+                   + images.tag(s.moment, f"the robot as step {i + 1} makes its change", "frame")
+                   + '<div class="small muted">prediction comes true</div></div><div>' + pic
+                   + '<div class="small muted">end of the step</div></div></div>')
         state = badge("ok", "ok") if s.success else badge("failed", "bad")
         err = f'<div class="err">{esc(s.error)}</div>' if s.error else ""
         rows.append(f'<tr class="{"" if s.success else "bad"}"><td class=num>{i + 1}</td>'
-                    f'<td class="shot">{pic}</td>'
+                    f'<td class="{shot}">{pic}</td>'
                     f'<td><div class="call mono">{call(s.oac, s.binding)}</div>{state}{err}</td>'
                     f"<td>{_comparison(s, previous)}</td><td class=num>{seconds(s.duration_s)}</td></tr>")
         previous = s.observed
-    out.append('<table><thead><tr><th class=num>#</th><th>robot after the step</th><th>step</th>'
+    out.append('<table><thead><tr><th class=num>#</th><th>the robot</th><th>step</th>'
                "<th>predicted vs observed</th><th class=num>time</th></tr></thead><tbody>" + "".join(rows)
                + "</tbody></table>")
     return "".join(out) + "</section>"
@@ -117,7 +124,9 @@ def _change(c: ChangeDoc | None) -> str:
     items += [f'<div class="rel muted">− {esc(a)} ↔ {esc(b)}</div>' for a, b in c.removed]
     where = f"K{c.index}" + (f" · frame {c.frame}" if c.frame is not None else "")
     where += f" · {c.time_s:.2f} s" if c.time_s is not None else ""
-    return "".join(items) + f'<div class="small muted">{esc(where)}</div>'
+    oac = (c.model_extra or {}).get("oac")  # the robot's sub-action as matched, when the pipeline says
+    matched = f'<div class="small">matched: <span class="mono">{esc(oac)}</span></div>' if oac else ""
+    return "".join(items) + matched + f'<div class="small muted">{esc(where)}</div>'
 
 
 def verification_section(r: Result, images: Images) -> str:

@@ -16,7 +16,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from oacdsl.report.atomic import write_atomic
+from oacdsl.atomic import write_atomic
 
 if TYPE_CHECKING:
     from oacdsl.segmentation.recording import Recording

@@ -8,8 +8,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from oacdsl.atomic import write_atomic
 from oacdsl.errors import InputError
-from oacdsl.report.atomic import write_atomic
 from oacdsl.report.demonstration import composed_section, keyframes_section, segment_section
 from oacdsl.report.execution import execution_section, reliability_section, verification_section
 from oacdsl.report.html import Images, esc

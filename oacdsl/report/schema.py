@@ -132,6 +132,7 @@ class RunStepDoc(_Doc):
     observed: list[Pair] = []
     error: str | None = None
     frame: Image = None  # the robot after this step
+    moment: Image = None  # the robot when the step's predicted effects first held
 
 
 class RunDoc(_Doc):

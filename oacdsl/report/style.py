@@ -45,6 +45,7 @@ table.kv { width: auto; } table.kv th { background: none; border: 0; padding-lef
 table.fig4 td { padding: 10px; } table.fig4 td.kf { width: 215px; } table.fig4 td.graph { width: 290px; }
 table.fig4 td.robot { width: 250px; } .kfn { font-size: 20px; font-weight: 700; line-height: 1.1; }
 td.shot { width: 210px; } td.shot img.frame { width: 200px; }
+td.shot.two { width: 416px; } td.shot .pair { display: flex; gap: 8px; }
 table.align td.side { width: 44%; } table.align td.op { width: 8%; text-align: center; }
 .chips { display: flex; flex-wrap: wrap; gap: 6px 8px; margin: 8px 0 12px; font-size: 13px; }
 .chips span { background: var(--soft); border-radius: 4px; padding: 2px 8px; }

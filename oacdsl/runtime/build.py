@@ -46,6 +46,10 @@ TIMESTEP_S = 0.005
 ROBOT_CONTYPE, ROBOT_CONAFFINITY = 2, 4
 #: Geom groups: 0 = table and objects (what a downward ray may hit), 1 = balls, 2 = robot.
 ROBOT_GROUP = 2
+#: Robot links whose geoms collide with objects and the table (the arms from the upper arm on).
+_TOUCHING_LINKS = ("hand_", "fingers_", "thumb_", "wrist_", "underarm_", "elbow_", "upperarm_")
+#: Distance up to which a hand counts as touching an object, m.
+TOUCH_MARGIN_M = 0.003
 
 _LIQUID_RGBA = {0: (0.2, 0.4, 0.95, 1.0), 1: (0.95, 0.9, 0.2, 1.0), 2: (0.85, 0.3, 0.85, 1.0)}
 
@@ -86,6 +90,13 @@ def _robot_spec() -> mujoco.MjSpec:
         spec.delete(g)
     for g in spec.geoms:
         g.contype, g.conaffinity, g.group = ROBOT_CONTYPE, ROBOT_CONAFFINITY, ROBOT_GROUP
+        if not g.name.startswith(_TOUCHING_LINKS):
+            # platform, torso, head and shoulders never reach the table top: no collisions
+            g.contype = g.conaffinity = 0
+        if g.name.startswith(("hand_", "fingers_", "thumb_")):
+            # touching is reported up to 3 mm apart (contacts between margin - gap and margin
+            # are detected but exert no force), so a hand resting on an object stays "touching"
+            g.margin = g.gap = TOUCH_MARGIN_M
         g.friction = (1.5, 0.005, 0.0001)
         if g.name in colours:
             g.rgba = colours[g.name]
@@ -142,7 +153,7 @@ def _add_environment(spec: mujoco.MjSpec, table: str) -> None:
 
 #: Fixed cameras: name, position and the point they look at (m).
 CAMERAS = (
-    ("overview", (1.75, 1.05, 1.75), (0.5, -0.05, 0.9)),
+    ("overview", (1.6, 1.05, 1.75), (0.42, -0.05, 1.08)),
     ("front", (1.9, 0.0, 1.45), (0.45, 0.0, 0.95)),
 )
 

@@ -9,6 +9,7 @@ interpolations of a hand pose; a *guard* can end a motion early (contact felt).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import Protocol
 
@@ -57,7 +58,7 @@ class Controller:
         self.ik.set_state(world.joint_positions())
         for side in ("r", "l"):
             self.ik.hold_hand(side)
-        self._tare = {s: world.wrist_wrench(s)[0] for s in ("r", "l")}
+        self._tare = {s: world.wrist_force(s) for s in ("r", "l")}
         self.fingers: dict[str, dict[str, float]] = {s: dict(OPEN) for s in ("r", "l")}
         self.activity = "idle"
         self._observe()
@@ -89,15 +90,16 @@ class Controller:
 
     def tare(self, side: str) -> None:
         """Take the current wrist force of ``side`` as its zero (like a real F/T sensor)."""
-        self._tare[side] = self.world.wrist_wrench(side)[0].copy()
+        self._tare[side] = self.world.wrist_force(side)
 
     def force_change(self, side: str) -> np.ndarray:
         """Wrist force of ``side`` minus its tare, world axes, N."""
-        return self.world.wrist_wrench(side)[0] - self._tare[side]
+        return self.world.wrist_force(side) - self._tare[side]
 
     def _check_force(self) -> None:
         for side in ("r", "l"):
-            f = float(np.linalg.norm(self.force_change(side)))
+            d = self.force_change(side)
+            f = math.sqrt(float(d @ d))
             if f > self.force_limit_n:
                 raise RuntimeFailure(
                     f"safety stop while {self.activity}: the {SIDE_NAME[side]} wrist felt {f:.0f} N"
@@ -141,10 +143,11 @@ class Controller:
         self.world.set_targets({names[k]: v for k, v in targets.items()})
         self.ik.set_state({names[k]: v for k, v in targets.items()})
 
-    def close_hand(self, side: str, duration_s: float = 0.6) -> None:
-        """Close the fingers (force-limited actuators stop them on the object)."""
+    def close_hand(self, side: str, duration_s: float = 0.6, until: Callable[[], bool] | None = None) -> bool:
+        """Close the fingers (force-limited actuators stop them on the object); True when
+        ``until`` became true before ``duration_s`` was over."""
         self.set_fingers(side, CLOSED)
-        self.wait(duration_s)
+        return self.wait(duration_s, until=until)
 
     def open_hand(self, side: str, duration_s: float = 0.4) -> None:
         self.set_fingers(side, OPEN)

@@ -119,13 +119,10 @@ def plan_grasps(
             headings = sorted(
                 (_unit(np.array([a[0], a[1], 0.0])) for a in axes), key=lambda h: -float(h @ fwd)
             )
-        for h in headings:
+        for tilt, h in ((tilt, h) for tilt in (0.0, 25.0) for h in headings):  # untilted first
             point = p_obj + (np.array([0.0, 0.0, offset[2]]) + radius * h if symmetric else r_obj @ offset)
-            for tilt in (0.0, 25.0):
-                d = rot_axis(np.cross(up, h), np.radians(tilt)) @ -up
-                plans.append(
-                    (point, hand_rotation_for(d, rot_axis(np.cross(up, h), np.radians(tilt)) @ h), d)
-                )
+            tilted = rot_axis(np.cross(up, h), np.radians(tilt))
+            plans.append((point, hand_rotation_for(tilted @ -up, tilted @ h), tilted @ -up))
     else:  # front: from the robot towards the object, fingers up
         d = fwd
         point = p_obj + (np.array([0.0, 0.0, offset[2]]) - radius * fwd if symmetric else r_obj @ offset)

@@ -1,7 +1,7 @@
 """The simplified ARMAR-III hands: a palm, one four-finger plate and a thumb.
 
 The real hand has five pneumatic fingers (11 joints, 8 actuators). The model keeps
-what grasping a cup, a bowl's rim, a mixer's handle and a sponge needs:
+what grasping a cup, a mixer's handle and a sponge needs:
 
 * ``hand_<s>``: the palm, fixed to ``wrist_2_<s>`` with the orientation of the facts'
   *Hand Base* frame H: x_H = back of the hand, y_H = across the fingers (index → pinky

@@ -38,6 +38,15 @@ BASE_LIMITS: dict[str, tuple[float, float]] = {
 }
 
 
+#: Joint speed limits in the IK (rad/s, m/s): slow enough that the arm never whips the
+#: hand around (the wrist sensor would feel its own inertia), fast enough for the skills.
+VELOCITY_LIMITS: tuple[tuple[tuple[str, ...], float], ...] = (
+    (("base_x", "base_y"), 0.3),
+    (("base_yaw",), 0.6),
+    (TORSO_JOINTS, 0.8),
+    ((*ARM_JOINTS["r"], *ARM_JOINTS["l"]), 1.5),
+)
+
 #: Weights of the posture tasks relative to a hand task (1.0 per metre of position error).
 POSTURE_WEIGHTS: dict[str, float] = {"base": 3e-3, "torso": 3e-3, "arms": 3e-4}
 
@@ -81,6 +90,9 @@ class WholeBodyIK:
         self._offsets = np.array([self.robot.get_joint_offset(n) for n in self.controlled])
         for name, (lo, hi) in BASE_LIMITS.items():
             self.robot.set_joint_limits(name, lo, hi)
+        for names, limit in VELOCITY_LIMITS:
+            for name in names:
+                self.robot.set_velocity_limit(name, limit)
         self.solver = placo.KinematicsSolver(self.robot)
         self.solver.mask_fbase(True)
         self.solver.enable_joint_limits(True)

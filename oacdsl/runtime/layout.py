@@ -29,7 +29,7 @@ MAX_SHIFT_M = 0.10
 #: Free space kept between two objects' footprints, metres (room for the fingers).
 MIN_GAP_M = 0.05
 #: Number of balls of one liquid.
-BALLS_PER_LIQUID = 12
+BALLS_PER_LIQUID = 10
 
 #: Nominal (x, y) of the paper's kitchen instances, metres, robot at the origin facing +x.
 NOMINAL: dict[str, tuple[float, float]] = {

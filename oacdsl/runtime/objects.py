@@ -65,11 +65,11 @@ class Shape3D:
 SHAPES: dict[str, Shape3D] = {
     "cup": Shape3D("cup", 0.04, 0.10, 0.15, 0.034, ((0.0, 0.0, 0.10), (0.04, 0.0, 0.05), (0.0, 0.04, 0.02))),
     "bowl": Shape3D(
-        "bowl", 0.115, 0.075, 0.5, 0.108, ((0.0, 0.0, 0.0), (0.115, 0.0, 0.075), (0.0, 0.115, 0.075))
+        "bowl", 0.115, 0.055, 0.5, 0.108, ((0.0, 0.0, 0.0), (0.115, 0.0, 0.055), (0.0, 0.115, 0.055))
     ),
-    "mixer": Shape3D("mixer", 0.04, 0.28, 0.65, 0.0, ((0.0, 0.0, 0.0), (0.0, 0.0, 0.16), (0.0, 0.0, 0.28))),
+    "mixer": Shape3D("mixer", 0.036, 0.22, 0.62, 0.0, ((0.0, 0.0, 0.0), (0.0, 0.0, 0.12), (0.0, 0.0, 0.22))),
     "sponge": Shape3D(
-        "sponge", 0.06, 0.135, 0.1, 0.0, ((0.05, 0.0, 0.045), (-0.05, 0.0, 0.045), (0.0, 0.0, 0.135))
+        "sponge", 0.06, 0.05, 0.06, 0.0, ((0.05, 0.0, 0.05), (-0.05, 0.0, 0.05), (0.0, 0.035, 0.0))
     ),
     "tray": Shape3D(
         "tray", 0.17, 0.012, 0.6, 0.0, ((0.15, 0.0, 0.012), (-0.15, 0.0, 0.012), (0.0, 0.11, 0.012))
@@ -187,27 +187,27 @@ def add_object(
     body.quat = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
     body.add_freejoint().name = f"{name}/free"
     if kind == "cup":
-        _shell(body, name, s.inner_radius, s.radius - s.inner_radius, s.height, 0.006, 16, rgba, s.mass)
+        _shell(body, name, s.inner_radius, s.radius - s.inner_radius, s.height, 0.006, 12, rgba, s.mass)
     elif kind == "bowl":
-        _shell(body, name, s.inner_radius, s.radius - s.inner_radius, s.height, 0.008, 28, rgba, s.mass)
+        _shell(body, name, s.inner_radius, s.radius - s.inner_radius, s.height, 0.008, 20, rgba, s.mass)
     elif kind == "mixer":
         cyl = mujoco.mjtGeom.mjGEOM_CYLINDER
-        _geom(body, f"{name}/head", cyl, (0.04, 0.025), (0.0, 0.0, 0.025), (0.75, 0.75, 0.8, 1.0), mass=0.4)
-        _geom(body, f"{name}/rod", cyl, (0.008, 0.055), (0.0, 0.0, 0.105), (0.75, 0.75, 0.8, 1.0), mass=0.05)
-        _geom(body, f"{name}/handle", cyl, (0.02, 0.06), (0.0, 0.0, 0.22), rgba, mass=0.2)
-    elif kind == "sponge":  # a sponge block with an upright grip, held like the mixer
-        box, cyl = mujoco.mjtGeom.mjGEOM_BOX, mujoco.mjtGeom.mjGEOM_CYLINDER
+        # a stick mixer: whisk head 0-6 cm, neck, grip 7-22 cm (the hand takes it around 12 cm)
+        steel = (0.75, 0.75, 0.8, 1.0)
+        _geom(body, f"{name}/head", cyl, (0.036, 0.03), (0.0, 0.0, 0.03), steel, mass=0.35)
+        _geom(body, f"{name}/neck", cyl, (0.01, 0.006), (0.0, 0.0, 0.065), steel, mass=0.02)
+        _geom(body, f"{name}/grip", cyl, (0.02, 0.075), (0.0, 0.0, 0.145), rgba, mass=0.25)
+    elif kind == "sponge":  # a kitchen sponge block, taken from above
         _geom(
             body,
             f"{name}/body",
-            box,
-            (0.05, 0.035, 0.0225),
-            (0.0, 0.0, 0.0225),
+            mujoco.mjtGeom.mjGEOM_BOX,
+            (0.05, 0.035, 0.025),
+            (0.0, 0.0, 0.025),
             rgba,
-            mass=0.06,
+            mass=s.mass,
             friction=(1.2, 0.005, 0.0001),
         )
-        _geom(body, f"{name}/grip", cyl, (0.017, 0.045), (0.0, 0.0, 0.09), (0.3, 0.3, 0.35, 1.0), mass=0.04)
     elif kind == "tray":
         _geom(
             body,

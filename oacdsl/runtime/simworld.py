@@ -113,6 +113,7 @@ class SimWorld:
         self.data.ctrl[indices] = values
 
     def joint_positions(self) -> dict[str, float]:
+        """Every robot joint's position now (rad, m), fingers included."""
         return {n: float(self.data.qpos[a]) for n, a in self._qadr.items()}
 
     def joint_velocity(self, name: str) -> float:
@@ -219,6 +220,11 @@ class SimWorld:
         if obj is not None:
             self.data.eq_active[self._weld_ids[(side, obj)]] = 0
         self.held[side] = None
+
+    def wrist_force(self, side: str) -> np.ndarray:
+        """Force (N) of the wrist F/T sensor ``side``, in world axes."""
+        site, force, _ = self._ft[side]
+        return self.data.site_xmat[site].reshape(3, 3) @ self.data.sensordata[force : force + 3]
 
     def wrist_wrench(self, side: str) -> tuple[np.ndarray, np.ndarray]:
         """Force (N) and torque (N·m) of the wrist F/T sensor ``side``, in world axes."""

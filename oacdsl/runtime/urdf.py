@@ -41,7 +41,8 @@ ASSETS = Path(__file__).resolve().parent / "assets"
 URDF_PATH = ASSETS / "armar3.urdf"
 
 #: Link pairs placo keeps apart (read by placo from ``collisions.json`` next to the URDF):
-#: hands and forearms against the torso, the platform column and each other.
+#: hands and forearms against the torso and against each other (the platform column is
+#: below the table top, where the skills never take a hand).
 #: Self-collision avoidance costs per pair, so only pairs a manipulation task can bring
 #: together are listed; MuJoCo ignores robot-robot contacts altogether.
 SELF_COLLISION_PAIRS: tuple[tuple[str, str], ...] = (
@@ -49,7 +50,7 @@ SELF_COLLISION_PAIRS: tuple[tuple[str, str], ...] = (
         (f"{part}_{s}", body)
         for s in ("r", "l")
         for part in ("hand", "underarm")
-        for body in ("hip_yaw_link", "base_yaw_link")
+        for body in ("hip_yaw_link",)
     ),
     ("hand_r", "hand_l"),
     ("underarm_r", "underarm_l"),

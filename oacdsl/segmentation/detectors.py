@@ -34,6 +34,7 @@ __all__ = ["DETECTORS", "DistanceChunk", "PairChanges", "TouchDetector", "make_d
 #: Mode name → ``"module:factory"``; ``factory(params: AasParams) -> TouchDetector``.
 DETECTORS: dict[str, str] = {
     "paper": "oacdsl.segmentation.paper:PaperDetector",
+    "adaptive": "oacdsl.segmentation.adaptive:AdaptiveDetector",
 }
 
 

@@ -9,13 +9,13 @@ name in its folder and renamed into place.
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from oacdsl.atomic import atomic_path
 from oacdsl.errors import InputError
 from oacdsl.segmentation.geometry import closest_distances
 from oacdsl.segmentation.recording import Recording
@@ -195,12 +195,10 @@ def save_figure(fig: Any, out: str | Path) -> Path:
     if fmt not in ("png", "pdf", "svg"):
         raise InputError(f"cannot write a {path.suffix or 'suffix-less'} picture; use .png, .pdf or .svg",
                          location=str(path))
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     try:
-        fig.savefig(tmp, format=fmt, dpi=150)
-        os.replace(tmp, path)
+        with atomic_path(path, suffix=f".tmp.{fmt}", make_parents=False) as tmp:
+            fig.savefig(tmp, format=fmt, dpi=150)
     except OSError as error:
-        tmp.unlink(missing_ok=True)
         raise InputError(f"cannot write the picture: {error.strerror}", location=str(path)) from error
     return path
 

@@ -10,8 +10,8 @@ from __future__ import annotations
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.grasping import plan_grasps
-from oacdsl.runtime.hands import TOP_PRESHAPE
+from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M, plan_grasps
+from oacdsl.runtime.hands import CLOSED, TOP_PRESHAPE, finger_joint_names
 from oacdsl.runtime.skills.base import SkillContext, fmt_xyz
 from oacdsl.runtime.transforms import make_T
 
@@ -22,6 +22,10 @@ GRASP_POSE_TOLERANCE_M = 0.07
 #: Height an object is lifted after grasping, m.
 LIFT_M = 0.10
 APPROACH_SPEED_M_S = 0.15
+#: Half the hand's width across the fingers, plus a margin: the free corridor an approach needs, m.
+HAND_HALF_WIDTH_M = 0.07
+#: How much further than where they touched the object the fingers are told to close, rad.
+SQUEEZE_RAD = 0.08
 
 
 def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
@@ -34,21 +38,34 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
     support = ctx.support_height(t_obj[:2, 3], exclude=obj)
     ctl.activity = f"reaching for {obj}"
     plans = plan_grasps(grasp, ctx.kind(obj), t_obj, side, support_z=support)
+    # approaches whose corridor (pre-grasp to grasp) keeps the hand off other objects first
+    free = [ctx.clearance(p.pre_grasp[:3, 3], p.grasp[:3, 3], {obj}) >= HAND_HALF_WIDTH_M for p in plans]
+    plans = [p for p, ok in zip(plans, free, strict=True) if ok] + [
+        p for p, ok in zip(plans, free, strict=True) if not ok
+    ]
     plan = ctx.first_reachable(side, [(p.grasp, p) for p in plans], obj)
     current = ctl.ik.frame(f"grasp_{side}")
     via = plan.pre_grasp.copy()
+    over = ctx.via_height(current[:3, 3], plan.pre_grasp[:3, 3], {obj}, HAND_BELOW_CENTRE_M)
     via[2, 3] = max(via[2, 3], plan.grasp[2, 3]) + 0.08
     if current[2, 3] > via[2, 3]:
         via[2, 3] = 0.5 * (via[2, 3] + current[2, 3])
+    via[2, 3] = max(via[2, 3], over)
     if grasp.approach == "top":
         ctl.set_fingers(side, TOP_PRESHAPE)
+    if over > current[2, 3]:  # climb first, then cross over the obstacles
+        up = current.copy()
+        up[2, 3] = over
+        ctl.move(side, up, 0.6)
     ctl.move(side, via, 1.2)
     ctl.move(side, plan.pre_grasp, 0.6)
     travel = float(np.linalg.norm(plan.end[:3, 3] - plan.pre_grasp[:3, 3]))
     ctl.activity = f"approaching {obj}"
     ctl.move(side, plan.end, travel / APPROACH_SPEED_M_S, guard=lambda: world.touching(hand, obj))
     ctl.activity = f"closing {hand} on {obj}"
-    ctl.close_hand(side)
+    # the weld is switched on the moment the fingers touch the object (if the hand is at the
+    # grasp pose): a closing finger would otherwise push a light object out of the hand
+    ctl.close_hand(side, until=lambda: world.fingers_touch(side, obj))
     centre = world.frame_pose(f"grasp_{side}")[:3, 3]
     off = float(np.linalg.norm(centre - plan.grasp[:3, 3]))
     if off > GRASP_POSE_TOLERANCE_M:
@@ -59,6 +76,11 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
     if not world.fingers_touch(side, obj):
         raise RuntimeFailure(f"could not grasp {obj}: the fingers of {hand} do not touch it")
     world.weld(side, obj)
+    # hold the fingers where they met the object, pressing lightly, so that they stay on it
+    names = finger_joint_names(side)
+    now = world.joint_positions()
+    ctl.set_fingers(side, {k: min(now[j] + SQUEEZE_RAD, CLOSED[k]) for k, j in names.items()})
+    ctl.wait(0.3)
     ctx.picked[obj] = (t_obj, plan.approach)
     ctl.activity = f"lifting {obj}"
     lift = make_T(ctl.ik.target(side)[:3, :3], ctl.ik.target(side)[:3, 3] + np.array([0.0, 0.0, LIFT_M]))

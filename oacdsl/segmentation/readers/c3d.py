@@ -16,14 +16,13 @@ temporary file in the target folder and renamed.
 
 from __future__ import annotations
 
-import os
-import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from oacdsl.atomic import atomic_path
 from oacdsl.errors import RecordingError
 from oacdsl.segmentation.grouping import prefix_groups
 from oacdsl.segmentation.readers._common import metres_per_unit, unique_names
@@ -184,17 +183,10 @@ def write_c3d(recording: Recording, path: str | Path) -> Path:
         c3d.add_parameter("SUBJECTS", "NAMES", groups)
         c3d.add_parameter("SUBJECTS", "LABEL_PREFIXES", [f"{g}:" for g in groups])
 
-    path.parent.mkdir(parents=True, exist_ok=True)
-    # ezc3d appends ".c3d" to a name without it: keep that suffix on the temporary file
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp.c3d")
-    os.close(fd)
     try:
-        c3d.write(tmp)
-        os.replace(tmp, path)
+        # ezc3d appends ".c3d" to a name without it: keep that suffix on the temporary file
+        with atomic_path(path, suffix=".tmp.c3d") as tmp:
+            c3d.write(str(tmp))
     except (OSError, RuntimeError) as err:
-        Path(tmp).unlink(missing_ok=True)
         raise RecordingError(f"cannot write C3D: {err}", location=str(path)) from None
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
     return path

@@ -1,0 +1,157 @@
+"""Accuracy of the hand–object contact keyframes on the KIT bimanual clips.
+
+For each clip in ``../shared/mocap/kit_bimanual`` the MMM recording is read with the
+``kit`` marker preset (left_hand, right_hand, one group per object), segmented, and the
+contact starts and ends of each hand are scored against the dataset's own per-frame
+labels (contact = Move, Hold, Place or the main action) within ±3 frames; see
+:mod:`oacdsl.segmentation.evaluate`.
+
+Development clips (Pour, Stir, Mix, Wipe, Scoop, Cut) are always scored. The evaluation
+clips (Open, Close, Peel, RollOut, Transfer) are scored only with ``--evaluation``, in
+a separate block: nothing may be tuned on them.
+
+    python benchmarks/kit_bimanual.py                      # paper mode, default parameters
+    python benchmarks/kit_bimanual.py --mode paper --mode adaptive
+    python benchmarks/kit_bimanual.py --distance 100mm --speed 50mm/s --frames 2 --merge 0.3s
+    python benchmarks/kit_bimanual.py --evaluation         # adds the held-out block
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from oacdsl.segmentation import AasParams, segment  # noqa: E402
+from oacdsl.segmentation.evaluate import (  # noqa: E402
+    ClipScore,
+    Score,
+    contact_from_labels,
+    nearest_object,
+    read_labels,
+    score_clip,
+)
+from oacdsl.segmentation.grouping import apply_preset  # noqa: E402
+from oacdsl.segmentation.readers import read_recording  # noqa: E402
+from oacdsl.units import parse_quantity  # noqa: E402
+
+DEVELOPMENT = ("Pour", "Stir", "Mix", "Wipe", "Scoop", "Cut")
+EVALUATION = ("Open", "Close", "Peel", "RollOut", "Transfer")
+
+
+def data_folder(given: str | None) -> Path:
+    if given:
+        return Path(given)
+    for shared in (ROOT.parent / "shared", ROOT.parents[1] / "shared"):
+        if (shared / "mocap" / "kit_bimanual").is_dir():
+            return shared / "mocap" / "kit_bimanual"
+    sys.exit("kit_bimanual data not found next to the repository; pass --data FOLDER")
+
+
+def clip_files(folder: Path, action: str) -> tuple[Path, Path]:
+    found = sorted(folder.glob(f"{action}_*.mmm.xml"))
+    if len(found) != 1:
+        sys.exit(f"expected one {action}_*.mmm.xml in {folder}, found {len(found)}")
+    xml = found[0]
+    return xml, xml.with_name(xml.name[: -len(".mmm.xml")] + ".labels.csv")
+
+
+def run_clip(folder: Path, action: str, params: AasParams,
+             tolerance: int) -> tuple[ClipScore, dict[str, Any]]:
+    xml, labels_path = clip_files(folder, action)
+    recording = apply_preset(read_recording(xml), "kit")
+    labels = read_labels(labels_path)
+    result = score_clip(action, segment(recording, params), labels, tolerance)
+    objects = {g: recording.group_positions(g) for g in recording.instances if g not in labels}
+    reference = {hand: nearest_object(recording.group_positions(hand), objects, contact_from_labels(lab))
+                 for hand, lab in labels.items()}
+    return result, reference
+
+
+def describe(params: AasParams) -> str:
+    n = "auto" if params.frames is None else str(params.frames)
+    return (f"mode {params.mode}: d = {params.distance_m * 1000:g} mm, v = {params.speed_m_s * 1000:g} mm/s,"
+            f" n = {n} frames, merge = {params.merge_s:g} s")
+
+
+def block(title: str, folder: Path, actions: tuple[str, ...], params: AasParams, tolerance: int,
+          verbose: bool) -> dict[str, Any]:
+    print(f"  {title}")
+    print(f"  {'clip':<9} {'P':>5} {'R':>5} {'F1':>5}  {'match/pred/lab':>14}  frames  touching (L | R)")
+    total = Score()
+    clips = []
+    for action in actions:
+        result, reference = run_clip(folder, action, params, tolerance)
+        total += result.score
+        s = result.score
+        agree = sum(result.frame_agreement.values()) / len(result.frame_agreement)
+
+        def hand_text(hand: str, res: ClipScore = result, ref: dict[str, Any] = reference) -> str:
+            found = ",".join(f"{o}({n})" for o, n in res.touched[hand].items()) or "-"
+            mark = "" if ref[hand] is None or ref[hand] in res.touched[hand] else f" (expected {ref[hand]})"
+            return found + mark
+
+        print(f"  {action:<9} {s.precision:5.2f} {s.recall:5.2f} {s.f1:5.2f}  "
+              f"{s.matched:>4}/{s.predicted:>3}/{s.labelled:>3}    {agree:5.1%}  "
+              f"{hand_text('left_hand')} | {hand_text('right_hand')}")
+        if verbose:
+            print(f"      labelled:  {[(e.hand[0], e.kind, e.frame) for e in result.labelled]}")
+            print(f"      predicted: {[(e.hand[0], e.kind, e.frame) for e in result.predicted]}")
+        clips.append({"clip": action, "precision": s.precision, "recall": s.recall, "f1": s.f1,
+                      "matched": s.matched, "predicted": s.predicted, "labelled": s.labelled,
+                      "frame_agreement": result.frame_agreement, "touched": result.touched,
+                      "nearest_in_labelled_contact": reference})
+    print(f"  {'overall':<9} {total.precision:5.2f} {total.recall:5.2f} {total.f1:5.2f}  "
+          f"{total.matched:>4}/{total.predicted:>3}/{total.labelled:>3}")
+    return {"clips": clips, "overall": {"precision": total.precision, "recall": total.recall, "f1": total.f1,
+                                        "matched": total.matched, "predicted": total.predicted,
+                                        "labelled": total.labelled}}
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--data", help="the kit_bimanual folder (default: ../shared/mocap/kit_bimanual)")
+    ap.add_argument("--mode", action="append", help="touch detector(s) to compare (default: paper)")
+    ap.add_argument("--distance", help="d, e.g. 150mm (default: the mode's default)")
+    ap.add_argument("--speed", help="v, e.g. 100mm/s")
+    ap.add_argument("--frames", type=int, help="n, frames")
+    ap.add_argument("--merge", help="merge window, e.g. 0.3s")
+    ap.add_argument("--tolerance", type=int, default=3, help="frames an event may be off (default 3)")
+    ap.add_argument("--evaluation", action="store_true",
+                    help="also score the held-out evaluation clips (never tune on them)")
+    ap.add_argument("--verbose", action="store_true", help="print the events of each clip")
+    ap.add_argument("--json", metavar="OUT", help="also write the figures to this JSON file")
+    args = ap.parse_args(argv)
+    folder = data_folder(args.data)
+    report: dict[str, Any] = {}
+    for mode in args.mode or ["paper"]:
+        params = AasParams(mode=mode)
+        if args.distance:
+            params = replace(params, distance_m=parse_quantity(args.distance, "m"))
+        if args.speed:
+            params = replace(params, speed_m_s=parse_quantity(args.speed, "m/s"))
+        if args.frames:
+            params = replace(params, frames=args.frames)
+        if args.merge:
+            params = replace(params, merge_s=parse_quantity(args.merge, "s"))
+        print(describe(params) + f", events matched within ±{args.tolerance} frames")
+        report[mode] = {"parameters": params.to_dict(),
+                        "development": block("development clips", folder, DEVELOPMENT, params,
+                                             args.tolerance, args.verbose)}
+        if args.evaluation:
+            report[mode]["evaluation"] = block("EVALUATION clips (held out: report only, never tune)",
+                                               folder, EVALUATION, params, args.tolerance, args.verbose)
+        print()
+    if args.json:
+        Path(args.json).write_text(json.dumps(report, indent=2), encoding="utf-8")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,266 @@
+"""Small bad snippets, each labelled with what is expected where it fails.
+
+:mod:`oacdsl.lang.syntax` parses each snippet once, notes the parser state
+where it fails, and says "expected <label>" for any error in that state. To
+improve a message: add a snippet that fails at the same place, under the
+label you want. Snippets are listed with and without repetitions (one or two
+parameters, atoms, markers) because LALR states differ between them.
+"""
+
+from __future__ import annotations
+
+__all__ = ["EXAMPLES"]
+
+_DECL = "a declaration ('class', 'scene', 'grasp' or 'oac')"
+
+#: (what is expected, snippets that fail at the same parser state).
+EXAMPLES: list[tuple[str, list[str]]] = [
+    ("':' and the parent classes, or " + _DECL, ["class A", "class A B"]),
+    ("',' and more parent classes, or " + _DECL, ["class A : B", "class A : B C", "class A : B, C"]),
+    (
+        _DECL,
+        [
+            "}",
+            "Cup",
+            "scene s { }",
+            "scene s { a : B }",
+            "grasp G { type a approach b }",
+            "grasp G { type a approach b offset (1, 2, 3) }",
+            "oac f() { execute s }",
+            "oac f(h: H) { execute s }",
+            "oac f() { steps { } }",
+            "oac f(h: H) { steps { } }",
+            "scene s { } }",
+            "grasp G { type a approach b } }",
+            "grasp G { type a approach b offset (1, 2, 3) } }",
+            "oac f() { execute s } }",
+            "oac f(h: H) { execute s } }",
+            "oac f() { steps { } } }",
+            "scene s { a : B } }",
+        ],
+    ),
+    (
+        "a class name",
+        [
+            "class",
+            "class A :",
+            "class A : B,",
+            "class A : B, C,",
+            "scene s { a :",
+            "scene s { a : B,",
+            "scene s { a : B, C,",
+            "scene s { a, b :",
+        ],
+    ),
+    ("a scene name", ["scene", "scene {"]),
+    ("'{' after the scene name", ["scene s", "scene s s"]),
+    ("an instance name or '}'", ["scene s {"]),
+    ("an instance name", ["scene s { a,", "scene s { a, }", "scene s { a, b,"]),
+    (
+        "':' and the instance's classes",
+        ["scene s { a", "scene s { a b", "scene s { a, b", "scene s { a, b, c"],
+    ),
+    (
+        "',' and more classes, 'markers (…)', 'environment', the next instance or '}'",
+        [
+            "scene s { a : B",
+            "scene s { a : B, C",
+            "scene s { a, b : B",
+            "scene s { a : B :",
+        ],
+    ),
+    (
+        "'environment', the next instance or '}'",
+        [
+            'scene s { a : B markers ("x")',
+            'scene s { a : B markers ("x",)',
+            "scene s { a : B markers ()",
+        ],
+    ),
+    (
+        "the next instance or '}'",
+        [
+            "scene s { a : B environment",
+            'scene s { a : B markers ("x") environment',
+            "scene s { a : B environment :",
+        ],
+    ),
+    (
+        "a quoted marker name such as \"m1\" or ')'",
+        [
+            "scene s { a : B markers (",
+            'scene s { a : B markers ("x",',
+            'scene s { a : B markers ("x", "y",',
+        ],
+    ),
+    ("'(' and the marker names", ["scene s { a : B markers", "scene s { a : B markers }"]),
+    (
+        "',' or ')' in the marker list",
+        [
+            'scene s { a : B markers ("x"',
+            'scene s { a : B markers ("x", "y"',
+            'scene s { a : B markers ("x", "y", "z"',
+        ],
+    ),
+    ("the class to grasp", ["grasp", "grasp {"]),
+    ("'{' after the class to grasp", ["grasp G", "grasp G type"]),
+    ("'type' and a grasp type (power, precision, rim, handle)", ["grasp G {", "grasp G { approach"]),
+    ("a grasp type (power, precision, rim, handle)", ["grasp G { type", "grasp G { type }"]),
+    ("'approach' and a direction (side, top, front)", ["grasp G { type a", "grasp G { type a }"]),
+    (
+        "an approach direction (side, top, front)",
+        ["grasp G { type a approach", "grasp G { type a approach }"],
+    ),
+    ("'offset (x, y, z)' or '}'", ["grasp G { type a approach b", "grasp G { type a approach b c"]),
+    (
+        "'(' and three numbers in metres",
+        ["grasp G { type a approach b offset", "grasp G { type a approach b offset 1"],
+    ),
+    (
+        "a number (metres)",
+        [
+            "grasp G { type a approach b offset (",
+            "grasp G { type a approach b offset (1,",
+            "grasp G { type a approach b offset (1, 2,",
+        ],
+    ),
+    (
+        "',' between the three numbers",
+        [
+            "grasp G { type a approach b offset (1",
+            "grasp G { type a approach b offset (1, 2",
+        ],
+    ),
+    ("')' after the three numbers", ["grasp G { type a approach b offset (1, 2, 3"]),
+    ("'}' to close the grasp", ["grasp G { type a approach b offset (1, 2, 3)"]),
+    ("the OAC's name", ["oac", "oac ("]),
+    ("'(' and the OAC's parameters", ["oac f", "oac f {"]),
+    ("a parameter 'name: Class' or ')'", ["oac f(", "oac f(h: H,", "oac f(h: H, o: O,", "oac f(h: H = x,"]),
+    ("':' and the parameter's class", ["oac f(h", "oac f(h)", "oac f(h: H, o", "oac f(h: H, o: O, p"]),
+    ("the parameter's class", ["oac f(h:", "oac f(h: )", "oac f(h: H, o:"]),
+    ("',', '= instance' or ')'", ["oac f(h: H", "oac f(h: H h", "oac f(h: H, o: O", "oac f(h: H, o: O o"]),
+    ("',' or ')' after the parameter", ["oac f(h: H = x", "oac f(h: H = x y", "oac f(h: H, o: O = x"]),
+    ("the default instance", ["oac f(h: H =", "oac f(h: H = )"]),
+    (
+        "'{' and the OAC's body",
+        [
+            "oac f()",
+            "oac f() pre",
+            "oac f(h: H)",
+            "oac f(h: H, o: O)",
+            "oac f(h: H,)",
+            "oac f(h: H = x)",
+        ],
+    ),
+    ("'pre', 'effect', 'execute SKILL' or 'steps { … }'", ["oac f() {", "oac f() { }", "oac f(h: H) {"]),
+    (
+        "a relation such as 'h <-> o', 'h <-> nothing' or 'not h <-> o'",
+        [
+            "oac f() { pre",
+            "oac f() { effect",
+            "oac f() { pre }",
+            "oac f() { effect }",
+        ],
+    ),
+    (
+        "a relation, 'effect', 'execute SKILL' or 'steps { … }'",
+        [
+            "oac f() { pre a <-> b,",
+            "oac f() { pre a <-> b, c <-> d,",
+            "oac f() { pre a <-> nothing,",
+            "oac f() { pre not a <-> b,",
+        ],
+    ),
+    (
+        "a relation, 'execute SKILL' or 'steps { … }'",
+        [
+            "oac f() { effect a <-> b,",
+            "oac f() { effect a <-> b, c <-> d,",
+            "oac f() { pre a <-> b effect c <-> d,",
+        ],
+    ),
+    ("an object or 'nothing' after 'not'", ["oac f() { pre not", "oac f() { pre not }"]),
+    (
+        "'<->' between the two objects",
+        [
+            "oac f() { pre a",
+            "oac f() { pre a b",
+            "oac f() { pre not a",
+            "oac f() { pre not a b",
+            "oac f() { pre nothing",
+            "oac f() { pre not nothing",
+            "oac f() { pre a <-> b, c",
+        ],
+    ),
+    (
+        "an object or 'nothing' after '<->'",
+        [
+            "oac f() { pre a <->",
+            "oac f() { pre a <-> }",
+            "oac f() { pre not a <->",
+            "oac f() { pre nothing <->",
+            "oac f() { pre not nothing <->",
+        ],
+    ),
+    (
+        "',', 'effect', 'execute SKILL' or 'steps { … }'",
+        [
+            "oac f() { pre a <-> b",
+            "oac f() { pre a <-> b }",
+            "oac f() { pre a <-> nothing",
+            "oac f() { pre not a <-> b",
+            "oac f() { pre not a <-> nothing",
+            "oac f() { pre a <-> b, c <-> d",
+            "oac f() { pre nothing <-> a",
+            "oac f() { pre not nothing <-> a",
+        ],
+    ),
+    (
+        "',', 'execute SKILL' or 'steps { … }'",
+        [
+            "oac f() { effect a <-> b",
+            "oac f() { effect a <-> b }",
+            "oac f() { effect a <-> nothing",
+            "oac f() { effect not a <-> b",
+            "oac f() { effect not a <-> nothing",
+            "oac f() { effect a <-> b, c <-> d",
+            "oac f() { effect nothing <-> a",
+            "oac f() { effect not nothing <-> a",
+        ],
+    ),
+    ("the name of a skill", ["oac f() { execute", "oac f() { execute }"]),
+    (
+        "'}' to close the OAC",
+        [
+            "oac f() { execute s",
+            "oac f() { execute s pre",
+            "oac f() { steps { }",
+            "oac f() { steps { g() }",
+        ],
+    ),
+    ("'{' and the steps", ["oac f() { steps", "oac f() { steps }"]),
+    ("a step such as 'grasp(h, o)' or '}'", ["oac f() { steps {", "oac f() { steps { g() )"]),
+    (
+        "the next step such as 'place(h, o)' or '}'",
+        [
+            "oac f() { steps { g(a)",
+            "oac f() { steps { g(a) h(b)",
+            "oac f() { steps { g(a) )",
+        ],
+    ),
+    (
+        "'(' and the step's arguments",
+        ["oac f() { steps { g", "oac f() { steps { g }", "oac f() { steps { g() h"],
+    ),
+    ("an argument or ')'", ["oac f() { steps { g(", "oac f() { steps { g( }"]),
+    ("an argument", ["oac f() { steps { g(a,", "oac f() { steps { g(a, )", "oac f() { steps { g(a, b,"]),
+    (
+        "',' or ')' after the argument",
+        [
+            "oac f() { steps { g(a",
+            "oac f() { steps { g(a b",
+            "oac f() { steps { g(a, b",
+            "oac f() { steps { g(a, b c",
+        ],
+    ),
+]

@@ -1,0 +1,196 @@
+"""The demonstration's stages: segment (AAS), match every sub-action, compose the new OAC.
+
+Each stage is a function returning a small record with the objects later stages need
+and ``doc``, its part of ``result.json`` (docs/report.md): the documents
+``oacc segment --json``, ``oacc match --json`` and ``oacc compose --json`` print, plus
+the fields the report shows (bound constraints, ranking notes, provenance, the text).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from oacdsl.library import Library
+from oacdsl.matching.composer import Composition
+from oacdsl.matching.demonstration import SubActionMatch
+from oacdsl.matching.emit import Emitted
+from oacdsl.model import Atom, Oac, Scene
+from oacdsl.segmentation.params import AasParams
+from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.result import Segmentation
+from oacdsl.world import NOTHING
+
+__all__ = ["ComposeStage", "MatchStage", "SegmentStage", "compose_stage", "match_stage", "segment_stage"]
+
+
+@dataclass(frozen=True)
+class SegmentStage:
+    recording: Recording
+    segmentation: Segmentation
+    doc: dict[str, Any]
+
+
+def segment_stage(recording: Recording, params: AasParams) -> SegmentStage:
+    """Segment the demonstration by the AAS."""
+    from oacdsl.segmentation import segment
+
+    seg = segment(recording, params)
+    return SegmentStage(recording, seg, seg.to_json())
+
+
+def segment_doc(stage: SegmentStage, source: str) -> dict[str, Any]:
+    """The stage's document, naming the recording as the user gave it."""
+    return {**stage.doc, "recording": source}
+
+
+@dataclass(frozen=True)
+class MatchStage:
+    matches: list[SubActionMatch]
+    doc: dict[str, Any]
+
+    @property
+    def unmatched(self) -> list[SubActionMatch]:
+        return [m for m in self.matches if m.result.chosen is None]
+
+
+def _match_note(rank: int, m: Any) -> str:
+    what = f"explains {m.explained} of {m.changes} changed relations"
+    if rank == 0:
+        return f"chosen: {what}"
+    return f"rank {rank + 1}: {what}, class specificity {m.specificity}, {m.idle} idle effect(s)"
+
+
+def match_doc(matches: Sequence[SubActionMatch], matcher: Any = None) -> dict[str, Any]:
+    """The ``match`` part: ``oacc match --json`` plus bound constraints and ranking notes.
+
+    With ``matcher``, every sub-action also lists the OACs that only the paper's rule accepts
+    (preconditions before, effects after, but not accounting for the change), marked
+    ``"rule": "paper"``: the runner-ups a reader of the paper's Fig. 4 expects to see.
+    """
+    from oacdsl.report import bound_conditions
+
+    subs = []
+    for k, m in enumerate(matches):
+        doc = m.to_json()
+        for rank, (entry, match) in enumerate(zip(doc["matches"], m.result.matches, strict=True)):
+            entry.update(bound_conditions(match.oac, match.mapping))
+            entry["note"] = _match_note(rank, match)
+            entry["rule"] = m.result.mode
+        if matcher is not None and m.result.mode == "strict":
+            seen = {(x.oac.name, x.binding) for x in m.result.matches}
+            paper = matcher.match(m.result.before, m.result.after, mode="paper", explain=False)
+            for x in paper.matches:
+                if (x.oac.name, x.binding) in seen:
+                    continue
+                entry = {"oac": x.oac.name, "binding": x.mapping, **bound_conditions(x.oac, x.mapping)}
+                entry["note"] = (f"only by the paper's rule: its conditions hold, but it explains"
+                                 f" {x.explained} of {x.changes} changed relations (not strict)")
+                entry["rule"] = "paper"
+                doc["matches"].append(entry)
+        if m.result.chosen is not None:
+            doc["step"] = sum(1 for x in matches[:k] if x.result.chosen is not None)
+        subs.append(doc)
+    return {"sub_actions": subs}
+
+
+def match_stage(segmentation: Segmentation, library: Library, scene: Scene) -> MatchStage:
+    """Match every sub-action with the strict rule (the effects account for every change)."""
+    from oacdsl.matching import Matcher
+    from oacdsl.matching.demonstration import match_segmentation
+
+    matcher = Matcher.from_library(library, scene)
+    matches = match_segmentation(segmentation, matcher)
+    return MatchStage(matches, match_doc(matches, matcher))
+
+
+@dataclass(frozen=True)
+class ComposeStage:
+    composition: Composition
+    #: The OAC to execute: parameters default to the demonstration's instances.
+    oac: Oac
+    emitted: Emitted
+    warnings: tuple[str, ...]
+    doc: dict[str, Any]
+
+
+_NOTE = re.compile(r"step (\d+) \w+, keyframe (\d+)")
+
+
+def _pair(atom: Atom) -> list[str]:
+    return [atom.left, atom.right] if NOTHING in (atom.left, atom.right) else sorted([atom.left, atom.right])
+
+
+def provenance(comp: Composition) -> list[dict[str, Any]]:
+    """Where every precondition, effect and ended relation came from (step and keyframe)."""
+    position = {s.index: k for k, s in enumerate(comp.steps)}
+
+    def entry(kind: str, atom: Atom) -> dict[str, Any]:
+        out: dict[str, Any] = {"kind": kind, "relation": _pair(atom)}
+        found = _NOTE.search(atom.note or "")
+        if found:
+            out["step"] = position.get(int(found.group(1)) - 1)
+            out["keyframe"] = int(found.group(2))
+        if atom.note:
+            out["note"] = atom.note
+        return out
+
+    rows = [entry("pre", a) for a in comp.pre if not a.negated]
+    effects = {tuple(_pair(a)): a for a in comp.effect if not a.negated}
+    ended = {tuple(_pair(a)): a for a in comp.effect if a.negated}
+    for kind, relations, atoms in (("effect", comp.added, effects), ("ended", comp.ended, ended)):
+        for r in relations:
+            atom = atoms.get(tuple(r))
+            rows.append(
+                entry(kind, atom)
+                if atom is not None
+                else {"kind": kind, "relation": list(r), "note": "world-state change"}
+            )
+    return rows
+
+
+def compose_stage(
+    name: str,
+    matches: Sequence[SubActionMatch],
+    library: Library,
+    library_path: Path,
+    scene: Scene,
+    *,
+    source: str,
+    outside_scene: Path | None = None,
+    force: bool = False,
+) -> ComposeStage:
+    """Compose the matched sub-actions (Algorithm 1) and write the new OAC into
+    ``LIBRARY/learned/NAME.oac`` as ``oacc compose`` does (unchanged when it is already there)."""
+    from oacdsl.matching.demonstration import compose_demonstration
+    from oacdsl.matching.emit import LEARNED, emit
+
+    comp = compose_demonstration(name, matches, library, scene).composition
+    written = comp.oac
+    warnings = list(comp.warnings)
+    if outside_scene is not None:  # defaults would name instances the library does not know
+        written = written.model_copy(
+            update={"params": tuple(p.model_copy(update={"default": None}) for p in written.params)}
+        )
+        warnings.append(
+            f"the scene comes from {outside_scene}, outside the library: the OAC written to the"
+            " library carries no default binding"
+        )
+    root = library_path if library_path.is_dir() else library_path.parent
+    header = [
+        f"Composed by oacc reproduce from {source} (strict matching, {len(comp.steps)} steps,"
+        f" scene {scene.name})."
+    ]
+    emitted = emit(
+        [written], root / LEARNED / f"{name}.oac", library=library_path, header=header, force=force
+    )
+    doc = comp.to_json(str(emitted.path))
+    doc["text"] = emitted.text
+    doc["provenance"] = provenance(comp)
+    doc["emitted"] = emitted.status
+    if warnings:
+        doc["warnings"] = warnings
+    return ComposeStage(comp, comp.oac, emitted, tuple(warnings), doc)

@@ -1,0 +1,147 @@
+"""The robot's stages: execute the composed OAC on ARMAR-III, verify the closed loop.
+
+``execute_stage`` runs the composed OAC in MuJoCo (object poses read from the
+simulation, the demonstration's binding as defaults) with :class:`VirtualMarkers`
+observing, and renders the robot before the first step and after every step (small
+frames, no shadows). ``verify_stage`` segments the virtual markers with the same AAS
+(:func:`~oacdsl.pipeline.markers.robot_params`), matches the robot's sub-actions with
+the same library, and compares the robot's world-state changes with the
+demonstration's (:func:`oacdsl.verify.verify`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from oacdsl.library import Library
+from oacdsl.model import Oac, Scene
+from oacdsl.pipeline.camera import StepCamera
+from oacdsl.pipeline.markers import VirtualMarkers, robot_params
+from oacdsl.segmentation.params import AasParams
+from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.result import Segmentation
+from oacdsl.world import NOTHING
+
+__all__ = ["ExecuteStage", "VerifyStage", "execute_stage", "verify_stage"]
+
+@dataclass
+class ExecuteStage:
+    result: Any  # oacdsl.runtime.RunResult
+    markers: VirtualMarkers
+    doc: dict[str, Any]
+    #: Why there are no pictures (no rendering backend), else None.
+    render_note: str | None = None
+    #: The rendered frames by name: robot_00 (before), robot_NN (after step NN), robot_NN_moment.
+    frames: dict[str, Path] = field(default_factory=dict)
+
+
+def execute_stage(
+    library: Library,
+    oac: Oac,
+    scene: Scene,
+    seed: int | None,
+    frames_dir: Path | None,
+    *,
+    note: Callable[[str], None] | None = None,
+) -> ExecuteStage:
+    """Execute ``oac``; with ``frames_dir``, render the robot there (:class:`StepCamera`).
+    Raises RuntimeFailure for a call that cannot run (bad binding)."""
+    from oacdsl.report import bound_conditions
+    from oacdsl.runtime.executor import prepare, run_prepared
+
+    run = prepare(library, oac, scene=scene, seed=seed)
+    markers = VirtualMarkers(run.world)
+    run.controller.add_observer(markers)
+    camera = StepCamera(run.world.model, run.steps, frames_dir) if frames_dir is not None else None
+    total = len(run.steps)
+
+    def announce(index: int) -> None:
+        if note is not None and index < total:
+            s = run.steps[index]
+            note(f"step {index + 1}/{total}: {s.oac.name}({', '.join(s.args)})")
+
+    def on_step(index: int, step: Any, world: Any) -> None:
+        if camera is not None:
+            camera.step_done(index, world)
+        announce(index + 1)
+
+    try:
+        if camera is not None:
+            camera.snapshot("robot_00", run.world)
+            run.controller.add_observer(camera)
+        announce(0)
+        result = run_prepared(run, on_step=on_step)
+    finally:
+        if camera is not None:
+            camera.close()
+    doc = result.to_json()
+    doc["initial"] = [list(r) for r in result.states[0].sorted_relations()] if result.states else []
+    before = doc["initial"]
+    for step_doc, step in zip(doc["steps"], run.steps, strict=False):
+        # ``observed`` is the set of touching relations (docs/report.md); the runtime adds
+        # ``[x, "nothing"]`` for the step's instances that touch nothing, which that set implies
+        step_doc["observed"] = [p for p in step_doc["observed"] if NOTHING not in p]
+        ending = bound_conditions(step.oac, step.binding)["effect_not"]
+        # an effect ``x <-> nothing`` predicts that every relation x had before the step ends
+        cleared = {p[0] for p in step_doc["predicted"] if p[1] == NOTHING}
+        ending += [p for p in before if (p[0] in cleared or p[1] in cleared) and p not in ending]
+        step_doc["predicted_not"] = sorted(ending)
+        before = step_doc["observed"]
+    doc["binding"] = dict(run.binding)
+    doc["grasp"] = "weld"
+    if result.error:
+        doc["error"] = result.error
+    if camera is None:
+        return ExecuteStage(result, markers, doc)
+    return ExecuteStage(result, markers, doc, camera.unavailable, dict(camera.frames))
+
+
+@dataclass
+class VerifyStage:
+    recording: Recording
+    segmentation: Segmentation
+    verification: Any  # oacdsl.verify.Verification
+    doc: dict[str, Any]
+
+
+def verify_stage(
+    demonstration: Segmentation,
+    demo_params: AasParams,
+    markers: VirtualMarkers,
+    library: Library,
+    scene: Scene,
+) -> VerifyStage:
+    """Segment the robot's virtual markers, match them, compare with the demonstration."""
+    from oacdsl.matching import Matcher
+    from oacdsl.matching.demonstration import match_segmentation
+    from oacdsl.pipeline.analyse import match_doc
+    from oacdsl.segmentation import segment
+    from oacdsl.verify import verify
+
+    instances = list(demonstration.instances)
+    recording = markers.to_recording("robot (virtual markers)", instances=instances)
+    params = robot_params(demo_params)
+    seg = segment(recording, params)
+    robot_matches = match_segmentation(seg, Matcher.from_library(library, scene))
+    v = verify(
+        [k.state for k in demonstration.keyframes],
+        [k.state for k in seg.keyframes],
+        demonstration_frames=[k.frame for k in demonstration.keyframes],
+        robot_frames=[k.frame for k in seg.keyframes],
+        demonstration_times_s=[k.time_s for k in demonstration.keyframes],
+        robot_times_s=[k.time_s for k in seg.keyframes],
+        instances=instances,
+    )
+    doc = v.to_json()
+    by_index = {m.index + 1: m for m in robot_matches}
+    for change in doc["robot"]:  # the robot's own sub-action leading to each change, as matched
+        m = by_index.get(change["index"])
+        chosen = m.result.chosen if m is not None else None
+        change["oac"] = chosen.text() if chosen is not None else None
+    doc["segment"] = seg.to_json()
+    doc["markers"] = len(recording.marker_names)
+    doc["robot_match"] = match_doc(robot_matches)
+    return VerifyStage(recording, seg, v, doc)

@@ -1,0 +1,300 @@
+"""``reproduce``: from a demonstration to a verified robot execution and its report.
+
+Stages, each timed by :class:`~oacdsl.progress.Progress`: segment → match → compose →
+execute → verify → record → report. Inputs are checked first (:func:`load_inputs`),
+before anything is written. The outputs are built in a hidden folder inside ``out``
+and renamed into place at the end (``report.html``, ``result.json``, ``NAME.oac``,
+``figures/``), so ``out`` never holds half a report. A stage that fails (no OAC
+matches a sub-action, the robot drops a cup) stops the stages that need it and the
+report says so, with a red verdict; the run store records every execution.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Any
+
+from oacdsl.errors import InputError, OacError
+from oacdsl.pipeline.inputs import Inputs
+from oacdsl.progress import Progress
+
+__all__ = ["STAGES", "Outcome", "publish", "reproduce"]
+
+STAGES = ("segment", "match", "compose", "execute", "verify", "record", "report")
+
+
+@dataclass
+class Outcome:
+    """What :func:`reproduce` produced: the exit status, the result document, the files."""
+
+    exit_code: int
+    result: dict[str, Any]
+    files: list[Path] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
+
+
+class _Failed(Exception):
+    """A stage failed; the error is recorded, the rest of the stages that need it are skipped."""
+
+
+def _verdict(result: dict[str, Any], failure: tuple[str, OacError] | None, name: str) -> dict[str, Any]:
+    if failure is not None:
+        stage, error = failure
+        return {"success": False, "summary": f"The {stage} stage failed: {error}", "failed_stage": stage}
+    run, v = result.get("run"), result.get("verification")
+    if run is not None and not run["success"]:
+        return {
+            "success": False,
+            "failed_stage": "execute",
+            "summary": f"The robot did not complete {name}: {run.get('error') or 'a step failed'}.",
+        }
+    if v is not None and not v["verified"]:
+        return {
+            "success": False,
+            "failed_stage": "verify",
+            "summary": f"The robot executed {name}, but the closed loop differs from the demonstration:"
+            f" {v['verdict']}.",
+        }
+    m = run["metrics"] if run is not None else {}
+    balls = f", {m['balls_in_bowl']} of {m['balls_total']} balls in the bowl" if "balls_total" in m else ""
+    n = len(v["demonstration"]) if v is not None else 0
+    return {
+        "success": True,
+        "summary": f"ARMAR-III executed {name} ({len(run['steps']) if run else 0} steps{balls}), and its own"
+        f" recording, segmented by the same AAS, shows the demonstration's {n} world-state"
+        f" changes in order (edit distance {v['distance'] if v else '–'}).",
+    }
+
+
+def reproduce(
+    inputs: Inputs,
+    *,
+    name: str,
+    out: Path,
+    db: Path | None,
+    seed: int | None = None,
+    render: bool = True,
+    force: bool = False,
+    quiet: bool = False,
+    command: str | None = None,
+    warn: Callable[[str], None] | None = None,
+) -> Outcome:
+    """Run every stage on checked ``inputs`` and write the report into ``out`` (see the module
+    docstring). ``db``: the run store (None: do not record)."""
+    from oacdsl import __version__
+
+    progress = Progress(list(STAGES), quiet=quiet)
+    warnings: list[str] = []
+
+    def note_warning(text: str) -> None:
+        warnings.append(text)
+        if warn is not None:
+            warn(text)
+
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=".reproduce-", dir=out))
+    except OSError as error:
+        why = error.strerror or str(error)
+        raise InputError(f"cannot write the report here: {why}", location=str(out)) from None
+    try:
+        figures = staging / "figures"
+        figures.mkdir()
+        result: dict[str, Any] = {
+            "schema_version": 1,
+            "created_utc": datetime.now(timezone.utc).replace(microsecond=0).isoformat(),
+            "oacdsl_version": __version__,
+            "demonstration": {
+                "recording": inputs.source,
+                "scene": inputs.scene.name,
+                "library": [str(inputs.library_path)],
+                "seed": seed,
+                "command": command,
+            },
+        }
+        failure = _stages(
+            inputs,
+            result,
+            progress,
+            staging,
+            name=name,
+            seed=seed,
+            render=render,
+            force=force,
+            db=db,
+            warn=note_warning,
+        )
+        result["verdict"] = _verdict(result, failure, name)
+        result["stages"] = progress.records()
+        if warnings:
+            result["warnings"] = warnings
+        with progress.stage("report"):
+            from oacdsl.report import write_report
+
+            report = write_report(result, staging, source="result")
+            for w in report.warnings:
+                note_warning(w)
+            try:
+                files = publish(staging, out)
+            except OSError as error:
+                raise InputError(f"cannot move the report into place: {error.strerror or error}",
+                                 location=str(out)) from None
+        code = 0 if result["verdict"]["success"] else max(failure[1].exit_code if failure else 1, 1)
+        return Outcome(code, result, files, warnings)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+
+
+def _stages(
+    inputs: Inputs,
+    result: dict[str, Any],
+    progress: Progress,
+    staging: Path,
+    *,
+    name: str,
+    seed: int | None,
+    render: bool,
+    force: bool,
+    db: Path | None,
+    warn: Callable[[str], None],
+) -> tuple[str, OacError] | None:
+    """Fill ``result`` stage by stage; the first failed stage and its error, or None."""
+    from oacdsl.pipeline import analyse, figures, robot
+
+    failed: list[tuple[str, OacError]] = []
+    figs = staging / figures.FIGURES
+
+    def attempt(stage_name: str, body: Callable[[], Any]) -> Any:
+        try:
+            with progress.stage(stage_name):
+                return body()
+        except OacError as error:
+            failed.append((stage_name, error))
+            raise _Failed from None
+
+    def segment() -> Any:
+        seg = analyse.segment_stage(inputs.recording, inputs.params)
+        seg.doc["plot"] = figures.distance_plot(seg.recording, seg.segmentation, figs, "aas.png")
+        snaps = figures.keyframe_snapshots(seg.recording, seg.segmentation, figs)
+        for kf, image in zip(seg.doc["keyframes"], snaps, strict=True):
+            kf["image"] = image
+        return seg
+
+    def compose() -> Any:
+        if matched.unmatched:
+            from oacdsl.errors import MatchingError
+
+            m = matched.unmatched[0]
+            raise MatchingError(
+                f"sub-action {m.index + 1} (frames {m.sub_action.start.frame}–"
+                f"{m.sub_action.end.frame}) matches no OAC: {m.result.explanation}"
+            )
+        done = analyse.compose_stage(
+            name,
+            matched.matches,
+            inputs.library,
+            inputs.library_path,
+            inputs.scene,
+            source=inputs.source,
+            outside_scene=inputs.outside_scene,
+            force=force,
+        )
+        from oacdsl.atomic import write_atomic
+
+        write_atomic(staging / f"{name}.oac", done.emitted.text)
+        return done
+
+    def execute() -> Any:
+        done = robot.execute_stage(
+            inputs.library, composed.oac, inputs.scene, seed, figs if render else None, note=progress.note
+        )
+        figures.attach_frames(done.doc, done.frames, staging)
+        return done
+
+    def verify() -> Any:
+        done = robot.verify_stage(
+            seg.segmentation, inputs.params, executed.markers, inputs.library, inputs.scene
+        )
+        done.doc["plot"] = figures.distance_plot(
+            figures.decimated(done.recording), done.segmentation, figs, "robot_aas.png"
+        )
+        return done
+
+    try:
+        seg = attempt("segment", segment)
+        result["segment"] = analyse.segment_doc(seg, inputs.source)
+        matched = attempt(
+            "match", lambda: analyse.match_stage(seg.segmentation, inputs.library, inputs.scene)
+        )
+        result["match"] = matched.doc
+        composed = attempt("compose", compose)
+        result["compose"] = composed.doc
+        for w in composed.warnings:
+            warn(w)
+        executed = attempt("execute", execute)
+        result["run"] = executed.doc
+        if executed.render_note:
+            warn(f"{executed.render_note}; the report has no pictures of the robot")
+        # a robot that failed a step is still verified: the report shows how far it got
+        result["verification"] = attempt("verify", verify).doc
+    except _Failed:
+        pass
+    done = {r["name"] for r in progress.records()}
+    for later in ("segment", "match", "compose", "execute", "verify"):
+        if later not in done:
+            progress.skip(later, f"the {failed[0][0]} stage failed")
+    if db is None:
+        progress.skip("record", "no run store")
+    elif "run" in result:
+        try:
+            attempt("record", lambda: _record(db, result["run"], result, inputs, seed))
+        except _Failed:
+            pass
+    else:
+        progress.skip("record", "nothing was executed")
+    return failed[0] if failed else None
+
+
+def _record(
+    db: Path, run_doc: dict[str, Any], result: dict[str, Any], inputs: Inputs, seed: int | None
+) -> None:
+    """Store the run's outcome per OAC; put the measured reliability into ``result``."""
+    from oacdsl.report import reliability_doc
+    from oacdsl.stats import RunStore
+
+    v = result.get("verification")
+    with RunStore(db) as store:
+        store.record_run_json(
+            run_doc,
+            recording=inputs.source,
+            seed=seed,
+            fidelity=v["fidelity"] if v else None,
+            edit_distance=v["distance"] if v else None,
+            command="reproduce",
+        )
+    result["reliability"] = reliability_doc(db)
+
+
+def publish(staging: Path, out: Path) -> list[Path]:
+    """Move the finished outputs from ``staging`` into ``out`` (each by a rename)."""
+    files = []
+    old = staging / ".figures.old"
+    if (staging / "figures").is_dir():
+        if (out / "figures").is_dir():
+            os.replace(out / "figures", old)
+        os.replace(staging / "figures", out / "figures")
+        files.append(out / "figures")
+    order = sorted(
+        p.name for p in staging.iterdir() if p.is_file() and p.name not in ("result.json", "report.html")
+    )
+    for fname in [*order, "result.json", "report.html"]:
+        if (staging / fname).exists():
+            os.replace(staging / fname, out / fname)
+            files.append(out / fname)
+    return files

@@ -1,0 +1,210 @@
+"""Co-motion: when two instances move as one, and the distance at which they do.
+
+Steps 1–3 of the adaptive touch detector (:mod:`oacdsl.segmentation.adaptive`):
+co-motion frames per instance pair, episodes, each pair's learned contact distance,
+and the touching intervals grown from the episodes. Reads the whole recording in
+chunks; memory O(frames) per instance pair that comes within reach (float32).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from oacdsl.errors import SegmentationError
+from oacdsl.segmentation.geometry import BOUND_MARGIN_M, ChunkGeometry
+from oacdsl.segmentation.pairs import PairTable
+from oacdsl.segmentation.params import AasParams
+from oacdsl.segmentation.recording import Recording
+
+__all__ = ["AdaptiveSettings", "comotion"]
+
+_SCAN_FRAMES = 4096  # frames per chunk of the scan
+
+
+@dataclass(frozen=True)
+class AdaptiveSettings:
+    """Constants of the adaptive detector (SI units); ``AasParams`` gives d, v, n.
+
+    Attributes:
+        static_distance_m: metres, ``d`` of the paper's rule for pairs that never
+            co-move, whose own distance is unknown. 100 mm: a hand resting beside an
+            object (60–140 mm on the KIT clips) mostly stays out, a mixer stirring in
+            a bowl (70–85 mm between their markers in the synthetic dough scene) is in.
+        move_speed_m_s: metres per second, both instances must move faster than this
+            for co-motion (40 mm/s: four times the marker jitter of a 100 Hz Vicon
+            recording, far below a carried object's 0.2–1 m/s).
+        rigid_ratio: the median change of their marker distances must stay below
+            this fraction of the slower instance's speed (0.5: a held object's
+            distances change by a few per cent of its speed; a hand passing an
+            object, or two hands moving independently, change them at about the
+            full speed).
+        margin: the threshold is the episode's median closest distance × (1 + margin)
+            (0.15: a grip is not perfectly rigid, and the hand opens a little before
+            it leaves).
+        lag_s: seconds over which speeds and distance changes are measured (≥ 1 frame),
+            so that the test means the same at 10 Hz and at 100 Hz.
+        min_episode_s: seconds, the shortest co-motion episode (≥ 1 frame).
+
+    The defaults sit inside the range that scores best on the KIT development
+    clips (``docs/segmentation-adaptive.md`` lists the sensitivity).
+    """
+
+    static_distance_m: float = 0.1
+    move_speed_m_s: float = 0.04
+    rigid_ratio: float = 0.5
+    margin: float = 0.15
+    lag_s: float = 0.1
+    min_episode_s: float = 0.1
+
+    def __post_init__(self) -> None:
+        for name in ("static_distance_m", "move_speed_m_s", "rigid_ratio", "lag_s"):
+            if not getattr(self, name) > 0:
+                raise SegmentationError(f"adaptive: {name} must be positive, got {getattr(self, name)}")
+        if not (self.margin >= 0 and self.min_episode_s >= 0):
+            raise SegmentationError("adaptive: margin and min_episode_s must be ≥ 0")
+
+    def frames(self, seconds: float, rate_hz: float) -> int:
+        """``seconds`` in whole frames at ``rate_hz``, at least 1."""
+        return max(1, round(seconds * rate_hz))
+
+
+def comotion(recording: Recording, table: PairTable, params: AasParams,
+             settings: AdaptiveSettings) -> dict[int, tuple[list[tuple[int, int]], float]]:
+    """Instance pair → (sorted, disjoint frame intervals ``[a, b)`` of touching by steps 1–3,
+    the pair's learned distance: the median of its episodes' thresholds, metres)."""
+    signals = _scan(recording, table, params, settings)
+    _prune_indirect(signals, table)
+    min_len = settings.frames(settings.min_episode_s, recording.rate_hz)
+    out: dict[int, tuple[list[tuple[int, int]], float]] = {}
+    for q, (dmin, carry) in signals.items():
+        spans, thresholds = [], []
+        for a, b in _runs(carry):
+            if b - a < min_len:
+                continue
+            threshold = min(float(np.nanmedian(dmin[a:b])) * (1 + settings.margin), params.distance_m)
+            spans.append(_extend(dmin, a, b, threshold))
+            thresholds.append(threshold)
+        if spans:
+            out[q] = (_union(spans), float(np.median(thresholds)))
+    return out
+
+
+def _scan(recording: Recording, table: PairTable, params: AasParams,
+          settings: AdaptiveSettings) -> dict[int, tuple[np.ndarray, np.ndarray]]:
+    """Per instance pair that comes within reach: closest distance (F,) and co-motion frames (F,)."""
+    n_frames, n_q = recording.n_frames, table.n_instance_pairs
+    if n_q == 0 or n_frames < 2:
+        return {}
+    geometry = ChunkGeometry(recording, table)
+    lag = settings.frames(settings.lag_s, recording.rate_hz)
+    reach = params.distance_m * (1 + settings.margin)
+    times = np.asarray(recording.times_s, dtype=np.float64)
+    groups = [table.marker_order[a:b] for a, b in zip(table.marker_offsets[:-1], table.marker_offsets[1:],
+                                                       strict=True)]
+    dmin: dict[int, np.ndarray] = {}
+    carry: dict[int, np.ndarray] = {}
+    for start in range(0, n_frames, _SCAN_FRAMES):
+        stop = min(n_frames, start + _SCAN_FRAMES)
+        lo = max(0, start - lag)
+        x = geometry.coordinates(lo, stop)
+        with np.errstate(invalid="ignore"):
+            blocks = np.flatnonzero(geometry.lower_bounds(x) <= reach + BOUND_MARGIN_M)
+        if blocks.size == 0:
+            continue
+        _, dist = geometry.distances(x, blocks)
+        # rates over `lag` frames; the first frames of the recording use frame 0 (frame 0: frame `lag`)
+        rows = np.arange(lo, stop)
+        prev = np.maximum(rows - lag, 0)
+        prev[prev == rows] = min(lag, n_frames - 1)
+        dt = np.abs(times[rows] - times[prev])
+        local_prev = prev - lo
+        speeds = _instance_speeds(recording, groups, rows, prev, dt)
+        sizes = table.block_offsets[blocks + 1] - table.block_offsets[blocks]
+        offsets = np.concatenate([[0], np.cumsum(sizes)[:-1]])  # rows of each block in `dist`
+        out = slice(start - lo, stop - lo)
+        for k, q in enumerate(blocks):
+            d = dist[offsets[k]:offsets[k] + sizes[k]]  # (P_q, R), frames lo..stop-1
+            d_prev = d[:, local_prev]
+            with np.errstate(invalid="ignore"):
+                closest = np.fmin.reduce(d, axis=0)
+                change = _nanmedian0(np.abs(d - d_prev)) / dt
+                a, b = table.instance_pairs[q]
+                slower = np.fmin(speeds[a], speeds[b])
+                moving = (closest < params.distance_m) & (slower > settings.move_speed_m_s)
+                is_carry = moving & (change < settings.rigid_ratio * slower)
+            if int(q) not in dmin:
+                dmin[int(q)] = np.full(n_frames, np.inf, dtype=np.float32)
+                carry[int(q)] = np.zeros(n_frames, dtype=bool)
+            dmin[int(q)][start:stop] = closest[out]
+            carry[int(q)][start:stop] = is_carry[out]
+    return {q: (dmin[q], carry[q]) for q in dmin}
+
+
+def _prune_indirect(signals: dict[int, tuple[np.ndarray, np.ndarray]], table: PairTable) -> None:
+    """Keep co-motion only between neighbours: drop A–B at frames where some C is closer to both.
+
+    A hand holding a cup while the other hand pours milk into it moves with the
+    milk too, but through the cup: A–B is the longest side of the triangle A–C–B
+    (``max(dist(A, C), dist(C, B)) < dist(A, B)``: the relative neighbourhood graph).
+    """
+    index = {(int(a), int(b)): q for q, (a, b) in enumerate(table.instance_pairs)}
+    n_inst = len(table.instances)
+    for q, (dmin, carry) in signals.items():
+        if not carry.any():
+            continue
+        a, b = (int(i) for i in table.instance_pairs[q])
+        for c in range(n_inst):
+            q1 = index.get((min(a, c), max(a, c)))
+            q2 = index.get((min(b, c), max(b, c)))
+            if c in (a, b) or q1 not in signals or q2 not in signals:
+                continue
+            with np.errstate(invalid="ignore"):
+                carry &= ~(np.fmax(signals[q1][0], signals[q2][0]) < dmin)
+
+
+def _instance_speeds(recording: Recording, groups: list[np.ndarray], rows: np.ndarray, prev: np.ndarray,
+                     dt: np.ndarray) -> list[np.ndarray]:
+    """Per instance (table order), the median marker speed at ``rows`` (m/s; NaN in gaps)."""
+    now, before = recording.positions_m[rows], recording.positions_m[prev]  # (R, M, 3) each
+    return [_nanmedian0(np.linalg.norm(now[:, m] - before[:, m], axis=-1).T) / dt for m in groups]
+
+
+def _nanmedian0(x: np.ndarray) -> np.ndarray:
+    """Median over axis 0 ignoring NaN (NaN where a column has no value); faster than np.nanmedian."""
+    if x.shape[0] == 0:
+        return np.full(x.shape[1:], np.nan)
+    ordered = np.sort(x, axis=0)  # NaN sort last
+    count = np.count_nonzero(~np.isnan(x), axis=0)
+    cols = np.arange(x.shape[1])
+    lo = np.maximum(count - 1, 0) // 2
+    hi = np.minimum(count // 2, x.shape[0] - 1)
+    median = (ordered[lo, cols] + ordered[hi, cols]) / 2
+    return np.where(count > 0, median, np.nan)
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """``[a, b)`` runs of True."""
+    padded = np.concatenate([[False], mask, [False]])
+    edges = np.flatnonzero(padded[1:] != padded[:-1])
+    return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))
+
+
+def _extend(dmin: np.ndarray, a: int, b: int, threshold: float) -> tuple[int, int]:
+    """Grow ``[a, b)`` both ways while the closest distance is within ``threshold`` or unknown."""
+    with np.errstate(invalid="ignore"):
+        beyond = dmin > threshold  # NaN: unknown, not beyond
+    before = np.flatnonzero(beyond[:a])
+    after = np.flatnonzero(beyond[b:])
+    return (int(before[-1]) + 1 if before.size else 0, b + int(after[0]) if after.size else dmin.size)
+
+
+def _union(spans: list[tuple[int, int]]) -> list[tuple[int, int]]:
+    merged: list[tuple[int, int]] = []
+    for a, b in sorted(spans):
+        if merged and a <= merged[-1][1]:
+            merged[-1] = (merged[-1][0], max(merged[-1][1], b))
+        else:
+            merged.append((a, b))
+    return merged

@@ -1,0 +1,132 @@
+"""The adaptive touch detector (mode ``adaptive``): co-motion, learned per-pair distances."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from _aas_helpers import path, recording, still, summary
+
+from oacdsl.errors import SegmentationError
+from oacdsl.segmentation import AasParams, segment
+from oacdsl.segmentation.adaptive import AdaptiveDetector, AdaptiveSettings
+from oacdsl.segmentation.recording import Recording
+
+F = 500
+RATE = 100.0
+# marker layouts, metres: a cup's four corners, the back of a hand 9 cm above what it holds
+CUP_MARKERS = np.array([[0.03, 0.03, 0.0], [-0.03, 0.03, 0.0], [0.03, -0.03, 0.05], [-0.03, -0.03, 0.05]])
+HAND_MARKERS = np.array([[0.0, 0.0, 0.0], [0.04, 0.0, 0.0], [0.0, 0.03, 0.01]])
+GRIP = np.array([0.0, 0.0, 0.14])  # hand origin above the cup origin while holding: 9 cm marker gap
+
+
+def cluster(centre: np.ndarray, layout: np.ndarray) -> np.ndarray:
+    return centre[:, None, :] + layout[None, :, :]
+
+
+def carry_scene() -> dict[str, np.ndarray]:
+    """The hand reaches the cup (frame 100), lifts and carries it (150–300), sets it down, leaves (350)."""
+    start, goal = (0.5, 0.0, 0.0), (0.9, 0.2, 0.0)
+    cup = path(F, [(0, start), (150, start), (300, goal)])
+    held, placed = tuple(np.add(start, GRIP)), tuple(np.add(goal, GRIP))
+    hand = path(F, [(0, (0.0, -0.3, 0.4)), (100, held), (150, held), (300, placed), (350, placed),
+                    (450, (1.2, 0.5, 0.6))])
+    return {"cup": cluster(cup, CUP_MARKERS), "hand": cluster(hand, HAND_MARKERS)}
+
+
+def adaptive(rec: Recording, **kwargs: float) -> list:
+    params = AasParams(mode="adaptive", merge_s=0.0, **kwargs)
+    return summary(segment(rec, params))
+
+
+def test_carried_object_touches_from_grasp_to_release():
+    rec = recording(carry_scene())
+    kfs = adaptive(rec)
+    assert [k[1] for k in kfs] == [[], [("cup", "hand")], []]
+    grasp, release = kfs[1][0], kfs[2][0]
+    assert 90 <= grasp <= 110 and 345 <= release <= 365  # the hand arrives at 100, leaves after 350
+    # the paper's rule at a distance that suits other objects (6 cm) never sees this grip (9 cm)
+    assert summary(segment(rec, AasParams(distance_m=0.06, mode="paper"))) == [(0, [])]
+
+
+def test_hand_resting_beside_an_object_is_not_touching():
+    scene = carry_scene()
+    # a bowl 12 cm from where the hand comes to rest at the end (frames 450-499)
+    bowl = still(F, (1.2, 0.5 + 0.03 + 0.12 + 0.015, 0.61))
+    scene["bowl"] = cluster(bowl, CUP_MARKERS * 0.5)
+    rec = recording(scene)
+    relations = {r for _, rs in adaptive(rec) for r in rs}
+    assert ("bowl", "hand") not in relations and ("cup", "hand") in relations
+    # the paper's rule at its default 15 cm calls the resting hand a touch
+    assert ("bowl", "hand") in summary(segment(rec, AasParams(mode="paper")))[-1][1]
+
+
+def test_object_held_by_the_other_hand_is_not_touched():
+    # left hand holds the cup, the right hand holds a jug against it: all four move as one
+    scene = carry_scene()
+    cup = scene["cup"].mean(axis=1) - CUP_MARKERS.mean(axis=0)
+    jug = cup + np.array([0.0, 0.16, 0.0])  # 10 cm from the cup's markers, 13 cm from the hand's
+    scene["jug"] = cluster(jug, CUP_MARKERS)
+    scene["other_hand"] = cluster(jug + GRIP, HAND_MARKERS)
+    relations = {r for _, rs in adaptive(recording(scene)) for r in rs}
+    assert ("cup", "hand") in relations and ("jug", "other_hand") in relations
+    assert ("hand", "jug") not in relations and ("cup", "other_hand") not in relations
+
+
+def test_a_gap_during_the_carry_does_not_break_the_touch():
+    scene = carry_scene()
+    scene["cup"][180:260, 1:] = np.nan  # three of four cup markers occluded mid-carry
+    scene["hand"][200:215] = np.nan  # and the whole hand for 0.15 s
+    assert [k[1] for k in adaptive(recording(scene))] == [[], [("cup", "hand")], []]
+
+
+def test_chunked_equals_single_pass_with_gaps():
+    rng = np.random.default_rng(5)
+    scene = carry_scene()
+    scene["cup"] = scene["cup"] + rng.normal(0, 0.0005, scene["cup"].shape)  # 0.5 mm noise
+    scene["cup"][rng.random(scene["cup"].shape[:2]) < 0.03] = np.nan
+    rec = recording(scene)
+    params = AasParams(mode="adaptive")
+    whole = segment(rec, params)
+    for chunk in (7, 64, 333):
+        assert segment(rec, params, chunk_frames=chunk).keyframes == whole.keyframes
+
+
+def test_same_touch_at_10_hz_and_100_hz():
+    rec100 = recording(carry_scene())
+    rec10 = recording({k: v[::10] for k, v in carry_scene().items()}, rate_hz=10.0)
+    t100 = [k.time_s for k in segment(rec100, AasParams(mode="adaptive", merge_s=0)).keyframes]
+    t10 = [k.time_s for k in segment(rec10, AasParams(mode="adaptive", merge_s=0)).keyframes]
+    assert len(t100) == len(t10) == 3
+    assert np.allclose(t100, t10, atol=0.25)
+
+
+def test_settings_are_checked_and_usable_directly():
+    with pytest.raises(SegmentationError, match="rigid_ratio must be positive"):
+        AdaptiveSettings(rigid_ratio=0)
+    rec = recording(carry_scene())
+    params = AasParams(mode="adaptive", merge_s=0).resolved(RATE)
+    # nothing moves at 10 m/s, so there is no co-motion: only the static rule (here 5 cm) remains
+    strict = AdaptiveDetector(params, AdaptiveSettings(move_speed_m_s=10.0, static_distance_m=0.05))
+    assert summary(segment(rec, params, detector=strict)) == [(0, [])]
+
+
+def test_unknown_mode_lists_adaptive():
+    with pytest.raises(SegmentationError, match="adaptive"):
+        segment(recording(carry_scene()), AasParams(mode="adaptiv"))
+
+
+def test_invariant_to_marker_order_and_a_rigid_motion_of_the_scene():
+    rng = np.random.default_rng(11)
+    scene = carry_scene()
+    scene["cup"] = scene["cup"] + rng.normal(0, 0.0003, scene["cup"].shape)
+    rec = recording(scene)
+    base = segment(rec, AasParams(mode="adaptive")).keyframes
+    perm = rng.permutation(len(rec.marker_names))
+    inverse = np.argsort(perm)
+    groups = {g: tuple(int(inverse[i]) for i in idx) for g, idx in rec.groups.items()}
+    angle = 0.7
+    rot = np.array([[np.cos(angle), -np.sin(angle), 0], [np.sin(angle), np.cos(angle), 0], [0, 0, 1]])
+    moved = rec.positions_m[:, perm] @ rot.T + np.array([3.0, -2.0, 0.5])
+    names = tuple(rec.marker_names[i] for i in perm)
+    other = Recording("moved", rec.rate_hz, rec.times_s, names, moved, groups)
+    assert segment(other, AasParams(mode="adaptive")).keyframes == base
