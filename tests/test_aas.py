@@ -10,6 +10,9 @@ from oacdsl.errors import RecordingError, SegmentationError
 from oacdsl.segmentation import AasParams, segment
 from oacdsl.segmentation.recording import Recording
 
+# These tests check the paper's Eq. 1 and Eq. 2 as printed, so they name mode="paper";
+# the default mode (adaptive) is tested in test_adaptive.py.
+
 F = 400
 CUP = (0.0, 0.0, 0.0)
 
@@ -24,7 +27,7 @@ def approach_hold_leave(rate_hz: float = 100.0) -> Recording:
 def test_touch_is_labelled_at_the_first_frame_of_its_run(n):
     # frame 100 still has the approach's distance change (from 99); 101 is the first still frame.
     # Leaving: frame 201 is the first with a large change. Neither depends on n.
-    seg = segment(approach_hold_leave(), AasParams(frames=n, merge_s=0))
+    seg = segment(approach_hold_leave(), AasParams(mode="paper", frames=n, merge_s=0))
     assert summary(seg) == [(0, []), (101, [("cup", "hand")]), (201, [])]
     assert seg.keyframes[1].time_s == pytest.approx(1.01)
 
@@ -32,9 +35,9 @@ def test_touch_is_labelled_at_the_first_frame_of_its_run(n):
 def test_distance_and_speed_thresholds_both_matter():
     rec = approach_hold_leave()
     # resting at 5 cm is not "close" under a 4 cm threshold
-    assert summary(segment(rec, AasParams(distance_m=0.04))) == [(0, [])]
+    assert summary(segment(rec, AasParams(distance_m=0.04, mode="paper"))) == [(0, [])]
     # with no speed condition the touch starts as soon as the hand is within 15 cm
-    seg = segment(rec, AasParams(speed_m_s=math.inf, frames=3, merge_s=0))
+    seg = segment(rec, AasParams(speed_m_s=math.inf, frames=3, merge_s=0, mode="paper"))
     # distance 0.5 - 0.0045 f < 0.15 from f = 78 (0.149 m) to the mirror frame on the way out
     assert [k.frame for k in seg.keyframes] == [0, 78, 223]
 
@@ -49,7 +52,9 @@ def test_pass_by_is_no_touch():
     # whose step is tangential: the distance changes by 0.99 mm, under v Δt = 1 mm)
     stop = path(F, [(0, (-2.0, 0.05, 0)), (200, (0.0, 0.05, 0))])
     assert summary(segment(recording({"hand": stop, "cup": still(F, CUP)}))) == [
-        (0, []), (200, [("cup", "hand")])]
+        (0, []),
+        (200, [("cup", "hand")]),
+    ]
 
 
 def test_slow_pass_by_touches_when_n_is_too_small():
@@ -57,8 +62,8 @@ def test_slow_pass_by_touches_when_n_is_too_small():
     # |t| < v b / u² = 31 ms, about 6 frames at 100 Hz
     hand = path(F, [(0, (-0.8, 0.05, 0)), (F - 1, (-0.8 + 0.004 * (F - 1), 0.05, 0))])
     rec = recording({"hand": hand, "cup": still(F, CUP)})
-    assert len(segment(rec, AasParams(frames=3, merge_s=0)).keyframes) == 3
-    assert len(segment(rec, AasParams(frames=10, merge_s=0)).keyframes) == 1
+    assert len(segment(rec, AasParams(mode="paper", frames=3, merge_s=0)).keyframes) == 3
+    assert len(segment(rec, AasParams(mode="paper", frames=10, merge_s=0)).keyframes) == 1
 
 
 def test_auto_frames_follow_the_rate():
@@ -72,13 +77,13 @@ def test_auto_frames_follow_the_rate():
 def hold_with_noise(spikes: list[int], width: int) -> Recording:
     hand = still(F, (0.05, 0, 0))
     for s in spikes:  # the hand marker jumps by 2 cm for `width` frames and back
-        hand[s:s + width, 0] += 0.02
+        hand[s : s + width, 0] += 0.02
     return recording({"hand": hand, "cup": still(F, CUP)})
 
 
 def test_noise_does_not_break_a_touch():
     # one-frame jumps: the change is large on the jump and on the way back, 2 far frames each
-    seg = segment(hold_with_noise([100, 150, 250], width=1), AasParams(frames=3, merge_s=0))
+    seg = segment(hold_with_noise([100, 150, 250], width=1), AasParams(mode="paper", frames=3, merge_s=0))
     assert summary(seg) == [(0, [("cup", "hand")])]
 
 
@@ -86,7 +91,9 @@ def test_a_real_separation_breaks_the_touch():
     # a jump that stays: far for 1 frame then still but outside d -> separation
     hand = still(F, (0.05, 0, 0))
     hand[200:, 0] = 0.3
-    seg = segment(recording({"hand": hand, "cup": still(F, CUP)}), AasParams(frames=3, merge_s=0))
+    seg = segment(
+        recording({"hand": hand, "cup": still(F, CUP)}), AasParams(mode="paper", frames=3, merge_s=0)
+    )
     assert summary(seg) == [(0, [("cup", "hand")]), (200, [])]
 
 
@@ -100,10 +107,22 @@ def test_initial_state_is_frame_zero():
 
 def bounce(merge_s: float) -> list:
     # a cup set down on a tray bounces: resting 101-104, in the air 105-110, resting from 111
-    cup = path(F, [(0, (0, 0, 0.5)), (100, (0, 0, 0.05)), (104, (0, 0, 0.05)), (106, (0, 0, 0.2)),
-                   (108, (0, 0, 0.2)), (110, (0, 0, 0.05))])
-    return summary(segment(recording({"cup": cup, "tray": still(F, CUP)}),
-                           AasParams(frames=1, merge_s=merge_s)))
+    cup = path(
+        F,
+        [
+            (0, (0, 0, 0.5)),
+            (100, (0, 0, 0.05)),
+            (104, (0, 0, 0.05)),
+            (106, (0, 0, 0.2)),
+            (108, (0, 0, 0.2)),
+            (110, (0, 0, 0.05)),
+        ],
+    )
+    return summary(
+        segment(
+            recording({"cup": cup, "tray": still(F, CUP)}), AasParams(mode="paper", frames=1, merge_s=merge_s)
+        )
+    )
 
 
 def test_bounce_is_merged():
@@ -116,8 +135,8 @@ def test_merge_drops_a_flicker_that_returns_to_the_previous_state():
     # hand touches the cup for 10 frames (0.1 s) only: merged away entirely
     hand = path(F, [(0, (0.5, 0, 0)), (100, (0.05, 0, 0)), (110, (0.05, 0, 0)), (111, (0.5, 0, 0))])
     rec = recording({"hand": hand, "cup": still(F, CUP)})
-    assert len(segment(rec, AasParams(frames=2, merge_s=0)).keyframes) == 3
-    assert summary(segment(rec, AasParams(frames=2, merge_s=0.3))) == [(0, [])]
+    assert len(segment(rec, AasParams(mode="paper", frames=2, merge_s=0)).keyframes) == 3
+    assert summary(segment(rec, AasParams(mode="paper", frames=2, merge_s=0.3))) == [(0, [])]
 
 
 def test_instances_touch_while_any_marker_pair_touches():
@@ -127,8 +146,9 @@ def test_instances_touch_while_any_marker_pair_touches():
     hand = path(F, [(0, (0.0, 0.05, 0)), (150, (0.0, 0.05, 0)), (250, (0.2, 0.05, 0))])
     rec = recording({"hand": hand, "tray": tray})
     for chunk in (7, 64, 1000):
-        assert summary(segment(rec, AasParams(speed_m_s=math.inf, frames=3), chunk_frames=chunk)) == [
-            (0, [("hand", "tray")])]
+        assert summary(
+            segment(rec, AasParams(mode="paper", speed_m_s=math.inf, frames=3), chunk_frames=chunk)
+        ) == [(0, [("hand", "tray")])]
 
 
 def test_gap_keeps_a_touch():
@@ -152,7 +172,10 @@ def test_touch_that_starts_in_a_gap_is_found_after_it():
     hand[100:180] = np.nan
     hand[180:] = (0.05, 0, 0)
     rec = recording({"hand": hand, "cup": still(F, CUP)})
-    assert summary(segment(rec, AasParams(frames=3, merge_s=0))) == [(0, []), (181, [("cup", "hand")])]
+    assert summary(segment(rec, AasParams(mode="paper", frames=3, merge_s=0))) == [
+        (0, []),
+        (181, [("cup", "hand")]),
+    ]
 
 
 def test_touch_that_ends_in_a_gap_ends_after_it():
@@ -161,22 +184,34 @@ def test_touch_that_ends_in_a_gap_ends_after_it():
     hand[100:180] = np.nan
     hand[180:] = (0.5, 0, 0)
     rec = recording({"hand": hand, "cup": still(F, CUP)})
-    assert summary(segment(rec, AasParams(frames=3, merge_s=0))) == [(0, [("cup", "hand")]), (180, [])]
+    assert summary(segment(rec, AasParams(mode="paper", frames=3, merge_s=0))) == [
+        (0, [("cup", "hand")]),
+        (180, []),
+    ]
 
 
 def test_to_json_has_the_documented_schema():
-    doc = segment(approach_hold_leave(), AasParams(frames=3)).to_json()
+    doc = segment(approach_hold_leave(), AasParams(frames=3, mode="paper")).to_json()
     assert list(doc) == ["recording", "rate_hz", "frames", "parameters", "instances", "keyframes"]
     assert doc["frames"] == F and doc["rate_hz"] == 100.0 and doc["instances"] == ["cup", "hand"]
-    assert doc["parameters"] == {"distance_m": 0.15, "speed_m_s": 0.1, "frames": 3, "merge_s": 0.3,
-                                 "mode": "paper"}
+    assert doc["parameters"] == {
+        "distance_m": 0.15,
+        "speed_m_s": 0.1,
+        "frames": 3,
+        "merge_s": 0.3,
+        "mode": "paper",
+    }
     assert doc["keyframes"][0] == {"frame": 0, "time_s": 0.0, "relations": []}
     assert doc["keyframes"][1]["relations"] == [["cup", "hand"]]
 
 
 def test_no_speed_condition_is_null_in_json():
-    assert segment(approach_hold_leave(), AasParams(speed_m_s=math.inf)).to_json()[
-        "parameters"]["speed_m_s"] is None
+    assert (
+        segment(approach_hold_leave(), AasParams(mode="paper", speed_m_s=math.inf)).to_json()["parameters"][
+            "speed_m_s"
+        ]
+        is None
+    )
 
 
 def test_degenerate_recordings():
@@ -234,11 +269,19 @@ def _kf(frame, *rels):
 def test_merge_groups_chain_and_keep_the_last_state():
     from oacdsl.segmentation.keyframes import merge_keyframes
 
-    kfs = [_kf(0), _kf(100, ("a", "b")), _kf(120, ("a", "b"), ("b", "c")), _kf(140, ("b", "c")),
-           _kf(300, ("b", "c"), ("a", "c"))]
+    kfs = [
+        _kf(0),
+        _kf(100, ("a", "b")),
+        _kf(120, ("a", "b"), ("b", "c")),
+        _kf(140, ("b", "c")),
+        _kf(300, ("b", "c"), ("a", "c")),
+    ]
     # 100-120-140 chain (each 0.2 s apart, window 0.3 s) although 100 and 140 are 0.4 s apart
     assert [(k.frame, k.state.sorted_relations()) for k in merge_keyframes(kfs, 0.3)] == [
-        (0, []), (140, [("b", "c")]), (300, [("a", "c"), ("b", "c")])]
+        (0, []),
+        (140, [("b", "c")]),
+        (300, [("a", "c"), ("b", "c")]),
+    ]
     assert merge_keyframes(kfs, 0.0) == kfs
     # exactly one window apart is not "closer than the window"
     assert len(merge_keyframes(kfs, 0.2)) == 5
@@ -250,7 +293,9 @@ def test_merge_keeps_frame_zero_with_the_state_after_its_group():
     kfs = [_kf(0), _kf(10, ("a", "b")), _kf(200, ("a", "b"), ("a", "c"))]
     merged = merge_keyframes(kfs, 0.3)
     assert [(k.frame, k.time_s, k.state.sorted_relations()) for k in merged] == [
-        (0, 0.0, [("a", "b")]), (200, 2.0, [("a", "b"), ("a", "c")])]
+        (0, 0.0, [("a", "b")]),
+        (200, 2.0, [("a", "b"), ("a", "c")]),
+    ]
 
 
 class ThresholdDetector:
@@ -269,7 +314,7 @@ class ThresholdDetector:
     def step(self, chunk):
         from oacdsl.segmentation.detectors import PairChanges
 
-        states = chunk.dist_m[:, chunk.history:] < self.d
+        states = chunk.dist_m[:, chunk.history :] < self.d
         changes = PairChanges.from_states(chunk.pairs, states, self.state[chunk.pairs], chunk.start)
         self.state[chunk.pairs] = states[:, -1]
         return changes
@@ -283,7 +328,7 @@ def test_a_detector_plugs_in_by_mode_name(monkeypatch):
     monkeypatch.setitem(detectors.DETECTORS, "threshold", f"{__name__}:ThresholdDetector")
     rec = grid_scene(np.random.default_rng(3), 150, n_inst=3, markers=2, gap_rate=0.0)
     plugged = segment(rec, AasParams(mode="threshold", distance_m=0.155, merge_s=0), chunk_frames=17)
-    paper = segment(rec, AasParams(distance_m=0.155, speed_m_s=math.inf, frames=1, merge_s=0))
+    paper = segment(rec, AasParams(distance_m=0.155, speed_m_s=math.inf, frames=1, merge_s=0, mode="paper"))
     assert plugged.parameters["mode"] == "threshold"
     assert len(plugged.keyframes) > 3
     assert plugged.keyframes == paper.keyframes

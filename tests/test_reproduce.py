@@ -199,7 +199,7 @@ def test_bad_name_and_out_that_is_a_file(tmp_path: Path, capsys: pytest.CaptureF
 
 
 def test_robot_parameters_and_default_names() -> None:
-    demo = AasParams(speed_m_s=0.08, frames=7, merge_s=0.3)
+    demo = AasParams(speed_m_s=0.08, frames=7, merge_s=0.3, mode="paper")
     robot = robot_params(demo)
     assert (robot.distance_m, robot.merge_s) == (ROBOT_DISTANCE_M, ROBOT_MERGE_S)
     assert (robot.speed_m_s, robot.frames, robot.mode) == (0.08, 7, "paper")

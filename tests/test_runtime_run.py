@@ -117,9 +117,7 @@ def oacc_run(tmp_path, *args, env=None):
         "oacdsl",
         "run",
         *args,
-        *(arg for f in STANDARD for arg in ("--library", str(f))),
-        "--library",
-        str(TESTS / "data" / "runtime_tasks.oac"),
+        *(arg for p in (*STANDARD, TESTS / "data" / "runtime_tasks.oac") for arg in ("--library", str(p))),
     ]
     return subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=300, cwd=ROOT)
 

@@ -21,15 +21,27 @@ def test_truth_is_timed_with_the_aas_defaults():
 @pytest.mark.parametrize("seed", [DEFAULT_SEED, 0, 5, 42])
 def test_aas_with_default_parameters_finds_the_intended_keyframes(seed):
     demo = dough_demonstration(seed)
-    seg = segment(demo.recording, AasParams())
+    # the truth's frames are where the paper's rule fires on the noise-free scene
+    seg = segment(demo.recording, AasParams(mode="paper"))
     want = demo.truth["keyframes"]
     assert relations(seg) == [k["relations"] for k in want]  # exactly the intended world states
     assert [k.frame for k in seg.keyframes] == pytest.approx([k["frame"] for k in want], abs=2)
 
 
+@pytest.mark.parametrize("seed", [DEFAULT_SEED, 0, 5, 42])
+def test_adaptive_mode_finds_the_same_world_states(seed):
+    demo = dough_demonstration(seed)
+    seg = segment(demo.recording, AasParams(mode="adaptive"))
+    want = demo.truth["keyframes"]
+    assert relations(seg) == [k["relations"] for k in want]
+    # a release is seen when the object stops moving with the hand, up to ~0.35 s before
+    # the paper's rule sees the hand leave; a grasp when the object starts moving with it
+    assert [k.frame for k in seg.keyframes] == pytest.approx([k["frame"] for k in want], abs=40)
+
+
 def test_without_merging_the_aas_sees_the_bounce_and_the_pour_as_several_changes():
     demo = dough_demonstration(DEFAULT_SEED)
-    unmerged = segment(demo.recording, AasParams(merge_s=0.0))
+    unmerged = segment(demo.recording, AasParams(merge_s=0.0, mode="paper"))
     bounce = demo.truth["realism"]["bounce"]["raw_changes"]
     near = [k.frame for k in unmerged.keyframes if bounce[0] - 3 <= k.frame <= bounce[-1] + 3]
     assert len(near) == 3  # end, touch again, end: the over-segmentation the merge removes

@@ -39,7 +39,7 @@ def run(args: argparse.Namespace) -> int:
     from oacdsl.cli.demo_input import load_inputs
     from oacdsl.errors import UsageError
     from oacdsl.matching.demonstration import compose_demonstration, match_segmentation
-    from oacdsl.matching.emit import DRAFTS, LEARNED, emit, render
+    from oacdsl.matching.emit import DRAFTS, LEARNED, Emitted, emit, render
     from oacdsl.matching.matcher import Matcher
     from oacdsl.matching.results import Mode
 
@@ -73,14 +73,24 @@ def run(args: argparse.Namespace) -> int:
         if args.json:
             print(json.dumps(comp.to_json(None), indent=2))
         return 0
+    # Check everything before writing anything: the drafts, then the OAC that calls them.
+    drafts = {drafts_dir / f"{d.name}.oac": d for _, d in demo.drafts}
+    pending = {path: render([d], str(path)) for path, d in drafts.items()}
+    for path, draft in drafts.items():
+        emit([draft], path, library=inputs.library_path, force=args.force, drafts=True, pending=pending,
+             write=False)
+
+    def composed(write: bool) -> Emitted:
+        return emit([oac], target, library=inputs.library_path, header=header, force=args.force,
+                    drafts=bool(drafts), also=[drafts_dir] if drafts else [], pending=pending, write=write)
+
+    composed(write=False)
     written = []
-    for _, draft in demo.drafts:
-        e = emit([draft], drafts_dir / f"{draft.name}.oac", library=inputs.library_path, force=args.force,
-                 drafts=True)
+    for path, draft in drafts.items():
+        e = emit([draft], path, library=inputs.library_path, force=args.force, drafts=True, pending=pending)
         written.append(e)
         print(f"oacc: {e.status} draft {e.path}: sub-action matched no OAC; review it", file=sys.stderr)
-    result = emit([oac], target, library=inputs.library_path, header=header, force=args.force,
-                  drafts=bool(demo.drafts), also=[drafts_dir] if demo.drafts else ())
+    result = composed(write=True)
     if args.json:
         doc = comp.to_json(str(result.path))
         if written:

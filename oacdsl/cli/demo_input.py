@@ -19,6 +19,7 @@ from pathlib import Path
 from oacdsl.errors import InputError, UsageError
 from oacdsl.library import Library
 from oacdsl.model import Scene
+from oacdsl.segmentation.params import DEFAULT_MODE
 from oacdsl.segmentation.result import Keyframe, Segmentation
 from oacdsl.world import WorldState
 
@@ -48,7 +49,9 @@ def add_input_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--frames", metavar="N",
                    help="consecutive frames n (default: the frames in 0.1 s, at least 2)")
     g.add_argument("--merge", metavar="TIME", help="keyframe merge window (default: 0.3s; 0s = off)")
-    g.add_argument("--mode", metavar="MODE", default="paper", help="touch detector (default: paper)")
+    g.add_argument("--mode", metavar="MODE", default=DEFAULT_MODE,
+                   help="touch detector: paper (Eq. 1/2 as printed; default) or adaptive (per-pair"
+                   " distances learned from co-motion; better on the KIT clips)")
 
 
 @dataclass(frozen=True)
@@ -136,7 +139,7 @@ def load_inputs(args: argparse.Namespace) -> Inputs:
     source = Path(args.recording)
     if source.suffix.lower() == ".json":
         given = [f"--{k}" for k in ("format", "preset", "distance", "speed", "frames", "merge")
-                 if getattr(args, k) is not None] + (["--mode"] if args.mode != "paper" else [])
+                 if getattr(args, k) is not None] + (["--mode"] if args.mode != DEFAULT_MODE else [])
         if given:
             raise UsageError(f"{', '.join(given)}: these read and segment a recording; {source} is a"
                              " segmentation already (.json)")

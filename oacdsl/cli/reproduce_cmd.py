@@ -8,6 +8,8 @@ import shlex
 import sys
 from pathlib import Path
 
+from oacdsl.segmentation.params import DEFAULT_MODE
+
 DESCRIPTION = """\
 Reproduce a demonstrated task on the simulated ARMAR-III, and check it (Wächter et al. 2013,
 plus a closed loop): segment the recording into keyframes where objects start or stop touching
@@ -85,7 +87,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     g.add_argument("--speed", metavar="SPEED", help="distance-change threshold v (default: 100mm/s)")
     g.add_argument("--frames", metavar="N", help="consecutive frames n (default: the frames in 0.1 s)")
     g.add_argument("--merge", metavar="TIME", help="keyframe merge window (default: 0.3s)")
-    g.add_argument("--mode", metavar="MODE", default="paper", help="touch detector (default: paper)")
+    g.add_argument("--mode", metavar="MODE", default=DEFAULT_MODE,
+                   help="touch detector: paper (Eq. 1/2 as printed; default) or adaptive (per-pair"
+                   " distances learned from co-motion; better on the KIT clips)")
     p.set_defaults(func=run)
 
 

@@ -7,6 +7,8 @@ import json
 import sys
 from typing import Any
 
+from oacdsl.segmentation.params import DEFAULT_MODE
+
 DESCRIPTION = """\
 Automatic action segmentation (AAS, Wächter et al. 2013, III-A). Two markers of
 different instances start touching when they are closer than --distance and their
@@ -51,7 +53,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     aas.add_argument("--frames", metavar="N",
                      help="consecutive frames n (default: the frames in 0.1 s, at least 2)")
     aas.add_argument("--merge", metavar="TIME", help="keyframe merge window (default: 0.3s; 0s = off)")
-    aas.add_argument("--mode", metavar="MODE", default="paper", help="touch detector (default: paper)")
+    aas.add_argument("--mode", metavar="MODE", default=DEFAULT_MODE,
+                   help="touch detector: paper (Eq. 1/2 as printed; default) or adaptive (per-pair"
+                   " distances learned from co-motion; better on the KIT clips)")
     out = p.add_argument_group("output")
     out.add_argument("--json", action="store_true", help="print the segmentation as JSON")
     out.add_argument("--plot", metavar="OUT.png",

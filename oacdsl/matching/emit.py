@@ -17,7 +17,7 @@ replace it (``replaced``).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
@@ -90,9 +90,10 @@ def _existing(target: Path) -> tuple[Oac, ...] | None:
 
 
 def _check(library: Path | None, target: Path, text: str, decls: Sequence[Oac], drafts: bool,
-           also: Sequence[Path]) -> None:
-    """Compile ``text`` (to be ``target``) with the library and the folders ``also``;
-    raise on any error (with ``drafts``: on any error but the placeholder skill's)."""
+           also: Sequence[Path], pending: Mapping[Path, str]) -> None:
+    """Compile ``text`` (to be ``target``) with the library, the folders ``also`` and the
+    files about to be written (``pending``: path → text); raise on any error (with
+    ``drafts``: on any error but the placeholder skill's)."""
     from oacdsl.lang import compile_sources, read_source
 
     files = library_files(library) if library is not None and library.exists() else []
@@ -108,6 +109,9 @@ def _check(library: Path | None, target: Path, text: str, decls: Sequence[Oac], 
             if oac.name in names:
                 raise MatchingError(f"an OAC named {oac.name!r} is already defined in {f};"
                                     " choose another --name")
+    for path, pending_text in pending.items():
+        if path.resolve() != target.resolve():
+            sources[str(path)] = pending_text
     sources[str(target)] = text
     result = compile_sources(sources)
     errors = [d for d in result.errors if not (drafts and d.code == "E016")]
@@ -125,11 +129,14 @@ def emit(
     force: bool = False,
     drafts: bool = False,
     also: Sequence[Path] = (),
+    pending: Mapping[Path, str] | None = None,
+    write: bool = True,
 ) -> Emitted:
     """Write ``decls`` (one composed OAC, or drafts) to ``target`` after checking them
     against ``library`` (a folder or file; None: no check) and the ``.oac`` files in the
     folders ``also``; see the module docstring. ``drafts``: the placeholder skill
-    ``TODO`` is allowed."""
+    ``TODO`` is allowed. ``pending``: files not written yet that the check must include
+    (path → text). ``write=False`` checks everything and writes nothing."""
     if not decls:
         raise MatchingError("nothing to write")
     text = render(decls, str(target), header)
@@ -148,8 +155,9 @@ def emit(
                 location=None,
             )
         status = "replaced"
-    _check(library, target, text, decls, drafts, also)
-    _write(target, text)
+    _check(library, target, text, decls, drafts, also, pending or {})
+    if write:
+        _write(target, text)
     return Emitted(target, status, text, changes)
 
 

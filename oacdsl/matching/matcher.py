@@ -184,9 +184,13 @@ class Matcher:
                 continue
             candidates = seeds[k]
             out = []
+            n_vars = len(co.names)
             for seed in candidates:
                 if seed_ok(co, seed, doms, views):
-                    search(co, doms, views, seed, out)
+                    if len(seed) == n_vars:  # the seed binds every variable: nothing to search
+                        out.append(tuple(seed[v] for v in range(n_vars)))
+                    else:
+                        search(co, doms, views, seed, out)
             for b in set(out) if len(candidates) > 1 else out:
                 if _accounts_all(co, b, added, removed):
                     found.append((co, b))

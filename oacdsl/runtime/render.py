@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import ctypes.util
 import os
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -67,7 +68,9 @@ class Renderer:
 
         self._mujoco = mujoco
         try:
-            self.renderer = mujoco.Renderer(model, size[1], size[0])
+            with warnings.catch_warnings():  # GLFW warns before failing; the failure is reported below
+                warnings.simplefilter("ignore")
+                self.renderer = mujoco.Renderer(model, size[1], size[0])
         except Exception as error:  # GL context creation fails in many ways (no display, no EGL …)
             backend = os.environ.get("MUJOCO_GL", "unset")
             raise RenderUnavailable(
@@ -161,9 +164,24 @@ class Viewer:
     def __init__(self, model: Any, data: Any) -> None:
         if not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY"):
             raise RenderUnavailable("no display for the interactive viewer (DISPLAY is not set)")
-        import mujoco.viewer
+        try:
+            import glfw
 
-        self.handle = mujoco.viewer.launch_passive(model, data)
+            with warnings.catch_warnings():  # GLFW warns before it fails; the failure is reported below
+                warnings.simplefilter("ignore")
+                ready = glfw.init()
+            if not ready:  # MuJoCo's viewer would exit the process on this
+                raise RenderUnavailable(
+                    f"cannot open the interactive viewer on DISPLAY={os.environ.get('DISPLAY')}"
+                )
+            import mujoco.viewer
+
+            self.handle = mujoco.viewer.launch_passive(model, data)
+        except RenderUnavailable:
+            raise
+        except Exception as error:  # no GLFW, a headless MUJOCO_GL backend, …
+            first = (str(error).strip().splitlines() or [type(error).__name__])[0]
+            raise RenderUnavailable(f"cannot open the interactive viewer: {first}") from None
 
     def __call__(self, world: Any) -> None:
         self.handle.sync()

@@ -8,9 +8,6 @@ chunks; memory O(frames) per instance pair that comes within reach (float32).
 
 from __future__ import annotations
 
-import warnings
-from collections.abc import Iterator
-from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -130,9 +127,9 @@ def _scan(recording: Recording, table: PairTable, params: AasParams,
         for k, q in enumerate(blocks):
             d = dist[offsets[k]:offsets[k] + sizes[k]]  # (P_q, R), frames lo..stop-1
             d_prev = d[:, local_prev]
-            with np.errstate(invalid="ignore"), _quiet():
+            with np.errstate(invalid="ignore"):
                 closest = np.fmin.reduce(d, axis=0)
-                change = np.nanmedian(np.abs(d - d_prev), axis=0) / dt
+                change = _nanmedian0(np.abs(d - d_prev)) / dt
                 a, b = table.instance_pairs[q]
                 slower = np.fmin(speeds[a], speeds[b])
                 moving = (closest < params.distance_m) & (slower > settings.move_speed_m_s)
@@ -167,24 +164,24 @@ def _prune_indirect(signals: dict[int, tuple[np.ndarray, np.ndarray]], table: Pa
                 carry &= ~(np.fmax(signals[q1][0], signals[q2][0]) < dmin)
 
 
-@contextmanager
-def _quiet() -> Iterator[None]:
-    """Silence numpy's "All-NaN slice" warnings inside a block (restored on exit)."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)
-        yield
-
-
 def _instance_speeds(recording: Recording, groups: list[np.ndarray], rows: np.ndarray, prev: np.ndarray,
                      dt: np.ndarray) -> list[np.ndarray]:
     """Per instance (table order), the median marker speed at ``rows`` (m/s; NaN in gaps)."""
-    pos = recording.positions_m
-    out = []
-    for markers in groups:
-        step = np.linalg.norm(pos[rows][:, markers] - pos[prev][:, markers], axis=-1)  # (R, k)
-        with _quiet():
-            out.append(np.nanmedian(step, axis=1) / dt)
-    return out
+    now, before = recording.positions_m[rows], recording.positions_m[prev]  # (R, M, 3) each
+    return [_nanmedian0(np.linalg.norm(now[:, m] - before[:, m], axis=-1).T) / dt for m in groups]
+
+
+def _nanmedian0(x: np.ndarray) -> np.ndarray:
+    """Median over axis 0 ignoring NaN (NaN where a column has no value); faster than np.nanmedian."""
+    if x.shape[0] == 0:
+        return np.full(x.shape[1:], np.nan)
+    ordered = np.sort(x, axis=0)  # NaN sort last
+    count = np.count_nonzero(~np.isnan(x), axis=0)
+    cols = np.arange(x.shape[1])
+    lo = np.maximum(count - 1, 0) // 2
+    hi = np.minimum(count // 2, x.shape[0] - 1)
+    median = (ordered[lo, cols] + ordered[hi, cols]) / 2
+    return np.where(count > 0, median, np.nan)
 
 
 def _runs(mask: np.ndarray) -> list[tuple[int, int]]:

@@ -20,12 +20,24 @@ from oacdsl.errors import RuntimeFailure
 from oacdsl.library import Library
 from oacdsl.model import Grasp
 from oacdsl.runtime.control import Controller
+from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M
+from oacdsl.runtime.objects import SHAPES
 from oacdsl.runtime.simworld import SimWorld
 
 __all__ = ["SkillContext", "Skill", "fmt_xyz"]
 
 
 T = TypeVar("T")
+
+#: Obstacles whose footprint comes this close to a hand's path are flown over, m.
+NEAR_PATH_M = 0.12
+
+
+def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+    """Distance from point p to the segment a–b (2-D)."""
+    ab = b - a
+    s = 0.0 if float(ab @ ab) < 1e-12 else float(np.clip((p - a) @ ab / (ab @ ab), 0.0, 1.0))
+    return float(np.linalg.norm(p - (a + s * ab)))
 
 
 def fmt_xyz(p: np.ndarray) -> str:
@@ -104,6 +116,59 @@ class SkillContext:
             f"{what} at {fmt_xyz(best[2][:3, 3])} is out of reach of {hand}: the best whole-body IK"
             f" solution leaves the hand {best[0] * 100:.0f} cm and {np.degrees(best[1]):.0f}° from the target"
         )
+
+    def obstacles(self, exclude: set[str]) -> list[tuple[np.ndarray, float, float]]:
+        """(xy, footprint radius, top height) of the objects standing on the table, read from
+        the simulation now; ``exclude`` and held objects left out (metres)."""
+        held = {o for o in self.world.held.values() if o is not None}
+        out = []
+        for p in self.world.layout.placements:
+            if p.name in exclude or p.name in held:
+                continue
+            t = self.world.body_pose(p.name)
+            shape = SHAPES[p.kind]
+            out.append((t[:2, 3].copy(), shape.radius, float(t[2, 3] + shape.height)))
+        return out
+
+    def clearance(self, a: np.ndarray, b: np.ndarray, exclude: set[str]) -> float:
+        """Smallest horizontal gap (m) between the path a → b (xy) and an obstacle's footprint."""
+        return min(
+            (_segment_distance(xy, a[:2], b[:2]) - r for xy, r, _ in self.obstacles(exclude)),
+            default=float("inf"),
+        )
+
+    def via_height(self, a: np.ndarray, b: np.ndarray, exclude: set[str], hanging_m: float) -> float:
+        """Height for a hand frame moving over a → b (xy) so that what hangs ``hanging_m``
+        below it clears every obstacle within :data:`NEAR_PATH_M` of the path by 3 cm."""
+        tops = [
+            top
+            for xy, r, top in self.obstacles(exclude)
+            if _segment_distance(xy, a[:2], b[:2]) - r < NEAR_PATH_M
+        ]
+        return max(tops, default=-np.inf) + hanging_m + 0.03
+
+    def carry(self, side: str, goal: np.ndarray, exclude: set[str], duration_s: float = 1.6) -> None:
+        """Move hand ``side`` (and what it holds) to ``goal`` through a point high enough to
+        pass over the objects near the way (``exclude`` left out)."""
+        ctl = self.ctl
+        now = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+        hanging = HAND_BELOW_CENTRE_M
+        held = self.world.held[side]
+        if held is not None:
+            hanging = max(
+                hanging,
+                float(self.world.frame_pose(f"grasp_{side}")[2, 3] - self.world.body_pose(held)[2, 3]),
+            )
+        over = self.via_height(now[:3, 3], goal[:3, 3], exclude | ({held} if held else set()), hanging)
+        via = now.copy()
+        via[:2, 3] = 0.5 * (now[:2, 3] + goal[:2, 3])
+        via[2, 3] = max(now[2, 3], goal[2, 3], over)
+        if over > now[2, 3]:  # climb first, then cross
+            up = now.copy()
+            up[2, 3] = over
+            ctl.move(side, up, 0.4 * duration_s)
+        ctl.move(side, via, 0.5 * duration_s)
+        ctl.move(side, goal, 0.5 * duration_s)
 
     def reach_error(self, side: str, target: np.ndarray) -> float:
         """A score of how well ``target`` can be reached (m, angle weighted 0.1 m/rad)."""

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.grasping import plan_grasps
+from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M, plan_grasps
 from oacdsl.runtime.hands import CLOSED, TOP_PRESHAPE, finger_joint_names
 from oacdsl.runtime.skills.base import SkillContext, fmt_xyz
 from oacdsl.runtime.transforms import make_T
@@ -22,6 +22,8 @@ GRASP_POSE_TOLERANCE_M = 0.07
 #: Height an object is lifted after grasping, m.
 LIFT_M = 0.10
 APPROACH_SPEED_M_S = 0.15
+#: Half the hand's width across the fingers, plus a margin: the free corridor an approach needs, m.
+HAND_HALF_WIDTH_M = 0.07
 #: How much further than where they touched the object the fingers are told to close, rad.
 SQUEEZE_RAD = 0.08
 
@@ -36,14 +38,25 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
     support = ctx.support_height(t_obj[:2, 3], exclude=obj)
     ctl.activity = f"reaching for {obj}"
     plans = plan_grasps(grasp, ctx.kind(obj), t_obj, side, support_z=support)
+    # approaches whose corridor (pre-grasp to grasp) keeps the hand off other objects first
+    free = [ctx.clearance(p.pre_grasp[:3, 3], p.grasp[:3, 3], {obj}) >= HAND_HALF_WIDTH_M for p in plans]
+    plans = [p for p, ok in zip(plans, free, strict=True) if ok] + [
+        p for p, ok in zip(plans, free, strict=True) if not ok
+    ]
     plan = ctx.first_reachable(side, [(p.grasp, p) for p in plans], obj)
     current = ctl.ik.frame(f"grasp_{side}")
     via = plan.pre_grasp.copy()
+    over = ctx.via_height(current[:3, 3], plan.pre_grasp[:3, 3], {obj}, HAND_BELOW_CENTRE_M)
     via[2, 3] = max(via[2, 3], plan.grasp[2, 3]) + 0.08
     if current[2, 3] > via[2, 3]:
         via[2, 3] = 0.5 * (via[2, 3] + current[2, 3])
+    via[2, 3] = max(via[2, 3], over)
     if grasp.approach == "top":
         ctl.set_fingers(side, TOP_PRESHAPE)
+    if over > current[2, 3]:  # climb first, then cross over the obstacles
+        up = current.copy()
+        up[2, 3] = over
+        ctl.move(side, up, 0.6)
     ctl.move(side, via, 1.2)
     ctl.move(side, plan.pre_grasp, 0.6)
     travel = float(np.linalg.norm(plan.end[:3, 3] - plan.pre_grasp[:3, 3]))

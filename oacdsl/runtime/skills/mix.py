@@ -1,9 +1,9 @@
 """``mix``: put the held mixer into a container and stir, ending with it in the container.
 
 The mixer is carried upright above the container, lowered until it touches the
-container (contact, or the wrist feels more than the contact force), and moved in
-circles near the bottom; it stays in the container at the end, as the OAC's effect
-``m <-> b`` says.
+container (pushing the balls aside; the wrist force stops the descent at 15 N), and
+moved in circles pressed lightly onto the bottom; it stays in the container at the end,
+as the OAC's effect ``m <-> b`` says.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import numpy as np
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.objects import SHAPES
 from oacdsl.runtime.skills.base import SkillContext
-from oacdsl.runtime.skills.place import CONTACT_FORCE_N, DESCENT_SPEED_M_S
+from oacdsl.runtime.skills.place import DESCENT_SPEED_M_S
 from oacdsl.runtime.transforms import make_T
 
 __all__ = ["mix", "STIR_RADIUS_M", "STIR_TURNS"]
@@ -23,6 +23,13 @@ __all__ = ["mix", "STIR_RADIUS_M", "STIR_TURNS"]
 STIR_RADIUS_M = 0.03
 STIR_TURNS = 2
 STIR_PERIOD_S = 1.2
+#: Thickness of a container's bottom (objects.py), how far below it the tool is pressed,
+#: and the wrist force that stops the descent if the container is never touched.
+BOTTOM_M = 0.008
+PRESS_M = 0.003
+PUSH_LIMIT_N = 15.0
+#: While stirring the tool is held this far below the bottom: a light press (about 10 N through the arm).
+STIR_PRESS_M = 0.002
 
 
 def mix(ctx: SkillContext, hand: str, tool: str, container: str) -> None:
@@ -43,24 +50,24 @@ def mix(ctx: SkillContext, hand: str, tool: str, container: str) -> None:
     above = np.array([centre[0], centre[1], centre[2] + bowl.height + 0.04])
     ctl.activity = f"bringing {tool} over {container}"
     ctx.check_reachable(side, hand_for(above), f"the inside of {container}")
-    via = ctl.ik.target(side).copy()
-    via[2, 3] = max(via[2, 3], hand_for(above)[2, 3])
-    ctl.move(side, via, 0.6)
-    ctl.move(side, hand_for(above), 1.2)
+    ctx.carry(side, hand_for(above), {tool, container}, 1.8)
     ctl.activity = f"lowering {tool} into {container}"
-    bottom = np.array([centre[0], centre[1], centre[2] + 0.006])
+    # the container's inner bottom; the tool is pressed a little below it, pushing the
+    # (frictionless) balls aside, until it touches the container itself
+    floor = centre[2] + BOTTOM_M
+    bottom = np.array([centre[0], centre[1], floor - PRESS_M])
     depth = float(above[2] - bottom[2])
     touched = ctl.move(
         side,
         hand_for(bottom),
         depth / DESCENT_SPEED_M_S,
         guard=lambda: (
-            world.touching(tool, container) or float(np.linalg.norm(ctl.force_change(side))) > CONTACT_FORCE_N
+            world.touching(tool, container) or float(np.linalg.norm(ctl.force_change(side))) > PUSH_LIMIT_N
         ),
     )
-    if not touched:
+    if not touched and not ctl.wait(0.5, until=lambda: world.touching(tool, container)):
         raise RuntimeFailure(f"mix: {tool} went down into {container} without touching it")
-    level = world.body_pose(tool)[2, 3] - 0.003
+    level = min(float(world.body_pose(tool)[2, 3]), floor) - STIR_PRESS_M
     ctl.activity = f"stirring {container} with {tool}"
     n = 24
     for k in range(1, STIR_TURNS * n + 1):
@@ -69,7 +76,7 @@ def mix(ctx: SkillContext, hand: str, tool: str, container: str) -> None:
         p = np.array([centre[0] + r * math.sin(a), centre[1] + r * (1 - math.cos(a)) * 0.5, level])
         ctl.move(side, hand_for(p), STIR_PERIOD_S / n)
     ctl.move(side, hand_for(np.array([centre[0], centre[1], level])), 0.4)
-    ctl.wait(0.3)
+    ctl.wait(0.6, until=lambda: world.touching(tool, container))
 
 
 def _upright(r: np.ndarray) -> np.ndarray:

@@ -55,11 +55,7 @@ def place(ctx: SkillContext, hand: str, obj: str) -> None:
     hover = target_obj @ np.linalg.inv(t_obj_in_hand)
     ctl.activity = f"carrying {obj} to its place"
     ctx.check_reachable(side, hover, f"the place of {obj}")
-    via = ctl.ik.target(side).copy()
-    via[:3, 3] = 0.5 * (via[:3, 3] + hover[:3, 3])
-    via[2, 3] = max(via[2, 3], hover[2, 3]) + 0.03
-    ctl.move(side, via, 0.8)
-    ctl.move(side, hover, 0.8)
+    ctx.carry(side, hover, {obj})
     ctl.wait(0.2)
     ctl.activity = f"setting {obj} down"
     lower_until_contact(ctx, side, hover, HOVER_M + 0.03, f"placing {obj}")

@@ -90,11 +90,7 @@ def pour(ctx: SkillContext, hand: str, source: str, liquid: str, target: str) ->
     u = best[1]
     ctl.activity = f"bringing {source} over {target}"
     start = hand_at(u, 0.0, LIP_START_EXTRA_M)
-    via = ctl.ik.target(side).copy()
-    via[2, 3] = max(via[2, 3], start[2, 3])
-    via[:2, 3] = 0.5 * (via[:2, 3] + start[:2, 3])
-    ctl.move(side, via, 0.8)
-    ctl.move(side, start, 1.0)
+    ctx.carry(side, start, {source, target}, 1.8)
     ctl.activity = f"pouring {liquid} into {target}"
     steps = 40
     for k in range(1, steps + 1):

@@ -37,10 +37,7 @@ def wipe(ctx: SkillContext, hand: str, tool: str, surface: str) -> None:
     above = np.array([t_surface[0, 3], t_surface[1, 3], top + 0.04])
     ctl.activity = f"bringing {tool} over {surface}"
     ctx.check_reachable(side, hand_for(above), f"the middle of {surface}")
-    via = ctl.ik.target(side).copy()
-    via[2, 3] = max(via[2, 3], hand_for(above)[2, 3])
-    ctl.move(side, via, 0.6)
-    ctl.move(side, hand_for(above), 1.2)
+    ctx.carry(side, hand_for(above), {tool, surface}, 1.8)
     ctl.activity = f"pressing {tool} onto {surface}"
     contact = lower_until_contact(ctx, side, hand_for(above), 0.08, f"wiping {surface}")
     press = contact.copy()
@@ -48,11 +45,9 @@ def wipe(ctx: SkillContext, hand: str, tool: str, surface: str) -> None:
     ctl.move(side, press, 0.3)
     ctl.activity = f"wiping {surface} with {tool}"
     sideways = t_surface[:3, 1] * STROKE_M
-    for k in range(STROKES):
-        for sign in (1.0, -1.0):
-            goal = press.copy()
-            goal[:3, 3] += sign * sideways
-            ctl.move(side, goal, 0.7)
-        del k
+    for sign in (1.0, -1.0) * STROKES:
+        goal = press.copy()
+        goal[:3, 3] += sign * sideways
+        ctl.move(side, goal, 0.7)
     ctl.move(side, press, 0.4)
     ctl.wait(0.3)
