@@ -106,3 +106,47 @@ def test_skills_read_object_poses_at_execution_time():
         places={"green_cup": (0.62, -0.36)},
     )
     assert result.success, result.error
+
+
+class HeldLog:
+    """Observer: while the right hand holds ``obj``, the hand's grasp centre and the object's
+    origin in the world (m), and whether the hand touches the object."""
+
+    rate_hz = 50.0
+
+    def __init__(self, obj):
+        self.obj = obj
+        self.hand, self.body, self.touching = [], [], []
+        self.controller = None
+
+    def __call__(self, world):
+        if world.held["r"] == self.obj:
+            self.hand.append(world.frame_pose("grasp_r")[:3, 3].copy())
+            self.body.append(world.body_pose(self.obj)[:3, 3].copy())
+            self.touching.append(world.touching("right_hand", self.obj))
+
+
+def test_a_bowl_is_held_by_its_rim_lifted_and_put_back():
+    # `grasp CarryBowl { type rim approach top … }`: fingers down, the wall between plate and thumb
+    log = HeldLog("bowl")
+    run, result = run_task("carry_bowl", "carrying", [log])
+    assert result.success, result.error
+    grasp, place = result.steps
+    assert ["bowl", "right_hand"] in grasp.observed
+    assert ["right_hand", "nothing"] in place.observed
+    start = run.world.layout.placement("bowl")
+    hand, body = np.array(log.hand), np.array(log.body)
+    assert len(body) > 20
+    # the bowl went up with the hand (lifted several cm off the table) …
+    table_z = body[0, 2]
+    assert body[:, 2].max() > table_z + 0.06
+    # … keeping its place in the hand while held, and the hand touched it all the time
+    rel = body - hand
+    assert np.linalg.norm(rel - rel[0], axis=1).max() < 0.01
+    assert all(log.touching)
+    # it stands upright on the table where it was picked up, and the hand is empty again
+    t = run.world.body_pose("bowl")
+    assert math.dist(t[:2, 3], (start.x, start.y)) < 0.03
+    assert abs(t[2, 3] - table_z) < 0.005 and t[2, 2] > 0.99
+    assert run.world.held["r"] is None
+    assert run.world.warnings() == {}

@@ -10,6 +10,10 @@ front of the palm) on that point, and orients the hand:
 * ``top``: the hand comes down, palm facing down, fingers pointing away from the
   robot (or along the offset's horizontal direction, e.g. outward over a bowl's rim);
 * ``front``: the hand comes from the robot towards the object, palm facing it, fingers up.
+* ``type rim`` with ``top`` on a round container: the hand comes down with its fingers
+  pointing down and its palm facing the centre, the wall of the rim between the finger
+  plate (outside) and the folded thumb (inside); ``offset`` gives the rim's radius and
+  height (see :func:`_rim_plans`).
 
 Rotationally symmetric objects (cups, bowls, the mixer) have no preferred azimuth:
 the offset is turned about the object's vertical axis to face the hand's approach,
@@ -29,7 +33,7 @@ from oacdsl.errors import RuntimeFailure
 from oacdsl.model import Grasp
 from oacdsl.runtime.transforms import make_T, rot_axis
 
-__all__ = ["GraspPlan", "plan_grasps", "SYMMETRIC_KINDS", "APPROACHES", "hand_rotation_for"]
+__all__ = ["GraspPlan", "plan_grasps", "SYMMETRIC_KINDS", "APPROACHES", "hand_rotation_for", "RIM_GAP_H"]
 
 SYMMETRIC_KINDS = frozenset({"cup", "bowl", "mixer"})
 APPROACHES = ("side", "top", "front")
@@ -41,6 +45,20 @@ OVERSHOOT_M = 0.06
 HAND_BELOW_CENTRE_M = 0.064
 #: Free space kept between the hand and the support, metres.
 CLEARANCE_M = 0.012
+#: Rim grasp from above, fingers pointing down, palm facing the container's centre: where
+#: the wall's middle goes, relative to the grasp centre, along -x_H (the palm normal),
+#: metres. The finger plate's face is at x_H = -14 mm, the folded thumb's at -45 mm: the
+#: wall (7 mm thick) goes midway, the plate outside it, the thumb inside.
+RIM_GAP_H = 0.021
+#: The finger plate's middle across the hand (y_H, right hand; mirrored for the left)
+#: relative to the grasp centre, metres: the plate is centred on the rim point.
+RIM_PLATE_ACROSS_M = 0.0075
+#: How far the fingertips of a hand pointing down reach below its grasp centre, metres.
+FINGERS_BELOW_CENTRE_M = 0.078
+#: Free space kept between those fingertips and the support, metres: more than
+#: :data:`CLEARANCE_M`, because when a bowl held by its rim is set down, the hand sinks
+#: by the arm's tracking lag (~1 cm) after the weld lets go.
+RIM_CLEARANCE_M = 0.025
 
 
 @dataclass(frozen=True)
@@ -111,6 +129,8 @@ def plan_grasps(
                     d,
                 )
             )
+    elif grasp.approach == "top" and grasp.type == "rim" and symmetric:
+        return _rim_plans(offset, p_obj, fwd, side, support_z)
     elif grasp.approach == "top":
         if symmetric:
             headings = [rot_axis(up, np.radians(a)) @ fwd for a in (0.0, -45.0, 45.0, -90.0, 90.0)]
@@ -138,6 +158,38 @@ def plan_grasps(
                 make_T(rot, point - PRE_GRASP_M * d),
                 d,
                 make_T(rot, point + OVERSHOOT_M * d),
+            )
+        )
+    return out
+
+
+def _rim_plans(
+    offset: np.ndarray, p_obj: np.ndarray, fwd: np.ndarray, side: str, support_z: float | None
+) -> list[GraspPlan]:
+    """A rim grasp from above of a round container (``type rim approach top``): the hand
+    comes down with its fingers pointing down and its palm facing the centre, the finger
+    plate outside the wall and the folded thumb inside, so that the wall at the rim point
+    (``offset``: radius and height, turned to face the hand) goes into the gap between them. The hand is kept
+    high enough for its fingertips to clear the support."""
+    up = np.array([0.0, 0.0, 1.0])
+    radius = float(np.hypot(offset[0], offset[1]))
+    toward_hand = np.cross(up, fwd) if side == "l" else -np.cross(up, fwd)
+    # rim points: the near side of the container first, then turned towards the hand's side
+    headings = [rot_axis(up, np.radians(a)) @ -fwd for a in (0.0, 45.0, -45.0, 90.0, -90.0)]
+    headings.sort(key=lambda h: -float(h @ (toward_hand - fwd)))
+    out = []
+    for h in headings:
+        rot = hand_rotation_for(-h, -up)  # palm facing the centre, x_H (back of the hand) outwards
+        across = RIM_PLATE_ACROSS_M if side == "r" else -RIM_PLATE_ACROSS_M
+        point = p_obj + np.array([0.0, 0.0, offset[2]]) + (radius - RIM_GAP_H) * h - across * rot[:, 1]
+        if support_z is not None:
+            point[2] = max(point[2], support_z + FINGERS_BELOW_CENTRE_M + RIM_CLEARANCE_M)
+        out.append(
+            GraspPlan(
+                make_T(rot, point),
+                make_T(rot, point + PRE_GRASP_M * up),
+                -up,
+                make_T(rot, point - 0.01 * up),
             )
         )
     return out
