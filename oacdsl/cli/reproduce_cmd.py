@@ -88,8 +88,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     g.add_argument("--frames", metavar="N", help="consecutive frames n (default: the frames in 0.1 s)")
     g.add_argument("--merge", metavar="TIME", help="keyframe merge window (default: 0.3s)")
     g.add_argument("--mode", metavar="MODE", default=DEFAULT_MODE,
-                   help="touch detector: paper (Eq. 1/2 as printed; default) or adaptive (per-pair"
-                   " distances learned from co-motion; better on the KIT clips)")
+                   help="touch detector for the demonstration: adaptive (per-pair distances learned"
+                   " from co-motion; default) or paper (Eq. 1/2 as printed); the robot's own"
+                   " recording is always segmented with paper")
     p.set_defaults(func=run)
 
 

@@ -46,7 +46,15 @@ leaves the cup. With the demonstration's 0.3 s, a pour would be two keyframes (t
 leaves the cup; later, it is in the bowl); 1 s makes it one, as in the demonstration. Every
 robot step lasts 4 s or more, so the window never merges two steps.
 
-The speed ``v``, the frames ``n`` and the detector are the demonstration's.
+**Detector.** Always ``"paper"`` (:data:`ROBOT_MODE`), whatever the demonstration's. The
+adaptive detector learns per-pair contact distances from co-motion because the
+demonstration's markers sit centimetres off the touching surfaces; the virtual markers sit
+*on* them, without noise, and :data:`ROBOT_DISTANCE_M` is tuned for them, so Eq. 1/2 with
+that fixed distance is the right rule here. Under the adaptive detector the robot's
+recording gets a different initial world state than the demonstration and the closed loop
+fails to verify.
+
+The speed ``v`` and the frames ``n`` are the demonstration's.
 """
 
 from __future__ import annotations
@@ -63,7 +71,14 @@ from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.points import recording_from_points
 from oacdsl.segmentation.recording import Recording
 
-__all__ = ["MARKER_RATE_HZ", "ROBOT_DISTANCE_M", "ROBOT_MERGE_S", "VirtualMarkers", "robot_params"]
+__all__ = [
+    "MARKER_RATE_HZ",
+    "ROBOT_DISTANCE_M",
+    "ROBOT_MERGE_S",
+    "ROBOT_MODE",
+    "VirtualMarkers",
+    "robot_params",
+]
 
 #: Sampling rate of the virtual markers, Hz of simulated time (the demonstration's rate).
 MARKER_RATE_HZ = 100.0
@@ -71,6 +86,8 @@ MARKER_RATE_HZ = 100.0
 ROBOT_DISTANCE_M = 0.015
 #: AAS merge window for the robot's recording, seconds (at least the demonstration's).
 ROBOT_MERGE_S = 1.0
+#: AAS touch detector for the robot's recording: the paper's Eq. 1/2 (on-surface markers).
+ROBOT_MODE = "paper"
 #: Spacing of the markers on a bowl's floor, metres.
 FLOOR_SPACING_M = 0.02
 #: Spacing of the markers on the surfaces that grip or are gripped (hands, grips, boxes), metres.
@@ -84,10 +101,13 @@ Points = list[tuple[float, float, float]]
 
 
 def robot_params(demonstration: AasParams) -> AasParams:
-    """The demonstration's AAS parameters with the distance for on-surface markers and the
-    robot's merge window (see the module docstring)."""
+    """The demonstration's AAS parameters with the distance for on-surface markers, the
+    robot's merge window and always the paper's detector (see the module docstring)."""
     return replace(
-        demonstration, distance_m=ROBOT_DISTANCE_M, merge_s=max(demonstration.merge_s, ROBOT_MERGE_S)
+        demonstration,
+        distance_m=ROBOT_DISTANCE_M,
+        merge_s=max(demonstration.merge_s, ROBOT_MERGE_S),
+        mode=ROBOT_MODE,
     )
 
 
