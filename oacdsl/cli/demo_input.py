@@ -16,6 +16,7 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 
+from oacdsl.cli.segment_cmd import add_aas_options
 from oacdsl.errors import InputError, UsageError
 from oacdsl.library import Library
 from oacdsl.model import Scene
@@ -44,14 +45,7 @@ def add_input_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--format", metavar="FMT",
                    help="read as this format (c3d, mmm, tsv, csv), not by the file's extension")
     g.add_argument("--preset", metavar="NAME", help="built-in marker grouping, e.g. 'kit' (KIT hands)")
-    g.add_argument("--distance", metavar="LEN", help="distance threshold d (default: 150mm)")
-    g.add_argument("--speed", metavar="SPEED", help="distance-change threshold v (default: 100mm/s)")
-    g.add_argument("--frames", metavar="N",
-                   help="consecutive frames n (default: the frames in 0.1 s, at least 2)")
-    g.add_argument("--merge", metavar="TIME", help="keyframe merge window (default: 0.3s; 0s = off)")
-    g.add_argument("--mode", metavar="MODE", default=DEFAULT_MODE,
-                   help="touch detector: adaptive (per-pair distances learned from co-motion; default:"
-                   " F1 0.96 against 0.85 on the KIT clips) or paper (Eq. 1/2 as printed)")
+    add_aas_options(g)
 
 
 @dataclass(frozen=True)

@@ -8,7 +8,7 @@ import shlex
 import sys
 from pathlib import Path
 
-from oacdsl.segmentation.params import DEFAULT_MODE
+from oacdsl.cli.segment_cmd import add_aas_options
 
 DESCRIPTION = """\
 Reproduce a demonstrated task on the simulated ARMAR-III, and check it (Wächter et al. 2013,
@@ -83,14 +83,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     g = p.add_argument_group("reading and segmenting the recording (as oacc segment; values carry units)")
     g.add_argument("--format", metavar="FMT", help="read as this format (c3d, mmm, tsv, csv)")
     g.add_argument("--preset", metavar="NAME", help="built-in marker grouping, e.g. 'kit' (KIT hands)")
-    g.add_argument("--distance", metavar="LEN", help="distance threshold d (default: 150mm)")
-    g.add_argument("--speed", metavar="SPEED", help="distance-change threshold v (default: 100mm/s)")
-    g.add_argument("--frames", metavar="N", help="consecutive frames n (default: the frames in 0.1 s)")
-    g.add_argument("--merge", metavar="TIME", help="keyframe merge window (default: 0.3s)")
-    g.add_argument("--mode", metavar="MODE", default=DEFAULT_MODE,
-                   help="touch detector for the demonstration: adaptive (per-pair distances learned"
-                   " from co-motion; default) or paper (Eq. 1/2 as printed); the robot's own"
-                   " recording is always segmented with paper")
+    add_aas_options(g, mode_help="touch detector for the demonstration: adaptive (per-pair distances"
+                    " learned from co-motion; default) or paper (Eq. 1/2 as printed); the robot's own"
+                    " recording is always segmented with paper")
     p.set_defaults(func=run)
 
 

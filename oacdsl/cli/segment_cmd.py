@@ -47,15 +47,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
                              " instances and markers define the groups")
     groups.add_argument("--scene-name", metavar="NAME", help="which scene (needed if there are several)")
     groups.add_argument("--preset", metavar="NAME", help="built-in marker grouping, e.g. 'kit' (KIT hands)")
-    aas = p.add_argument_group("AAS parameters")
-    aas.add_argument("--distance", metavar="LEN", help="distance threshold d (default: 150mm)")
-    aas.add_argument("--speed", metavar="SPEED", help="distance-change threshold v (default: 100mm/s)")
-    aas.add_argument("--frames", metavar="N",
-                     help="consecutive frames n (default: the frames in 0.1 s, at least 2)")
-    aas.add_argument("--merge", metavar="TIME", help="keyframe merge window (default: 0.3s; 0s = off)")
-    aas.add_argument("--mode", metavar="MODE", default=DEFAULT_MODE,
-                   help="touch detector: adaptive (per-pair distances learned from co-motion; default:"
-                   " F1 0.96 against 0.85 on the KIT clips) or paper (Eq. 1/2 as printed)")
+    add_aas_options(p.add_argument_group("AAS parameters"))
     out = p.add_argument_group("output")
     out.add_argument("--json", action="store_true", help="print the segmentation as JSON")
     out.add_argument("--plot", metavar="OUT.png",
@@ -63,6 +55,20 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     out.add_argument("--graphs", metavar="DIR",
                      help="write the world state of every keyframe as a graph picture (the paper's Fig. 4)")
     p.set_defaults(func=run)
+
+
+MODE_HELP = ("touch detector: adaptive (per-pair distances learned from co-motion; default:"
+             " F1 0.96 against 0.85 on the KIT clips) or paper (Eq. 1/2 as printed)")
+
+
+def add_aas_options(group: Any, mode_help: str = MODE_HELP) -> None:
+    """The AAS parameters every command that segments takes (read by :func:`params_from_args`)."""
+    group.add_argument("--distance", metavar="LEN", help="distance threshold d (default: 150mm)")
+    group.add_argument("--speed", metavar="SPEED", help="distance-change threshold v (default: 100mm/s)")
+    group.add_argument("--frames", metavar="N",
+                       help="consecutive frames n (default: the frames in 0.1 s, at least 2)")
+    group.add_argument("--merge", metavar="TIME", help="keyframe merge window (default: 0.3s; 0s = off)")
+    group.add_argument("--mode", metavar="MODE", default=DEFAULT_MODE, help=mode_help)
 
 
 def params_from_args(args: argparse.Namespace) -> Any:
