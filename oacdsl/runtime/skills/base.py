@@ -88,6 +88,13 @@ class SkillContext:
             raise RuntimeFailure(f"{hand} does not hold {obj} (it holds {held or 'nothing'})")
         return side
 
+    def held_pose(self, side: str, obj: str) -> tuple[np.ndarray, np.ndarray]:
+        """``(T_world_obj, T_grasp_obj)``: a held object's pose in the world and in the grasp
+        frame of hand ``side`` (metres)."""
+        t_world_grasp = self.world.frame_pose(f"grasp_{side}")
+        t_world_obj = self.world.body_pose(obj)
+        return t_world_obj, np.linalg.inv(t_world_grasp) @ t_world_obj
+
     def check_reachable(self, side: str, target: np.ndarray, what: str) -> None:
         """Raise when the whole-body IK cannot bring hand ``side`` to ``target``."""
         res = self.ctl.ik.try_reach(side, target)

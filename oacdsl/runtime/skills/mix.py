@@ -35,9 +35,7 @@ STIR_PRESS_M = 0.002
 def mix(ctx: SkillContext, hand: str, tool: str, container: str) -> None:
     world, ctl = ctx.world, ctx.ctl
     side = ctx.require_held(hand, tool)
-    t_hand = world.frame_pose(f"grasp_{side}")
-    t_tool = world.body_pose(tool)
-    tool_in_hand = np.linalg.inv(t_hand) @ t_tool
+    t_tool, tool_in_hand = ctx.held_pose(side, tool)
     t_bowl = world.body_pose(container)
     bowl = SHAPES[ctx.kind(container)]
     centre = t_bowl[:3, 3]

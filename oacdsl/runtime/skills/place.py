@@ -45,9 +45,7 @@ def lower_until_contact(
 def place(ctx: SkillContext, hand: str, obj: str) -> None:
     world, ctl = ctx.world, ctx.ctl
     side = ctx.require_held(hand, obj)
-    t_hand = world.frame_pose(f"grasp_{side}")
-    t_obj = world.body_pose(obj)
-    t_obj_in_hand = np.linalg.inv(t_hand) @ t_obj
+    t_obj, t_obj_in_hand = ctx.held_pose(side, obj)
     origin, approach = ctx.picked.get(obj, (t_obj, np.array([0.0, 0.0, -1.0])))
     xy = origin[:2, 3]
     support = ctx.support_height(xy, exclude=obj)

@@ -46,9 +46,7 @@ def pour(ctx: SkillContext, hand: str, source: str, liquid: str, target: str) ->
     if ctx.kind(liquid) != "liquid" or liquid not in world.built.balls:
         raise RuntimeFailure(f"pour: {liquid!r} is not a liquid of the scene")
     total = len(world.built.balls[liquid])
-    t_hand = world.frame_pose(f"grasp_{side}")
-    t_cup = world.body_pose(source)
-    cup_in_hand = np.linalg.inv(t_hand) @ t_cup
+    t_cup, cup_in_hand = ctx.held_pose(side, source)
     cup = SHAPES[ctx.kind(source)]
     bowl = SHAPES[ctx.kind(target)]
     t_bowl = world.body_pose(target)

@@ -25,9 +25,7 @@ PRESS_M = 0.004
 def wipe(ctx: SkillContext, hand: str, tool: str, surface: str) -> None:
     world, ctl = ctx.world, ctx.ctl
     side = ctx.require_held(hand, tool)
-    t_hand = world.frame_pose(f"grasp_{side}")
-    t_tool = world.body_pose(tool)
-    tool_in_hand = np.linalg.inv(t_hand) @ t_tool
+    t_tool, tool_in_hand = ctx.held_pose(side, tool)
     t_surface = world.body_pose(surface)
     top = t_surface[2, 3] + (SHAPES[ctx.kind(surface)].height if ctx.kind(surface) in SHAPES else 0.0)
 
