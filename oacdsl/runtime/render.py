@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from oacdsl.atomic import atomic_path
 from oacdsl.errors import OacError
 
 __all__ = [
@@ -101,10 +102,8 @@ def write_png(path: Path, image: np.ndarray) -> None:
     """Write an RGB image to ``path`` (PNG) atomically."""
     import imageio.v2 as imageio
 
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.stem + ".tmp.png")
-    imageio.imwrite(tmp, image)
-    os.replace(tmp, path)
+    with atomic_path(path, suffix=".tmp.png") as tmp:
+        imageio.imwrite(tmp, image)
 
 
 def render_png(world: Any, path: str | Path, size: tuple[int, int] = FRAME_SIZE) -> Path:

@@ -13,13 +13,13 @@ hands (``hand_r``/``hand_l``), whose frame is the facts' Hand Base frame.
 from __future__ import annotations
 
 import json
-import os
 import sys
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from oacdsl.atomic import write_atomic
 from oacdsl.runtime.armar3 import FRAMES, JOINTS
 from oacdsl.runtime.geometry import Shape, body_shapes, rotation_to_rpy
 from oacdsl.runtime.hands import GRASP_CENTRE_H, hand_boxes, hand_joints
@@ -239,17 +239,11 @@ def collisions_text() -> str:
     return json.dumps(pairs, indent=1) + "\n"
 
 
-def _atomic_write(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
-
 
 def write_urdf(path: Path = URDF_PATH) -> Path:
     """Write :func:`urdf_text` to ``path`` and :func:`collisions_text` next to it, atomically."""
-    _atomic_write(path, urdf_text())
-    _atomic_write(path.with_name("collisions.json"), collisions_text())
+    write_atomic(path, urdf_text())
+    write_atomic(path.with_name("collisions.json"), collisions_text())
     return path
 
 
