@@ -35,7 +35,7 @@ class InputError(OacError):
 class LanguageError(OacError):
     """The ``.oac`` text or library is invalid (carries diagnostics).
 
-    ``diagnostics`` holds every :class:`oacdsl.lang.Diagnostic` found, sorted by
+    ``diagnostics`` holds every :class:`oacdsl.compiler.Diagnostic` found, sorted by
     position; ``rendered`` the full report (source lines, carets, notes). The str
     of the error is the first error's line ``file:line:col: error[CODE]: message``.
     """

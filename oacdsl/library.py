@@ -1,6 +1,6 @@
 """A library: the declarations of several modules merged, with lookups.
 
-The parser (:mod:`oacdsl.lang`) builds modules; this view answers the questions
+The parser (:mod:`oacdsl.compiler`) builds modules; this view answers the questions
 the matcher, composer and runtime ask: which classes an instance has (parents
 included), whether a class is a subclass of another, which OACs, scenes and
 grasps exist. It does not validate: ``oacc compile`` does that first.

@@ -5,7 +5,7 @@ one-skill tasks, small scenes), loaded with the parser."""
 from functools import lru_cache
 from pathlib import Path
 
-from oacdsl.lang import load_library
+from oacdsl.compiler import load_library
 from oacdsl.model import Instance
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 from hypothesis import HealthCheck, assume, given, settings
 
+from oacdsl.compiler import compile_paths, load_library, parse_text
 from oacdsl.errors import LanguageError, MatchingError
-from oacdsl.lang import compile_paths, load_library, parse_text
 from oacdsl.matching import Matcher
 from oacdsl.matching.composer import Step, compose
 from oacdsl.matching.drafts import PLACEHOLDER_SKILL, propose_draft

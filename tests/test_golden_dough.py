@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from oacdsl.cli import main
-from oacdsl.lang import compile_paths, load_library
+from oacdsl.compiler import compile_paths, load_library
 
 ROOT = Path(__file__).resolve().parents[1]
 DOUGH = ROOT / "data" / "dough.c3d"

@@ -4,8 +4,8 @@ from pathlib import Path
 
 import pytest
 
+from oacdsl.compiler import CODES, compile_sources, load_library, parse_text, render
 from oacdsl.errors import LanguageError
-from oacdsl.lang import CODES, compile_sources, load_library, parse_text, render
 
 ROOT = Path(__file__).resolve().parents[1]
 LIBRARY = {
@@ -274,7 +274,7 @@ def test_load_library_raises_with_all_diagnostics(tmp_path):
 
 
 def test_json_diagnostics():
-    from oacdsl.lang.diagnostics import diagnostics_json
+    from oacdsl.compiler.diagnostics import diagnostics_json
 
     result = compile_sources({**LIBRARY, "bad.oac": "class Mug : Cupp"})
     (doc,) = diagnostics_json(result.diagnostics)

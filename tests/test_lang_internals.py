@@ -8,9 +8,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from lark import Lark, Token, UnexpectedInput
 
-from oacdsl.lang.fastmodel import make
-from oacdsl.lang.lexer import PATTERNS, OacLexer
-from oacdsl.lang.parser import grammar_text
+from oacdsl.compiler.fastmodel import make
+from oacdsl.compiler.lexer import PATTERNS, OacLexer
+from oacdsl.compiler.parser import grammar_text
 from oacdsl.model import Atom, Instance, Oac, Param, Span
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -132,7 +132,7 @@ def test_make_equals_validated_construction():
 
 
 def test_parts_locate_names():
-    from oacdsl.lang import parse_text
+    from oacdsl.compiler import parse_text
 
     oac = parse_text(
         "oac f(h: Hand = left_hand) {\n  effect h <-> nothing\n  execute place\n}", "p.oac"
@@ -145,7 +145,7 @@ def test_parts_locate_names():
 def test_compiling_restores_the_garbage_collector_state():
     import gc
 
-    from oacdsl.lang import compile_sources
+    from oacdsl.compiler import compile_sources
 
     assert gc.isenabled()
     compile_sources({"a.oac": "class A"})

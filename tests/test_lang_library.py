@@ -2,7 +2,7 @@
 
 from pathlib import Path
 
-from oacdsl.lang import compile_paths, compile_sources, load_library, print_module
+from oacdsl.compiler import compile_paths, compile_sources, load_library, print_module
 from oacdsl.skills import SKILLS
 
 ROOT = Path(__file__).resolve().parents[1]

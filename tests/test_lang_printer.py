@@ -4,8 +4,8 @@ from pathlib import Path
 
 import pytest
 
+from oacdsl.compiler import format_oac, parse_text, print_module
 from oacdsl.errors import LanguageError
-from oacdsl.lang import format_oac, parse_text, print_module
 from oacdsl.model import Atom, Call, Module, Oac, Param
 
 GOLDEN = Path(__file__).resolve().parent / "golden" / "printer"

@@ -6,9 +6,9 @@ from pathlib import Path
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from oacdsl.compiler import compile_sources, parse_text, print_module
+from oacdsl.compiler.checks import KEYWORDS
 from oacdsl.errors import LanguageError
-from oacdsl.lang import compile_sources, parse_text, print_module
-from oacdsl.lang.checks import KEYWORDS
 from oacdsl.model import Atom, Call, Grasp, Instance, Module, Oac, ObjectClass, Param, Scene
 from oacdsl.world import NOTHING
 

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from oacdsl.cli import main
-from oacdsl.lang import compile_paths, load_library
+from oacdsl.compiler import compile_paths, load_library
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import Keyframe, Segmentation
 from tests.kitchen import DOUGH_STATES, DOUGH_STEPS, TRACKED, dough_segmentation

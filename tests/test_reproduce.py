@@ -217,7 +217,7 @@ def test_robot_parameters_and_default_names() -> None:
 
 def test_virtual_markers_sit_on_the_surfaces() -> None:
     pytest.importorskip("mujoco")
-    from oacdsl.lang import load_library
+    from oacdsl.compiler import load_library
     from oacdsl.pipeline.markers import VirtualMarkers
     from oacdsl.runtime.executor import prepare
     from oacdsl.runtime.layout import BALLS_PER_LIQUID

@@ -37,8 +37,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 
 
 def run(args: argparse.Namespace) -> int:
-    from oacdsl.lang.diagnostics import diagnostics_json, render, summary
-    from oacdsl.lang.loader import compile_paths
+    from oacdsl.compiler.diagnostics import diagnostics_json, render, summary
+    from oacdsl.compiler.loader import compile_paths
 
     if not args.paths:
         raise UsageError("give at least one .oac file or folder")
@@ -66,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _counts(result: object) -> dict[str, int]:
-    from oacdsl.lang.loader import CompileResult
+    from oacdsl.compiler.loader import CompileResult
     from oacdsl.model import Grasp, Oac, ObjectClass, Scene
 
     counts = {"classes": 0, "scenes": 0, "grasps": 0, "OACs": 0}

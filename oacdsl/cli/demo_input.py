@@ -82,7 +82,7 @@ def read_segmentation_json(path: Path) -> Segmentation:
 
 
 def _library(path: Path) -> Library:
-    from oacdsl.lang import load_library
+    from oacdsl.compiler import load_library
     from oacdsl.matching.emit import library_files
 
     if not path.exists():
@@ -101,7 +101,7 @@ def _scene(
     from oacdsl.matching.demonstration import find_scene
 
     if value is not None and (value.endswith(".oac") or Path(value).is_file()):
-        from oacdsl.lang import compile_sources, parse_file, read_source
+        from oacdsl.compiler import compile_sources, parse_file, read_source
 
         path = Path(value)
         if not path.is_file():

@@ -33,10 +33,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 
 
 def run(args: argparse.Namespace) -> int:
+    from oacdsl.compiler.loader import collect_files
+    from oacdsl.compiler.parser import parse_text, read_source
+    from oacdsl.compiler.printer import print_module
     from oacdsl.errors import LanguageError
-    from oacdsl.lang.loader import collect_files
-    from oacdsl.lang.parser import parse_text, read_source
-    from oacdsl.lang.printer import print_module
 
     if args.paths == ["-"]:
         text = sys.stdin.read()

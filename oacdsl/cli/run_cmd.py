@@ -103,7 +103,7 @@ def _places(items: list[str]) -> dict[str, tuple[float, float]]:
 def load_inputs(paths: list[str], scene: str | None) -> tuple[Any, str | None]:
     """The library from ``paths`` (plus the scene file, when ``scene`` is a file) and the scene's name."""
     try:
-        from oacdsl.lang import load_library, parse_file
+        from oacdsl.compiler import load_library, parse_file
     except ImportError as error:  # the language part is not in this build
         raise UsageError(f"cannot load .oac files: {error}") from None
     for path in paths:

@@ -115,8 +115,8 @@ def load(args: argparse.Namespace) -> Any:
 
 def pick_scene(paths: list[str], name: str | None) -> Any:
     """The scene ``name`` of the library at ``paths`` (or its only scene)."""
+    from oacdsl.compiler import load_library
     from oacdsl.errors import UsageError, did_you_mean
-    from oacdsl.lang import load_library
 
     scenes = load_library(paths).scenes
     where = ", ".join(paths)

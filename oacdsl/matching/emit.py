@@ -1,6 +1,6 @@
 """Write composed OACs and drafts back into the library as canonical ``.oac`` text.
 
-The text comes from the canonical printer (:func:`oacdsl.lang.print_module`), so
+The text comes from the canonical printer (:func:`oacdsl.compiler.print_module`), so
 ``parse(text)`` gives the same OAC back; the provenance notes become trailing
 comments. Before anything is written the new file is compiled together with
 the rest of the library (it must compile cleanly, drafts excepted: their
@@ -56,7 +56,7 @@ def library_files(library: Path) -> list[Path]:
 def render(decls: Sequence[Oac], path: str, header: Sequence[str] = ()) -> str:
     """The canonical text of a file holding ``decls``; ``header`` becomes the first
     declaration's leading comment lines."""
-    from oacdsl.lang import print_module
+    from oacdsl.compiler import print_module
 
     first, *rest = decls
     if header:
@@ -80,7 +80,7 @@ def differences(old: Oac, new: Oac) -> str:
 
 def _existing(target: Path) -> tuple[Oac, ...] | None:
     """The OACs of the file at ``target`` (None when it is not a valid .oac file)."""
-    from oacdsl.lang import parse_text, read_source
+    from oacdsl.compiler import parse_text, read_source
 
     try:
         module = parse_text(read_source(target), str(target))
@@ -94,7 +94,7 @@ def _check(library: Path | None, target: Path, text: str, decls: Sequence[Oac], 
     """Compile ``text`` (to be ``target``) with the library, the folders ``also`` and the
     files about to be written (``pending``: path → text); raise on any error (with
     ``drafts``: on any error but the placeholder skill's)."""
-    from oacdsl.lang import compile_sources, read_source
+    from oacdsl.compiler import compile_sources, read_source
 
     files = library_files(library) if library is not None and library.exists() else []
     others = [f for f in files if f.resolve() != target.resolve()]

@@ -7,7 +7,7 @@ The parser applies it inline (no parse tree is built), so spans come from the
 tokens: the grammar keeps the tokens that start and end declarations
 (``CLASS``, ``RBRACE``, …).
 
-Nodes are built with :func:`oacdsl.lang.fastmodel.make` after applying the
+Nodes are built with :func:`oacdsl.compiler.fastmodel.make` after applying the
 model's own normalisation (sorted parents, sorted instances, canonical
 atoms). Things
 the model normalises away (a parent or an atom listed twice) are reported here
@@ -20,8 +20,8 @@ from typing import Any
 
 from lark import Token, Transformer
 
-from oacdsl.lang.diagnostics import Diagnostic, Note
-from oacdsl.lang.fastmodel import make, unquote
+from oacdsl.compiler.diagnostics import Diagnostic, Note
+from oacdsl.compiler.fastmodel import make, unquote
 from oacdsl.model import Atom, Call, Decl, Grasp, Instance, Oac, ObjectClass, Param, Scene, Span
 from oacdsl.world import NOTHING
 

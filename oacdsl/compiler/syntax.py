@@ -15,9 +15,9 @@ import functools
 from lark import Token, UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 from lark.lexer import PatternStr
 
-from oacdsl.lang.diagnostics import Diagnostic
-from oacdsl.lang.parser import lark_parser
-from oacdsl.lang.syntax_examples import EXAMPLES
+from oacdsl.compiler.diagnostics import Diagnostic
+from oacdsl.compiler.parser import lark_parser
+from oacdsl.compiler.syntax_examples import EXAMPLES
 from oacdsl.model import Span
 
 __all__ = ["EXAMPLES", "expected_words", "syntax_diagnostic"]

@@ -2,10 +2,10 @@
 
 The grammar is ``grammar/oac.lark`` (installed as package data); the Lark LALR
 parser is built once per process and builds the model while it parses
-(:mod:`oacdsl.lang.transform`). Comments reach us through a lexer callback
-and are attached to nodes afterwards (:mod:`oacdsl.lang.comments`). Syntax
+(:mod:`oacdsl.compiler.transform`). Comments reach us through a lexer callback
+and are attached to nodes afterwards (:mod:`oacdsl.compiler.comments`). Syntax
 errors become :class:`~oacdsl.errors.LanguageError` with one diagnostic
-(:mod:`oacdsl.lang.syntax`).
+(:mod:`oacdsl.compiler.syntax`).
 """
 
 from __future__ import annotations
@@ -18,12 +18,12 @@ from typing import cast
 
 from lark import Lark, Token, UnexpectedInput
 
+from oacdsl.compiler.comments import Comment, attach_comments, comment_text
+from oacdsl.compiler.diagnostics import Diagnostic, language_error
+from oacdsl.compiler.fastmodel import make
+from oacdsl.compiler.lexer import OacLexer
+from oacdsl.compiler.transform import ModelBuilder
 from oacdsl.errors import InputError
-from oacdsl.lang.comments import Comment, attach_comments, comment_text
-from oacdsl.lang.diagnostics import Diagnostic, language_error
-from oacdsl.lang.fastmodel import make
-from oacdsl.lang.lexer import OacLexer
-from oacdsl.lang.transform import ModelBuilder
 from oacdsl.model import Decl, Module
 
 __all__ = ["grammar_text", "lark_parser", "parse_file", "parse_source", "parse_text", "read_source"]
@@ -51,7 +51,7 @@ def _builder() -> ModelBuilder:
 def lark_parser() -> Lark:
     """The process-wide LALR parser, building the model as it parses (built on first use).
 
-    The lexer is :class:`~oacdsl.lang.lexer.OacLexer` (Lark's contextual
+    The lexer is :class:`~oacdsl.compiler.lexer.OacLexer` (Lark's contextual
     lexer, faster).
     Its ``parse`` returns the list of declarations; use :func:`parse_source`,
     which also sets the file name and collects comments and warnings.
@@ -82,7 +82,7 @@ def parse_source(text: str, path: str = "<string>") -> tuple[Module, list[Diagno
     Raises :class:`~oacdsl.errors.LanguageError` (one E001/E002 diagnostic) on a
     syntax error.
     """
-    from oacdsl.lang.syntax import syntax_diagnostic
+    from oacdsl.compiler.syntax import syntax_diagnostic
 
     parser = lark_parser()
     builder = _builder()

@@ -1,8 +1,8 @@
 """Validation passes over the modules of a library: names, classes, scenes, grasps.
 
-Every pass appends :class:`~oacdsl.lang.diagnostics.Diagnostic` objects and
+Every pass appends :class:`~oacdsl.compiler.diagnostics.Diagnostic` objects and
 never stops at the first problem. The checks of OACs live in
-:mod:`oacdsl.lang.check_oacs`; :func:`check_modules` runs all of them.
+:mod:`oacdsl.compiler.check_oacs`; :func:`check_modules` runs all of them.
 """
 
 from __future__ import annotations
@@ -11,8 +11,8 @@ import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
+from oacdsl.compiler.diagnostics import Diagnostic, Note
 from oacdsl.errors import did_you_mean
-from oacdsl.lang.diagnostics import Diagnostic, Note
 from oacdsl.library import Library
 from oacdsl.model import APPROACHES, GRASP_TYPES, Grasp, Instance, Module, Node, Oac, ObjectClass, Scene, Span
 
@@ -280,7 +280,7 @@ def check_grasps(ctx: Context) -> None:
 
 def check_modules(modules: Sequence[Module]) -> list[Diagnostic]:
     """Run every validation pass over ``modules`` (one library); return all diagnostics."""
-    from oacdsl.lang.check_oacs import check_oacs
+    from oacdsl.compiler.check_oacs import check_oacs
 
     ctx = Context(modules)
     check_classes(ctx)

@@ -1,6 +1,6 @@
 """The OAC language: parser, canonical printer, validation passes, diagnostics.
 
->>> from oacdsl.lang import parse_text, print_module
+>>> from oacdsl.compiler import parse_text, print_module
 >>> m = parse_text("class Cup : Graspable, Container")
 >>> print_module(m)
 'class Cup : Container, Graspable\\n'
@@ -9,11 +9,11 @@ The grammar is ``grammar/oac.lark``; docs/language.md describes the language
 and every diagnostic code.
 """
 
-from oacdsl.lang.checks import check_modules
-from oacdsl.lang.diagnostics import CODES, Diagnostic, Note, render, render_one
-from oacdsl.lang.loader import CompileResult, collect_files, compile_paths, compile_sources, load_library
-from oacdsl.lang.parser import parse_file, parse_source, parse_text, read_source
-from oacdsl.lang.printer import format_atom, format_decl, format_oac, print_module
+from oacdsl.compiler.checks import check_modules
+from oacdsl.compiler.diagnostics import CODES, Diagnostic, Note, render, render_one
+from oacdsl.compiler.loader import CompileResult, collect_files, compile_paths, compile_sources, load_library
+from oacdsl.compiler.parser import parse_file, parse_source, parse_text, read_source
+from oacdsl.compiler.printer import format_atom, format_decl, format_oac, print_module
 
 __all__ = [
     "CODES",

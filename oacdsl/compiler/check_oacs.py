@@ -8,9 +8,9 @@ relation and may not be named.
 
 from __future__ import annotations
 
+from oacdsl.compiler.checks import KEYWORDS, Context
+from oacdsl.compiler.diagnostics import Note
 from oacdsl.errors import did_you_mean
-from oacdsl.lang.checks import KEYWORDS, Context
-from oacdsl.lang.diagnostics import Note
 from oacdsl.model import Atom, Call, Node, Oac, Param
 from oacdsl.skills import SKILLS
 from oacdsl.world import NOTHING

@@ -13,10 +13,10 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from oacdsl.compiler.checks import check_modules
+from oacdsl.compiler.diagnostics import Diagnostic, language_error, sort_diagnostics
+from oacdsl.compiler.parser import parse_source, read_source
 from oacdsl.errors import InputError, LanguageError
-from oacdsl.lang.checks import check_modules
-from oacdsl.lang.diagnostics import Diagnostic, language_error, sort_diagnostics
-from oacdsl.lang.parser import parse_source, read_source
 from oacdsl.library import Library
 from oacdsl.model import Module
 

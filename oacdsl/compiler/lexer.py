@@ -6,7 +6,7 @@ a keyword and ``NAME`` from the parser's state, as the contextual lexer does:
 a word is a keyword where the parser accepts that keyword (or accepts no
 name), else a name, so an OAC may still be called ``grasp``. It produces the
 same tokens and the same kinds of errors (``UnexpectedCharacters`` with the
-parser state, for :mod:`oacdsl.lang.syntax`), about twice as fast; a test
+parser state, for :mod:`oacdsl.compiler.syntax`), about twice as fast; a test
 compares it with Lark's contextual lexer on the library and on random edits
 of it. One difference, on purpose: where no name is acceptable, Lark's lexer
 reads ``classh`` as the keyword ``class`` followed by ``h``; this one reads

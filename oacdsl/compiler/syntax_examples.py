@@ -1,6 +1,6 @@
 """Small bad snippets, each labelled with what is expected where it fails.
 
-:mod:`oacdsl.lang.syntax` parses each snippet once, notes the parser state
+:mod:`oacdsl.compiler.syntax` parses each snippet once, notes the parser state
 where it fails, and says "expected <label>" for any error in that state. To
 improve a message: add a snippet that fails at the same place, under the
 label you want. Snippets are listed with and without repetitions (one or two
