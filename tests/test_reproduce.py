@@ -266,7 +266,7 @@ def test_a_closed_loop_that_differs_fails_the_run(short_demo: Path, library: Pat
     from oacdsl.pipeline import robot
     from oacdsl.verify import verify
 
-    def fake_execute(library_, oac, scene, seed, frames_dir, *, note=None):  # noqa: ANN001, ANN202
+    def fake_execute(library_, oac, scene, seed, frames_dir, *, note=None, **_):  # noqa: ANN001, ANN003, ANN202
         steps = [{"oac": c.oac, "binding": dict(zip([p.name for p in library_.oacs[c.oac].params], c.args,
                                                     strict=True)),
                   "success": True, "duration_s": 4.5, "predicted": [], "observed": [], "error": None}

@@ -150,7 +150,7 @@ def load_inputs(args: argparse.Namespace) -> Inputs:
         if args.preset:
             recording = apply_preset(recording, args.preset)
         library, scene, outside = _scene(library, recording.instances, args.scene)
-        if any(i.markers for i in scene.instances):
+        if any(i.markers or i.ignored for i in scene.instances):  # ignored groups are dropped here
             recording = apply_scene_groups(recording, scene)
         segmentation = segment(recording, params)
     tracked = {i.name for i in scene.tracked()}

@@ -8,6 +8,7 @@ import shlex
 import sys
 from pathlib import Path
 
+from oacdsl.cli.scene_options import add_scene_options, scene_overrides
 from oacdsl.cli.segment_cmd import add_aas_options
 
 DESCRIPTION = """\
@@ -30,6 +31,8 @@ examples:
   oacc reproduce                                   # the bundled dough demonstration
   oacc reproduce demo.c3d --scene kitchen --name make_dough --out results/
   oacc reproduce demo.c3d --seed 3                 # objects moved by up to 10 cm
+  oacc reproduce demo.c3d --layout demonstrated    # objects where the demonstrator had them
+  oacc reproduce --place orange_bowl=66cm,2cm --fill liquid_one=red_cup:12
 """
 
 
@@ -68,6 +71,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         metavar="N",
         help="move every object of the robot's scene by up to 10 cm at random (default: nominal)",
     )
+    add_scene_options(p)
     p.add_argument("--out", metavar="DIR", default="out", help="folder for the report (default: out/)")
     p.add_argument(
         "--db",
@@ -117,6 +121,7 @@ def run(args: argparse.Namespace) -> int:
             f"--name {args.name!r}: a name is letters, digits and '_', not starting with a digit"
         )
     params = params_from_args(args)  # bad units fail before any reading
+    overrides = scene_overrides(args)
     db = None
     if not args.no_record:
         from oacdsl.stats import RunStore, resolve_db_path
@@ -157,6 +162,7 @@ def run(args: argparse.Namespace) -> int:
         quiet=args.quiet,
         command=command,
         warn=warn,
+        overrides=overrides,
     )
     verdict = outcome.result["verdict"]
     mark = "verified" if verdict["success"] else "FAILED"

@@ -13,6 +13,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from oacdsl.cli.scene_options import add_scene_options, scene_overrides
 from oacdsl.errors import RuntimeFailure, UsageError
 from oacdsl.model import Scene
 
@@ -52,18 +53,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         help="bind a parameter to an instance (repeatable; default: the OAC's defaults)",
     )
     p.add_argument(
-        "--fill",
-        action="append",
-        default=[],
-        metavar="LIQUID=CONTAINER",
-        help="start a liquid in a container (default: as the OAC's preconditions say)",
-    )
-    p.add_argument(
-        "--place",
-        action="append",
-        default=[],
-        metavar="OBJECT=X,Y",
-        help="put an object at (X, Y) metres on the table (repeatable)",
+        "--demonstration",
+        metavar="RECORDING",
+        help="a recording whose first frame lays out a scene with 'layout demonstrated'"
+        " (marker groups named after the scene's instances)",
     )
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
     p.add_argument(
@@ -76,6 +69,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         action="store_true",
         help="leave self-collision avoidance out of the IK (faster)",
     )
+    add_scene_options(p)
     p.set_defaults(func=run)
 
 
@@ -89,15 +83,28 @@ def _pairs(items: list[str], flag: str) -> dict[str, str]:
     return out
 
 
-def _places(items: list[str]) -> dict[str, tuple[float, float]]:
-    out: dict[str, tuple[float, float]] = {}
-    for name, value in _pairs(items, "--place").items():
-        try:
-            x, y = (float(v) for v in value.split(","))
-        except ValueError:
-            raise UsageError(f"--place {name}={value}: expected OBJECT=X,Y in metres") from None
-        out[name] = (x, y)
-    return out
+def _demonstrated(args: argparse.Namespace, library: Any, scene: str | None, bindings: dict[str, str],
+                  layout: str | None) -> dict[str, Any] | None:
+    """First-frame positions of --demonstration for a 'layout demonstrated', else None (a warning
+    when the scene wants them but no recording is given)."""
+    from oacdsl.runtime.binding import choose_scene
+
+    oac = library.oacs.get(args.name)
+    if oac is None:
+        return None  # prepare() names the problem
+    sc = choose_scene(library, oac, scene, bindings)
+    wanted = (layout or sc.layout) == "demonstrated"
+    if args.demonstration is None:
+        if wanted:
+            print(f"oacc: warning: scene {sc.name} is laid out as demonstrated, but no --demonstration"
+                  " was given: objects without a place take free slots", file=sys.stderr)
+        return None
+    from oacdsl.runtime.demo_layout import demonstrated_positions
+    from oacdsl.segmentation.readers import read_recording
+
+    if not Path(args.demonstration).is_file():
+        raise UsageError(f"{args.demonstration}: no such recording file")
+    return demonstrated_positions(read_recording(args.demonstration), sc)
 
 
 def load_inputs(paths: list[str], scene: str | None) -> tuple[Any, str | None]:
@@ -141,9 +148,9 @@ def _prepare_backend(args: argparse.Namespace) -> None:
 
 def run(args: argparse.Namespace) -> int:
     bindings = _pairs(args.bind, "--bind")
-    fill = _pairs(args.fill, "--fill")
-    places = _places(args.place)
+    overrides = scene_overrides(args)
     library, scene = load_inputs(args.library or ["library"], args.scene)
+    demonstrated = _demonstrated(args, library, scene, bindings, overrides.layout)
     _prepare_backend(args)
     try:
         from oacdsl.runtime.executor import prepare, run_prepared
@@ -162,9 +169,9 @@ def run(args: argparse.Namespace) -> int:
         bindings,
         scene,
         args.seed,
-        fill=fill,
         self_collision=not args.no_self_collision,
-        places=places,
+        demonstrated=demonstrated,
+        **overrides.kwargs(),
     )
     out = sys.stderr if args.json else sys.stdout
     closers: list[Any] = []

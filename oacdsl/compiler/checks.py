@@ -22,11 +22,16 @@ __all__ = ["KEYWORDS", "Context", "check_modules"]
 KEYWORDS = frozenset(
     {
         "approach",
+        "at",
+        "balls",
         "class",
         "effect",
         "environment",
         "execute",
         "grasp",
+        "ignored",
+        "in",
+        "layout",
         "markers",
         "not",
         "nothing",
@@ -281,10 +286,13 @@ def check_grasps(ctx: Context) -> None:
 def check_modules(modules: Sequence[Module]) -> list[Diagnostic]:
     """Run every validation pass over ``modules`` (one library); return all diagnostics."""
     from oacdsl.compiler.check_oacs import check_oacs
+    from oacdsl.compiler.check_state import check_scene_state
 
     ctx = Context(modules)
     check_classes(ctx)
     check_scenes(ctx)
+    for scene in (d for d in _decls(ctx) if isinstance(d, Scene)):
+        check_scene_state(ctx, scene)
     check_grasps(ctx)
     check_oacs(ctx)
     return ctx.diagnostics

@@ -55,14 +55,22 @@ CODES: dict[str, str] = {
     "E018": "reserved word used as a name",
     "E019": "composed OAC calls itself (directly or through other OACs)",
     "E020": "unknown grasp type or approach direction",
-    "E021": "environment instance in a relation",
+    "E021": "environment or ignored instance in a relation",
     "E022": "marker assigned to two instances",
     "E023": "composed OAC without steps",
+    "E040": "skill called with the wrong number of arguments",
+    "E041": "skill argument of the wrong class",
+    "E042": "unknown skill parameter",
+    "E043": "quantity with the wrong or an unknown unit",
+    "E044": "value out of range or not a whole number (skill parameter, ball count)",
+    "E045": "unknown layout",
+    "E046": "scene state that does not fit the instance (a place for a hand, contents of a non-container, …)",
     "W001": "unused variable",
     "W002": "name or relation listed twice",
     "W003": "effect already holds before (it is also a precondition)",
     "W004": "graspable instance whose classes have no grasp",
     "W005": "grasp offset longer than 0.5 m (offsets are metres)",
+    "W040": "number without unit that is implausible in SI units (radians, metres)",
 }
 
 

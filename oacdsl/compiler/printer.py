@@ -22,10 +22,24 @@ import re
 from collections.abc import Iterable
 
 from oacdsl.errors import LanguageError
-from oacdsl.model import Atom, Call, Decl, Grasp, Instance, Module, Node, Oac, ObjectClass, Param, Scene
+from oacdsl.model import (
+    Atom,
+    Call,
+    Decl,
+    Grasp,
+    Instance,
+    Module,
+    Node,
+    Oac,
+    ObjectClass,
+    Param,
+    Quantity,
+    Scene,
+)
+from oacdsl.units import language_si
 from oacdsl.world import NOTHING
 
-__all__ = ["format_atom", "format_decl", "format_oac", "print_module"]
+__all__ = ["format_atom", "format_decl", "format_oac", "format_quantity", "print_module"]
 
 _IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 _WIDTH = 100
@@ -44,6 +58,18 @@ def _number(x: float) -> str:
     if not math.isfinite(x):
         raise LanguageError(f"cannot print the number {x!r}: offsets must be finite (metres)")
     return repr(float(x))
+
+
+_WRITTEN = re.compile(r"([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)([A-Za-z]+(?:/[A-Za-z]+)?)?\Z")
+
+
+def format_quantity(q: Quantity) -> str:
+    """``56cm`` as written when that text still means ``q``'s value, else the SI value and unit."""
+    if q.written is not None:
+        m = _WRITTEN.match(q.written)
+        if m is not None and language_si(float(m.group(1)), m.group(2) or "") == (q.value, q.unit):
+            return q.written
+    return _number(q.value) + q.unit
 
 
 def _string(s: str) -> str:
@@ -90,6 +116,8 @@ def _instance_line(names: list[str], inst: Instance, width: int) -> str:
         text += " markers (" + ", ".join(_string(m) for m in inst.markers) + ")"
     if inst.environment:
         text += " environment"
+    if inst.ignored:
+        text += " ignored"
     return _with_note(text, inst)
 
 
@@ -99,12 +127,12 @@ def _groups(instances: tuple[Instance, ...]) -> list[list[Instance]]:
     An instance with markers or comments gets a line of its own.
     """
     groups: list[list[Instance]] = []
-    by_kind: dict[tuple[tuple[str, ...], bool], list[Instance]] = {}
+    by_kind: dict[tuple[tuple[str, ...], bool, bool], list[Instance]] = {}
     for inst in instances:
         if inst.markers or inst.comments or inst.note is not None:
             groups.append([inst])
             continue
-        key = (inst.classes, inst.environment)
+        key = (inst.classes, inst.environment, inst.ignored)
         if key in by_kind:
             by_kind[key].append(inst)
         else:
@@ -120,7 +148,28 @@ def _scene(decl: Scene) -> list[str]:
     for group in groups:
         lines += _comment_lines(group[0].comments, _IND)
         lines.append(_IND + _instance_line([i.name for i in group], group[0], width))
+    lines += _scene_state(decl)
     lines.append(_with_note("}", decl))
+    return lines
+
+
+def _scene_state(decl: Scene) -> list[str]:
+    """``layout …``, then the ``at`` and ``in`` statements, names aligned, after the instances."""
+    rows: list[tuple[Node, str, str]] = []
+    for place in decl.places:
+        rows.append((place, place.instance, f"at ({format_quantity(place.x)}, {format_quantity(place.y)})"))
+    for fill in decl.fills:
+        text = f"in {_name(fill.container)}" + (f" balls {fill.balls}" if fill.balls is not None else "")
+        rows.append((fill, fill.liquid, text))
+    lines = [f"{_IND}layout {_name(decl.layout)}"] if decl.layout is not None else []
+    if not rows and not lines:
+        return lines
+    if decl.instances:
+        lines.insert(0, "")
+    width = max((len(name) for _, name, _ in rows), default=0)
+    for node, name, text in rows:
+        lines += _comment_lines(node.comments, _IND)
+        lines.append(_IND + _with_note(f"{_name(name):<{width}} {text}", node))
     return lines
 
 
@@ -219,7 +268,14 @@ def _oac(decl: Oac) -> list[str]:
             lines.append(_IND * 2 + _call(call))
         lines.append(f"{_IND}}}")
     elif decl.skill is not None:
-        lines.append(f"{_IND}{'execute':<8}{_name(decl.skill)}")
+        text = f"{_IND}{'execute':<8}{_name(decl.skill)}"
+        if decl.skill_args is not None:
+            text += "(" + ", ".join(_name(a) for a in decl.skill_args) + ")"
+        if decl.skill_params:
+            text += " { " + "  ".join(
+                f"{_name(s.name)} {format_quantity(s.value)}" for s in decl.skill_params
+            ) + " }"
+        lines.append(text)
     else:
         raise LanguageError(f"cannot print OAC '{decl.name}': it has neither a skill nor steps")
     lines.append(_with_note("}", decl))

@@ -60,13 +60,18 @@ class SubActionMatch:
 
 
 def find_scene(library: Library, instances: Sequence[str], name: str | None = None) -> Scene:
-    """The scene called ``name``, or the one whose tracked instances are exactly ``instances``."""
+    """The scene called ``name``, or the one whose tracked instances are exactly ``instances``
+    (leaving out the groups the scene marks ``ignored``)."""
     if name is not None:
         if name not in library.scenes:
             raise MatchingError(f"no scene {name!r} in the library{did_you_mean(name, library.scenes)}")
         return library.scenes[name]
     wanted = set(instances)
-    fits = [s for s in library.scenes.values() if {i.name for i in s.tracked()} == wanted]
+    fits = [
+        s
+        for s in library.scenes.values()
+        if {i.name for i in s.tracked()} == wanted - {i.name for i in s.ignored()}
+    ]
     if len(fits) == 1:
         return fits[0]
     if len(fits) > 1:

@@ -126,7 +126,7 @@ def load_inputs(
         lib, sc, outside = resolve_scene(lib, tuple(rec.instances), scene)
     except MatchingError as error:  # no scene fits the recording: a problem of the input
         raise InputError(error.message, location=source) from None
-    if any(i.markers for i in sc.instances):
+    if any(i.markers or i.ignored for i in sc.instances):  # ignored groups are dropped here
         rec = apply_scene_groups(rec, sc)
     tracked = {i.name for i in sc.tracked()}
     unknown = sorted(set(rec.instances) - tracked)

@@ -23,6 +23,7 @@ from typing import Any
 from oacdsl.errors import InputError, OacError
 from oacdsl.pipeline.inputs import Inputs
 from oacdsl.progress import Progress
+from oacdsl.runtime.overrides import SceneOverrides
 
 __all__ = ["STAGES", "Outcome", "publish", "reproduce"]
 
@@ -84,9 +85,11 @@ def reproduce(
     quiet: bool = False,
     command: str | None = None,
     warn: Callable[[str], None] | None = None,
+    overrides: SceneOverrides | None = None,
 ) -> Outcome:
     """Run every stage on checked ``inputs`` and write the report into ``out`` (see the module
-    docstring). ``db``: the run store (None: do not record)."""
+    docstring). ``db``: the run store (None: do not record); ``overrides``: the command line's
+    --place/--fill/--layout over the scene's initial state."""
     from oacdsl import __version__
 
     progress = Progress(list(STAGES), quiet=quiet)
@@ -118,6 +121,8 @@ def reproduce(
                 "command": command,
             },
         }
+        if overrides is not None and overrides.to_json():
+            result["demonstration"]["scene_overrides"] = overrides.to_json()
         failure = _stages(
             inputs,
             result,
@@ -129,6 +134,7 @@ def reproduce(
             force=force,
             db=db,
             warn=note_warning,
+            overrides=overrides,
         )
         result["verdict"] = _verdict(result, failure, name)
         result["stages"] = progress.records()
@@ -163,6 +169,7 @@ def _stages(
     force: bool,
     db: Path | None,
     warn: Callable[[str], None],
+    overrides: SceneOverrides | None = None,
 ) -> tuple[str, OacError] | None:
     """Fill ``result`` stage by stage; the first failed stage and its error, or None."""
     from oacdsl.pipeline import analyse, figures, robot
@@ -212,7 +219,14 @@ def _stages(
 
     def execute() -> Any:
         done = robot.execute_stage(
-            inputs.library, composed.oac, inputs.scene, seed, figs if render else None, note=progress.note
+            inputs.library,
+            composed.oac,
+            inputs.scene,
+            seed,
+            figs if render else None,
+            note=progress.note,
+            overrides=overrides,
+            recording=inputs.recording,
         )
         figures.attach_frames(done.doc, done.frames, staging)
         return done

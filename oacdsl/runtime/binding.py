@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from oacdsl.errors import RuntimeFailure, did_you_mean
 from oacdsl.library import Library
 from oacdsl.model import Atom, Oac, Scene
+from oacdsl.skills import SIGNATURES
 from oacdsl.world import NOTHING, WorldState
 
 __all__ = ["Step", "bind", "flatten", "bound_atoms", "holds", "explain", "choose_scene", "liquid_contents"]
@@ -28,7 +29,17 @@ class Step:
 
     @property
     def args(self) -> tuple[str, ...]:
-        return tuple(self.binding[p.name] for p in self.oac.params)
+        """The instances the skill gets, in the order of its signature (``execute pour(h, c, l, b)``;
+        without an argument list, the OAC's parameters in order)."""
+        return tuple(self.binding.get(a, a) for a in self.oac.skill_arguments())
+
+    @property
+    def params(self) -> dict[str, float]:
+        """The skill's named parameters (SI): the signature's defaults, then the OAC's values."""
+        sig = SIGNATURES.get(str(self.oac.skill))
+        values = sig.defaults() if sig is not None else {}
+        values.update({p.name: p.value.value for p in self.oac.skill_params})
+        return values
 
 
 def choose_scene(

@@ -192,7 +192,7 @@ def build_model(layout: Layout, seed: int | None = None) -> BuiltModel:
             add_balls(
                 spec,
                 liquid,
-                layout.balls_per_liquid,
+                layout.ball_count(liquid),
                 np.array([p.x, p.y, TABLE_TOP]),
                 shape.inner_radius,
                 rgba,

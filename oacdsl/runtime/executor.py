@@ -37,6 +37,7 @@ from oacdsl.runtime.ik import WholeBodyIK
 from oacdsl.runtime.layout import plan_layout
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.skills import IMPLEMENTATIONS, SkillContext
+from oacdsl.skills import SIGNATURES
 from oacdsl.world import NOTHING, WorldState
 
 __all__ = ["execute", "RunResult", "StepResult", "Run", "prepare", "run_prepared"]
@@ -118,8 +119,17 @@ def prepare(
     observers: Sequence[Observer] = (),
     self_collision: bool = True,
     places: Mapping[str, tuple[float, float]] | None = None,
+    balls: Mapping[str, int] | None = None,
+    layout: str | None = None,
+    demonstrated: Mapping[str, Any] | None = None,
 ) -> Run:
-    """Bind, lay out and build everything :func:`execute` needs (raises RuntimeFailure)."""
+    """Bind, lay out and build everything :func:`execute` needs (raises RuntimeFailure).
+
+    The scene's initial state (``at``, ``in``, ``layout``) is the default; ``places``,
+    ``fill``, ``balls`` and ``layout`` override it (the command line's ``--place``, …);
+    ``demonstrated`` holds the recording's first-frame positions for ``layout demonstrated``
+    (:func:`oacdsl.runtime.layout.plan_layout`). A liquid the OAC's own preconditions put
+    in a container (``l <-> c``) starts there unless ``fill`` says otherwise."""
     if isinstance(oac, str):
         if oac not in library.oacs:
             raise RuntimeFailure(f"no oac {oac!r} in the library{did_you_mean(oac, library.oacs)}")
@@ -133,10 +143,18 @@ def prepare(
                 f"oac {step.oac.name} executes skill {step.oac.skill!r}, which the runtime"
                 f" lacks{did_you_mean(str(step.oac.skill), IMPLEMENTATIONS)}"
             )
+        sig = SIGNATURES[str(step.oac.skill)]
+        if len(step.args) != len(sig.args):
+            raise RuntimeFailure(
+                f"oac {step.oac.name} calls skill {sig.text()} with {len(step.args)} arguments"
+                " (oacc compile reports this as E040)"
+            )
     contents = liquid_contents(library, sc, oac, bound)
     contents.update(fill or {})
-    layout = plan_layout(library, sc, contents, seed, places)
-    world = SimWorld(build_model(layout, seed))
+    plan = plan_layout(
+        library, sc, contents, seed, places, balls=balls, layout=layout, demonstrated=demonstrated
+    )
+    world = SimWorld(build_model(plan, seed))
     controller = Controller(world, WholeBodyIK(self_collision=self_collision), list(observers))
     context = SkillContext(controller, library, library.instance_classes(sc))
     return Run(oac, sc, bound, steps, world, controller, context, seed)
@@ -172,6 +190,9 @@ def execute(
     self_collision: bool = True,
     places: Mapping[str, tuple[float, float]] | None = None,
     on_step: Any = None,
+    balls: Mapping[str, int] | None = None,
+    layout: str | None = None,
+    demonstrated: Mapping[str, Any] | None = None,
 ) -> RunResult:
     """Run ``oac`` in simulation and report per step (see the module docstring).
 
@@ -191,6 +212,9 @@ def execute(
         observers=[*([recorder] if recorder is not None else []), *observers],
         self_collision=self_collision,
         places=places,
+        balls=balls,
+        layout=layout,
+        demonstrated=demonstrated,
     )
     return run_prepared(run, on_step=on_step, wall0=wall0)
 
@@ -252,7 +276,7 @@ def run_prepared(run: Run, *, on_step: Any = None, wall0: float | None = None) -
 def _run_skill(ctx: SkillContext, step: Step) -> str | None:
     skill = IMPLEMENTATIONS[str(step.oac.skill)]
     try:
-        skill(ctx, *step.args)
+        skill(ctx, *step.args, **step.params)
     except RuntimeFailure as failure:
         return f"{step.oac.name}: {failure}"
     except mujoco.FatalError as failure:
