@@ -121,6 +121,8 @@ def language_si(number: float, unit: str) -> tuple[float, str]:
     if known is None:
         return float(number), unit
     si, factor = known
+    if factor == 1.0:
+        return float(number), si
     return float(f"{float(number) * factor:.12g}"), si  # 56cm == 0.56m exactly
 
 

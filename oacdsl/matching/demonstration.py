@@ -18,7 +18,7 @@ from oacdsl.matching.composer import Composition, Step, compose
 from oacdsl.matching.drafts import propose_draft
 from oacdsl.matching.matcher import Matcher
 from oacdsl.matching.results import MatchResult, Mode
-from oacdsl.model import Oac, Scene
+from oacdsl.model import Instance, Oac, Scene
 from oacdsl.segmentation.result import Segmentation, SubAction
 from oacdsl.world import Relation
 
@@ -67,10 +67,13 @@ def find_scene(library: Library, instances: Sequence[str], name: str | None = No
             raise MatchingError(f"no scene {name!r} in the library{did_you_mean(name, library.scenes)}")
         return library.scenes[name]
     wanted = set(instances)
-    fits = [
-        s
-        for s in library.scenes.values()
-        if {i.name for i in s.tracked()} == wanted - {i.name for i in s.ignored()}
+    def names(instances: Sequence[Instance]) -> set[str]:
+        return {i.name for i in instances}
+
+    scenes = library.scenes.values()
+    # every group accounted for (tracked or ignored) first; else the ignored groups may be absent
+    fits = [s for s in scenes if names(s.tracked()) | names(s.ignored()) == wanted] or [
+        s for s in scenes if names(s.tracked()) == wanted - names(s.ignored())
     ]
     if len(fits) == 1:
         return fits[0]
