@@ -67,13 +67,13 @@ def find_scene(library: Library, instances: Sequence[str], name: str | None = No
             raise MatchingError(f"no scene {name!r} in the library{did_you_mean(name, library.scenes)}")
         return library.scenes[name]
     wanted = set(instances)
-    def names(instances: Sequence[Instance]) -> set[str]:
+    def called(instances: Sequence[Instance]) -> set[str]:
         return {i.name for i in instances}
 
     scenes = library.scenes.values()
     # every group accounted for (tracked or ignored) first; else the ignored groups may be absent
-    fits = [s for s in scenes if names(s.tracked()) | names(s.ignored()) == wanted] or [
-        s for s in scenes if names(s.tracked()) == wanted - names(s.ignored())
+    fits = [s for s in scenes if called(s.tracked()) | called(s.ignored()) == wanted] or [
+        s for s in scenes if called(s.tracked()) == wanted - called(s.ignored())
     ]
     if len(fits) == 1:
         return fits[0]
