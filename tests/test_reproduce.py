@@ -293,3 +293,23 @@ def test_a_closed_loop_that_differs_fails_the_run(short_demo: Path, library: Pat
     with sqlite3.connect(db) as conn:  # the execution is recorded, with the closed loop's figures
         assert conn.execute("SELECT success, edit_distance FROM runs").fetchall() == [(1, 1)]
     assert "Not reproduced" in (out / "report.html").read_text()
+
+
+@pytest.mark.slow
+def test_reproduce_takes_the_scene_overrides_and_the_demonstrated_layout(
+    short_demo: Path, library: Path, tmp_path: Path
+) -> None:
+    out = tmp_path / "out"
+    code = run(short_demo, "--library", library, "--out", out, "--no-record", "--quiet", "--no-render",
+               "--mode", "paper", "--layout", "demonstrated", "--fill", "liquid_one=red_cup:8")
+    doc = json.loads((out / "result.json").read_text())
+    assert code == 0, doc["verdict"]
+    assert doc["demonstration"]["scene_overrides"] == {"fill": {"liquid_one": "red_cup"},
+                                                       "balls": {"liquid_one": 8}, "layout": "demonstrated"}
+    places = doc["run"]["layout"]["places"]
+    assert {p["from"] for p in places.values()} == {"demonstrated"}
+    # the demonstrator had the red cup on its left and the green one on its right
+    assert places["red_cup"]["y_m"] > places["orange_bowl"]["y_m"] > places["green_cup"]["y_m"]
+    assert (places["red_cup"]["x_m"], places["red_cup"]["y_m"]) != (0.56, 0.28)  # not the scene's 'at'
+    assert doc["run"]["layout"]["contents"]["liquid_one"] == {"container": "red_cup", "balls": 8}
+    assert doc["run"]["metrics"]["balls_total"] == 8 + 10
