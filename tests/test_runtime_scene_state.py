@@ -190,3 +190,43 @@ def test_a_scene_without_contents_for_a_liquid_fails_cleanly():
     )
     with pytest.raises(Exception, match="liquid 'milk' has no container to start in"):
         plan_layout(lib, bare)
+
+
+def test_oacc_run_lays_out_as_demonstrated_from_a_recording(tmp_path, capsys, monkeypatch):
+    from oacdsl.cli import main
+
+    monkeypatch.chdir(ROOT)
+    base = [
+        "run",
+        "grasp",
+        "--scene",
+        "kitchen",
+        "--bind",
+        "h=left_hand",
+        "--bind",
+        "o=red_cup",
+        "--layout",
+        "demonstrated",
+    ]
+    assert main([*base, "--demonstration", "data/dough.c3d", "--no-self-collision"]) == 0
+    out = capsys.readouterr()
+    assert "grasp: success" in out.out and "warning" not in out.err
+    # without a recording: a warning, and the free slots
+    assert (
+        main(
+            [
+                "run",
+                "place",
+                "--scene",
+                "kitchen",
+                "--bind",
+                "h=left_hand",
+                "--bind",
+                "o=red_cup",
+                "--layout",
+                "demonstrated",
+            ]
+        )
+        == 1
+    )
+    assert "laid out as demonstrated, but no --demonstration was given" in capsys.readouterr().err
