@@ -44,7 +44,9 @@ class Spec:
         rng = random.Random(seed)
         self.classes = [f"C{i:03d}" for i in range(N_CLASSES)]
         # the skills' classes: h is a Hand, every generated class a Graspable (C000's parent)
-        self.parent = {c: (self.classes[rng.randrange(i)] if i else "Graspable") for i, c in enumerate(self.classes)}
+        self.parent = {
+            c: (self.classes[rng.randrange(i)] if i else "Graspable") for i, c in enumerate(self.classes)
+        }
         self.parent = {"Hand": None, "Graspable": None, **self.parent}
         self.classes = ["Hand", "Graspable", *self.classes]
         generated = self.classes[2:]
