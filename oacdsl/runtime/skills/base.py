@@ -5,7 +5,8 @@ arguments of the OAC's ``execute`` line in the order of the skill's signature
 (:data:`oacdsl.skills.SIGNATURES`; for ``pour(h, c, l, b)``: hand, source container,
 liquid, target container) and whose keyword parameters are the named skill
 parameters in SI units (``tilt=1.92``), the signature's defaults filling the rest.
-It reads object poses from the simulation when it runs, moves the robot through :class:`~oacdsl.runtime.control.Controller`, and raises
+It reads object poses from the simulation when it runs, moves the robot through
+:class:`~oacdsl.runtime.control.Controller`, and raises
 :class:`~oacdsl.errors.RuntimeFailure` with a reason when it cannot do its job.
 """
 
