@@ -69,7 +69,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         "--seed",
         type=int,
         metavar="N",
-        help="move every object of the robot's scene by up to 10 cm at random (default: nominal)",
+        help="move every object of the robot's scene by up to 10 cm at random (default: where the scene puts them)",
     )
     add_scene_options(p)
     p.add_argument("--out", metavar="DIR", default="out", help="folder for the report (default: out/)")

@@ -43,7 +43,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         "--seed",
         type=int,
         metavar="N",
-        help="move every object by up to 10 cm at random (default: nominal places)",
+        help="move every object by up to 10 cm at random (default: where the scene puts them)",
     )
     p.add_argument(
         "--bind",

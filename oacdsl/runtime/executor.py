@@ -199,7 +199,7 @@ def execute(
     ``recorder`` is called with the world at its ``rate_hz`` (e.g. a
     :class:`~oacdsl.runtime.recorder.MarkerRecorder`); ``observers`` likewise (video);
     ``on_step(index, step_result, world)`` is called after every step (frame snapshots);
-    ``places`` puts named objects at given (x, y) on the table instead of their nominal places.
+    ``places`` puts named objects at given (x, y) on the table over the scene's ``at`` (metres).
     """
     wall0 = time.perf_counter()
     run = prepare(
