@@ -203,6 +203,10 @@ def test_kit_marker_set_recognised_without_preset(tmp_path, capsys):
     assert "--preset none keeps the file's groups" in err and err.count("\n") == 1
     code, out, err = run(capsys, csv, "--json", "--preset", "none")
     assert code == 0 and err == "" and "left_hand" not in json.loads(out)["instances"]
+    assert main(["inspect", str(csv), "--json"]) == 0  # inspect recognises it alike
+    out, err = capsys.readouterr()
+    assert "marker set 'kit' recognised" in err
+    assert [g["name"] for g in json.loads(out)["groups"]] == ["LKNE", "cup", "left_hand", "right_hand"]
 
 
 @pytest.mark.mocap

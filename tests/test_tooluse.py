@@ -104,6 +104,12 @@ def test_tool_contact_through_the_hand_holding_the_target_and_cross_hand_veto():
     jug_hand[40:43] = jug_hand[45:48] = 0.1
     short = tool_contacts(table, n, 10.0, held, {q[("jug", "left_hand")]: jug_hand}, agents, 0.15, 0.5, 0.2)
     assert short.added == {q[("cup", "jug")]: [(40, 48)]}
+    # a gap (NaN) of any length inside a contact does not end it; beyond its ends it starts nothing
+    jug_hand[:] = 0.3
+    jug_hand[40:60] = 0.1
+    jug_hand[45:55] = jug_hand[60:70] = np.nan
+    gap = tool_contacts(table, n, 10.0, held, {q[("jug", "left_hand")]: jug_hand}, agents, 0.15, 0.5, 0.2)
+    assert gap.added == {q[("cup", "jug")]: [(40, 60)]}
     # without agents there is nothing to do
     assert tool_contacts(table, n, 10.0, held, closest, (), 0.15, 0.5, 0.2).added == {}
 

@@ -62,8 +62,9 @@ def tool_contacts(table: PairTable, n_frames: int, rate_hz: float, held: Mapping
     """Tool contacts and cross-hand vetoes (see the module docstring).
 
     ``held``: instance pair → intervals in which it touches by co-motion (steps 1–3);
-    ``closest``: instance pair → (F,) closest marker distance, metres (inf or NaN where
-    unknown); ``reach_m``: ``d``; ``dwell_s``, ``bridge_s``: seconds.
+    ``closest``: instance pair → (F,) closest marker distance, metres (inf beyond
+    reach, NaN in a gap: a gap inside a tool contact does not end it); ``reach_m``: ``d``;
+    ``dwell_s``, ``bridge_s``: seconds.
     """
     agent_set = set(agents)
     if not agent_set:
@@ -78,8 +79,7 @@ def tool_contacts(table: PairTable, n_frames: int, rate_hz: float, held: Mapping
         q = pair(i, j)
         if q is None or q not in closest:
             return np.full(n_frames, np.inf)
-        d = np.asarray(closest[q], dtype=np.float64)
-        return np.where(np.isnan(d), np.inf, d)
+        return np.asarray(closest[q], dtype=np.float64)  # NaN: a gap, unknown
 
     holds: dict[tuple[int, int], np.ndarray] = {}  # (agent, object) → (F,) bool
     for h in agent_set:
@@ -98,16 +98,24 @@ def tool_contacts(table: PairTable, n_frames: int, rate_hz: float, held: Mapping
             if q is None:
                 continue
             near = np.zeros(n_frames, dtype=bool)
+            unknown = np.zeros(n_frames, dtype=bool)
             for tool, target in ((x, a), (a, x)):
                 for h in agent_set:
                     wielded = holds[(h, tool)] & ~holds[(h, target)]
                     if not wielded.any():
                         continue
                     reach = dist(tool, target)
+                    gap = np.isnan(reach)
                     for other in agent_set - {h}:  # the hand holding the target is part of it
-                        reach = np.where(holds[(other, target)], np.fmin(reach, dist(tool, other)), reach)
-                    near |= wielded & (reach < reach_m)
-            spans = [(s, e) for s, e in _runs(_bridge(near, bridge)) if e - s >= dwell]
+                        to_other = np.where(holds[(other, target)], dist(tool, other), np.inf)
+                        gap |= np.isnan(to_other)
+                        reach = np.fmin(reach, to_other)
+                    with np.errstate(invalid="ignore"):
+                        close = reach < reach_m
+                    near |= wielded & close
+                    unknown |= wielded & gap & ~close
+            near = _bridge(near, bridge, unknown & ~near)
+            spans = [(s, e) for s, e in _runs(near) if e - s >= dwell]
             if spans:
                 added[q] = spans
     removed: dict[int, Spans] = {}
@@ -128,14 +136,12 @@ def tool_contacts(table: PairTable, n_frames: int, rate_hz: float, held: Mapping
     return ToolContacts(added, removed)
 
 
-def _bridge(mask: np.ndarray, frames: int) -> np.ndarray:
-    """``mask`` with runs of False of at most ``frames`` between two True runs set True."""
+def _bridge(mask: np.ndarray, frames: int, unknown: np.ndarray) -> np.ndarray:
+    """``mask`` with each run of False between two True runs set True when it is at most
+    ``frames`` long or unknown throughout (a gap neither ends nor starts a contact)."""
     out = mask.copy()
-    if frames <= 0:
-        return out
-    runs = _runs(~mask)
-    for a, b in runs:
-        if a > 0 and b < mask.size and b - a <= frames:
+    for a, b in _runs(~mask):
+        if a > 0 and b < mask.size and (b - a <= frames or unknown[a:b].all()):
             out[a:b] = True
     return out
 
