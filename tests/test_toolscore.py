@@ -86,5 +86,6 @@ def test_tool_contacts_alike_at_100_hz(action):
     tools = score_tools(action, s, up, KIT_TOOL_TARGETS[action], tolerance=30)
     assert tools.score.recall == 1.0 and all(c > 0.9 for c in tools.coverage.values())
     objects = {g: fast.group_positions(g) for g in fast.instances if g not in labels}
-    held = {h: nearest_object(fast.group_positions(h), objects, contact_from_labels(lab)) for h, lab in up.items()}
+    held = {h: nearest_object(fast.group_positions(h), objects, contact_from_labels(lab))
+            for h, lab in up.items()}
     assert cross_hand_frames(s, held) == {"left_hand": 0, "right_hand": 0}
