@@ -117,3 +117,5 @@ def test_kit_marker_set_is_recognised_unasked():
     assert set(group_recording(rec(names, subject), "none")[0].groups) == {"subject_7", "cup"}
     assert group_recording(rec(names, subject), "kit")[1] is None
     assert group_recording(rec(names, subject), None)[1] == "kit"
+    with pytest.raises(RecordingError, match=r"unknown marker preset 'nones' \(did you mean 'none'\?\)"):
+        group_recording(rec(names, subject), "nones")

@@ -194,6 +194,8 @@ def group_recording(recording: Recording, preset: str | None) -> tuple[Recording
     unasked (for a note to the user), else ``None``."""
     if preset == "none":
         return recording, None
+    if preset and preset not in PRESETS:
+        raise RecordingError(f"unknown marker preset {preset!r}{did_you_mean(preset, [*PRESETS, 'none'])}")
     if preset:
         return apply_preset(recording, preset), None
     return recognise_preset(recording)
