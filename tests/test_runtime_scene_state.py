@@ -152,6 +152,16 @@ def test_mix_radius_changes_the_circles():
     assert 0.005 < np.ptp(xy[:, 0]) < 0.03
 
 
+def test_grasp_lift_changes_how_high_the_object_is_lifted():
+    # execute reach_and_grasp { lift 20cm }; the default lifts it 10 cm
+    from oacdsl.runtime.objects import TABLE_TOP
+
+    run = prepare(task_library(), "grasp_high", scene="pouring")
+    result = run_prepared(run)
+    assert result.success, result.error
+    assert 0.16 < run.world.body_pose("green_cup")[2, 3] - TABLE_TOP < 0.24
+
+
 def test_oacc_run_takes_place_and_fill_overrides(tmp_path):
     out = oacc_run(
         tmp_path,
