@@ -107,6 +107,6 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _atoms(atoms: tuple) -> str:  # type: ignore[type-arg]
-    from oacdsl.matching.conditions import atom_text
+    from oacdsl.model import atom_text
 
     return ", ".join(atom_text(a) for a in atoms) or "(none)"

@@ -1,7 +1,7 @@
 """Parse ``.oac`` text into a :class:`~oacdsl.model.Module`.
 
-The grammar is ``grammar/oac.lark`` (installed as package data); the Lark LALR
-parser is built once per process and builds the model while it parses
+The grammar is ``grammar/oac.lark``; the Lark LALR parser is built once per
+process (:mod:`oacdsl.compiler.grammar`) and builds the model while it parses
 (:mod:`oacdsl.compiler.transform`). Comments reach us through a lexer callback
 and are attached to nodes afterwards (:mod:`oacdsl.compiler.comments`). Syntax
 errors become :class:`~oacdsl.errors.LanguageError` with one diagnostic
@@ -10,60 +10,23 @@ errors become :class:`~oacdsl.errors.LanguageError` with one diagnostic
 
 from __future__ import annotations
 
-import functools
-import importlib.resources
 import threading
 from pathlib import Path
 from typing import cast
 
-from lark import Lark, Token, UnexpectedInput
+from lark import Token, UnexpectedInput
 
 from oacdsl.compiler.comments import Comment, attach_comments, comment_text
 from oacdsl.compiler.diagnostics import Diagnostic, language_error
 from oacdsl.compiler.fastmodel import make
-from oacdsl.compiler.lexer import OacLexer
-from oacdsl.compiler.transform import ModelBuilder
+from oacdsl.compiler.grammar import comment_sink, lark_parser, model_builder
+from oacdsl.compiler.syntax import syntax_diagnostic
 from oacdsl.errors import InputError
 from oacdsl.model import Decl, Module
 
-__all__ = ["grammar_text", "lark_parser", "parse_file", "parse_source", "parse_text", "read_source"]
+__all__ = ["parse_file", "parse_source", "parse_text", "read_source"]
 
 _lock = threading.Lock()
-_comment_sink: list[Token] = []
-
-
-def grammar_text() -> str:
-    """The text of ``grammar/oac.lark`` as installed with the package."""
-    return importlib.resources.files("oacdsl").joinpath("grammar/oac.lark").read_text(encoding="utf-8")
-
-
-def _on_comment(token: Token) -> Token:
-    _comment_sink.append(token)
-    return token
-
-
-@functools.lru_cache(maxsize=1)
-def _builder() -> ModelBuilder:
-    return ModelBuilder()
-
-
-@functools.lru_cache(maxsize=1)
-def lark_parser() -> Lark:
-    """The process-wide LALR parser, building the model as it parses (built on first use).
-
-    The lexer is :class:`~oacdsl.compiler.lexer.OacLexer` (Lark's contextual
-    lexer, faster).
-    Its ``parse`` returns the list of declarations; use :func:`parse_source`,
-    which also sets the file name and collects comments and warnings.
-    """
-    return Lark(
-        grammar_text(),
-        parser="lalr",
-        lexer=OacLexer,
-        maybe_placeholders=True,
-        transformer=_builder(),
-        lexer_callbacks={"COMMENT": _on_comment},
-    )
 
 
 def _comments(text: str, tokens: list[Token]) -> list[Comment]:
@@ -82,20 +45,18 @@ def parse_source(text: str, path: str = "<string>") -> tuple[Module, list[Diagno
     Raises :class:`~oacdsl.errors.LanguageError` (one E001/E002 diagnostic) on a
     syntax error.
     """
-    from oacdsl.compiler.syntax import syntax_diagnostic
-
     parser = lark_parser()
-    builder = _builder()
+    builder = model_builder()
     with _lock:
         builder.reset(path)
-        _comment_sink.clear()
+        comment_sink.clear()
         try:
             decls = cast(list[Decl], parser.parse(text))
         except UnexpectedInput as error:
             raise language_error([syntax_diagnostic(error, text, path)], {path: text}) from None
-        tokens = list(_comment_sink)
+        tokens = list(comment_sink)
         warnings = builder.diagnostics
-        _comment_sink.clear()
+        comment_sink.clear()
     decls, header, trailing = attach_comments(decls, _comments(text, tokens))
     module = make(Module, {"path": path, "decls": tuple(decls), "comments": header, "trailing": trailing})
     return module, warnings
