@@ -21,10 +21,10 @@ from oacdsl.compiler.diagnostics import Diagnostic, language_error
 from oacdsl.compiler.fastmodel import make
 from oacdsl.compiler.grammar import comment_sink, lark_parser, model_builder
 from oacdsl.compiler.syntax import syntax_diagnostic
-from oacdsl.errors import InputError
-from oacdsl.model import Decl, Module
+from oacdsl.errors import InputError, SourceEncodingError
+from oacdsl.model import Decl, Module, Span
 
-__all__ = ["parse_file", "parse_source", "parse_text", "read_source"]
+__all__ = ["decode_source", "parse_file", "parse_source", "parse_text", "read_bytes", "read_source"]
 
 _lock = threading.Lock()
 
@@ -67,25 +67,50 @@ def parse_text(text: str, path: str = "<string>") -> Module:
     return parse_source(text, path)[0]
 
 
-def read_source(path: str | Path) -> str:
-    """Read a ``.oac`` file as UTF-8; :class:`~oacdsl.errors.InputError` when that fails."""
+def read_bytes(path: str | Path) -> bytes:
+    """The bytes of a ``.oac`` file; :class:`~oacdsl.errors.InputError` when it cannot be read."""
     p = Path(path)
     try:
-        data = p.read_bytes()
+        return p.read_bytes()
     except FileNotFoundError:
         raise InputError("no such file", location=str(path)) from None
     except IsADirectoryError:
         raise InputError("is a directory, expected a .oac file", location=str(path)) from None
     except OSError as error:
         raise InputError(f"cannot read: {error.strerror or error}", location=str(path)) from None
+
+
+def decode_source(data: bytes, path: str) -> str:
+    """The UTF-8 text of a ``.oac`` file, without a byte-order mark.
+
+    Raises :class:`~oacdsl.errors.SourceEncodingError` with one E024 diagnostic
+    at the line and column (in characters) of the first byte that is not UTF-8.
+    """
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as error:
-        line = data.count(b"\n", 0, error.start) + 1
-        raise InputError(
-            f"not UTF-8 text (byte 0x{data[error.start]:02x} on line {line})", location=str(path)
-        ) from None
-    return text[1:] if text.startswith("\ufeff") else text
+        raise _encoding_error(data, error.start, path) from None
+    return text.removeprefix(_BOM)
+
+
+_BOM = "\ufeff"
+
+
+def _encoding_error(data: bytes, start: int, path: str) -> SourceEncodingError:
+    line = data.count(b"\n", 0, start) + 1
+    line_start = data.rfind(b"\n", 0, start) + 1
+    before = data[line_start:start].decode("utf-8")  # valid: decoding failed first at ``start``
+    column = len(before.removeprefix(_BOM) if line_start == 0 else before) + 1
+    span = Span(file=path, line=line, column=column, end_line=line, end_column=column + 1)
+    diagnostic = Diagnostic("E024", f"not UTF-8 text (byte 0x{data[start]:02x} on line {line})", span)
+    shown = data.decode("utf-8", errors="replace").removeprefix(_BOM)
+    error = language_error([diagnostic], {path: shown})
+    return SourceEncodingError(str(error), diagnostics=error.diagnostics, rendered=error.rendered)
+
+
+def read_source(path: str | Path) -> str:
+    """Read a ``.oac`` file as UTF-8 text (:func:`read_bytes`, :func:`decode_source`)."""
+    return decode_source(read_bytes(path), str(path))
 
 
 def parse_file(path: str | Path) -> Module:
