@@ -1,4 +1,4 @@
-"""The package's import graph is acyclic.
+"""The package's import graph: acyclic, and the command line is a leaf layer.
 
 Every module of ``oacdsl`` is read with :mod:`ast`; every import it makes,
 at the top or inside a function, is an edge. ``from a.b import c`` is an edge
@@ -86,6 +86,17 @@ def test_the_import_graph_of_oacdsl_is_acyclic():
     cycles = [sorted(c) for c in nx.strongly_connected_components(graph) if len(c) > 1]
     cycles += [[n] for n in graph if graph.has_edge(n, n)]
     assert not cycles, f"import cycles: {cycles}"
+
+
+def test_only_the_command_line_imports_the_command_line():
+    graph = import_graph()
+    outside = sorted(
+        (name, target)
+        for name, target in graph.edges
+        if target.split(".")[:2] == ["oacdsl", "cli"] and name.split(".")[:2] != ["oacdsl", "cli"]
+        and name != "oacdsl.__main__"
+    )
+    assert not outside, f"modules outside oacdsl/cli import it: {outside}"
 
 
 def test_every_module_imports_on_its_own():

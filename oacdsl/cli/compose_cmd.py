@@ -49,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
     inputs = load_inputs(args)
     mode: Mode = "paper" if args.paper else "strict"
     matcher = Matcher.from_library(inputs.library, inputs.scene, mode=mode)
-    matches = match_segmentation(inputs.segmentation, matcher)
+    matches = match_segmentation(inputs.segmented(), matcher)
     demo = compose_demonstration(args.name, matches, inputs.library, inputs.scene,
                                  propose=args.propose, paper_effects=args.paper_effects)
     comp = demo.composition

@@ -109,8 +109,9 @@ def prepare_backend(render: bool) -> str | None:
 
 def run(args: argparse.Namespace) -> int:
     from oacdsl.cli.segment_cmd import params_from_args
-    from oacdsl.errors import InputError, UsageError
+    from oacdsl.errors import InputError, MatchingError, UsageError
     from oacdsl.pipeline import default_name, load_inputs, reproduce
+    from oacdsl.pipeline.inputs import BUNDLED_NAME
 
     if args.name is not None and not (args.name.isidentifier() and args.name.isascii()):
         raise UsageError(
@@ -127,9 +128,12 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError("--out must be a folder; this is a file", location=str(out))
-    inputs = load_inputs(
-        args.recording, args.library, args.scene, params, fmt=args.format, preset=args.preset
-    )
+    try:
+        inputs = load_inputs(
+            args.recording, args.library, args.scene, params, fmt=args.format, preset=args.preset
+        )
+    except MatchingError as error:  # no scene fits the recording: an input error, nothing is written
+        raise InputError(error.message, location=args.recording or BUNDLED_NAME) from None
     note = prepare_backend(not args.no_render)  # before MuJoCo is imported: it reads MUJOCO_GL once
     try:
         import mujoco  # noqa: F401  (the robot extra)
