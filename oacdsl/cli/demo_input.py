@@ -10,17 +10,18 @@ checks them, as for ``oacc reproduce``.
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from oacdsl.cli.segment_cmd import add_aas_options
+from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
 from oacdsl.errors import UsageError
 from oacdsl.segmentation.params import DEFAULT_MODE
 
 if TYPE_CHECKING:
     from oacdsl.pipeline.inputs import Inputs
 
-__all__ = ["add_input_options", "load_inputs"]
+__all__ = ["add_input_options", "load_inputs", "note"]
 
 def add_input_options(p: argparse.ArgumentParser) -> None:
     """The demonstration, library and scene arguments, and the segmentation options."""
@@ -38,7 +39,7 @@ def add_input_options(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("reading and segmenting a recording (as oacc segment; values carry units)")
     g.add_argument("--format", metavar="FMT",
                    help="read as this format (c3d, mmm, tsv, csv), not by the file's extension")
-    g.add_argument("--preset", metavar="NAME", help="built-in marker grouping, e.g. 'kit' (KIT hands)")
+    g.add_argument("--preset", metavar="NAME", help=PRESET_HELP)
     add_aas_options(g)
 
 
@@ -55,4 +56,9 @@ def load_inputs(args: argparse.Namespace) -> Inputs:
                              " segmentation already (.json)")
     params = params_from_args(args)  # bad units fail before any reading
     return load(args.recording, args.library, args.scene, params, fmt=args.format, preset=args.preset,
-                segmentations=True)
+                segmentations=True, note=note)
+
+
+def note(text: str) -> None:
+    """A note for the user on stderr (``oacc: note: …``), e.g. a marker set recognised unasked."""
+    print(f"oacc: note: {text}", file=sys.stderr)

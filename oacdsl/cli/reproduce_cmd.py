@@ -7,7 +7,7 @@ import shlex
 import sys
 from pathlib import Path
 
-from oacdsl.cli.segment_cmd import add_aas_options
+from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
 
 DESCRIPTION = """\
 Reproduce a demonstrated task on the simulated ARMAR-III, and check it (Wächter et al. 2013,
@@ -81,7 +81,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
     g = p.add_argument_group("reading and segmenting the recording (as oacc segment; values carry units)")
     g.add_argument("--format", metavar="FMT", help="read as this format (c3d, mmm, tsv, csv)")
-    g.add_argument("--preset", metavar="NAME", help="built-in marker grouping, e.g. 'kit' (KIT hands)")
+    g.add_argument("--preset", metavar="NAME", help=PRESET_HELP)
     add_aas_options(g, mode_help="touch detector for the demonstration: adaptive (per-pair distances"
                     " learned from co-motion; default) or paper (Eq. 1/2 as printed); the robot's own"
                     " recording is always segmented with paper")
@@ -90,6 +90,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 
 def run(args: argparse.Namespace) -> int:
     from oacdsl.cli.backend import prepare_backend
+    from oacdsl.cli.demo_input import note as print_note
     from oacdsl.cli.segment_cmd import params_from_args
     from oacdsl.errors import InputError, MatchingError, UsageError
     from oacdsl.pipeline import default_name, load_inputs, reproduce
@@ -112,7 +113,8 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--out must be a folder; this is a file", location=str(out))
     try:
         inputs = load_inputs(
-            args.recording, args.library, args.scene, params, fmt=args.format, preset=args.preset
+            args.recording, args.library, args.scene, params,
+            fmt=args.format, preset=args.preset, note=print_note,
         )
     except MatchingError as error:  # no scene fits the recording: an input error, nothing is written
         raise InputError(error.message, location=args.recording or BUNDLED_NAME) from None

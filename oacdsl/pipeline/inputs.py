@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import json
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -212,12 +213,15 @@ def load_inputs(
     fmt: str | None = None,
     preset: str | None = None,
     segmentations: bool = False,
+    note: Callable[[str], None] | None = None,
 ) -> Inputs:
     """Read and check everything (see the module docstring); raises OacError subclasses.
 
     ``recording`` None: the bundled demonstration. ``segmentations``: a ``.json``
-    recording is a segmentation (``match``, ``compose``). No scene that fits the
-    demonstration is a :class:`~oacdsl.errors.MatchingError`.
+    recording is a segmentation (``match``, ``compose``). ``preset`` None: a marker
+    set recognised in a recording file groups it, and ``note`` hears of it; ``"none"``:
+    the file's own groups. No scene that fits the demonstration is a
+    :class:`~oacdsl.errors.MatchingError`.
     """
     library_path = Path(library) if library is not None else default_library()
     lib = open_library(library_path)
@@ -239,11 +243,11 @@ def load_inputs(
         source = str(recording)
         if not Path(recording).is_file():
             raise InputError("no such recording file", location=source)
-        rec = read_recording(recording, fmt)
-        if preset:
-            from oacdsl.segmentation.grouping import apply_preset
+        from oacdsl.segmentation.grouping import group_recording, recognised_note
 
-            rec = apply_preset(rec, preset)
+        rec, recognised = group_recording(read_recording(recording, fmt), preset)
+        if recognised is not None and note is not None:
+            note(recognised_note(rec, recognised))
     instances = tuple(rec.instances if rec is not None else seg.instances if seg is not None else ())
     lib, sc, outside = resolve_scene(lib, instances, scene)
     if rec is not None and any(i.markers for i in sc.instances):
