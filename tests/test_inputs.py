@@ -54,3 +54,26 @@ def test_a_segmentation_is_an_input_of_match_not_of_reproduce(tmp_path: Path):
         load_inputs(path, LIBRARY, "kitchen", AasParams(), preset="kit", segmentations=True)
     with pytest.raises(TypeError, match="exactly one"):
         Inputs(inputs.library, inputs.library_path, inputs.scene, inputs.source, inputs.params)
+
+
+def test_a_recognised_marker_set_groups_the_recording_and_is_noted(tmp_path: Path):
+    from oacdsl.segmentation.grouping import KIT_HANDS
+
+    markers = [m for hand in KIT_HANDS.values() for m in hand] + ["LKNE", "cup_1", "cup_2"]
+    header = "frame,time," + ",".join(f"{m}_{a}" for m in markers for a in "xyz")
+    rows = [f"{f},{f / 10:.1f}," + ",".join(f"{0.01 * i + 0.001 * f:.4f}" for i in range(3 * len(markers)))
+            for f in range(10)]
+    csv = tmp_path / "kit.csv"
+    csv.write_text("# rate_hz: 10\n" + header + "\n" + "\n".join(rows) + "\n", encoding="utf-8")
+    scene = tmp_path / "kit_scene.oac"
+    scene.write_text("scene kit_demo {\n  left_hand, right_hand : Hand\n  cup : Cup\n  LKNE : Table\n}\n",
+                     encoding="utf-8")
+    notes: list[str] = []
+    inputs = load_inputs(csv, LIBRARY, str(scene), AasParams(), note=notes.append)
+    assert inputs.outside_scene == scene and inputs.scene.name == "kit_demo"
+    assert inputs.recording is not None and sorted(inputs.recording.instances) == [
+        "LKNE", "cup", "left_hand", "right_hand"]
+    assert len(notes) == 1 and notes[0].startswith(f"{csv}: marker set 'kit' recognised (left_hand = ")
+    with pytest.raises(InputError, match="are not tracked instances of scene 'kit_demo'"):
+        load_inputs(csv, LIBRARY, str(scene), AasParams(), preset="none", note=notes.append)
+    assert len(notes) == 1
