@@ -26,7 +26,8 @@ BAD = [
         "unexpected 'Cup', expected ':' and the parent classes, or a declaration",
         "1:11",
     ),
-    ("scene s {\n  a b\n}", "E001", "unexpected 'b', expected ':' and the instance's classes", "2:5"),
+    ("scene s {\n  a = b\n}", "E001", "unexpected '=', expected ':' and the instance's classes", "2:5"),
+    ("scene s {\n  c : Cup\n  layuot auto\n}", "E045", "unknown scene statement 'layuot auto'", "3:3"),
     ('scene s { a : Cup markers ("m1" }', "E001", "expected ',' or ')' in the marker list", "1:33"),
     ("grasp Cup { approach side }", "E001", "expected 'type' and a grasp type", "1:13"),
     (
@@ -162,6 +163,8 @@ BAD = [
         "3:26",
     ),
     (G + "  effect h <-> o\n  steps { }\n}", "E023", "composed OAC 'g' has no steps", "3:3"),
+    # the file's bytes (as compile_paths passes them): the column counts characters
+    ("class A\n# caf\u00e9 ".encode() + b"\xff", "E024", "not UTF-8 text (byte 0xff on line 2)", "2:8"),
     (
         "oac g(h: Hand, o: Graspable, c: Cup) {\n  pre h <-> nothing\n  effect h <-> c\n"
         "  steps { grasp(h, c) }\n}",

@@ -11,7 +11,7 @@
 from __future__ import annotations
 
 from oacdsl.compiler.check_skills import check_quantity_unit
-from oacdsl.compiler.checks import Context
+from oacdsl.compiler.context import Context
 from oacdsl.compiler.diagnostics import Note
 from oacdsl.errors import did_you_mean
 from oacdsl.model import LAYOUTS, MAX_BALLS, Instance, Node, Scene

@@ -1,10 +1,12 @@
 """Small bad snippets, each labelled with what is expected where it fails.
 
 :mod:`oacdsl.compiler.syntax` parses each snippet once, notes the parser state
-where it fails, and says "expected <label>" for any error in that state. To
-improve a message: add a snippet that fails at the same place, under the
-label you want. Snippets are listed with and without repetitions (one or two
-parameters, atoms, markers) because LALR states differ between them.
+where it fails (and the state below it on the stack), and says "expected
+<label>" for any error in that state. To improve a message: add a snippet that
+fails at the same place, under the label you want. Snippets are listed with and
+without repetitions (one or two parameters, atoms, markers) because LALR states
+differ between them. ``tests/test_lang_grammar.py`` checks that every snippet
+gets its own label (a snippet that parses is followed by ``@``, as the table does).
 """
 
 from __future__ import annotations
@@ -57,8 +59,9 @@ EXAMPLES: list[tuple[str, list[str]]] = [
     ("an instance name or '}'", ["scene s {"]),
     ("an instance name", ["scene s { a,", "scene s { a, }", "scene s { a, b,"]),
     (
-        "':' and the instance's classes, 'at (x, y)' or 'in CONTAINER'",
-        ["scene s { a", "scene s { a b"],
+        "':' and the instance's classes, 'at (x, y)' or 'in CONTAINER'"
+        " (after 'layout': auto or demonstrated)",
+        ["scene s { a", "scene s { a = b", "scene s { layout", "scene s { layout }"],
     ),
     ("':' and the instances' classes", ["scene s { a, b", "scene s { a, b, c"]),
     ("'(' and the position on the table (x, y)", ["scene s { a at", "scene s { a at x"]),
@@ -74,17 +77,6 @@ EXAMPLES: list[tuple[str, list[str]]] = [
         "'balls N', the next instance or statement, or '}'",
         ["scene s { a in b", "scene s { a in b :"],
     ),
-    (
-        "the next instance, 'layout', a statement such as 'x at (…)' or 'x in c', or '}'",
-        [
-            "scene s { a in b balls 3",
-            "scene s { a at (1, 2)",
-            "scene s { layout x",
-            "scene s { a in b balls 3 :",
-            "scene s { layout x :",
-        ],
-    ),
-    ("a layout: auto or demonstrated", ["scene s { layout", "scene s { layout }"]),
     (
         "',' and more classes, 'markers (…)', 'environment', the next instance or '}'",
         [
@@ -111,6 +103,11 @@ EXAMPLES: list[tuple[str, list[str]]] = [
             "scene s { a : B ignored",
             'scene s { a : B markers ("x") ignored',
             "scene s { a : B ignored :",
+            "scene s { a in b balls 3",
+            "scene s { a at (1, 2)",
+            "scene s { layout x",
+            "scene s { a in b balls 3 :",
+            "scene s { layout x :",
         ],
     ),
     (
@@ -273,10 +270,11 @@ EXAMPLES: list[tuple[str, list[str]]] = [
         "the parameter's value, a number with its unit such as 110deg",
         ["oac f() { execute s { t", "oac f() { execute s { t }"],
     ),
-    ("'}' to close the OAC", ["oac f() { execute s { }", "oac f() { execute s { t 1 }"]),
     (
         "'}' to close the OAC",
         [
+            "oac f() { execute s { }",
+            "oac f() { execute s { t 1 }",
             "oac f() { steps { }",
             "oac f() { steps { g() }",
         ],

@@ -8,8 +8,8 @@ tokens: the grammar keeps the tokens that start and end declarations
 (``CLASS``, ``RBRACE``, …).
 
 Nodes are built with :func:`oacdsl.compiler.fastmodel.make` after applying the
-model's own normalisation (sorted parents, sorted instances, canonical
-atoms). Things
+model's own normalisation (sorted parents, sorted instances, atoms in
+:func:`~oacdsl.model.pair_order`). Things
 the model normalises away (a parent or an atom listed twice) are reported here
 as warnings (W002), since only the parse still shows them.
 """
@@ -22,6 +22,7 @@ from lark import Token, Transformer
 
 from oacdsl.compiler.diagnostics import Diagnostic, Note
 from oacdsl.compiler.fastmodel import make, unquote
+from oacdsl.errors import did_you_mean
 from oacdsl.model import (
     MAX_BALLS,
     Atom,
@@ -38,11 +39,12 @@ from oacdsl.model import (
     ScenePlace,
     SkillParam,
     Span,
+    atom_text,
     fill_key,
+    pair_order,
     place_key,
 )
 from oacdsl.units import language_si
-from oacdsl.world import NOTHING
 
 __all__ = ["ModelBuilder"]
 
@@ -53,11 +55,6 @@ _Parts = list[_PartT]
 
 def _part(key: str, tok: Token) -> _PartT:
     return (key, tok.line, tok.column, tok.end_line, tok.end_column)  # type: ignore[return-value]
-
-
-def _show(atom: Atom) -> str:
-    text = f"{atom.left} <-> {atom.right}"
-    return f"not {text}" if atom.negated else text
 
 
 class ModelBuilder(Transformer[Token, list[Decl]]):
@@ -178,7 +175,18 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
                 places.append(item)
             elif isinstance(item, SceneFill):
                 fills.append(item)
-            elif "layout" not in values:  # (LAYOUT, NAME): a second one is reported by the checks
+            elif str(item[0]) != "layout":  # (NAME, NAME): only 'layout auto|demonstrated' exists
+                self.diagnostics.append(
+                    Diagnostic(
+                        "E045",
+                        f"unknown scene statement '{item[0]} {item[1]}'"
+                        f"{did_you_mean(str(item[0]), ['layout'])}:"
+                        " a scene holds instances ('a : Class'), 'layout auto|demonstrated',"
+                        " 'x at (x, y)' and 'l in c'",
+                        self._between(item[0], item[1]),
+                    )
+                )
+            elif "layout" not in values:  # a second one is reported by the checks
                 values["layout"] = str(item[1])
                 parts.append(_part("layout", item[1]))
             else:
@@ -285,10 +293,8 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
 
     def atom(self, children: list[Any]) -> Atom:
         negated, first, last = children
-        a, b = str(first), str(last)
-        ta, tb = first, last
-        if (a == NOTHING and b != NOTHING) or (b != NOTHING and a != NOTHING and b < a):
-            a, b, ta, tb = b, a, tb, ta
+        a, b = pair_order(str(first), str(last))
+        ta, tb = (first, last) if a == str(first) else (last, first)
         start = negated if negated is not None else first
         return make(
             Atom,
@@ -317,7 +323,7 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
                 self.diagnostics.append(
                     Diagnostic(
                         "W002",
-                        f"{what} '{_show(atom)}' is listed twice",
+                        f"{what} '{atom_text(atom)}' is listed twice",
                         atom.span,
                         (Note("first listed here", first.span),),
                     )
