@@ -22,18 +22,23 @@ __all__ = ["KEYWORDS", "Context", "check_modules"]
 KEYWORDS = frozenset(
     {
         "approach",
+        "at",
         "class",
+        "colour",
         "effect",
         "environment",
         "execute",
+        "friction",
         "grasp",
         "markers",
+        "mass",
         "not",
         "nothing",
         "oac",
         "offset",
         "pre",
         "scene",
+        "shape",
         "steps",
         "type",
     }
@@ -280,11 +285,13 @@ def check_grasps(ctx: Context) -> None:
 
 def check_modules(modules: Sequence[Module]) -> list[Diagnostic]:
     """Run every validation pass over ``modules`` (one library); return all diagnostics."""
+    from oacdsl.compiler.check_geometry import check_geometry
     from oacdsl.compiler.check_oacs import check_oacs
 
     ctx = Context(modules)
     check_classes(ctx)
     check_scenes(ctx)
     check_grasps(ctx)
+    check_geometry(ctx)
     check_oacs(ctx)
     return ctx.diagnostics

@@ -22,7 +22,19 @@ from lark import Token, Transformer
 
 from oacdsl.compiler.diagnostics import Diagnostic, Note
 from oacdsl.compiler.fastmodel import make, unquote
-from oacdsl.model import Atom, Call, Decl, Grasp, Instance, Oac, ObjectClass, Param, Scene, Span
+from oacdsl.compiler.transform_geometry import GeometryBuilder, token_part
+from oacdsl.model import (
+    Atom,
+    Call,
+    Decl,
+    Grasp,
+    Instance,
+    Oac,
+    ObjectClass,
+    Param,
+    Scene,
+    Span,
+)
 from oacdsl.world import NOTHING
 
 __all__ = ["ModelBuilder"]
@@ -32,8 +44,6 @@ _PartT = tuple[str, int, int, int, int]
 _Parts = list[_PartT]
 
 
-def _part(key: str, tok: Token) -> _PartT:
-    return (key, tok.line, tok.column, tok.end_line, tok.end_column)  # type: ignore[return-value]
 
 
 def _show(atom: Atom) -> str:
@@ -41,7 +51,7 @@ def _show(atom: Atom) -> str:
     return f"not {text}" if atom.negated else text
 
 
-class ModelBuilder(Transformer[Token, list[Decl]]):
+class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
     """Inline transformer from one file's tokens to its declarations.
 
     Call :meth:`reset` before each parse; ``diagnostics`` then collects the
@@ -104,31 +114,34 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
     instance_names = args = class_names
 
     def class_decl(self, children: list[Any]) -> ObjectClass:
-        kw, name, parents = children
-        parts: _Parts = [_part("name", name)]
+        kw, name, parents, geometry = children
+        parts: _Parts = [token_part("name", name)]
         names = self._names(parents or [], "parents", parts, "parent class")
-        last = parents[-1] if parents else name
-        return make(
-            ObjectClass,
-            {"name": str(name), "parents": names, "span": self._between(kw, last), "parts": tuple(parts)},
-        )
+        last = geometry.span if geometry is not None else parents[-1] if parents else name
+        values: dict[str, Any] = {"name": str(name), "parents": names}
+        if geometry is not None:
+            values["geometry"] = geometry
+        values.update(span=self._between(kw, last), parts=tuple(parts))
+        return make(ObjectClass, values)
 
     def strings(self, children: list[Token | None]) -> list[Token]:
         return [c for c in children if c is not None]
 
     def markers(self, children: list[Any]) -> tuple[list[Token], Token]:
-        strings, rpar = children
+        _, strings, rpar = children
         return strings or [], rpar
 
     def instance_group(self, children: list[Any]) -> list[Instance]:
-        names, classes, markers, environment = children
+        names, classes, markers, environment, geometry = children
         last = environment or (markers[1] if markers else classes[-1])
+        if geometry is not None:
+            last = geometry.span
         shared: _Parts = []
         cls = self._names(classes, "classes", shared, "class")
         marks: list[str] = []
         for i, tok in enumerate(markers[0] if markers else ()):
             marks.append(unquote(tok))
-            shared.append(_part(f"markers.{i}", tok))
+            shared.append(token_part(f"markers.{i}", tok))
         return [
             make(
                 Instance,
@@ -137,8 +150,9 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
                     "classes": cls,
                     "markers": tuple(marks),
                     "environment": environment is not None,
+                    "geometry": geometry,
                     "span": self._between(name, last),
-                    "parts": (_part("name", name), *shared),
+                    "parts": (token_part("name", name), *shared),
                 },
             )
             for name in names
@@ -153,7 +167,7 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
                 "name": str(name),
                 "instances": tuple(instances),
                 "span": self._between(kw, rbrace),
-                "parts": (_part("name", name),),
+                "parts": (token_part("name", name),),
             },
         )
 
@@ -164,9 +178,9 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
     def grasp_decl(self, children: list[Any]) -> Grasp:
         kw, cls, kind, approach, offset, rbrace = children
         parts: _Parts = [
-            _part("cls", cls),
-            _part("type", kind),
-            _part("approach", approach),
+            token_part("cls", cls),
+            token_part("type", kind),
+            token_part("approach", approach),
         ]
         values: dict[str, Any] = {"cls": str(cls), "type": str(kind), "approach": str(approach)}
         if offset is not None:
@@ -180,9 +194,9 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
 
     def param(self, children: list[Any]) -> Param:
         name, cls, default = children
-        parts: _Parts = [_part("name", name), _part("cls", cls)]
+        parts: _Parts = [token_part("name", name), token_part("cls", cls)]
         if default is not None:
-            parts.append(_part("default", default))
+            parts.append(token_part("default", default))
         return make(
             Param,
             {
@@ -208,7 +222,7 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
                 "right": b,
                 "negated": negated is not None,
                 "span": self._between(start, last),
-                "parts": (_part("left", ta), _part("right", tb)),
+                "parts": (token_part("left", ta), token_part("right", tb)),
             },
         )
 
@@ -253,8 +267,8 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
     def call(self, children: list[Any]) -> Call:
         name, args, rpar = children
         toks: list[Token] = args or []
-        parts: _Parts = [_part("oac", name)]
-        parts += [_part(f"args.{i}", t) for i, t in enumerate(toks)]
+        parts: _Parts = [token_part("oac", name)]
+        parts += [token_part(f"args.{i}", t) for i, t in enumerate(toks)]
         return make(
             Call,
             {
@@ -270,7 +284,7 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
 
     def oac_decl(self, children: list[Any]) -> Oac:
         kw, name, param_list, (pre, effect, body), rbrace = children
-        parts: _Parts = [_part("name", name)]
+        parts: _Parts = [token_part("name", name)]
         values: dict[str, Any] = {"name": str(name), "params": tuple(param_list or ())}
         if pre is not None:
             values["pre"] = pre[1]
@@ -280,7 +294,7 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
             parts.append(effect[2])
         if body[0] == "execute":
             values["skill"] = str(body[1])
-            parts.append(_part("skill", body[1]))
+            parts.append(token_part("skill", body[1]))
         else:
             values["steps"] = body[1]
             parts.append(body[2])
