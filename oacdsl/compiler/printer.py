@@ -136,7 +136,10 @@ def _class(decl: ObjectClass) -> list[str]:
         text += " : " + ", ".join(_name(p) for p in decl.parents)
     if decl.geometry is None:
         return [_with_note(text, decl)]
-    return [text + " {", *_geometry(decl.geometry, _IND), _with_note("}", decl)]
+    inside = _geometry(decl.geometry, _IND)
+    if not inside:
+        return [_with_note(text + " { }", decl)]
+    return [text + " {", *inside, _with_note("}", decl)]
 
 
 def _instance_line(names: list[str], inst: Instance, width: int) -> str:
@@ -146,7 +149,10 @@ def _instance_line(names: list[str], inst: Instance, width: int) -> str:
     if inst.environment:
         text += " environment"
     if inst.geometry is not None:
-        return "\n".join([text + " {", *_geometry(inst.geometry, _IND * 2), _with_note(_IND + "}", inst)])
+        inside = _geometry(inst.geometry, _IND * 2)
+        if not inside:
+            return _with_note(text + " { }", inst)
+        return "\n".join([text + " {", *inside, _with_note(_IND + "}", inst)])
     return _with_note(text, inst)
 
 

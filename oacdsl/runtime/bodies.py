@@ -21,7 +21,7 @@ from oacdsl.geometry import COLOURS, ROLE_LIQUID, ROLE_OBJECT, ResolvedGeometry,
 from oacdsl.library import Library
 from oacdsl.model import Scene
 
-__all__ = ["Solid", "Body", "body_from", "bodies_for_scene", "DEFAULT_DENSITY", "colour_for"]
+__all__ = ["Solid", "Body", "body_from", "bodies_for_scene", "DEFAULT_DENSITY", "colour_for", "mesh_extent"]
 
 #: Density of a solid whose mass nothing gives, kg/m³ (light plastic or wood).
 DEFAULT_DENSITY = 600.0
@@ -176,6 +176,27 @@ def _solids(geo: ResolvedGeometry) -> tuple[Solid, ...]:
     return tuple(out)
 
 
+def mesh_extent(solid: Solid) -> tuple[float, float]:
+    """(horizontal extent around z, top height) of a mesh solid placed at its ``at``, metres."""
+    import mujoco
+    import numpy as np
+
+    spec = mujoco.MjSpec()
+    mesh = spec.add_mesh()
+    mesh.name, mesh.file, mesh.scale = "m", str(solid.file), (solid.scale,) * 3
+    g = spec.worldbody.add_body().add_geom()
+    g.type, g.meshname = mujoco.mjtGeom.mjGEOM_MESH, "m"
+    try:
+        model = spec.compile()
+    except ValueError as error:
+        raise RuntimeFailure(f"cannot load mesh {solid.file}: {error}") from None
+    verts = model.mesh_vert[: model.mesh_vertnum[0]]
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    world = verts @ data.geom_xmat[0].reshape(3, 3).T + data.geom_xpos[0] + np.asarray(solid.at)
+    return float(np.max(np.hypot(world[:, 0], world[:, 1]))), float(np.max(world[:, 2]))
+
+
 def body_from(geo: ResolvedGeometry, name: str, graspable: bool) -> Body:
     """The :class:`Body` of instance ``name`` with resolved geometry ``geo``."""
     role = geo.role
@@ -191,9 +212,11 @@ def body_from(geo: ResolvedGeometry, name: str, graspable: bool) -> Body:
     if role != ROLE_OBJECT:
         return Body(role, rgba=rgba)
     solids = _solids(geo)
+    extents = [mesh_extent(s) for s in solids if s.kind == "mesh"]
+    extent = (max(e[0] for e in extents), max(e[1] for e in extents)) if extents else (0.0, 0.0)
     if mass is None:
         mass = sum(s.mass if s.mass is not None else DEFAULT_DENSITY * s.volume for s in solids)
-    return Body(role, solids, mass, geo.friction, rgba, points, graspable)
+    return Body(role, solids, mass, geo.friction, rgba, points, graspable, mesh_extent=extent)
 
 
 def bodies_for_scene(library: Library, scene: Scene) -> dict[str, Body]:

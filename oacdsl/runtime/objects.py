@@ -21,7 +21,6 @@ __all__ = [
     "add_object",
     "add_table",
     "add_balls",
-    "mesh_extent",
     "BALL_GROUP",
     "TABLE_TOP",
     "TABLE_FRONT",
@@ -227,26 +226,6 @@ def add_object(
         part = name if s.kind == "shell" and len(shape.solids) == 1 else _part_name(name, shape, i)
         _solid(body, part, s, shape.rgba, mass, friction)
     return body
-
-
-def mesh_extent(solid: Solid) -> tuple[float, float]:
-    """(horizontal extent around z, top height) of a mesh solid placed at its ``at``, metres."""
-    spec = mujoco.MjSpec()
-    mesh = spec.add_mesh()
-    mesh.name, mesh.file, mesh.scale = "m", str(solid.file), (solid.scale,) * 3
-    g = spec.worldbody.add_body().add_geom()
-    g.type, g.meshname = mujoco.mjtGeom.mjGEOM_MESH, "m"
-    try:
-        model = spec.compile()
-    except ValueError as error:
-        from oacdsl.errors import RuntimeFailure
-
-        raise RuntimeFailure(f"cannot load mesh {solid.file}: {error}") from None
-    verts = model.mesh_vert[: model.mesh_vertnum[0]]
-    data = mujoco.MjData(model)
-    mujoco.mj_forward(model, data)
-    world = verts @ data.geom_xmat[0].reshape(3, 3).T + data.geom_xpos[0] + np.asarray(solid.at)
-    return float(np.max(np.hypot(world[:, 0], world[:, 1]))), float(np.max(world[:, 2]))
 
 
 def add_balls(
