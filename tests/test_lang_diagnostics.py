@@ -260,6 +260,12 @@ BAD = [
     ),
     ("grasp Bowl { type power approach side offset (0.0, 0.0, 60.0) }", "W005", "offsets are metres", "1:39"),
     (
+        "class Spoon : Graspable\nscene s { spoon : Spoon }",
+        "W007",
+        "instance 'spoon' has no shape: the robot's simulation cannot build it (give Spoon a shape",
+        "2:11",
+    ),
+    (
         "class Jug { shape sphere(radius 20) }",
         "W006",
         "'radius' of sphere is 20 m: a size without a unit is metres",

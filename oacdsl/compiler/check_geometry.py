@@ -6,7 +6,8 @@ parameters (E031), known units of the right kind (E032), sizes positive and fini
 (E033), a mesh file that exists beside the ``.oac`` file (E034), shapes that stand for
 the robot's hand, its table or a liquid not mixed with others (E036), a known colour
 (E037); a size over :data:`MAX_SIZE_M` written without a unit is probably millimetres
-(W006). E035 (a property given twice) is found while parsing.
+(W006); an instance that has no shape at all while other classes have some cannot be
+built by the runtime (W007). E035 (a property given twice) is found while parsing.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from pathlib import Path
 
 from oacdsl.compiler.checks import Context
 from oacdsl.errors import did_you_mean
-from oacdsl.geometry import COLOURS, PRIMITIVES, ROLE_SHAPES, UNITS
+from oacdsl.geometry import COLOURS, PRIMITIVES, ROLE_SHAPES, UNITS, resolve
 from oacdsl.model import Geometry, ObjectClass, Point, Quantity, Scene, Shape
 
 __all__ = ["MAX_SIZE_M", "check_geometry"]
@@ -154,8 +155,27 @@ def _geometry(ctx: Context, geometry: Geometry, owner: str) -> None:
         _point(ctx, p, f"a marker of {owner}")
 
 
+def _shapeless(ctx: Context, scene: Scene) -> None:
+    """W007 for every instance that neither it nor its classes give a shape."""
+    for inst in scene.instances:
+        if inst.geometry is not None and inst.geometry.shapes:
+            continue
+        if not all(c in ctx.library.classes for c in inst.classes):
+            continue  # E003 already
+        if resolve(ctx.library, inst) is None:
+            ctx.add(
+                "W007",
+                f"instance '{inst.name}' has no shape: the robot's simulation cannot build it"
+                f" (give {' or '.join(inst.classes)} a shape,"
+                " e.g. '{ shape cylinder(radius 4cm, height 10cm) }')",
+                inst.part("name"),
+            )
+
+
 def check_geometry(ctx: Context) -> None:
-    """Check the geometry of every class and of every instance that overrides it."""
+    """Check the geometry of every class and of every instance that overrides it; when the
+    library gives any class a shape, warn about instances left without one (W007)."""
+    shaped = any(c.geometry is not None and c.geometry.shapes for c in ctx.library.classes.values())
     for module in ctx.modules:
         for decl in module.decls:
             if isinstance(decl, ObjectClass) and decl.geometry is not None:
@@ -164,3 +184,5 @@ def check_geometry(ctx: Context) -> None:
                 for inst in decl.instances:
                     if inst.geometry is not None:
                         _geometry(ctx, inst.geometry, f"instance '{inst.name}'")
+                if shaped:
+                    _shapeless(ctx, decl)

@@ -72,6 +72,7 @@ CODES: dict[str, str] = {
     "W004": "graspable instance whose classes have no grasp",
     "W005": "grasp offset longer than 0.5 m (offsets are metres)",
     "W006": "size over 5 m written without a unit (sizes without a unit are metres)",
+    "W007": "instance without a shape (the robot's simulation cannot build it)",
 }
 
 
