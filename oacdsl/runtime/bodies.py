@@ -35,7 +35,7 @@ class Solid:
     (kg) or None, and for a mesh its file and scale."""
 
     kind: str
-    dims: dict[str, float]
+    dims: dict[str, float] = field(hash=False)
     at: tuple[float, float, float] = (0.0, 0.0, 0.0)
     mass: float | None = None
     file: Path | None = None
