@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from oacdsl.compiler.checks import Context
+from oacdsl.compiler.context import Context
 from oacdsl.errors import did_you_mean
 from oacdsl.geometry import COLOURS, PRIMITIVES, ROLE_SHAPES, UNITS, resolve
 from oacdsl.model import Geometry, ObjectClass, Point, Quantity, Scene, Shape

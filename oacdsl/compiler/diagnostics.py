@@ -58,6 +58,7 @@ CODES: dict[str, str] = {
     "E021": "environment instance in a relation",
     "E022": "marker assigned to two instances",
     "E023": "composed OAC without steps",
+    "E024": "file is not UTF-8 text",
     "E030": "unknown shape",
     "E031": "unknown, repeated or missing parameter of a shape",
     "E032": "unknown unit, or a unit of the wrong kind",

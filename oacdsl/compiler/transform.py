@@ -8,8 +8,8 @@ tokens: the grammar keeps the tokens that start and end declarations
 (``CLASS``, ``RBRACE``, …).
 
 Nodes are built with :func:`oacdsl.compiler.fastmodel.make` after applying the
-model's own normalisation (sorted parents, sorted instances, canonical
-atoms). Things
+model's own normalisation (sorted parents, sorted instances, atoms in
+:func:`~oacdsl.model.pair_order`). Things
 the model normalises away (a parent or an atom listed twice) are reported here
 as warnings (W002), since only the parse still shows them.
 """
@@ -22,7 +22,8 @@ from lark import Token, Transformer
 
 from oacdsl.compiler.diagnostics import Diagnostic, Note
 from oacdsl.compiler.fastmodel import make, unquote
-from oacdsl.compiler.transform_geometry import GeometryBuilder, token_part
+from oacdsl.compiler.transform_geometry import GeometryBuilder
+from oacdsl.compiler.transform_geometry import token_part as _part
 from oacdsl.model import (
     Atom,
     Call,
@@ -34,21 +35,15 @@ from oacdsl.model import (
     Param,
     Scene,
     Span,
+    atom_text,
+    pair_order,
 )
-from oacdsl.world import NOTHING
 
 __all__ = ["ModelBuilder"]
 
 _Pos = tuple[int, int, int, int]
 _PartT = tuple[str, int, int, int, int]
 _Parts = list[_PartT]
-
-
-
-
-def _show(atom: Atom) -> str:
-    text = f"{atom.left} <-> {atom.right}"
-    return f"not {text}" if atom.negated else text
 
 
 class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
@@ -115,7 +110,7 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
 
     def class_decl(self, children: list[Any]) -> ObjectClass:
         kw, name, parents, geometry = children
-        parts: _Parts = [token_part("name", name)]
+        parts: _Parts = [_part("name", name)]
         names = self._names(parents or [], "parents", parts, "parent class")
         last = geometry.span if geometry is not None else parents[-1] if parents else name
         values: dict[str, Any] = {"name": str(name), "parents": names}
@@ -141,7 +136,7 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
         marks: list[str] = []
         for i, tok in enumerate(markers[0] if markers else ()):
             marks.append(unquote(tok))
-            shared.append(token_part(f"markers.{i}", tok))
+            shared.append(_part(f"markers.{i}", tok))
         return [
             make(
                 Instance,
@@ -152,7 +147,7 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
                     "environment": environment is not None,
                     "geometry": geometry,
                     "span": self._between(name, last),
-                    "parts": (token_part("name", name), *shared),
+                    "parts": (_part("name", name), *shared),
                 },
             )
             for name in names
@@ -167,7 +162,7 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
                 "name": str(name),
                 "instances": tuple(instances),
                 "span": self._between(kw, rbrace),
-                "parts": (token_part("name", name),),
+                "parts": (_part("name", name),),
             },
         )
 
@@ -178,9 +173,9 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
     def grasp_decl(self, children: list[Any]) -> Grasp:
         kw, cls, kind, approach, offset, rbrace = children
         parts: _Parts = [
-            token_part("cls", cls),
-            token_part("type", kind),
-            token_part("approach", approach),
+            _part("cls", cls),
+            _part("type", kind),
+            _part("approach", approach),
         ]
         values: dict[str, Any] = {"cls": str(cls), "type": str(kind), "approach": str(approach)}
         if offset is not None:
@@ -194,9 +189,9 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
 
     def param(self, children: list[Any]) -> Param:
         name, cls, default = children
-        parts: _Parts = [token_part("name", name), token_part("cls", cls)]
+        parts: _Parts = [_part("name", name), _part("cls", cls)]
         if default is not None:
-            parts.append(token_part("default", default))
+            parts.append(_part("default", default))
         return make(
             Param,
             {
@@ -210,10 +205,8 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
 
     def atom(self, children: list[Any]) -> Atom:
         negated, first, last = children
-        a, b = str(first), str(last)
-        ta, tb = first, last
-        if (a == NOTHING and b != NOTHING) or (b != NOTHING and a != NOTHING and b < a):
-            a, b, ta, tb = b, a, tb, ta
+        a, b = pair_order(str(first), str(last))
+        ta, tb = (first, last) if a == str(first) else (last, first)
         start = negated if negated is not None else first
         return make(
             Atom,
@@ -222,7 +215,7 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
                 "right": b,
                 "negated": negated is not None,
                 "span": self._between(start, last),
-                "parts": (token_part("left", ta), token_part("right", tb)),
+                "parts": (_part("left", ta), _part("right", tb)),
             },
         )
 
@@ -242,7 +235,7 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
                 self.diagnostics.append(
                     Diagnostic(
                         "W002",
-                        f"{what} '{_show(atom)}' is listed twice",
+                        f"{what} '{atom_text(atom)}' is listed twice",
                         atom.span,
                         (Note("first listed here", first.span),),
                     )
@@ -267,8 +260,8 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
     def call(self, children: list[Any]) -> Call:
         name, args, rpar = children
         toks: list[Token] = args or []
-        parts: _Parts = [token_part("oac", name)]
-        parts += [token_part(f"args.{i}", t) for i, t in enumerate(toks)]
+        parts: _Parts = [_part("oac", name)]
+        parts += [_part(f"args.{i}", t) for i, t in enumerate(toks)]
         return make(
             Call,
             {
@@ -284,7 +277,7 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
 
     def oac_decl(self, children: list[Any]) -> Oac:
         kw, name, param_list, (pre, effect, body), rbrace = children
-        parts: _Parts = [token_part("name", name)]
+        parts: _Parts = [_part("name", name)]
         values: dict[str, Any] = {"name": str(name), "params": tuple(param_list or ())}
         if pre is not None:
             values["pre"] = pre[1]
@@ -294,7 +287,7 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
             parts.append(effect[2])
         if body[0] == "execute":
             values["skill"] = str(body[1])
-            parts.append(token_part("skill", body[1]))
+            parts.append(_part("skill", body[1]))
         else:
             values["steps"] = body[1]
             parts.append(body[2])
