@@ -152,3 +152,15 @@ def test_a_mesh_beside_the_oac_file_is_checked_and_built(tmp_path):
     model = build_model(layout).model
     assert model.body("block").mass[0] == pytest.approx(0.3)
     assert model.ngeom > 0 and model.nmesh == 1
+
+
+@pytest.mark.parametrize(
+    ("doc", "start"), [("language.md", "### Geometry\n\n```\n"), ("runtime.md", "```\nclass Jug")]
+)
+def test_the_docs_geometry_examples_compile_with_the_standard_library(doc, start):
+    text = (ROOT / "docs" / doc).read_text(encoding="utf-8")
+    begin = text.index(start) + len(start) - (len("class Jug") if start.endswith("Jug") else 0)
+    block = text[begin : text.index("```", begin)]
+    assert "shape" in block
+    result = compile_sources({**{str(p): p.read_text() for p in STANDARD}, f"{doc}.oac": block})
+    assert result.diagnostics == [], [d.header() for d in result.diagnostics]
