@@ -7,9 +7,9 @@ meaning, not layout. Collections whose order carries no meaning (parents,
 preconditions, effects) are normalised to sorted, de-duplicated tuples when a
 node is built, so two models that mean the same compare equal.
 
-Units: grasp offsets are metres in the object's frame. A :class:`Quantity`
-(placements, skill parameters) holds its SI value (metres, radians, seconds,
-newtons) and the SI unit; the text as written is trivia.
+Units: grasp offsets are metres in the object's frame; geometry, placements and
+skill parameters keep each quantity with the unit it was written in
+(:class:`Quantity`; :func:`oacdsl.units.language_si` converts to SI).
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 
 from oacdsl.world import NOTHING
 
-_TRIVIA = frozenset({"span", "comments", "note", "parts", "written"})
+_TRIVIA = frozenset({"span", "comments", "note", "parts"})
 
 #: Hand shapes a ``grasp`` declaration may name (``type``).
 GRASP_TYPES: tuple[str, ...] = ("handle", "power", "precision", "rim")
@@ -84,12 +84,75 @@ class Node(BaseModel):
         return hash((type(self).__name__, self._key()))
 
 
+class Quantity(Node):
+    """A number as written with its unit as written (``4cm`` → 4.0, ``"cm"``; ``0.04`` → ``""``).
+
+    The model keeps the text's unit so that printing gives back what was written;
+    :func:`oacdsl.geometry.si` converts to SI (metres, kilograms). The compiler checks units.
+    """
+
+    value: float
+    unit: str = ""
+
+
+class Dim(Node):
+    """A named parameter of a shape: ``radius 4cm``."""
+
+    name: str
+    value: Quantity
+
+
+class Point(Node):
+    """A point ``(x, y, z)`` in an object's frame (lengths, each with its unit)."""
+
+    x: Quantity
+    y: Quantity
+    z: Quantity
+
+
+class Shape(Node):
+    """One primitive of an object's geometry: ``shell(radius 4cm, height 10cm, wall 6mm) at (0, 0, 1cm)``.
+
+    ``primitive`` is the shape's name (``cylinder``, ``box``, ``sphere``, ``capsule``,
+    ``shell``, ``mesh``, ``balls``, ``hand``, ``table``: see :mod:`oacdsl.geometry`),
+    ``dims`` its named sizes in written order, ``file`` a mesh file (relative to the
+    ``.oac`` file) and ``at`` where the centre of its base sits in the object frame.
+    """
+
+    primitive: str
+    dims: tuple[Dim, ...] = ()
+    file: str | None = None
+    at: Point | None = None
+
+    def dim(self, name: str) -> Quantity | None:
+        for d in self.dims:
+            if d.name == name:
+                return d.value
+        return None
+
+
+class Geometry(Node):
+    """``{ shape … mass … }`` — an object's physical description (of a class or an instance).
+
+    Several shapes make a compound. Unset properties come from the class (for an
+    instance) or the nearest parent class that sets them (for a class).
+    """
+
+    shapes: tuple[Shape, ...] = ()
+    mass: Quantity | None = None
+    friction: float | None = None
+    colour: str | None = None
+    markers: tuple[Point, ...] = ()
+
+
 class ObjectClass(Node):
-    """``class Cup : Graspable, Container`` — a class with zero or more parents."""
+    """``class Cup : Graspable, Container { … }`` — a class with zero or more parents and,
+    optionally, its geometry."""
 
     kind: Literal["class"] = "class"
     name: str
     parents: tuple[str, ...] = ()
+    geometry: Geometry | None = None
 
     @field_validator("parents")
     @classmethod
@@ -104,6 +167,7 @@ class Instance(Node):
     (an explicit mapping); ``environment`` marks geometry that is not tracked
     (the table in the paper's scene): it takes no part in touching relations;
     ``ignored`` marks a marker group of the recording that is neither tracked nor built.
+    ``geometry`` overrides its class's geometry property by property.
     """
 
     name: str
@@ -112,26 +176,12 @@ class Instance(Node):
     environment: bool = False
     #: A marker group nobody uses (``rack : Rack ignored``): not tracked, not built.
     ignored: bool = False
+    geometry: Geometry | None = None
 
     @field_validator("classes")
     @classmethod
     def _sort_classes(cls, v: tuple[str, ...]) -> tuple[str, ...]:
         return tuple(sorted(set(v)))
-
-
-class Quantity(Node):
-    """A number with its unit as written: ``56cm``, ``110deg``, ``0.3`` (bare).
-
-    ``value`` is SI (metres, radians, seconds, newtons, metres per second) and
-    ``unit`` its SI symbol (``m``, ``rad``, ``s``, ``N``, ``m/s``), ``""`` for a bare
-    number; a unit the language does not know is kept as written (with the
-    number unconverted) for the checks to report. ``written`` is the text
-    (trivia: ``56cm`` equals ``0.56m``).
-    """
-
-    value: float
-    unit: str = ""
-    written: str | None = Field(default=None, repr=False)
 
 
 class ScenePlace(Node):
@@ -206,9 +256,9 @@ class Scene(Node):
         return next((p for p in self.places if p.instance == name), None)
 
 
-def place_key(p: ScenePlace) -> tuple[str, float, float]:
-    """Sort key of scene placements (by instance, then position)."""
-    return (p.instance, p.x.value, p.y.value)
+def place_key(p: ScenePlace) -> tuple[str, float, str, float, str]:
+    """Sort key of scene placements (by instance, then position as written)."""
+    return (p.instance, p.x.value, p.x.unit, p.y.value, p.y.unit)
 
 
 def fill_key(f: SceneFill) -> tuple[str, str, int]:
@@ -336,7 +386,7 @@ class Oac(Node):
     @field_validator("skill_params")
     @classmethod
     def _sort_skill_params(cls, v: tuple[SkillParam, ...]) -> tuple[SkillParam, ...]:
-        return tuple(sorted(v, key=lambda s: (s.name, s.value.value)))
+        return tuple(sorted(v, key=lambda s: (s.name, s.value.value, s.value.unit)))
 
     def skill_arguments(self) -> tuple[str, ...]:
         """The names passed to the skill: ``skill_args`` when written, else the parameters."""

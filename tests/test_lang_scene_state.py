@@ -8,7 +8,9 @@ from test_lang_cli import STANDARD, oacc
 
 from oacdsl.compiler import compile_sources, load_library, parse_text, print_module
 from oacdsl.compiler.parser import read_source
+from oacdsl.model import Quantity
 from oacdsl.skills import SIGNATURES
+from oacdsl.units import language_si
 
 LIBRARY = {p: read_source(p) for p in STANDARD}
 
@@ -43,42 +45,40 @@ def test_scene_state_and_skill_calls_print_canonically_and_parse_back_equal():
         i.name for i in scene.tracked()
     }
     cup = scene.place("cup")
-    assert (cup.x.value, cup.x.unit, cup.y.value, cup.y.unit) == (0.56, "m", -0.28, "")
-    assert scene.place("mug").x.value == pytest.approx(0.64) and scene.place("mug").y.value == pytest.approx(
-        0.1
+    assert (cup.x.value, cup.x.unit, cup.y.value, cup.y.unit) == (56.0, "cm", -0.28, "")  # as written
+    mug = scene.place("mug")
+    assert language_si(mug.x.value, mug.x.unit) == (0.64, "m") and language_si(mug.y.value, mug.y.unit) == (
+        0.1,
+        "m",
     )
     assert [(f.liquid, f.container, f.balls) for f in scene.fills] == [("milk", "cup", 12)]
     assert oac.skill_args == ("h", "c", "l", "b")
-    assert {p.name: p.value.value for p in oac.skill_params} == pytest.approx(
-        {"duration": 3.0, "tilt": math.radians(110)}
-    )
+    assert {p.name: language_si(p.value.value, p.value.unit) for p in oac.skill_params} == {
+        "duration": (3.0, "s"),
+        "tilt": (pytest.approx(math.radians(110)), "rad"),
+    }
     again = parse_text(print_module(module), "bench.oac")
     assert again == module and print_module(again) == SCENE
 
 
-def test_the_same_quantity_in_other_units_is_the_same_model():
-    def place(text):
-        return parse_text(f"scene s {{\n    c : Cup\n    c at ({text}, 0)\n}}\n").decls[0].places[0]
+def test_the_same_quantity_in_other_units_means_the_same_si_value():
+    def place_si(text):
+        x = parse_text(f"scene s {{\n    c : Cup\n    c at ({text}, 0)\n}}\n").decls[0].places[0].x
+        return language_si(x.value, x.unit)
 
-    assert place("56cm") == place("560mm") == place("0.56m")
-    assert place("0.56").x.value == place("56cm").x.value and place("0.56").x.unit == ""  # bare: SI
-    assert place("56cm") != place("57cm")
+    assert place_si("56cm") == place_si("560mm") == place_si("0.56m") == (0.56, "m")
+    assert place_si("0.56") == (0.56, "")  # bare: metres where a length is expected
+    assert place_si("56cm") != place_si("57cm")
 
 
-def test_a_model_built_without_text_prints_si_values_that_parse_back():
+def test_quantities_built_in_python_print_and_parse_back():
     module = parse_text(SCENE, "bench.oac")
     scene, oac = module.decls
-    stripped = oac.model_copy(
-        update={
-            "skill_params": tuple(
-                p.model_copy(update={"value": p.value.model_copy(update={"written": None})})
-                for p in oac.skill_params
-            )
-        }
-    )
-    text = print_module(module.model_copy(update={"decls": (scene, stripped)}))
-    assert "tilt 1.91986217719rad" in text and "duration 3.0s" in text
-    assert parse_text(text, "bench.oac") == module
+    speed = oac.skill_params[0].model_copy(update={"value": Quantity(value=0.05, unit="m/s")})
+    changed = oac.model_copy(update={"skill_params": (speed, *oac.skill_params[1:])})
+    text = print_module(module.model_copy(update={"decls": (scene, changed)}))
+    assert "duration 0.05m/s" in text
+    assert parse_text(text, "bench.oac").decls[1] == changed
 
 
 def test_the_bench_scene_compiles_with_the_standard_library():

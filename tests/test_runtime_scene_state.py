@@ -64,7 +64,7 @@ def test_balls_and_ignored_instances_come_from_the_scene():
     scene = lib.scenes["lab"]
     layout = plan_layout(lib, scene)  # a Rack has no geometry: ignored, it is not built
     assert (
-        "rack" not in layout.kinds and layout.liquids == {"milk": "cup"} and layout.ball_count("milk") == 14
+        "rack" not in layout.bodies and layout.liquids == {"milk": "cup"} and layout.ball_count("milk") == 14
     )
     built = build_model(layout)
     assert len(built.balls["milk"]) == 14

@@ -18,7 +18,7 @@ from oacdsl.compiler.diagnostics import Note
 from oacdsl.errors import did_you_mean
 from oacdsl.model import Node, Oac, Quantity, SkillParam
 from oacdsl.skills import SIGNATURES, SkillParamSpec, SkillSignature, format_value
-from oacdsl.units import unit_kind
+from oacdsl.units import language_si, unit_kind
 
 __all__ = ["check_quantity_unit", "check_skill_call"]
 
@@ -28,21 +28,26 @@ PLAUSIBLE_BARE = {"rad": 2 * math.pi, "m": 2.0}
 Resolve = Callable[[str, Node, str], "list[frozenset[str]] | None"]
 
 
+def written(q: Quantity) -> str:
+    """``56cm`` — the quantity as written."""
+    return f"{q.value:g}{q.unit}"
+
+
 def check_quantity_unit(ctx: Context, q: Quantity, unit: str, what: str) -> bool:
     """E043 when ``q`` is not of SI ``unit`` (a bare number is); W040 for an implausible
     bare number. True when the unit fits."""
-    if q.unit and q.unit != unit:
-        written = q.written or f"{q.value:g}{q.unit}"
-        known = q.unit in ("m", "rad", "s", "N", "m/s")
-        kind = unit_kind(q.unit).split(" (")[0].removeprefix("a ").removeprefix("an ")
+    value, si = language_si(q.value, q.unit)
+    if q.unit and si != unit:
+        known = si in ("m", "rad", "s", "N", "m/s")
+        kind = unit_kind(si).split(" (")[0].removeprefix("a ").removeprefix("an ")
         why = f"a unit of {kind}" if known else f"an unknown unit '{q.unit}'"
-        ctx.add("E043", f"{what} is {unit_kind(unit)}, but '{written}' has {why}", q.span)
+        ctx.add("E043", f"{what} is {unit_kind(unit)}, but '{written(q)}' has {why}", q.span)
         return False
     if not q.unit and unit in PLAUSIBLE_BARE and abs(q.value) > PLAUSIBLE_BARE[unit]:
         example = format_value(q.value * (math.pi / 180 if unit == "rad" else 0.001), unit)
         ctx.add(
             "W040",
-            f"{what} '{q.written or q.value}' has no unit and is read as {q.value:g} {unit}"
+            f"{what} '{written(q)}' has no unit and is read as {q.value:g} {unit}"
             f" ({'radians' if unit == 'rad' else 'metres'}); write the unit, e.g. {example}",
             q.span,
         )
@@ -68,18 +73,19 @@ def _check_value(ctx: Context, sig: SkillSignature, spec: SkillParamSpec, q: Qua
     what = f"'{spec.name}' of skill '{sig.name}'"
     if spec.whole:
         if q.unit:
-            ctx.add("E043", f"{what} is a count (a whole number without unit), not '{q.written}'", q.span)
+            ctx.add("E043", f"{what} is a count (a whole number without unit), not '{written(q)}'", q.span)
             return
         if not float(q.value).is_integer():
-            ctx.add("E044", f"{what} is a count: '{q.written}' is not a whole number", q.span)
+            ctx.add("E044", f"{what} is a count: '{written(q)}' is not a whole number", q.span)
             return
     elif not check_quantity_unit(ctx, q, spec.unit, what):
         return
-    if not spec.low <= q.value <= spec.high:
+    value = language_si(q.value, q.unit)[0]
+    if not spec.low <= value <= spec.high:
         ctx.add(
             "E044",
             f"{what} must lie between {format_value(spec.low, spec.unit)} and"
-            f" {format_value(spec.high, spec.unit)}, not {q.written}",
+            f" {format_value(spec.high, spec.unit)}, not {written(q)}",
             q.span,
         )
 

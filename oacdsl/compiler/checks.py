@@ -12,6 +12,7 @@ from collections.abc import Iterable, Sequence
 
 import networkx as nx
 
+from oacdsl.compiler.check_geometry import check_geometry
 from oacdsl.compiler.check_oacs import check_oacs
 from oacdsl.compiler.check_state import check_scene_state
 from oacdsl.compiler.context import Context
@@ -180,5 +181,6 @@ def check_modules(modules: Sequence[Module]) -> list[Diagnostic]:
     for scene in (d for d in _decls(ctx) if isinstance(d, Scene)):
         check_scene_state(ctx, scene)
     check_grasps(ctx)
+    check_geometry(ctx)
     check_oacs(ctx)
     return ctx.diagnostics

@@ -18,7 +18,6 @@ steps in their order. Layout rules:
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Iterable
 
 from oacdsl.compiler.grammar import name_pattern
@@ -27,6 +26,7 @@ from oacdsl.model import (
     Atom,
     Call,
     Decl,
+    Geometry,
     Grasp,
     Instance,
     Module,
@@ -34,11 +34,12 @@ from oacdsl.model import (
     Oac,
     ObjectClass,
     Param,
+    Point,
     Quantity,
     Scene,
+    Shape,
     atom_text,
 )
-from oacdsl.units import language_si
 from oacdsl.world import NOTHING
 
 __all__ = ["format_atom", "format_decl", "format_oac", "format_quantity", "print_module"]
@@ -59,18 +60,6 @@ def _number(x: float) -> str:
     if not math.isfinite(x):
         raise LanguageError(f"cannot print the number {x!r}: offsets must be finite (metres)")
     return repr(float(x))
-
-
-_WRITTEN = re.compile(r"([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)([A-Za-z]+(?:/[A-Za-z]+)?)?\Z")
-
-
-def format_quantity(q: Quantity) -> str:
-    """``56cm`` as written when that text still means ``q``'s value, else the SI value and unit."""
-    if q.written is not None:
-        m = _WRITTEN.match(q.written)
-        if m is not None and language_si(float(m.group(1)), m.group(2) or "") == (q.value, q.unit):
-            return q.written
-    return _number(q.value) + q.unit
 
 
 def _string(s: str) -> str:
@@ -103,11 +92,63 @@ def format_atom(atom: Atom) -> str:
     return atom_text(atom, (_name(atom.left), _name(atom.right)))
 
 
+def _quantity(q: Quantity) -> str:
+    if not math.isfinite(q.value):
+        raise LanguageError(f"cannot print the number {q.value!r}: sizes must be finite")
+    number = str(int(q.value)) if q.value.is_integer() and abs(q.value) < 1e15 else repr(q.value)
+    if not q.unit:
+        return number
+    if "/" in q.unit:  # a speed: 5cm/s
+        num, _, den = q.unit.partition("/")
+        return number + f"{_name(num)}/{_name(den)}"
+    return number + _name(q.unit)
+
+
+def format_quantity(q: Quantity) -> str:
+    """A quantity as written: ``56cm``, ``110deg``, ``0.3``."""
+    return _quantity(q)
+
+
+def _point(p: Point) -> str:
+    return f"({_quantity(p.x)}, {_quantity(p.y)}, {_quantity(p.z)})"
+
+
+def _shape(shape: Shape) -> str:
+    args = ([_string(shape.file)] if shape.file is not None else []) + [
+        f"{_name(d.name)} {_quantity(d.value)}" for d in shape.dims
+    ]
+    text = f"shape {_name(shape.primitive)}"
+    if args:
+        text += "(" + ", ".join(args) + ")"
+    if shape.at is not None:
+        text += " at " + _point(shape.at)
+    return text
+
+
+def _geometry(geometry: Geometry, indent: str) -> list[str]:
+    """The lines inside a geometry block, each indented by ``indent``."""
+    lines = [_shape(s) for s in geometry.shapes]
+    if geometry.mass is not None:
+        lines.append(f"mass {_quantity(geometry.mass)}")
+    if geometry.friction is not None:
+        lines.append(f"friction {_number(geometry.friction)}")
+    if geometry.colour is not None:
+        lines.append(f"colour {_name(geometry.colour)}")
+    if geometry.markers:
+        lines.append("markers " + ", ".join(_point(p) for p in geometry.markers))
+    return [indent + line for line in lines]
+
+
 def _class(decl: ObjectClass) -> list[str]:
     text = f"class {_name(decl.name)}"
     if decl.parents:
         text += " : " + ", ".join(_name(p) for p in decl.parents)
-    return [_with_note(text, decl)]
+    if decl.geometry is None:
+        return [_with_note(text, decl)]
+    inside = _geometry(decl.geometry, _IND)
+    if not inside:
+        return [_with_note(text + " { }", decl)]
+    return [text + " {", *inside, _with_note("}", decl)]
 
 
 def _instance_line(names: list[str], inst: Instance, width: int) -> str:
@@ -118,6 +159,11 @@ def _instance_line(names: list[str], inst: Instance, width: int) -> str:
         text += " environment"
     if inst.ignored:
         text += " ignored"
+    if inst.geometry is not None:
+        inside = _geometry(inst.geometry, _IND * 2)
+        if not inside:
+            return _with_note(text + " { }", inst)
+        return "\n".join([text + " {", *inside, _with_note(_IND + "}", inst)])
     return _with_note(text, inst)
 
 
@@ -129,7 +175,7 @@ def _groups(instances: tuple[Instance, ...]) -> list[list[Instance]]:
     groups: list[list[Instance]] = []
     by_kind: dict[tuple[tuple[str, ...], bool, bool], list[Instance]] = {}
     for inst in instances:
-        if inst.markers or inst.comments or inst.note is not None:
+        if inst.markers or inst.geometry is not None or inst.comments or inst.note is not None:
             groups.append([inst])
             continue
         key = (inst.classes, inst.environment, inst.ignored)
@@ -306,6 +352,8 @@ def format_oac(oac: Oac) -> str:
 
 
 def _tight(prev: Decl, decl: Decl) -> bool:
+    if any(isinstance(d, ObjectClass) and d.geometry is not None for d in (prev, decl)):
+        return False
     return isinstance(decl, ObjectClass | Grasp) and type(prev) is type(decl) and not decl.comments
 
 

@@ -22,6 +22,8 @@ from lark import Token, Transformer
 
 from oacdsl.compiler.diagnostics import Diagnostic, Note
 from oacdsl.compiler.fastmodel import make, unquote
+from oacdsl.compiler.transform_geometry import GeometryBuilder
+from oacdsl.compiler.transform_geometry import token_part as _part
 from oacdsl.errors import did_you_mean
 from oacdsl.model import (
     MAX_BALLS,
@@ -44,7 +46,6 @@ from oacdsl.model import (
     pair_order,
     place_key,
 )
-from oacdsl.units import language_si
 
 __all__ = ["ModelBuilder"]
 
@@ -53,11 +54,7 @@ _PartT = tuple[str, int, int, int, int]
 _Parts = list[_PartT]
 
 
-def _part(key: str, tok: Token) -> _PartT:
-    return (key, tok.line, tok.column, tok.end_line, tok.end_column)  # type: ignore[return-value]
-
-
-class ModelBuilder(Transformer[Token, list[Decl]]):
+class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
     """Inline transformer from one file's tokens to its declarations.
 
     Call :meth:`reset` before each parse; ``diagnostics`` then collects the
@@ -120,25 +117,28 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
     instance_names = args = class_names
 
     def class_decl(self, children: list[Any]) -> ObjectClass:
-        kw, name, parents = children
+        kw, name, parents, geometry = children
         parts: _Parts = [_part("name", name)]
         names = self._names(parents or [], "parents", parts, "parent class")
-        last = parents[-1] if parents else name
-        return make(
-            ObjectClass,
-            {"name": str(name), "parents": names, "span": self._between(kw, last), "parts": tuple(parts)},
-        )
+        last = geometry.span if geometry is not None else parents[-1] if parents else name
+        values: dict[str, Any] = {"name": str(name), "parents": names}
+        if geometry is not None:
+            values["geometry"] = geometry
+        values.update(span=self._between(kw, last), parts=tuple(parts))
+        return make(ObjectClass, values)
 
     def strings(self, children: list[Token | None]) -> list[Token]:
         return [c for c in children if c is not None]
 
     def markers(self, children: list[Any]) -> tuple[list[Token], Token]:
-        strings, rpar = children
+        _, strings, rpar = children
         return strings or [], rpar
 
     def instance_group(self, children: list[Any]) -> list[Instance]:
-        names, classes, markers, flag = children
+        names, classes, markers, flag, geometry = children
         last = flag or (markers[1] if markers else classes[-1])
+        if geometry is not None:
+            last = geometry.span
         shared: _Parts = []
         cls = self._names(classes, "classes", shared, "class")
         marks: list[str] = []
@@ -154,6 +154,7 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
                     "markers": tuple(marks),
                     "environment": flag is not None and flag.type == "ENVIRONMENT",
                     "ignored": flag is not None and flag.type == "IGNORED",
+                    "geometry": geometry,
                     "span": self._between(name, last),
                     "parts": (_part("name", name), *shared),
                 },
@@ -204,19 +205,9 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
     def layout_stmt(self, children: list[Token]) -> tuple[Token, Token]:
         return children[0], children[1]
 
-    def quantity(self, children: list[Token]) -> Quantity:
-        tok = children[0]
-        text = str(tok)
-        if tok.type == "QUANTITY":
-            cut = len(text.rstrip("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ/"))
-            number, unit = float(text[:cut]), text[cut:]
-        else:
-            number, unit = float(text), ""
-        value, si = language_si(number, unit)
-        return make(
-            Quantity,
-            {"value": value, "unit": si, "written": text, "span": self._between(tok, tok)},
-        )
+    def measure(self, children: list[Token]) -> Quantity:
+        """``56cm`` (one QUANTITY token) or ``0.56`` (NUMBER): a placement or a skill parameter."""
+        return self.quantity([children[0]])
 
     def place_stmt(self, children: list[Any]) -> ScenePlace:
         name, _at, x, y, rpar = children
@@ -403,7 +394,9 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
                 parts += [_part(f"skill_args.{i}", t) for i, t in enumerate(toks)]
                 parts.append(("skill_call", body[1].line, body[1].column, rpar.end_line, rpar.end_column))
             if skill_params:
-                values["skill_params"] = tuple(sorted(skill_params, key=lambda s: (s.name, s.value.value)))
+                values["skill_params"] = tuple(
+                    sorted(skill_params, key=lambda s: (s.name, s.value.value, s.value.unit))
+                )
         else:
             values["steps"] = body[1]
             parts.append(body[2])

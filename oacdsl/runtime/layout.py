@@ -1,9 +1,9 @@
 """Where the scene's instances go on the table, and which liquid starts in which container.
 
-A :class:`Layout` is computed from a DSL scene: every instance gets an object kind
-from its most specific class that has geometry (:data:`~oacdsl.runtime.objects.CLASS_SHAPES`),
-hands are mapped to the robot's right/left hand by their names, ``ignored`` instances
-are left out. Each object's place comes, first match wins, from
+A :class:`Layout` is computed from a DSL scene: every instance gets its
+:class:`~oacdsl.runtime.bodies.Body` from the language's geometry (its own, else its
+most specific class's), hands are mapped to the robot's right/left hand by their names,
+``ignored`` instances are left out (not built). Each object's place comes, first match wins, from
 
 1. the caller's ``places`` (``--place OBJECT=X,Y``),
 2. the scene's ``OBJECT at (x, y)``, unless the caller gives a layout (``--layout``),
@@ -28,10 +28,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure, did_you_mean
+from oacdsl.geometry import ROLE_HAND, ROLE_LIQUID, ROLE_OBJECT, ROLE_TABLE
 from oacdsl.library import Library
 from oacdsl.model import Scene
+from oacdsl.runtime.bodies import Body, bodies_for_scene
 from oacdsl.runtime.demo_layout import map_into_reach
-from oacdsl.runtime.objects import CLASS_SHAPES, SHAPES, TABLE_DEPTH, TABLE_FRONT
+from oacdsl.runtime.objects import TABLE_DEPTH, TABLE_FRONT
+from oacdsl.units import language_si
 
 __all__ = ["Placement", "Layout", "plan_layout", "MAX_SHIFT_M", "MIN_GAP_M", "BALLS_PER_LIQUID", "hand_side"]
 
@@ -60,10 +63,10 @@ _Y_LIMIT = 0.60
 
 @dataclass(frozen=True)
 class Placement:
-    """A free object of kind ``kind`` standing at (x, y) on the table, rotated by ``yaw`` (rad)."""
+    """A free object built from ``body`` standing at (x, y) on the table, rotated by ``yaw`` (rad)."""
 
     name: str
-    kind: str
+    body: Body
     x: float
     y: float
     yaw: float = 0.0
@@ -80,7 +83,8 @@ class Layout:
     table: str
     seed: int | None = None
     balls_per_liquid: int = BALLS_PER_LIQUID
-    kinds: Mapping[str, str] = field(default_factory=dict)
+    #: Every instance's body (hands, liquids and the table included; not the ignored ones).
+    bodies: Mapping[str, Body] = field(default_factory=dict)
     #: Balls of each liquid (``balls N`` of the scene or --fill); others have ``balls_per_liquid``.
     balls: Mapping[str, int] = field(default_factory=dict)
     #: Where each object's place came from: "given", "scene", "demonstrated" or "auto".
@@ -107,14 +111,6 @@ def hand_side(name: str) -> str | None:
     return "r" if right else "l"
 
 
-def _kind(library: Library, cls_names: frozenset[str]) -> str | None:
-    known = [c for c in cls_names if c in CLASS_SHAPES]
-    if not known:
-        return None
-    best = max(sorted(known), key=lambda c: len(library.ancestors(c)))
-    return CLASS_SHAPES[best]
-
-
 def plan_layout(
     library: Library,
     scene: Scene,
@@ -135,50 +131,41 @@ def plan_layout(
     the first-frame position (m, motion capture frame) of each marker group, hands
     included, for ``demonstrated``.
     """
-    classes = library.instance_classes(scene)
-    kinds: dict[str, str] = {}
-    table = "table"
-    for inst in scene.instances:
-        if inst.ignored:
-            continue
-        kind = _kind(library, classes[inst.name])
-        if kind == "table" or (inst.environment and kind is None):
-            if kind is None:
-                raise RuntimeFailure(
-                    f"environment instance {inst.name!r} (classes {', '.join(inst.classes)}) has no geometry;"
-                    " the runtime builds only a Table as environment"
-                )
-            table = inst.name
-            continue
-        if kind is None:
-            have = ", ".join(sorted(classes[inst.name]))
+    built = scene.model_copy(update={"instances": tuple(i for i in scene.instances if not i.ignored)})
+    bodies = bodies_for_scene(library, built)
+    table = None
+    for inst in built.instances:
+        role = bodies[inst.name].role
+        if inst.environment and role != ROLE_TABLE:
             raise RuntimeFailure(
-                f"instance {inst.name!r} of scene {scene.name!r} (classes {have})"
-                f" has no geometry in the runtime; classes with geometry: {', '.join(sorted(CLASS_SHAPES))}"
-                f" (or mark it '{inst.name} : … ignored' when nothing uses it)"
+                f"environment instance {inst.name!r} (classes {', '.join(inst.classes)}) is not the table;"
+                " the runtime builds only the table (`shape table`) as environment"
             )
-        kinds[inst.name] = kind
+        if role == ROLE_TABLE:
+            table = inst.name
+    kinds = {n: b.role for n, b in bodies.items() if n != table}
     hands = _hands(kinds)
-    liquids, counts = _liquids(scene, kinds, dict(contents or {}), dict(balls or {}))
-    names = sorted(n for n, k in kinds.items() if k in SHAPES)
-    wanted, sources = _wanted(scene, names, kinds, hands, places or {}, layout, demonstrated)
-    nominal = _nominal(names, kinds, wanted)
-    placed = nominal if seed is None else _shuffle(nominal, kinds, np.random.default_rng(seed))
+    liquids, counts = _liquids(scene, bodies, dict(contents or {}), dict(balls or {}))
+    names = sorted(n for n, k in kinds.items() if k == ROLE_OBJECT)
+    wanted, sources = _wanted(scene, names, bodies, hands, places or {}, layout, demonstrated)
+    nominal = _nominal(names, bodies, wanted)
+    placed = nominal if seed is None else _shuffle(nominal, bodies, np.random.default_rng(seed))
     for name, source in sources.items():
         if source == "given":  # exactly where the caller said, even with a seed
             placed[name] = wanted[name]
     for name in names:
         sources.setdefault(name, "auto")
-    placements = tuple(Placement(n, kinds[n], placed[n][0], placed[n][1]) for n in names)
+    placements = tuple(Placement(n, bodies[n], placed[n][0], placed[n][1]) for n in names)
     return Layout(
-        scene.name, placements, liquids, hands, table, seed, kinds=kinds, balls=counts, sources=sources
+        scene.name, placements, liquids, hands, table or ROLE_TABLE, seed, bodies=bodies, balls=counts,
+        sources=sources,
     )
 
 
 def _wanted(
     scene: Scene,
     names: list[str],
-    kinds: Mapping[str, str],
+    bodies: Mapping[str, Body],
     hands: Mapping[str, str],
     places: Mapping[str, tuple[float, float]],
     layout: str | None,
@@ -194,22 +181,23 @@ def _wanted(
             raise RuntimeFailure(
                 f"cannot place {name!r}: not an object on the table{did_you_mean(name, names)}"
             )
-        wanted[name], sources[name] = _on_table(name, kinds, xy), "given"
+        wanted[name], sources[name] = _on_table(name, bodies, xy), "given"
     for place in scene.places if layout is None else ():  # a layout given by the caller replaces them
         if place.instance in names and place.instance not in wanted:
-            wanted[place.instance] = _on_table(place.instance, kinds, (place.x.value, place.y.value))
+            xy = (language_si(place.x.value, place.x.unit)[0], language_si(place.y.value, place.y.unit)[0])
+            wanted[place.instance] = _on_table(place.instance, bodies, xy)
             sources[place.instance] = "scene"
     if (layout or scene.layout) == "demonstrated" and demonstrated:
         free = {n: demonstrated[n] for n in names if n not in wanted and n in demonstrated}
         demo_hands = {side: demonstrated[h] for h, side in hands.items() if h in demonstrated}
-        radii = {n: SHAPES[kinds[n]].radius for n in free}
+        radii = {n: bodies[n].radius for n in free}
         for name, xy in map_into_reach(free, demo_hands, radii, MIN_GAP_M).items():
             wanted[name], sources[name] = xy, "demonstrated"
     return wanted, sources
 
 
-def _on_table(name: str, kinds: Mapping[str, str], xy: tuple[float, float]) -> tuple[float, float]:
-    r = SHAPES[kinds[name]].radius
+def _on_table(name: str, bodies: Mapping[str, Body], xy: tuple[float, float]) -> tuple[float, float]:
+    r = bodies[name].radius
     if not (TABLE_FRONT <= xy[0] - r and xy[0] + r <= TABLE_FRONT + TABLE_DEPTH and abs(xy[1]) + r <= 0.8):
         raise RuntimeFailure(f"cannot place {name!r} at ({xy[0]:.2f}, {xy[1]:.2f}) m: off the table")
     return (float(xy[0]), float(xy[1]))
@@ -217,7 +205,7 @@ def _on_table(name: str, kinds: Mapping[str, str], xy: tuple[float, float]) -> t
 
 def _hands(kinds: Mapping[str, str]) -> dict[str, str]:
     hands: dict[str, str] = {}
-    for name in sorted(n for n, k in kinds.items() if k == "hand"):
+    for name in sorted(n for n, k in kinds.items() if k == ROLE_HAND):
         side = hand_side(name)
         if side is None:
             raise RuntimeFailure(
@@ -234,15 +222,15 @@ def _hands(kinds: Mapping[str, str]) -> dict[str, str]:
 
 
 def _liquids(
-    scene: Scene, kinds: Mapping[str, str], given: dict[str, str], balls: dict[str, int]
+    scene: Scene, bodies: Mapping[str, Body], given: dict[str, str], balls: dict[str, int]
 ) -> tuple[dict[str, str], dict[str, int]]:
     """Liquid → container (``given`` over the scene's ``in``) and the liquids' ball counts.
 
     When ``given`` moves a liquid into a container the scene fills with another liquid,
     that other liquid takes the moved one's place in the scene, if it is free (a swap).
     """
-    liquid_names = sorted(n for n, k in kinds.items() if k == "liquid")
-    containers = sorted(n for n, k in kinds.items() if k in SHAPES and SHAPES[k].inner_radius > 0)
+    liquid_names = sorted(n for n, b in bodies.items() if b.role == ROLE_LIQUID)
+    containers = sorted(n for n, b in bodies.items() if b.container)
     for liquid, container in given.items():
         if liquid not in liquid_names:
             raise RuntimeFailure(
@@ -280,26 +268,26 @@ def _liquids(
 
 
 def _fits(
-    name: str, xy: tuple[float, float], placed: Mapping[str, tuple[float, float]], kinds: Mapping[str, str]
+    name: str, xy: tuple[float, float], placed: Mapping[str, tuple[float, float]], bodies: Mapping[str, Body]
 ) -> bool:
-    r = SHAPES[kinds[name]].radius
+    r = bodies[name].radius
     if not (_X_RANGE[0] <= xy[0] - r and xy[0] + r <= _X_RANGE[1]) or abs(xy[1]) + r > _Y_LIMIT:
         return False
     for other, oxy in placed.items():
-        if other != name and math.dist(xy, oxy) < r + SHAPES[kinds[other]].radius + MIN_GAP_M:
+        if other != name and math.dist(xy, oxy) < r + bodies[other].radius + MIN_GAP_M:
             return False
     return True
 
 
 def _nominal(
-    names: list[str], kinds: Mapping[str, str], wanted: Mapping[str, tuple[float, float]]
+    names: list[str], bodies: Mapping[str, Body], wanted: Mapping[str, tuple[float, float]]
 ) -> dict[str, tuple[float, float]]:
     """Objects that ask for a place get it; the others take the first free slot."""
     placed: dict[str, tuple[float, float]] = {n: wanted[n] for n in names if n in wanted}
     for name in names:
         if name in placed:
             continue
-        slot = next((s for s in _SLOTS if _fits(name, s, placed, kinds)), None)
+        slot = next((s for s in _SLOTS if _fits(name, s, placed, bodies)), None)
         if slot is None:
             raise RuntimeFailure(
                 f"no room on the table for {name!r} ({len(names)} objects);"
@@ -310,7 +298,7 @@ def _nominal(
 
 
 def _shuffle(
-    nominal: dict[str, tuple[float, float]], kinds: Mapping[str, str], rng: np.random.Generator
+    nominal: dict[str, tuple[float, float]], bodies: Mapping[str, Body], rng: np.random.Generator
 ) -> dict[str, tuple[float, float]]:
     placed = dict(nominal)
     for name in sorted(nominal):
@@ -318,7 +306,7 @@ def _shuffle(
             r = MAX_SHIFT_M * math.sqrt(rng.uniform())
             a = rng.uniform(0, 2 * math.pi)
             xy = (nominal[name][0] + r * math.cos(a), nominal[name][1] + r * math.sin(a))
-            if _fits(name, xy, placed, kinds):
+            if _fits(name, xy, placed, bodies):
                 placed[name] = xy
                 break
     return placed
