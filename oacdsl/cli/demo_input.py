@@ -16,6 +16,7 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 
+from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
 from oacdsl.cli.segment_cmd import add_aas_options
 from oacdsl.errors import InputError, UsageError
 from oacdsl.library import Library
@@ -45,6 +46,7 @@ def add_input_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--format", metavar="FMT",
                    help="read as this format (c3d, mmm, tsv, csv), not by the file's extension")
     g.add_argument("--preset", metavar="NAME", help="built-in marker grouping, e.g. 'kit' (KIT hands)")
+    add_reading_options(g)
     add_aas_options(g)
 
 
@@ -134,6 +136,7 @@ def load_inputs(args: argparse.Namespace) -> Inputs:
     if source.suffix.lower() == ".json":
         given = [f"--{k}" for k in ("format", "preset", "distance", "speed", "frames", "merge")
                  if getattr(args, k) is not None] + (["--mode"] if args.mode != DEFAULT_MODE else [])
+        given += ["--allow-truncated"] if allow_truncated(args) else []
         if given:
             raise UsageError(f"{', '.join(given)}: these read and segment a recording; {source} is a"
                              " segmentation already (.json)")
@@ -146,7 +149,9 @@ def load_inputs(args: argparse.Namespace) -> Inputs:
         from oacdsl.segmentation.readers import read_recording
 
         params = params_from_args(args)  # bad units fail before any reading
-        recording = read_recording(source, args.format)
+        with printed_warnings():
+            recording = read_recording(source, args.format, allow_truncated=allow_truncated(args))
+        check_windows(args, recording)
         if args.preset:
             recording = apply_preset(recording, args.preset)
         library, scene, outside = _scene(library, recording.instances, args.scene)

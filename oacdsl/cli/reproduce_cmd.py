@@ -8,6 +8,7 @@ import shlex
 import sys
 from pathlib import Path
 
+from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
 from oacdsl.cli.segment_cmd import add_aas_options
 
 DESCRIPTION = """\
@@ -83,6 +84,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     g = p.add_argument_group("reading and segmenting the recording (as oacc segment; values carry units)")
     g.add_argument("--format", metavar="FMT", help="read as this format (c3d, mmm, tsv, csv)")
     g.add_argument("--preset", metavar="NAME", help="built-in marker grouping, e.g. 'kit' (KIT hands)")
+    add_reading_options(g)
     add_aas_options(g, mode_help="touch detector for the demonstration: adaptive (per-pair distances"
                     " learned from co-motion; default) or paper (Eq. 1/2 as printed); the robot's own"
                     " recording is always segmented with paper")
@@ -127,9 +129,10 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError("--out must be a folder; this is a file", location=str(out))
-    inputs = load_inputs(
-        args.recording, args.library, args.scene, params, fmt=args.format, preset=args.preset
-    )
+    with printed_warnings():
+        inputs = load_inputs(args.recording, args.library, args.scene, params, fmt=args.format,
+                             preset=args.preset, allow_truncated=allow_truncated(args))
+    check_windows(args, inputs.recording)
     note = prepare_backend(not args.no_render)  # before MuJoCo is imported: it reads MUJOCO_GL once
     try:
         import mujoco  # noqa: F401  (the robot extra)

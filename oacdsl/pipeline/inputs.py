@@ -103,6 +103,7 @@ def load_inputs(
     *,
     fmt: str | None = None,
     preset: str | None = None,
+    allow_truncated: bool = False,
 ) -> Inputs:
     """Read and check everything (see the module docstring); raises OacError subclasses."""
     from oacdsl.cli.demo_input import open_library, resolve_scene
@@ -111,15 +112,14 @@ def load_inputs(
     library_path = Path(library) if library is not None else default_library()
     lib = open_library(library_path)
     if recording is None:
-        if fmt or preset:
-            raise UsageError("--format and --preset need a RECORDING (the bundled one needs neither)")
+        if fmt or preset or allow_truncated:
+            raise UsageError("--format, --preset and --allow-truncated need a RECORDING"
+                             " (the bundled one needs none)")
         rec, source = bundled_recording()
     else:
         from oacdsl.segmentation.readers import read_recording
 
-        if not Path(recording).is_file():
-            raise InputError("no such recording file", location=recording)
-        rec, source = read_recording(recording, fmt), recording
+        rec, source = read_recording(recording, fmt, allow_truncated=allow_truncated), recording
         if preset:
             rec = apply_preset(rec, preset)
     try:
