@@ -119,6 +119,8 @@ def load_inputs(
     else:
         from oacdsl.segmentation.readers import read_recording
 
+        if not Path(recording).exists():
+            raise InputError("no such recording file", location=recording)
         rec, source = read_recording(recording, fmt, allow_truncated=allow_truncated), recording
         if preset:
             rec = apply_preset(rec, preset)

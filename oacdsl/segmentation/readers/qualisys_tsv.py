@@ -96,6 +96,15 @@ def line_label(rows: list[tuple[int, list[str]]]) -> Label:
     return lambda i: f"line {rows[i][0]}"
 
 
+def _is_number(text: str) -> bool:
+    """Whether ``text`` reads as a float (``nan`` and ``inf`` too): a data row, not a header key."""
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def _header(lines: list[str], location: str) -> tuple[dict[str, tuple[int, list[str]]], int]:
     """The ``KEY<TAB>value…`` lines: KEY → (line number, values); and the index of the next line."""
     header: dict[str, tuple[int, list[str]]] = {}
@@ -103,7 +112,7 @@ def _header(lines: list[str], location: str) -> tuple[dict[str, tuple[int, list[
     while i < len(lines):
         fields = _fields(lines[i])
         key = fields[0].strip()
-        if not key or key[0].isdigit() or key[0] in "-." or key.lower() == "frame":
+        if not key or _is_number(key) or key.lower() == "frame":
             break
         header[key.upper()] = (i + 1, [f.strip() for f in fields[1:]])
         i += 1
