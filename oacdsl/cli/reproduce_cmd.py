@@ -23,7 +23,8 @@ Writes into --out: report.html (one self-contained page), result.json (its data)
 figures/. Every executed OAC's outcome goes into the run store (oacc stats).
 
 Exit status: 0 reproduced and verified; 1 a stage failed, the robot failed or the closed loop
-differs (the report says which); 2 usage or input error (nothing is written).
+differs (the report says which), or the recording's content is wrong (nothing is written); 2 usage
+or input error (nothing is written).
 """
 
 EPILOG = """\
