@@ -114,7 +114,7 @@ def test_c3d_rate_out_of_range_in_every_command(rate: float, tmp_path: Path, cap
     for argv in (["inspect", path], ["segment", path], ["match", path, "--library", library],
                  ["reproduce", path, "--library", library, "--out", out, "--no-record", "--no-render"]):
         err = one_line_error(capsys, 1, *argv)
-        assert "rate.c3d: the header's frame rate is" in err and "within 1..10000 Hz" in err
+        assert "rate.c3d: the frame rate (POINT:RATE) is" in err and "within 1..10000 Hz" in err
     assert not out.exists()
 
 

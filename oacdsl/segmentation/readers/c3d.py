@@ -123,13 +123,11 @@ def read_c3d(path: str | Path, *, allow_truncated: bool = False) -> Recording:
     labels = _labels(params)[:n_markers]
     names = unique_names(labels + [""] * (n_markers - len(labels)))
     check_coordinates(xyz, names, location, frame_label)
-    rate = float(c3d["header"]["points"]["frame_rate"])
-    what = "the header's frame rate"
-    if rate == 0:  # not set in the header: POINT:RATE
+    rate = float(c3d["header"]["points"]["frame_rate"])  # ezc3d: POINT:RATE when set, else the header's
+    if rate == 0:
         rate_param = _param(params, "POINT", "RATE")
         rate = float(np.ravel(rate_param)[0]) if rate_param is not None and np.size(rate_param) else 0.0
-        what = "POINT:RATE"
-    check_rate(rate, location, what)
+    check_rate(rate, location, "the frame rate (POINT:RATE)")
     first = int(c3d["header"]["points"]["first_frame"])  # ezc3d: the header's number, 0-based
     by_name = _subject_groups(params, names) or prefix_groups(names)
     index = {n: i for i, n in enumerate(names)}
