@@ -312,3 +312,10 @@ def test_no_file_is_written_for_a_bad_recording(tmp_path: Path, capsys, monkeypa
     one_line_error(capsys, 1, "compose", path, "--name", "bad", "--library", library)
     assert sorted(p.relative_to(tmp_path) for p in tmp_path.rglob("*")) == sorted(
         before + [Path("rate.c3d"), Path("short.c3d")])
+
+
+def test_a_quote_in_a_csv_row_does_not_swallow_the_next_rows(tmp_path: Path, capsys):
+    path = tmp_path / "q.csv"
+    path.write_text('# rate_hz: 50\nframe,time,a_x,a_y,a_z\n0,0,1,"2,3\n1,0.02,1,2,3\n')
+    for command in ("inspect", "segment"):
+        assert "q.csv: line 3: 4 fields, expected 5" in one_line_error(capsys, 1, command, path)

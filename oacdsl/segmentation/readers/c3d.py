@@ -32,6 +32,7 @@ from oacdsl.segmentation.recording import Recording
 
 __all__ = ["read_c3d", "write_c3d"]
 
+
 def _param(params: Any, group: str, name: str) -> Any:
     try:
         return params[group][name]["value"]

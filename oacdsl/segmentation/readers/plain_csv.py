@@ -46,6 +46,14 @@ _AXIS = re.compile(r"^(?P<marker>.+?)(?:[_.]| )(?P<axis>[xyz])$", re.IGNORECASE)
 _META = re.compile(r"^#\s*(?P<key>[a-z_]+)\s*[:=]\s*(?P<value>\S+)\s*$", re.IGNORECASE)
 
 
+def _split(line: str, line_no: int, location: str) -> list[str]:
+    """The fields of one line: a quote never joins lines (a recording's fields hold no line breaks)."""
+    try:
+        return next(csv.reader((line,)))
+    except csv.Error as err:
+        raise InvalidRecording(f"line {line_no}: {err}", location=location) from None
+
+
 def read_csv(path: str | Path, units: str | None = None) -> Recording:
     """Read the plain CSV layout described in this module into a :class:`Recording` (limits.py checked)."""
     path = Path(path)
@@ -60,7 +68,7 @@ def read_csv(path: str | Path, units: str | None = None) -> Recording:
         i += 1
     if i == len(lines):
         raise InvalidRecording("no header row (expected frame,time,<marker>_x,…)", location=location)
-    header = [h.strip() for h in next(csv.reader(lines[i : i + 1]))]
+    header = [h.strip() for h in _split(lines[i], i + 1, location)]
     to_m = metres_per_unit(units or meta.get("units", (0, "m"))[1], location)
     check_size(0, len(header) // 3, location)  # before the columns are sorted out
 
@@ -88,8 +96,7 @@ def read_csv(path: str | Path, units: str | None = None) -> Recording:
     if not text_rows:
         raise InvalidRecording("the recording has no frames", location=location)
     check_size(len(text_rows), len(axes), location, extra_values=2 * len(text_rows))
-    parsed = csv.reader(t for _, t in text_rows)
-    rows = [(n, fields) for (n, _), fields in zip(text_rows, parsed, strict=True)]
+    rows = [(n, _split(t, n, location)) for n, t in text_rows]
     table = parse_table(rows, len(header), location)
     label = line_label(rows)
 
