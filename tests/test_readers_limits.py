@@ -299,7 +299,7 @@ def test_segmentation_work_is_bounded(monkeypatch):
     rec = Recording("r", 100.0, np.arange(50) / 100.0, ("a", "b", "c"), np.zeros((50, 3, 3)),
                     {"x": (0, 1), "y": (2,)})
     monkeypatch.setattr(aas_module, "MAX_PAIR_FRAMES", 99)
-    with pytest.raises(SegmentationError, match="2 marker pairs × 50 frames is more than the 1e\\+02"):
+    with pytest.raises(SegmentationError, match=r"2 marker pairs × 50 frames is more than the 1e\+02 pair"):
         segment(rec)
 
 

@@ -38,8 +38,10 @@ Progress = Callable[[int, int], None]
 
 #: Instances (marker groups) a segmentation takes: their pairs are examined one by one.
 MAX_INSTANCES = 100
-#: Cross-instance marker pairs × frames a segmentation examines (about 0.2 µs each: 1e9 ≈ 3 min).
-MAX_PAIR_FRAMES = 1_000_000_000
+#: Cross-instance marker pairs × frames a segmentation examines: 18 times the one-hour
+#: recording of benchmarks/segmentation.py (5.6e8), which a 1 GiB recording reaches only
+#: with hundreds of markers.
+MAX_PAIR_FRAMES = 10_000_000_000
 
 
 def check_work(recording: Recording, frames: int | None = None) -> None:
