@@ -29,8 +29,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
                    help="file format (default: by extension)")
     p.add_argument("--units", choices=["mm", "cm", "m"],
                    help="length unit of a TSV/CSV file (default: TSV mm, CSV its '# units:' line or m)")
-    p.add_argument("--preset", choices=sorted(PRESETS),
-                   help="marker grouping preset (kit: KIT/MMM hand markers → left_hand, right_hand)")
+    p.add_argument("--preset", choices=[*sorted(PRESETS), "none"],
+                   help="marker grouping preset (kit: KIT/MMM hand markers → left_hand, right_hand;"
+                        " applied unasked when the file has them, with a note on stderr;"
+                        " none: the file's own groups)")
     add_reading_options(p)
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(func=run)
@@ -114,14 +116,13 @@ def _wrapped(head: str, text: str, width: int = 110) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    from oacdsl.segmentation.grouping import apply_preset
+    from oacdsl.cli.segment_cmd import apply_grouping
     from oacdsl.segmentation.readers import format_of, read_recording
 
     with printed_warnings():
         recording = read_recording(args.recording, args.fmt, units=args.units,
                                    allow_truncated=allow_truncated(args))
-    if args.preset:
-        recording = apply_preset(recording, args.preset)
+    recording = apply_grouping(recording, args.preset)
     doc = summary(recording, args.fmt or format_of(args.recording))
     print(json.dumps(doc, indent=2) if args.json else render(doc))
     return 0

@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 import argparse
-import os
 import shlex
 import sys
 from pathlib import Path
 
 from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
-from oacdsl.cli.segment_cmd import add_aas_options
+from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
 
 DESCRIPTION = """\
 Reproduce a demonstrated task on the simulated ARMAR-III, and check it (Wächter et al. 2013,
@@ -84,7 +83,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
     g = p.add_argument_group("reading and segmenting the recording (as oacc segment; values carry units)")
     g.add_argument("--format", metavar="FMT", help="read as this format (c3d, mmm, tsv, csv)")
-    g.add_argument("--preset", metavar="NAME", help="built-in marker grouping, e.g. 'kit' (KIT hands)")
+    g.add_argument("--preset", metavar="NAME", help=PRESET_HELP)
     add_reading_options(g)
     add_aas_options(g, mode_help="touch detector for the demonstration: adaptive (per-pair distances"
                     " learned from co-motion; default) or paper (Eq. 1/2 as printed); the robot's own"
@@ -92,28 +91,13 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p.set_defaults(func=run)
 
 
-def prepare_backend(render: bool) -> str | None:
-    """Choose MuJoCo's OpenGL backend before MuJoCo is imported; a note when there is none."""
-    if "mujoco" in sys.modules:
-        return None
-    from oacdsl.runtime.render import backend_available, choose_backend
-
-    chosen = os.environ.get("MUJOCO_GL")
-    if chosen and not backend_available(chosen):
-        os.environ["MUJOCO_GL"] = "disable"
-        return f"MUJOCO_GL={chosen} but its library is not installed; no pictures of the robot"
-    if not chosen and render:
-        backend = choose_backend()
-        if backend is None:
-            return "no offscreen OpenGL backend (EGL or OSMesa); no pictures of the robot"
-        os.environ["MUJOCO_GL"] = backend
-    return None
-
-
 def run(args: argparse.Namespace) -> int:
+    from oacdsl.cli.backend import prepare_backend
+    from oacdsl.cli.demo_input import note as print_note
     from oacdsl.cli.segment_cmd import params_from_args
-    from oacdsl.errors import InputError, UsageError
+    from oacdsl.errors import InputError, MatchingError, UsageError
     from oacdsl.pipeline import default_name, load_inputs, reproduce
+    from oacdsl.pipeline.inputs import BUNDLED_NAME
 
     if args.name is not None and not (args.name.isidentifier() and args.name.isascii()):
         raise UsageError(
@@ -130,11 +114,19 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError("--out must be a folder; this is a file", location=str(out))
-    with printed_warnings():
-        inputs = load_inputs(args.recording, args.library, args.scene, params, fmt=args.format,
-                             preset=args.preset, allow_truncated=allow_truncated(args))
-    check_windows(args, inputs.recording)
+    try:
+        with printed_warnings():
+            inputs = load_inputs(
+                args.recording, args.library, args.scene, params,
+                fmt=args.format, preset=args.preset, allow_truncated=allow_truncated(args), note=print_note,
+            )
+    except MatchingError as error:  # no scene fits the recording: an input error, nothing is written
+        raise InputError(error.message, location=args.recording or BUNDLED_NAME) from None
+    if inputs.recording is not None:
+        check_windows(args, inputs.recording)
     note = prepare_backend(not args.no_render)  # before MuJoCo is imported: it reads MUJOCO_GL once
+    if note:
+        note += "; no pictures of the robot"
     try:
         import mujoco  # noqa: F401  (the robot extra)
         import placo  # noqa: F401
