@@ -319,3 +319,14 @@ def test_a_quote_in_a_csv_row_does_not_swallow_the_next_rows(tmp_path: Path, cap
     path.write_text('# rate_hz: 50\nframe,time,a_x,a_y,a_z\n0,0,1,"2,3\n1,0.02,1,2,3\n')
     for command in ("inspect", "segment"):
         assert "q.csv: line 3: 4 fields, expected 5" in one_line_error(capsys, 1, command, path)
+
+
+def test_c3d_frame_size_follows_point_used_as_ezc3d_does(tmp_path: Path, capsys):
+    """The header says 0 points, POINT:USED 26 (what ezc3d reads): a cut file is still caught."""
+    data, start, frame_bytes = dough_layout()
+    data = bytearray(data)
+    data[2:4] = struct.pack("<H", 0)  # header word 2: points per frame
+    path = tmp_path / "used.c3d"
+    path.write_bytes(bytes(data[: start + DOUGH_FRAMES * frame_bytes - 3000]))
+    err = one_line_error(capsys, 1, "inspect", path)
+    assert "inside frame 2681 of 2688 frames; frames 2681..2688 lost" in err

@@ -36,7 +36,7 @@ _MAX_RECORDS = 100_000  # far more parameters than any writer produces
 class C3dLayout:
     """What the raw header says (before any library interprets it)."""
 
-    points: int  # 3D points per frame
+    points: int  # 3D points per frame: POINT:USED when present (what ezc3d reads), else the header
     analog_per_frame: int  # analog samples per 3D frame (all channels)
     first_frame: int  # 1-based, as stored
     last_frame: int  # 1-based, as stored
@@ -84,10 +84,12 @@ def check_c3d_structure(path: Path, data: bytes) -> C3dLayout:
     scale_raw = scale.raw if scale is not None and scale.element == 4 and len(scale.raw) >= 4 else data[12:16]
     frames = params.get(("POINT", "FRAMES"))
     point_frames = _frames_value(frames.raw, frames.element, endian) if frames and not frames.dims else None
+    used = params.get(("POINT", "USED"))
+    point_used = _int_value(used, endian) if used is not None and not used.dims else None
 
     words = struct.unpack(endian + "12H", data[:24])
     layout = C3dLayout(
-        points=words[1],
+        points=words[1] if point_used is None else point_used,  # ezc3d reads POINT:USED points
         analog_per_frame=words[2],
         first_frame=words[3],
         last_frame=words[4],
@@ -227,7 +229,8 @@ def check_c3d_data_size(path: Path, size: int, layout: C3dLayout, *, allow_trunc
     where = f"it ends at byte {size}, inside frame {present + 1}" if rest else f"it holds {present}"
     lost = f"frame {declared}" if present + 1 == declared else f"frames {present + 1}..{declared}"
     if present == 0 or not allow_truncated:
-        hint = f"; --allow-truncated reads the {present} complete frames" if present else ""
+        plural = "s" * (present > 1)
+        hint = f"; --allow-truncated reads the {present} complete frame{plural}" if present else ""
         raise TruncatedRecording(
             f"truncated C3D file: {where} of {declared} frames; {lost} lost{hint}",
             location=location, declared=declared, complete=present,
