@@ -311,5 +311,5 @@ def test_reproduce_takes_the_scene_overrides_and_the_demonstrated_layout(
     # the demonstrator had the red cup on its left and the green one on its right
     assert places["red_cup"]["y_m"] > places["orange_bowl"]["y_m"] > places["green_cup"]["y_m"]
     assert (places["red_cup"]["x_m"], places["red_cup"]["y_m"]) != (0.56, 0.28)  # not the scene's 'at'
-    assert doc["run"]["layout"]["contents"]["liquid_one"] == {"container": "red_cup", "balls": 8}
+    assert doc["run"]["layout"]["contents"]["liquid_one"] == {"in": "red_cup", "balls": 8}
     assert doc["run"]["metrics"]["balls_total"] == 8 + 10

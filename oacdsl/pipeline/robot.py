@@ -108,7 +108,7 @@ def execute_stage(
             p.name: {"x_m": round(p.x, 4), "y_m": round(p.y, 4), "from": layout.sources.get(p.name, "auto")}
             for p in layout.placements
         },
-        "contents": {liquid: {"container": c, "balls": layout.ball_count(liquid)}
+        "contents": {liquid: {"in": c, "balls": layout.ball_count(liquid)}
                      for liquid, c in sorted(layout.liquids.items())},
     }
     if result.error:
