@@ -19,7 +19,8 @@ cup "touch" it. This detector learns the distance from the recording itself:
    NaN — neither ends nor starts it): the grasp before the object starts to move,
    the hold after it is set down, until the hand leaves.
 4. **The paper's rule per pair.** Eq. 1 / Eq. 2 (the paper's ``v`` and ``n``, marker
-   pair by marker pair, gaps as in the paper's mode) run at each pair's own
+   pair by marker pair, gaps as in the paper's mode), with the distance change estimated
+   over a window in seconds (:class:`~oacdsl.segmentation.robust.RobustDetector`), run at each pair's own
    distance: the learned one (the median of its episodes' thresholds) for a pair
    that co-moves somewhere in the recording, else ``static_distance_m``. This
    catches contacts without co-motion (a mixer stirring in a bowl, liquid poured
@@ -43,9 +44,9 @@ from oacdsl.errors import SegmentationError
 from oacdsl.segmentation.comotion import AdaptiveSettings, comotion
 from oacdsl.segmentation.detectors import DistanceChunk, PairChanges
 from oacdsl.segmentation.pairs import PairTable
-from oacdsl.segmentation.paper import PaperDetector
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.robust import RobustDetector
 
 __all__ = ["AdaptiveDetector", "AdaptiveSettings", "comotion"]
 
@@ -56,12 +57,12 @@ class AdaptiveDetector:
     def __init__(self, params: AasParams, settings: AdaptiveSettings | None = None) -> None:
         self.settings = settings or AdaptiveSettings()
         self.params = params
-        template = PaperDetector(params)
+        template = RobustDetector(params)  # frames of history and delay: set again in begin()
         self.history_frames = template.history_frames
         self.delay_frames = template.delay_frames
         self.reach_m: float | None = max(params.distance_m, self.settings.static_distance_m)
         self._table: PairTable | None = None
-        self._inner: list[tuple[PaperDetector, np.ndarray]] = []  # (detector, (Q,) bool: its blocks)
+        self._inner: list[tuple[RobustDetector, np.ndarray]] = []  # (detector, (Q,) bool: its blocks)
         self._events: dict[int, np.ndarray] = {}  # block → (E, 2) [causal frame, on?], sorted
         self._heads = np.zeros(0, dtype=np.intp)
         self._paper_head = np.zeros(0, dtype=bool)  # paper state of each block's first marker pair
@@ -69,6 +70,8 @@ class AdaptiveDetector:
         self._episode = np.zeros(0, dtype=bool)
 
     def begin(self, recording: Recording, table: PairTable) -> None:
+        template = RobustDetector(self.params, recording.rate_hz)
+        self.history_frames, self.delay_frames = template.history_frames, template.delay_frames
         self._table = table
         self._heads = table.block_offsets[:-1].copy()
         n_q = table.n_instance_pairs
@@ -87,7 +90,7 @@ class AdaptiveDetector:
         by_distance[self.settings.static_distance_m] |= default
         self._inner = []
         for distance, blocks in sorted(by_distance.items()):
-            detector = PaperDetector(replace(self.params, distance_m=distance))
+            detector = RobustDetector(replace(self.params, distance_m=distance), recording.rate_hz)
             detector.begin(recording, table)
             self._inner.append((detector, blocks))
         self.reach_m = max(by_distance)
