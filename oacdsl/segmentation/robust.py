@@ -92,9 +92,10 @@ class RobustDetector:
         rate = np.abs(windowed_slope(dist, times, half))
         close = np.zeros(dist.shape, dtype=bool)
         far = np.zeros(dist.shape, dtype=bool)
-        body = slice(0, dist.shape[1] - half)  # frames whose window ends inside the chunk
+        body = slice(0, max(0, dist.shape[1] - half))  # frames whose window ends inside the chunk
         with np.errstate(invalid="ignore"):
             cur, ch = dist[:, body], rate[:, body]
             close[:, half:] = (cur < self.d) & (ch < self.v)
-            far[:, half:] = (cur > self.d) | (ch > self.v)
+            # a missing distance is unknown, even where the neighbours give a slope
+            far[:, half:] = ((cur > self.d) | (ch > self.v)) & ~np.isnan(cur)
         return close, far
