@@ -8,9 +8,8 @@ run counters: slow (pure Python, float64) but easy to check by eye. The fast
 Modes: ``paper`` (Eq. 1 / Eq. 2 as printed), ``robust`` (the distance change as the
 least-squares slope over the frames within ``±half`` of each frame, summed frame by
 frame), and ``adaptive``: the robust rule per marker pair at each instance pair's own
-distance, OR the co-motion intervals — those two come from
-:func:`~oacdsl.segmentation.comotion.comotion` (the one vectorised part: it is the
-detector's pre-scan, shared, so only the per-frame rule is checked independently).
+distance, OR the co-motion intervals, both from the per-frame co-motion signals of
+:func:`~oacdsl.segmentation.reference_comotion.comotion_reference`.
 """
 
 from __future__ import annotations
@@ -102,8 +101,9 @@ def segment_reference(recording: Recording, params: AasParams | None = None) -> 
 
 def _robust_reference(recording: Recording, params: AasParams) -> Segmentation:
     """Modes ``robust`` and ``adaptive``, frame by frame (see the module docstring)."""
-    from oacdsl.segmentation.comotion import AdaptiveSettings, comotion
+    from oacdsl.segmentation.comotion import AdaptiveSettings
     from oacdsl.segmentation.pairs import PairTable
+    from oacdsl.segmentation.reference_comotion import comotion_reference
 
     v, n, half = params.speed_m_s, params.n, params.half_window(recording.rate_hz)
     table = PairTable.of(recording)
@@ -114,7 +114,7 @@ def _robust_reference(recording: Recording, params: AasParams) -> Segmentation:
         settings = AdaptiveSettings()
         distance = [settings.static_distance_m] * table.n_instance_pairs
         delay = n - 1 + half
-        for q, (intervals, threshold) in comotion(recording, table, params, settings).items():
+        for q, (intervals, threshold) in comotion_reference(recording, table, params, settings).items():
             distance[q] = round(threshold, 4)
             spans[q] = []
             for a, b in intervals:  # as the detector reports them: clamped to the last decidable frame
@@ -133,14 +133,14 @@ def _robust_reference(recording: Recording, params: AasParams) -> Segmentation:
         state, close_run, far_run, d = False, 0, 0, distance[q]
         changes: list[tuple[int, bool]] = []
         for i in range(n_frames - half):  # the last `half` frames have no full window
-            slope = _slope(dist, times, i, half)
             if math.isnan(dist[i]):
                 close = far = False
-            elif math.isnan(slope):
-                close, far = False, dist[i] > d
+            elif dist[i] > d:  # far whatever the slope: no need to fit it
+                close, far = False, True
             else:
-                close = dist[i] < d and abs(slope) < v
-                far = dist[i] > d or abs(slope) > v
+                slope = _slope(dist, times, i, half)
+                close = not math.isnan(slope) and dist[i] < d and abs(slope) < v
+                far = not math.isnan(slope) and abs(slope) > v
             close_run = close_run + 1 if close else 0
             far_run = far_run + 1 if far else 0
             if not state and close_run >= n or state and far_run >= n:
