@@ -141,3 +141,24 @@ def test_adaptive_equals_per_frame_reference_on_a_carry():
     got = segment(rec, p)
     assert [k.state.sorted_relations() for k in got.keyframes] == [[], [("cup", "hand")], []]
     assert got.keyframes == segment_reference(rec, p).keyframes
+
+
+# -- the command line ------------------------------------------------------------------------------
+
+def test_hold_and_change_window_on_the_command_line(capsys, tmp_path):
+    import json
+
+    from oacdsl.cli import main
+    from oacdsl.segmentation.readers import write_c3d
+
+    c3d = write_c3d(_resample(carry_scene(), 200.0, 0.0003, 7), tmp_path / "carry.c3d")
+    assert main(["segment", str(c3d), "--json", "--hold", "0.2s", "--change-window", "50ms"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["parameters"]["frames"] == 40 and doc["parameters"]["change_window_s"] == 0.05
+    assert [k["relations"] for k in doc["keyframes"]] == [[], [["cup", "hand"]], []]
+    for argv, needle in ((["--hold", "0.1s", "--frames", "3"], "--frames and --hold both set n"),
+                         (["--change-window", "0s"], "change window must be a positive duration"),
+                         (["--hold", "2"], "--hold: '2' has no unit")):
+        assert main(["segment", str(c3d), *argv]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and needle in err
