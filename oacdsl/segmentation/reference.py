@@ -8,8 +8,10 @@ run counters: slow (pure Python, float64) but easy to check by eye. The fast
 Modes: ``paper`` (Eq. 1 / Eq. 2 as printed), ``robust`` (the distance change as the
 least-squares slope over the frames within ``±half`` of each frame, summed frame by
 frame), and ``adaptive``: the robust rule per marker pair at each instance pair's own
-distance, OR the co-motion intervals, both from the per-frame co-motion signals of
-:func:`~oacdsl.segmentation.reference_comotion.comotion_reference`.
+distance, OR the co-motion and tool intervals, AND NOT the cross-hand vetoes; co-motion
+frame by frame in :func:`~oacdsl.segmentation.reference_comotion.comotion_reference`, the
+tool rule (:func:`~oacdsl.segmentation.tooluse.tool_contacts`, interval logic over those
+per-frame signals) shared with the detector.
 """
 
 from __future__ import annotations
@@ -104,25 +106,34 @@ def _robust_reference(recording: Recording, params: AasParams) -> Segmentation:
     from oacdsl.segmentation.comotion import AdaptiveSettings
     from oacdsl.segmentation.pairs import PairTable
     from oacdsl.segmentation.reference_comotion import comotion_reference
+    from oacdsl.segmentation.tooluse import agents_of, tool_contacts
 
     v, n, half = params.speed_m_s, params.n, params.half_window(recording.rate_hz)
     table = PairTable.of(recording)
     n_frames = recording.n_frames
     distance = [params.distance_m] * table.n_instance_pairs
+    # per instance pair: intervals that add touching (co-motion, tools) and that veto it (cross-hand)
     spans: dict[int, list[tuple[int, int]]] = {}
+    vetoes: dict[int, list[tuple[int, int]]] = {}
     if params.mode == "adaptive":
         settings = AdaptiveSettings()
         distance = [settings.static_distance_m] * table.n_instance_pairs
         delay = n - 1 + half
-        for q, (intervals, threshold) in comotion_reference(recording, table, params, settings).items():
+        found = comotion_reference(recording, table, params, settings)
+        held = {q: intervals for q, (intervals, _) in found.learned.items()}
+        tools = tool_contacts(table, n_frames, recording.rate_hz, held, found.closest,
+                              agents_of(table.instances, settings.agent_pattern), params.distance_m,
+                              settings.tool_dwell_s, settings.tool_bridge_s)
+        for q, (_, threshold) in found.learned.items():
             distance[q] = round(threshold, 4)
-            spans[q] = []
-            for a, b in intervals:  # as the detector reports them: clamped to the last decidable frame
-                on, off = min(a, n_frames - 1 - delay), min(b, n_frames - 1 - delay)
-                if b >= n_frames:
-                    spans[q].append((on, n_frames))
-                elif off > on:
-                    spans[q].append((on, off))
+        for target, per_pair in ((spans, held), (spans, tools.added), (vetoes, tools.removed)):
+            for q, intervals in per_pair.items():
+                for a, b in intervals:  # as the detector reports them: clamped to the last decidable frame
+                    on, off = min(a, n_frames - 1 - delay), min(b, n_frames - 1 - delay)
+                    if b >= n_frames:
+                        target.setdefault(q, []).append((on, n_frames))
+                    elif off > on:
+                        target.setdefault(q, []).append((on, off))
     pos = recording.positions_m.tolist()
     times = [float(t) for t in recording.times_s]
     touching = [[False] * n_frames for _ in range(table.n_instance_pairs)]
@@ -151,9 +162,13 @@ def _robust_reference(recording: Recording, params: AasParams) -> Segmentation:
             if value:
                 for i in range(frame, end):
                     touching[q][i] = True
+    for q in range(table.n_instance_pairs):
         for a, b in spans.get(q, []):
             for i in range(a, b):
                 touching[q][i] = True
+        for a, b in vetoes.get(q, []):
+            for i in range(a, b):
+                touching[q][i] = False
     instances = frozenset(table.instances)
     keyframes: list[Keyframe] = []
     for i in range(n_frames):

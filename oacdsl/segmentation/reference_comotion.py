@@ -15,7 +15,7 @@ import statistics
 
 import numpy as np
 
-from oacdsl.segmentation.comotion import AdaptiveSettings, _extend, _prune_indirect, _runs, _union
+from oacdsl.segmentation.comotion import AdaptiveSettings, CoMotion, _extend, _prune_indirect, _runs, _union
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
@@ -29,11 +29,11 @@ def _median(values: list[float]) -> float:
 
 
 def comotion_reference(recording: Recording, table: PairTable, params: AasParams,
-                       settings: AdaptiveSettings) -> dict[int, tuple[list[tuple[int, int]], float]]:
+                       settings: AdaptiveSettings) -> CoMotion:
     """The same result as :func:`~oacdsl.segmentation.comotion.comotion`, frame by frame."""
     n_frames = recording.n_frames
     if table.n_instance_pairs == 0 or n_frames < 2:
-        return {}
+        return CoMotion({}, {})
     lag = settings.frames(settings.lag_s, recording.rate_hz)
     reach = params.distance_m * (1 + settings.margin)
     pos = recording.positions_m.tolist()
@@ -83,4 +83,4 @@ def comotion_reference(recording: Recording, table: PairTable, params: AasParams
             thresholds.append(threshold)
         if spans:
             out[q] = (_union(spans), float(np.median(thresholds)))
-    return out
+    return CoMotion(out, {q: d_q for q, (d_q, _) in signals.items()})
