@@ -15,7 +15,14 @@ import statistics
 
 import numpy as np
 
-from oacdsl.segmentation.comotion import AdaptiveSettings, CoMotion, _extend, _prune_indirect, _runs, _union
+from oacdsl.segmentation.comotion import (
+    AdaptiveSettings,
+    CoMotion,
+    _extend,
+    _prune_indirect,
+    _runs,
+    _union,
+)
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
@@ -79,7 +86,7 @@ def comotion_reference(recording: Recording, table: PairTable, params: AasParams
             if b - a < min_len:
                 continue
             threshold = min(float(np.nanmedian(d_q[a:b])) * (1 + settings.margin), params.distance_m)
-            spans.append(_extend(d_q, a, b, threshold))
+            spans.append(_extend(d_q, a, b, threshold, round(settings.tool_bridge_s * recording.rate_hz)))
             thresholds.append(threshold)
         if spans:
             out[q] = (_union(spans), float(np.median(thresholds)))
