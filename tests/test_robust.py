@@ -158,7 +158,9 @@ def test_hold_and_change_window_on_the_command_line(capsys, tmp_path):
     assert [k["relations"] for k in doc["keyframes"]] == [[], [["cup", "hand"]], []]
     for argv, needle in ((["--hold", "0.1s", "--frames", "3"], "--frames and --hold both set n"),
                          (["--change-window", "0s"], "change window must be a positive duration"),
-                         (["--hold", "2"], "--hold: '2' has no unit")):
+                         (["--hold", "2"], "--hold: '2' has no unit"),
+                         (["--hold", "1e9s"], "--hold 1e9s: longer than the recording"),
+                         (["--change-window", "60s"], "--change-window 60s: longer than")):
         assert main(["segment", str(c3d), *argv]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and needle in err
