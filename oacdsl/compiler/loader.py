@@ -15,7 +15,7 @@ from pathlib import Path
 
 from oacdsl.compiler.checks import check_modules
 from oacdsl.compiler.diagnostics import Diagnostic, language_error, sort_diagnostics
-from oacdsl.compiler.parser import parse_source, read_source
+from oacdsl.compiler.parser import normalize_newlines, parse_source, read_source
 from oacdsl.errors import InputError, LanguageError
 from oacdsl.library import Library
 from oacdsl.model import Module
@@ -81,7 +81,8 @@ def compile_sources(sources: dict[str, str]) -> CompileResult:
     every file parsed (otherwise names defined in a broken file would show up
     as spurious "unknown" errors).
     """
-    result = CompileResult(sources=dict(sources))
+    sources = {path: normalize_newlines(text) for path, text in sources.items()}
+    result = CompileResult(sources=sources)
     syntax_failed = False
     with gc_paused():
         for path, text in sources.items():
