@@ -192,6 +192,23 @@ def test_a_run_store_of_another_program_is_refused_before_any_work(tmp_path: Pat
     assert not out.exists()
 
 
+def test_an_unwritable_run_store_fails_at_once(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                               monkeypatch: pytest.MonkeyPatch) -> None:
+    import oacdsl.pipeline
+
+    def no_pipeline(*args: object, **kwargs: object) -> None:
+        raise AssertionError("the inputs were read before the run store was checked")
+
+    monkeypatch.setattr(oacdsl.pipeline, "load_inputs", no_pipeline)
+    a_file = tmp_path / "file"
+    a_file.write_text("x")
+    out = tmp_path / "out"
+    for db in (a_file / "runs.sqlite3", tmp_path):
+        assert run("--out", out, "--db", db) == 2
+        assert str(db) in _one_line_error(capsys)
+    assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["file"]
+
+
 def test_bad_name_and_out_that_is_a_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert run("--name", "2cups", "--out", tmp_path / "o", "--no-record") == 2
     assert "--name '2cups'" in _one_line_error(capsys)

@@ -8,6 +8,7 @@ import shlex
 import sys
 from pathlib import Path
 
+from oacdsl.cli import seed_arg
 from oacdsl.cli.segment_cmd import add_aas_options
 
 DESCRIPTION = """\
@@ -64,7 +65,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     )
     p.add_argument(
         "--seed",
-        type=int,
+        type=seed_arg,
         metavar="N",
         help="move every object of the robot's scene by up to 10 cm at random (default: nominal)",
     )
@@ -119,11 +120,9 @@ def run(args: argparse.Namespace) -> int:
     params = params_from_args(args)  # bad units fail before any reading
     db = None
     if not args.no_record:
-        from oacdsl.stats import RunStore, resolve_db_path
+        from oacdsl.stats import ensure_writable, resolve_db_path
 
-        db = resolve_db_path(args.db)
-        if RunStore.exists(db):  # a foreign or newer file is refused now, before any work
-            RunStore(db, create=False).close()
+        db = ensure_writable(resolve_db_path(args.db))  # a foreign, newer or unwritable store: now
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError("--out must be a folder; this is a file", location=str(out))

@@ -6,7 +6,7 @@ per OAC in an embedded SQLite database; :func:`summarise` turns them into succes
 rates with Wilson intervals (``oacc stats``).
 """
 
-from oacdsl.stats.paths import ENV_VAR, default_db_path, resolve_db_path
+from oacdsl.stats.paths import ENV_VAR, default_db_path, ensure_writable, resolve_db_path
 from oacdsl.stats.reliability import Reliability, summarise, wilson_interval
 from oacdsl.stats.store import (
     APPLICATION_ID,
@@ -23,6 +23,7 @@ __all__ = [
     "Reliability",
     "RunStore",
     "default_db_path",
+    "ensure_writable",
     "resolve_db_path",
     "summarise",
     "wilson_interval",
