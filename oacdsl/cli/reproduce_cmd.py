@@ -20,7 +20,9 @@ and match that recording the same way, and compare the robot's world-state chang
 demonstration's. Without RECORDING: the bundled dough demonstration (data/dough.c3d).
 
 Writes into --out: report.html (one self-contained page), result.json (its data), NAME.oac and
-figures/. Every executed OAC's outcome goes into the run store (oacc stats).
+figures/ — links into --out/runs/<id>/, switched to the new run in one atomic step (the last 3
+runs are kept; what killed runs left behind is removed). Every executed OAC's outcome goes into
+the run store (oacc stats).
 
 Exit status: 0 reproduced and verified; 1 a stage failed, the robot failed or the closed loop
 differs (the report says which); 2 usage or input error (nothing is written).
