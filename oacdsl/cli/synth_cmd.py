@@ -10,8 +10,6 @@ import secrets
 import sys
 from pathlib import Path
 
-from oacdsl.cli import seed_arg
-
 DESCRIPTION = """\
 Write a synthetic motion-capture demonstration of a scene as a C3D file (100 Hz,
 millimetres, one subject prefix per instance: 'red_cup:RC1') and its ground truth
@@ -48,7 +46,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     )
     p.add_argument("scene", metavar="SCENE", choices=sorted(SCENES), help="the scene: " + ", ".join(SCENES))
     p.add_argument("-o", "--output", metavar="FILE.c3d", required=True, help="the C3D file to write")
-    p.add_argument("--seed", metavar="N", type=seed_arg, default=DEFAULT_SEED,
+    p.add_argument("--seed", metavar="N", type=int, default=DEFAULT_SEED,
                    help=f"random seed: timing, noise and gaps (default: {DEFAULT_SEED})")
     p.add_argument("--truth", metavar="FILE.json",
                    help="where to write the ground truth (default: FILE.truth.json next to the C3D)")
