@@ -91,8 +91,9 @@ def remove_stale_temporaries(folder: str | os.PathLike[str]) -> list[Path]:
     """Remove the temporary files of :func:`atomic_path` in ``folder`` left by processes that are gone.
 
     A temporary file names its process (``.NAME.PID.XXXXXXXX.tmp``): it is stale when that
-    process no longer runs; one without a process id (older oacdsl) when it is older than
-    :data:`STALE_AFTER_S`. Returns the files removed; errors are ignored (a best effort).
+    process no longer runs (or the file is a day old: the id is then another process's); one
+    without a process id (older oacdsl) when it is older than :data:`STALE_AFTER_S`.
+    Returns the files removed; errors are ignored (a best effort).
     """
     removed: list[Path] = []
     try:
@@ -105,10 +106,11 @@ def remove_stale_temporaries(folder: str | os.PathLike[str]) -> list[Path]:
         if m is None or not entry.is_file(follow_symlinks=False):
             continue
         try:
-            if m.group(1):
-                stale = not pid_alive(int(m.group(1)))
+            age = now - entry.stat(follow_symlinks=False).st_mtime
+            if m.group(1):  # after a day, a live process of that id is another one (ids are reused)
+                stale = not pid_alive(int(m.group(1))) or age > 24 * STALE_AFTER_S
             else:
-                stale = now - entry.stat().st_mtime > STALE_AFTER_S
+                stale = age > STALE_AFTER_S
             if stale:
                 os.unlink(entry.path)
                 removed.append(Path(entry.path))

@@ -138,8 +138,11 @@ def test_stale_staging_goes_and_a_live_runs_stays(tmp_path: Path) -> None:
     orphan_new.mkdir()
     week_ago = time.time() - 7 * 86400
     os.utime(orphan_old, (week_ago, week_ago))
+    reused = make_staging(out)  # this process's id, but written two days ago: a reused id
+    two_days_ago = time.time() - 2 * 86400
+    os.utime(reused, (two_days_ago, two_days_ago))
     removed = clean_stale(out)
-    assert sorted(removed) == sorted([dead, orphan_old])
+    assert sorted(removed) == sorted([dead, orphan_old, reused])
     assert live.is_dir() and orphan_new.is_dir() and not dead.exists()
 
 
@@ -151,10 +154,12 @@ def test_stale_temporaries_of_atomic_writes_go(tmp_path: Path) -> None:
         ".dough.oac.zyxw9876.tmp": True,  # older oacdsl, no pid: kept while fresh
         ".salad.oac.zyxw9876.tmp": False,  # … and removed when old
         "dough.oac": True,
+        f".bread.oac.{alive}.abcd_123.tmp": False,  # a live id, but two days old: reused
     }
     for name in names:
         (tmp_path / name).write_text("x")
     week_ago = time.time() - 7 * 86400
     os.utime(tmp_path / ".salad.oac.zyxw9876.tmp", (week_ago, week_ago))
+    os.utime(tmp_path / f".bread.oac.{alive}.abcd_123.tmp", (week_ago, week_ago))
     remove_stale_temporaries(tmp_path)
     assert {n: (tmp_path / n).exists() for n in names} == names

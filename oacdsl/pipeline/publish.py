@@ -18,7 +18,8 @@ A folder written by an older oacdsl (regular ``report.html``, ``result.json``,
 copying; each entry is then replaced by its link, which shows the same content.
 
 At the start of a run, :func:`clean_stale` removes staging folders and temporary links
-whose owner process is gone (or, without an owner file, older than :data:`STALE_AFTER_S`).
+whose owner process is gone (or, without an owner file, older than :data:`STALE_AFTER_S`;
+with an owner whose process id another process reuses, older than a day).
 """
 
 from __future__ import annotations
@@ -52,6 +53,8 @@ KEEP_RUNS = 3
 STAGING_PREFIX = ".reproduce-"
 #: Age after which leftovers without an owner file are stale, seconds.
 STALE_AFTER_S = 600.0
+#: Age after which leftovers are stale even though their owner's process id is in use (reused), s.
+REUSED_PID_AFTER_S = 86_400.0
 _OWNER = ".owner"
 _CURRENT = "current"
 _RUNS = "runs"
@@ -77,12 +80,13 @@ def _owner_pid(folder: Path) -> int | None:
 
 
 def _is_stale(path: Path, pid: int | None, now: float) -> bool:
-    if pid is not None:
-        return not pid_alive(pid)
     try:
-        return now - path.lstat().st_mtime > STALE_AFTER_S
+        age = now - path.lstat().st_mtime
     except OSError:
         return False
+    if pid is not None:  # a run lasts minutes: after a day, a live pid is another process's
+        return not pid_alive(pid) or age > REUSED_PID_AFTER_S
+    return age > STALE_AFTER_S
 
 
 def clean_stale(out: Path) -> list[Path]:
