@@ -302,3 +302,21 @@ def test_oacc_report_renders_the_page_again_from_result_json(work, capsys):
     assert main(["report", str(out / "bad.json")]) == 1
     err = capsys.readouterr().err
     assert err == f"oacc: error: {out / 'bad.json'}: verdict: Field required\n"
+
+
+def test_oacc_report_through_a_published_folder_writes_into_the_run_and_keeps_the_links(work, capsys):
+    from oacdsl.cli import main
+    from oacdsl.pipeline.publish import make_staging, publish
+
+    src, result = work
+    out = src / "out"
+    staging = make_staging(out)
+    shutil.copytree(src / "figures", staging / "figures")
+    write_report(result, staging)
+    publish(staging, out)
+    run_folder = (out / "current").resolve()
+    (run_folder / "report.html").unlink()
+    assert main(["report", str(out / "result.json")]) == 0
+    assert capsys.readouterr().out.strip() == str(run_folder / "report.html")
+    assert all((out / name).is_symlink() for name in ("report.html", "result.json", "figures"))
+    assert len(img_sources((out / "report.html").read_text(encoding="utf-8"))) == 2 + 9 * 3 + 8
