@@ -6,7 +6,7 @@ per OAC in an embedded SQLite database; :func:`summarise` turns them into succes
 rates with Wilson intervals (``oacc stats``).
 """
 
-from oacdsl.stats.paths import ENV_VAR, default_db_path, ensure_writable, resolve_db_path
+from oacdsl.stats.paths import ENV_VAR, default_db_path, resolve_db_path
 from oacdsl.stats.reliability import Reliability, summarise, wilson_interval
 from oacdsl.stats.store import (
     APPLICATION_ID,
@@ -14,6 +14,7 @@ from oacdsl.stats.store import (
     Outcome,
     RunStore,
 )
+from oacdsl.stats.writable import ensure_writable
 
 __all__ = [
     "APPLICATION_ID",
