@@ -74,6 +74,10 @@ def run(args: argparse.Namespace) -> int:
         if args.json:
             print(json.dumps(comp.to_json(None), indent=2))
         return 0
+    from oacdsl.atomic import remove_stale_temporaries
+
+    for written_to in {target.parent, root / LEARNED, drafts_dir}:  # what killed runs left behind
+        remove_stale_temporaries(written_to)
     # Check everything before writing anything: the drafts, then the OAC that calls them.
     drafts = {drafts_dir / f"{d.name}.oac": d for _, d in demo.drafts}
     pending = {path: render([d], str(path)) for path, d in drafts.items()}
