@@ -375,6 +375,8 @@ BAD = [
         "'rack' is ignored in scene 's': it takes part in no relation",
         "7:16",
     ),
+    ("grasp Bowl { type power approach side offset (0.0, 1e400, 0.0) }", "E025", "too large to be", "1:39"),
+    ("grasp Bowl { type power approach side offset (-1e309, 0, 0) }", "E025", "too large to be", "1:39"),
     (
         "class Spoon : Graspable\nscene s { spoon : Spoon }",
         "W007",
