@@ -178,13 +178,13 @@ def run(args: argparse.Namespace) -> int:
     bindings = _pairs(args.bind, "--bind")
     overrides = scene_overrides(args)
     library, scene = load_inputs(args.library or ["library"], args.scene)
-    demonstrated = _demonstrated(args, library, scene, bindings, overrides.layout)
     db = None
     if not args.no_record:  # an unusable store fails now, before the simulation
         from oacdsl.stats import ensure_writable, resolve_db_path
 
         db = ensure_writable(resolve_db_path(args.db))
     _check_outputs(args)
+    demonstrated = _demonstrated(args, library, scene, bindings, overrides.layout)
     note = prepare_backend(bool(args.video or args.frames))  # before MuJoCo is imported
     if note:
         then = "running without rendering" if note != NONE_FOUND else "trying MuJoCo's default (GLFW)"
