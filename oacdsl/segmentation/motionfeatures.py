@@ -1,0 +1,171 @@
+"""Summary features of an object's path relative to another: what a skill needs to follow it.
+
+Given ``T_target_object`` over a sub-action (metres, seconds), :func:`motion_features`
+reports the path length, the extent along the path's principal axes, the dominant
+period of an oscillation (stirring circles, wiping strokes) with its number of
+cycles and radius, and the tilt the object reaches relative to the target (a pour)
+with how long it stays tilted. Frames without a pose (NaN) are left out of lengths
+and bridged linearly for the period. numpy only.
+
+Definitions (all in the target's frame):
+
+- **path length**: the summed distance between consecutive posed frames of the
+  object frame's origin, metres.
+- **extent**: peak-to-peak of the origin's path along its three principal axes
+  (PCA of the positions), largest first, metres.
+- **core**: the frames where the object dwells: the longest run of posed frames
+  within :data:`CORE_FACTOR` × the median distance of the path's points from their
+  median point (the object entering and leaving the target is cut off; a stir is the
+  circles, not the spoon's way into the cup). Period, cycles and radius describe the core.
+- **period**: the lag of the first peak of the path's autocorrelation (principal
+  plane, centred, linear trend removed) after it first turns negative, refined by a
+  parabola through the peak; reported only when that peak's correlation is at least
+  :data:`MIN_PERIODICITY` and the span holds :data:`MIN_CYCLES` periods or more.
+  ``cycles`` = the core's duration / period.
+- **radius**: the median distance of the path from its centre in the principal plane
+  (a circle's radius; half a stroke's length, roughly, for strokes), metres.
+- **tilt**: the angle between the object's z axis and the target's z axis, radians
+  (0 while both stand as they stood at their reference frame); ``tilt_max_rad`` its
+  largest value, ``tilt_time_s`` the time it stays at or above half of that.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+__all__ = ["CORE_FACTOR", "MIN_CYCLES", "MIN_PERIODICITY", "MotionFeatures", "core_frames", "dominant_period", "motion_features"]
+
+#: Smallest autocorrelation (0..1) at the period's lag for an oscillation to count.
+MIN_PERIODICITY = 0.3
+#: Fewest periods the span must hold for a period to be reported.
+MIN_CYCLES = 1.5
+#: The core holds the points within this many median distances of the path's median point.
+CORE_FACTOR = 2.5
+#: Fewest posed frames for a period estimate.
+_MIN_SAMPLES = 6
+
+
+@dataclass(frozen=True)
+class MotionFeatures:
+    """Features of one object-relative path (SI units; ``None`` where not defined)."""
+
+    duration_s: float
+    path_length_m: float
+    extent_m: tuple[float, float, float]
+    core_s: tuple[float, float]
+    period_s: float | None
+    cycles: float | None
+    radius_m: float
+    tilt_max_rad: float
+    tilt_time_s: float
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "duration_s": round(self.duration_s, 6),
+            "path_length_m": round(self.path_length_m, 6),
+            "extent_m": [round(e, 6) for e in self.extent_m],
+            "core_s": [round(c, 6) for c in self.core_s],
+            "period_s": None if self.period_s is None else round(self.period_s, 6),
+            "cycles": None if self.cycles is None else round(self.cycles, 3),
+            "radius_m": round(self.radius_m, 6),
+            "tilt_max_rad": round(self.tilt_max_rad, 6),
+            "tilt_time_s": round(self.tilt_time_s, 6),
+        }
+
+
+def _principal(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Centred points (N, 3) → (coordinates along the principal axes (N, 3), axes (3, 3) as rows)."""
+    centred = points - points.mean(axis=0)
+    _, _, vt = np.linalg.svd(centred, full_matrices=False)
+    axes = np.zeros((3, 3))
+    axes[: vt.shape[0]] = vt
+    return centred @ axes.T, axes
+
+
+def dominant_period(times_s: np.ndarray, signal: np.ndarray) -> tuple[float | None, float]:
+    """The dominant period (seconds) of a (N,) or (N, d) signal and its autocorrelation there.
+
+    Gaps (NaN rows) are bridged linearly; samples are taken as evenly spaced at the
+    median step. Returns ``(None, 0.0)`` when no peak passes the module's rules.
+    """
+    t = np.asarray(times_s, dtype=np.float64)
+    x = np.asarray(signal, dtype=np.float64).reshape(len(t), -1)
+    ok = np.isfinite(x).all(axis=1)
+    if ok.sum() < _MIN_SAMPLES:
+        return None, 0.0
+    x = np.stack([np.interp(t, t[ok], col[ok]) for col in x.T], axis=1)
+    n = len(t)
+    dt = float(np.median(np.diff(t)))
+    design = np.stack([np.ones(n), t - t.mean()], axis=1)
+    x = x - design @ np.linalg.lstsq(design, x, rcond=None)[0]  # centre, remove a linear drift
+    spectrum = np.fft.rfft(x, n=2 * n, axis=0)
+    acf = np.fft.irfft((spectrum * spectrum.conj()).real, axis=0)[:n].sum(axis=1)
+    if acf[0] <= 0:
+        return None, 0.0
+    acf = acf / acf[0] * n / (n - np.arange(n))  # unbiased, normalised: acf[0] = 1
+    max_lag = int(n / MIN_CYCLES)
+    negative = np.flatnonzero(acf[1 : max_lag + 1] < 0)
+    if negative.size == 0:
+        return None, 0.0
+    lo = int(negative[0]) + 1
+    if lo + 1 > max_lag:
+        return None, 0.0
+    k = lo + int(np.argmax(acf[lo : max_lag + 1]))
+    peak = float(acf[k])
+    if peak < MIN_PERIODICITY or k >= n - 1 or acf[k + 1] > peak:
+        return None, peak
+    a, b, c = acf[k - 1], acf[k], acf[k + 1]
+    denom = a - 2 * b + c
+    shift = 0.5 * (a - c) / denom if denom < 0 else 0.0
+    return (k + float(np.clip(shift, -0.5, 0.5))) * dt, peak
+
+
+def core_frames(points: np.ndarray) -> tuple[int, int]:
+    """``[a, b)``: the longest run of rows of (N, 3) ``points`` near their median point (module doc)."""
+    ok = np.isfinite(points).all(axis=1)
+    if not ok.any():
+        return 0, 0
+    dist = np.linalg.norm(points - np.median(points[ok], axis=0), axis=1)
+    scale = float(np.median(dist[ok]))
+    near = np.zeros(len(points), dtype=np.int8)
+    near[ok] = dist[ok] <= CORE_FACTOR * scale
+    edges = np.diff(np.r_[0, near, 0])
+    starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    if starts.size == 0:
+        return 0, 0
+    k = int(np.argmax(stops - starts))
+    return int(starts[k]), int(stops[k])
+
+
+def motion_features(times_s: np.ndarray, T_target_object: np.ndarray) -> MotionFeatures:
+    """The features of one path (module doc); ``T_target_object`` (N, 4, 4), metres, NaN in gaps."""
+    t = np.asarray(times_s, dtype=np.float64)
+    T = np.asarray(T_target_object, dtype=np.float64)
+    ok = np.isfinite(T[:, 0, 0])
+    duration = float(t[-1] - t[0]) if len(t) else 0.0
+    if ok.sum() < 2:
+        return MotionFeatures(duration, 0.0, (0.0, 0.0, 0.0), (0.0, 0.0), None, None, 0.0, 0.0, 0.0)
+    pos = T[ok, :3, 3]
+    path = float(np.linalg.norm(np.diff(pos, axis=0), axis=1).sum())
+    extent = np.ptp(_principal(pos)[0], axis=0)
+    a, b = core_frames(T[:, :3, 3])
+    core = T[a:b, :3, 3]
+    core_ok = np.isfinite(core).all(axis=1)
+    plane = np.full((b - a, 2), np.nan)
+    radius = 0.0
+    if core_ok.sum() >= 2:
+        plane[core_ok] = _principal(core[core_ok])[0][:, :2]
+        radius = float(np.median(np.linalg.norm(plane[core_ok], axis=1)))
+    period, _ = dominant_period(t[a:b], plane) if b - a >= _MIN_SAMPLES else (None, 0.0)
+    core_s = (float(t[a]), float(t[b - 1])) if b > a else (0.0, 0.0)
+    cycles = (core_s[1] - core_s[0]) / period if period else None
+    tilt = np.arccos(np.clip(T[ok, 2, 2], -1.0, 1.0))  # z axis of the object in the target's frame
+    tilt_max = float(tilt.max())
+    dt = np.diff(t)
+    step = np.r_[dt, dt[-1:]] if len(dt) else np.zeros(1)
+    tilt_time = float(step[ok][tilt >= 0.5 * tilt_max].sum()) if tilt_max > 0 else 0.0
+    return MotionFeatures(duration, path, (float(extent[0]), float(extent[1]), float(extent[2])),
+                          core_s, period, cycles, radius, tilt_max, tilt_time)
