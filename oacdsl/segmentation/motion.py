@@ -5,8 +5,8 @@ names
 
 - the **hand**: an agent (an instance named like ``*hand*``) holding something in
   the world state before the span;
-- the **moved** object: what that hand holds, or, when no hand holds anything, the
-  hand itself (it reaches for or leaves an object);
+- the **moved** object: what that hand holds, or the hand itself when it holds
+  nothing and reaches for an object or leaves it (a hand relation made or broken);
 - the **target**, what the moved object works on: the other side of the relation it
   *makes* (in the state after, not before), *breaks* (before, not after) or *keeps*
   (both) with an object that is not an agent; ``None`` when there is none (the
@@ -16,8 +16,9 @@ and the moved object's pose in the target's frame over the span,
 ``T_target_object`` (metres; times in seconds), with its :class:`MotionFeatures`.
 When several candidates fit (both hands hold something, as in Stir: spoon in the
 cup held by the other hand), the one whose moved object travels farthest in the
-world during the span is chosen; a made or broken relation is preferred to a kept
-one only between equally long paths. Poses come from the rigid fit of
+world during the span is chosen (a made or broken relation before a kept one only
+between equally long paths); a held object with no such relation is taken (in the
+world frame) only when no candidate has a target. Poses come from the rigid fit of
 :mod:`oacdsl.segmentation.poses` (instances with ≥ 3 markers).
 """
 
@@ -131,15 +132,15 @@ def _candidates(sub: SubAction, agents: list[str], posed: Mapping[str, ObjectPos
             b, a = before.touches(o, x), after.touches(o, x)
             if b or a:
                 out.append((h, o, x, "kept" if a and b else "made" if a else "broken"))
-    if not out:
-        out = [(h, o, None, None) for h, o in held]
-    if not out:
-        for h in agents:
-            for x in objects:
-                b, a = before.touches(h, x), after.touches(h, x)
-                if h in posed and x in posed and a != b:
-                    out.append((h, h, x, "made" if a else "broken"))
-    return out
+    holding = {h for h, _ in held}
+    for h in agents:  # a free hand reaching for an object, or leaving one it did not carry
+        if h in holding:
+            continue
+        for x in objects:
+            b, a = before.touches(h, x), after.touches(h, x)
+            if h in posed and x in posed and a != b:
+                out.append((h, h, x, "made" if a else "broken"))
+    return out or [(h, o, None, None) for h, o in held]
 
 
 def sub_action_motions(recording: Recording, segmentation: Segmentation,
@@ -161,7 +162,7 @@ def sub_action_motions(recording: Recording, segmentation: Segmentation,
                                        np.full((len(span_t), 4, 4), np.nan), None, float("nan")))
             continue
         hand, moved, target, rel = min(
-            found, key=lambda c: (-round(_travel(posed[c[1]], a, b), 4), _RELATION_RANK[c[3]]))
+            found, key=lambda c: (-round(_travel(posed[c[1]], a, b), 4), _RELATION_RANK[c[3]], c[:3]))
         T_world_moved = posed[moved].T_world_object[a : b + 1]
         if target is None:
             T, residual = T_world_moved, _median(posed[moved].residual_m[a : b + 1])

@@ -10,17 +10,20 @@ and bridged linearly for the period. numpy only.
 Definitions (all in the target's frame):
 
 - **path length**: the summed distance between consecutive posed frames of the
-  object frame's origin, metres.
+  object frame's origin, after a centred moving average over :data:`SMOOTH_S`
+  (none at 10 Hz), metres.
 - **extent**: peak-to-peak of the origin's path along its three principal axes
   (PCA of the positions), largest first, metres.
 - **core**: the frames where the object dwells: the longest run of posed frames
   within :data:`CORE_FACTOR` × the median distance of the path's points from their
   median point (the object entering and leaving the target is cut off; a stir is the
   circles, not the spoon's way into the cup). Period, cycles and radius describe the core.
-- **period**: the lag of the first peak of the path's autocorrelation (principal
-  plane, centred, linear trend removed) after it first turns negative, refined by a
-  parabola through the peak; reported only when that peak's correlation is at least
-  :data:`MIN_PERIODICITY` and the span holds :data:`MIN_CYCLES` periods or more.
+- **period**: the lag of the first peak (at least :data:`MIN_PERIODICITY`) of the
+  path's autocorrelation (principal plane, centred, linear trend removed) after it
+  first turns negative, refined by a
+  parabola through the peak; reported only when the peak lies 3–5.5 times as far as the first zero
+  crossing (4 for a sinusoid; white noise crosses anywhere), the core holds
+  :data:`MIN_CYCLES` periods or more and its radius is :data:`MIN_RADIUS_M` or more.
   ``cycles`` = the core's duration / period.
 - **radius**: the median distance of the path from its centre in the principal plane
   (a circle's radius; half a stroke's length, roughly, for strokes), metres.
@@ -36,7 +39,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["CORE_FACTOR", "MIN_CYCLES", "MIN_PERIODICITY", "MotionFeatures", "core_frames", "dominant_period", "motion_features"]
+__all__ = ["CORE_FACTOR", "MIN_CYCLES", "MIN_RADIUS_M", "SMOOTH_S", "MIN_PERIODICITY", "MotionFeatures", "core_frames", "dominant_period", "motion_features"]
 
 #: Smallest autocorrelation (0..1) at the period's lag for an oscillation to count.
 MIN_PERIODICITY = 0.3
@@ -44,8 +47,15 @@ MIN_PERIODICITY = 0.3
 MIN_CYCLES = 1.5
 #: The core holds the points within this many median distances of the path's median point.
 CORE_FACTOR = 2.5
+#: Smallest radius of a reported oscillation, metres: below it the path is jitter of the fit.
+MIN_RADIUS_M = 0.005
+#: The period's lag over the first zero crossing's lag (4 for a sinusoid).
+_ZERO_RATIO = (3.0, 5.5)
+#: Window of the moving average a path length is measured on, seconds (marker jitter
+#: would add length at high frame rates; a 0.6 s stirring circle loses ~1 %).
+SMOOTH_S = 0.05
 #: Fewest posed frames for a period estimate.
-_MIN_SAMPLES = 6
+_MIN_SAMPLES = 8
 
 
 @dataclass(frozen=True)
@@ -113,14 +123,30 @@ def dominant_period(times_s: np.ndarray, signal: np.ndarray) -> tuple[float | No
     lo = int(negative[0]) + 1
     if lo + 1 > max_lag:
         return None, 0.0
-    k = lo + int(np.argmax(acf[lo : max_lag + 1]))
+    zero = lo - 1 + acf[lo - 1] / (acf[lo - 1] - acf[lo])  # lag of the first zero crossing
+    lags = np.arange(lo, min(max_lag, n - 2) + 1)
+    peaks = lags[(acf[lags] >= acf[lags - 1]) & (acf[lags] >= acf[lags + 1]) & (acf[lags] >= MIN_PERIODICITY)]
+    if peaks.size == 0:
+        return None, float(acf[lo : max_lag + 1].max())
+    k = int(peaks[0])  # the first clear peak: the period, not a multiple of it
     peak = float(acf[k])
-    if peak < MIN_PERIODICITY or k >= n - 1 or acf[k + 1] > peak:
-        return None, peak
+    if not _ZERO_RATIO[0] <= k / zero <= _ZERO_RATIO[1]:
+        return None, peak  # an oscillation crosses zero a quarter period in; noise anywhere
     a, b, c = acf[k - 1], acf[k], acf[k + 1]
     denom = a - 2 * b + c
     shift = 0.5 * (a - c) / denom if denom < 0 else 0.0
     return (k + float(np.clip(shift, -0.5, 0.5))) * dt, peak
+
+
+def _smooth(times_s: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Centred moving average of (N, 3) ``points`` over :data:`SMOOTH_S` (edges: the mean of what fits)."""
+    dt = float(np.median(np.diff(times_s))) if len(times_s) > 1 else 1.0
+    w = int(round(SMOOTH_S / dt)) if dt > 0 else 1
+    if w <= 1:
+        return points
+    kernel = np.ones(w)
+    count = np.convolve(np.ones(len(points)), kernel, mode="same")
+    return np.stack([np.convolve(col, kernel, mode="same") / count for col in points.T], axis=1)
 
 
 def core_frames(points: np.ndarray) -> tuple[int, int]:
@@ -130,14 +156,15 @@ def core_frames(points: np.ndarray) -> tuple[int, int]:
         return 0, 0
     dist = np.linalg.norm(points - np.median(points[ok], axis=0), axis=1)
     scale = float(np.median(dist[ok]))
-    near = np.zeros(len(points), dtype=np.int8)
-    near[ok] = dist[ok] <= CORE_FACTOR * scale
+    far = np.zeros(len(points), dtype=bool)
+    far[ok] = dist[ok] > CORE_FACTOR * scale
+    near = (~far).astype(np.int8)  # a gap does not cut the core
     edges = np.diff(np.r_[0, near, 0])
     starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
-    if starts.size == 0:
-        return 0, 0
-    k = int(np.argmax(stops - starts))
-    return int(starts[k]), int(stops[k])
+    posed = np.r_[0, np.cumsum(ok)]
+    k = int(np.argmax(posed[stops] - posed[starts]))  # the run with the most posed frames
+    inside = np.flatnonzero(ok[starts[k] : stops[k]]) + starts[k]
+    return (int(inside[0]), int(inside[-1]) + 1) if inside.size else (0, 0)
 
 
 def motion_features(times_s: np.ndarray, T_target_object: np.ndarray) -> MotionFeatures:
@@ -149,7 +176,7 @@ def motion_features(times_s: np.ndarray, T_target_object: np.ndarray) -> MotionF
     if ok.sum() < 2:
         return MotionFeatures(duration, 0.0, (0.0, 0.0, 0.0), (0.0, 0.0), None, None, 0.0, 0.0, 0.0)
     pos = T[ok, :3, 3]
-    path = float(np.linalg.norm(np.diff(pos, axis=0), axis=1).sum())
+    path = float(np.linalg.norm(np.diff(_smooth(t[ok], pos), axis=0), axis=1).sum())
     extent = np.ptp(_principal(pos)[0], axis=0)
     a, b = core_frames(T[:, :3, 3])
     core = T[a:b, :3, 3]
@@ -162,6 +189,8 @@ def motion_features(times_s: np.ndarray, T_target_object: np.ndarray) -> MotionF
     period, _ = dominant_period(t[a:b], plane) if b - a >= _MIN_SAMPLES else (None, 0.0)
     core_s = (float(t[a]), float(t[b - 1])) if b > a else (0.0, 0.0)
     cycles = (core_s[1] - core_s[0]) / period if period else None
+    if cycles is not None and (cycles < MIN_CYCLES or radius < MIN_RADIUS_M):
+        period = cycles = None
     tilt = np.arccos(np.clip(T[ok, 2, 2], -1.0, 1.0))  # z axis of the object in the target's frame
     tilt_max = float(tilt.max())
     dt = np.diff(t)
