@@ -32,7 +32,7 @@ def rot_x(a):
 
 
 def moving_body(frames=300, noise_m=0.0005, seed=0):
-    """A 4-marker body (metres) that turns about z and tilts about x while it travels; truth T_world_object."""
+    """A 4-marker body (metres) turning about z, tilting about x, travelling; and its T_world_object."""
     rng = np.random.default_rng(seed)
     body = np.array([[0.04, 0.0, 0.0], [-0.03, 0.03, 0.01], [0.0, -0.05, 0.02], [-0.01, 0.02, -0.03]])
     body -= body.mean(axis=0)  # the fit's origin is the centroid at the reference frame
@@ -116,13 +116,16 @@ MMM = """<?xml version='1.0'?>
 <MMM version="2.0">
  <Motion name="true_box" type="object" synchronized="true"><Sensors>
   <Sensor type="ModelPose" version="1.0"><Configuration/><Data>
-   <Measurement timestep="0"><RootPosition>100 200 900</RootPosition><RootRotation>0 0 0</RootRotation></Measurement>
-   <Measurement timestep="0.1"><RootPosition>110 200 900</RootPosition><RootRotation>0.3 -0.2 1.5</RootRotation></Measurement>
+   <Measurement timestep="0"><RootPosition>100 200 900</RootPosition>
+    <RootRotation>0 0 0</RootRotation></Measurement>
+   <Measurement timestep="0.1"><RootPosition>110 200 900</RootPosition>
+    <RootRotation>0.3 -0.2 1.5</RootRotation></Measurement>
   </Data></Sensor></Sensors></Motion>
  <Motion name="true_1723" type="object"><Sensors>
   <Sensor type="Kinematic" version="1.0"><Data/></Sensor>
   <Sensor type="ModelPose" version="1.0"><Data>
-   <Measurement timestep="0"><RootPosition>0 0 0</RootPosition><RootRotation>0 0 0</RootRotation></Measurement>
+   <Measurement timestep="0"><RootPosition>0 0 0</RootPosition>
+    <RootRotation>0 0 0</RootRotation></Measurement>
   </Data></Sensor></Sensors></Motion>
 </MMM>
 """

@@ -29,17 +29,30 @@ Definitions (all in the target's frame):
   (a circle's radius; half a stroke's length, roughly, for strokes), metres.
 - **tilt**: the angle between the object's z axis and the target's z axis, radians
   (0 while both stand as they stood at their reference frame); ``tilt_max_rad`` its
-  largest value, ``tilt_time_s`` the time it stays at or above half of that.
+  largest value, ``tilt_time_s`` the time it stays at or above half of that (0 when
+  the largest tilt is below :data:`MIN_TILT_RAD`).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-__all__ = ["CORE_FACTOR", "MIN_CYCLES", "MIN_RADIUS_M", "SMOOTH_S", "MIN_PERIODICITY", "MotionFeatures", "core_frames", "dominant_period", "motion_features"]
+__all__ = [
+    "CORE_FACTOR",
+    "MIN_CYCLES",
+    "MIN_PERIODICITY",
+    "MIN_RADIUS_M",
+    "MIN_TILT_RAD",
+    "SMOOTH_S",
+    "MotionFeatures",
+    "core_frames",
+    "dominant_period",
+    "motion_features",
+]
 
 #: Smallest autocorrelation (0..1) at the period's lag for an oscillation to count.
 MIN_PERIODICITY = 0.3
@@ -54,6 +67,8 @@ _ZERO_RATIO = (3.0, 5.5)
 #: Window of the moving average a path length is measured on, seconds (marker jitter
 #: would add length at high frame rates; a 0.6 s stirring circle loses ~1 %).
 SMOOTH_S = 0.05
+#: Smallest tilt whose duration is measured, radians (5°: below it the object was not tilted).
+MIN_TILT_RAD = math.radians(5.0)
 #: Fewest posed frames for a period estimate.
 _MIN_SAMPLES = 8
 
@@ -195,6 +210,6 @@ def motion_features(times_s: np.ndarray, T_target_object: np.ndarray) -> MotionF
     tilt_max = float(tilt.max())
     dt = np.diff(t)
     step = np.r_[dt, dt[-1:]] if len(dt) else np.zeros(1)
-    tilt_time = float(step[ok][tilt >= 0.5 * tilt_max].sum()) if tilt_max > 0 else 0.0
+    tilt_time = float(step[ok][tilt >= 0.5 * tilt_max].sum()) if tilt_max >= MIN_TILT_RAD else 0.0
     return MotionFeatures(duration, path, (float(extent[0]), float(extent[1]), float(extent[2])),
                           core_s, period, cycles, radius, tilt_max, tilt_time)

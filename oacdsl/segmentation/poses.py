@@ -95,7 +95,8 @@ def fit_constellation(constellation_m: np.ndarray, points_m: np.ndarray) -> tupl
     """
     ref = np.asarray(constellation_m, dtype=np.float64)
     pts = np.asarray(points_m, dtype=np.float64)
-    seen = np.isfinite(pts).all(axis=2) & np.isfinite(ref).all(axis=1)[None, :]  # (F, k)
+    usable = np.asarray(np.isfinite(ref).all(axis=1))
+    seen = np.isfinite(pts).all(axis=2) & usable[None, :]  # (F, k)
     w = seen.astype(np.float64)
     n = w.sum(axis=1)  # (F,)
     ok = n >= MIN_MARKERS
