@@ -13,7 +13,6 @@ from runtime_lib import task_library  # noqa: E402
 from oacdsl.runtime.control import FORCE_LIMIT_N  # noqa: E402
 from oacdsl.runtime.executor import execute, prepare, run_prepared  # noqa: E402
 from oacdsl.runtime.layout import BALLS_PER_LIQUID  # noqa: E402
-from oacdsl.runtime.objects import SHAPES  # noqa: E402
 from oacdsl.runtime.skills.place import CONTACT_FORCE_N  # noqa: E402
 
 
@@ -76,8 +75,9 @@ def test_mix_ends_with_the_mixer_in_the_bowl():
     assert ["mixer", "orange_bowl"] in result.steps[-1].observed
     world = run.world
     mixer, bowl = world.body_pose("mixer"), world.body_pose("orange_bowl")
-    assert math.dist(mixer[:2, 3], bowl[:2, 3]) < SHAPES["bowl"].inner_radius
-    assert mixer[2, 3] < bowl[2, 3] + SHAPES["bowl"].height
+    shape = run.world.layout.bodies["orange_bowl"]
+    assert math.dist(mixer[:2, 3], bowl[:2, 3]) < shape.inner_radius
+    assert mixer[2, 3] < bowl[2, 3] + shape.height
 
 
 def test_wipe_keeps_the_sponge_on_the_tray():

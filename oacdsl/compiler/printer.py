@@ -18,22 +18,38 @@ steps in their order. Layout rules:
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Iterable
 
+from oacdsl.compiler.grammar import name_pattern
 from oacdsl.errors import LanguageError
-from oacdsl.model import Atom, Call, Decl, Grasp, Instance, Module, Node, Oac, ObjectClass, Param, Scene
+from oacdsl.model import (
+    Atom,
+    Call,
+    Decl,
+    Geometry,
+    Grasp,
+    Instance,
+    Module,
+    Node,
+    Oac,
+    ObjectClass,
+    Param,
+    Point,
+    Quantity,
+    Scene,
+    Shape,
+    atom_text,
+)
 from oacdsl.world import NOTHING
 
 __all__ = ["format_atom", "format_decl", "format_oac", "print_module"]
 
-_IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 _WIDTH = 100
 _IND = "    "
 
 
 def _name(name: str) -> str:
-    if not _IDENT.match(name):
+    if not name_pattern().fullmatch(name):
         raise LanguageError(
             f"cannot print {name!r}: not a name (letters, digits, '_', not starting with a digit)"
         )
@@ -72,16 +88,57 @@ def _with_note(text: str, node: Node) -> str:
 
 
 def format_atom(atom: Atom) -> str:
-    """``not a <-> b`` — one relation, without its note."""
-    text = f"{_name(atom.left)} <-> {_name(atom.right)}"
-    return f"not {text}" if atom.negated else text
+    """``not a <-> b`` — one relation, without its note (:class:`LanguageError` for a name that is none)."""
+    return atom_text(atom, (_name(atom.left), _name(atom.right)))
+
+
+def _quantity(q: Quantity) -> str:
+    if not math.isfinite(q.value):
+        raise LanguageError(f"cannot print the number {q.value!r}: sizes must be finite")
+    number = str(int(q.value)) if q.value.is_integer() and abs(q.value) < 1e15 else repr(q.value)
+    return number + (_name(q.unit) if q.unit else "")
+
+
+def _point(p: Point) -> str:
+    return f"({_quantity(p.x)}, {_quantity(p.y)}, {_quantity(p.z)})"
+
+
+def _shape(shape: Shape) -> str:
+    args = ([_string(shape.file)] if shape.file is not None else []) + [
+        f"{_name(d.name)} {_quantity(d.value)}" for d in shape.dims
+    ]
+    text = f"shape {_name(shape.primitive)}"
+    if args:
+        text += "(" + ", ".join(args) + ")"
+    if shape.at is not None:
+        text += " at " + _point(shape.at)
+    return text
+
+
+def _geometry(geometry: Geometry, indent: str) -> list[str]:
+    """The lines inside a geometry block, each indented by ``indent``."""
+    lines = [_shape(s) for s in geometry.shapes]
+    if geometry.mass is not None:
+        lines.append(f"mass {_quantity(geometry.mass)}")
+    if geometry.friction is not None:
+        lines.append(f"friction {_number(geometry.friction)}")
+    if geometry.colour is not None:
+        lines.append(f"colour {_name(geometry.colour)}")
+    if geometry.markers:
+        lines.append("markers " + ", ".join(_point(p) for p in geometry.markers))
+    return [indent + line for line in lines]
 
 
 def _class(decl: ObjectClass) -> list[str]:
     text = f"class {_name(decl.name)}"
     if decl.parents:
         text += " : " + ", ".join(_name(p) for p in decl.parents)
-    return [_with_note(text, decl)]
+    if decl.geometry is None:
+        return [_with_note(text, decl)]
+    inside = _geometry(decl.geometry, _IND)
+    if not inside:
+        return [_with_note(text + " { }", decl)]
+    return [text + " {", *inside, _with_note("}", decl)]
 
 
 def _instance_line(names: list[str], inst: Instance, width: int) -> str:
@@ -90,6 +147,11 @@ def _instance_line(names: list[str], inst: Instance, width: int) -> str:
         text += " markers (" + ", ".join(_string(m) for m in inst.markers) + ")"
     if inst.environment:
         text += " environment"
+    if inst.geometry is not None:
+        inside = _geometry(inst.geometry, _IND * 2)
+        if not inside:
+            return _with_note(text + " { }", inst)
+        return "\n".join([text + " {", *inside, _with_note(_IND + "}", inst)])
     return _with_note(text, inst)
 
 
@@ -101,7 +163,7 @@ def _groups(instances: tuple[Instance, ...]) -> list[list[Instance]]:
     groups: list[list[Instance]] = []
     by_kind: dict[tuple[tuple[str, ...], bool], list[Instance]] = {}
     for inst in instances:
-        if inst.markers or inst.comments or inst.note is not None:
+        if inst.markers or inst.geometry is not None or inst.comments or inst.note is not None:
             groups.append([inst])
             continue
         key = (inst.classes, inst.environment)
@@ -175,8 +237,7 @@ def _display(oac: Oac, atoms: tuple[Atom, ...]) -> list[tuple[Atom, str]]:
         a, b = atom.left, atom.right
         if b != NOTHING and key(b) < key(a):
             a, b = b, a
-        text = f"{_name(a)} <-> {_name(b)}"
-        rows.append(((atom.negated, key(a), key(b)), atom, f"not {text}" if atom.negated else text))
+        rows.append(((atom.negated, key(a), key(b)), atom, atom_text(atom, (_name(a), _name(b)))))
     rows.sort(key=lambda r: r[0])
     return [(atom, text) for _, atom, text in rows]
 
@@ -251,6 +312,8 @@ def format_oac(oac: Oac) -> str:
 
 
 def _tight(prev: Decl, decl: Decl) -> bool:
+    if any(isinstance(d, ObjectClass) and d.geometry is not None for d in (prev, decl)):
+        return False
     return isinstance(decl, ObjectClass | Grasp) and type(prev) is type(decl) and not decl.comments
 
 

@@ -8,8 +8,8 @@ tokens: the grammar keeps the tokens that start and end declarations
 (``CLASS``, ``RBRACE``, …).
 
 Nodes are built with :func:`oacdsl.compiler.fastmodel.make` after applying the
-model's own normalisation (sorted parents, sorted instances, canonical
-atoms). Things
+model's own normalisation (sorted parents, sorted instances, atoms in
+:func:`~oacdsl.model.pair_order`). Things
 the model normalises away (a parent or an atom listed twice) are reported here
 as warnings (W002), since only the parse still shows them.
 """
@@ -22,8 +22,22 @@ from lark import Token, Transformer
 
 from oacdsl.compiler.diagnostics import Diagnostic, Note
 from oacdsl.compiler.fastmodel import make, unquote
-from oacdsl.model import Atom, Call, Decl, Grasp, Instance, Oac, ObjectClass, Param, Scene, Span
-from oacdsl.world import NOTHING
+from oacdsl.compiler.transform_geometry import GeometryBuilder
+from oacdsl.compiler.transform_geometry import token_part as _part
+from oacdsl.model import (
+    Atom,
+    Call,
+    Decl,
+    Grasp,
+    Instance,
+    Oac,
+    ObjectClass,
+    Param,
+    Scene,
+    Span,
+    atom_text,
+    pair_order,
+)
 
 __all__ = ["ModelBuilder"]
 
@@ -32,16 +46,7 @@ _PartT = tuple[str, int, int, int, int]
 _Parts = list[_PartT]
 
 
-def _part(key: str, tok: Token) -> _PartT:
-    return (key, tok.line, tok.column, tok.end_line, tok.end_column)  # type: ignore[return-value]
-
-
-def _show(atom: Atom) -> str:
-    text = f"{atom.left} <-> {atom.right}"
-    return f"not {text}" if atom.negated else text
-
-
-class ModelBuilder(Transformer[Token, list[Decl]]):
+class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
     """Inline transformer from one file's tokens to its declarations.
 
     Call :meth:`reset` before each parse; ``diagnostics`` then collects the
@@ -104,25 +109,28 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
     instance_names = args = class_names
 
     def class_decl(self, children: list[Any]) -> ObjectClass:
-        kw, name, parents = children
+        kw, name, parents, geometry = children
         parts: _Parts = [_part("name", name)]
         names = self._names(parents or [], "parents", parts, "parent class")
-        last = parents[-1] if parents else name
-        return make(
-            ObjectClass,
-            {"name": str(name), "parents": names, "span": self._between(kw, last), "parts": tuple(parts)},
-        )
+        last = geometry.span if geometry is not None else parents[-1] if parents else name
+        values: dict[str, Any] = {"name": str(name), "parents": names}
+        if geometry is not None:
+            values["geometry"] = geometry
+        values.update(span=self._between(kw, last), parts=tuple(parts))
+        return make(ObjectClass, values)
 
     def strings(self, children: list[Token | None]) -> list[Token]:
         return [c for c in children if c is not None]
 
     def markers(self, children: list[Any]) -> tuple[list[Token], Token]:
-        strings, rpar = children
+        _, strings, rpar = children
         return strings or [], rpar
 
     def instance_group(self, children: list[Any]) -> list[Instance]:
-        names, classes, markers, environment = children
+        names, classes, markers, environment, geometry = children
         last = environment or (markers[1] if markers else classes[-1])
+        if geometry is not None:
+            last = geometry.span
         shared: _Parts = []
         cls = self._names(classes, "classes", shared, "class")
         marks: list[str] = []
@@ -137,6 +145,7 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
                     "classes": cls,
                     "markers": tuple(marks),
                     "environment": environment is not None,
+                    "geometry": geometry,
                     "span": self._between(name, last),
                     "parts": (_part("name", name), *shared),
                 },
@@ -196,10 +205,8 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
 
     def atom(self, children: list[Any]) -> Atom:
         negated, first, last = children
-        a, b = str(first), str(last)
-        ta, tb = first, last
-        if (a == NOTHING and b != NOTHING) or (b != NOTHING and a != NOTHING and b < a):
-            a, b, ta, tb = b, a, tb, ta
+        a, b = pair_order(str(first), str(last))
+        ta, tb = (first, last) if a == str(first) else (last, first)
         start = negated if negated is not None else first
         return make(
             Atom,
@@ -228,7 +235,7 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
                 self.diagnostics.append(
                     Diagnostic(
                         "W002",
-                        f"{what} '{_show(atom)}' is listed twice",
+                        f"{what} '{atom_text(atom)}' is listed twice",
                         atom.span,
                         (Note("first listed here", first.span),),
                     )

@@ -239,10 +239,12 @@ def run_prepared(run: Run, *, on_step: Any = None, wall0: float | None = None) -
         )
         if final is not None:
             results[-1].success, results[-1].error, success = False, final, False
-    bowls = [p.name for p in world.layout.placements if p.kind == "bowl"]
+    # containers that start empty: where liquids are poured to
+    filled = set(world.layout.liquids.values())
+    targets = [p.name for p in world.layout.placements if p.body.container and p.name not in filled]
     metrics: dict[str, float | int] = {
         "balls_total": world.balls_total,
-        "balls_in_bowl": sum(world.balls_inside(b) for b in bowls),
+        "balls_in_bowl": sum(world.balls_inside(b) for b in targets),
         "sim_time_s": round(world.time_s, 4),
         "wall_time_s": round(time.perf_counter() - wall0, 4),
     }

@@ -37,7 +37,7 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
     t_obj = world.body_pose(obj)
     support = ctx.support_height(t_obj[:2, 3], exclude=obj)
     ctl.activity = f"reaching for {obj}"
-    plans = plan_grasps(grasp, ctx.kind(obj), t_obj, side, support_z=support)
+    plans = plan_grasps(grasp, ctx.body(obj).round, t_obj, side, support_z=support)
     # approaches whose corridor (pre-grasp to grasp) keeps the hand off other objects first
     free = [ctx.clearance(p.pre_grasp[:3, 3], p.grasp[:3, 3], {obj}) >= HAND_HALF_WIDTH_M for p in plans]
     plans = [p for p, ok in zip(plans, free, strict=True) if ok] + [
