@@ -5,7 +5,8 @@ when it works on nothing), in millimetres, on the plane of the target's axes whe
 its core (see :mod:`~oacdsl.segmentation.motionfeatures`) spreads most (x–y seen from
 above, x–z or y–z from the side). The colour runs
 from the span's start (dark) to its end (light); the dwelling core (where periods
-are measured) is drawn thicker; ``+`` marks the target's origin. matplotlib is
+are measured) is drawn thicker; ``+`` marks the target's origin and a star the frame of
+the largest tilt (30° or more). matplotlib is
 imported inside the function, with a ``Figure`` of its own (no pyplot, no backend
 switch), and the file is written atomically.
 """
@@ -83,6 +84,11 @@ def save_motion_plot(motions: Sequence[SubActionMotion], out: str | Path, *, tit
         if finite.size:
             ax.plot(u[finite[0]], v[finite[0]], "o", mfc="none", mec="k", ms=8, zorder=4, label="start")
             ax.plot(u[finite[-1]], v[finite[-1]], "s", mfc="none", mec="k", ms=8, zorder=4, label="end")
+        tilt = np.arccos(np.clip(m.T_target_object[:, 2, 2], -1.0, 1.0))
+        if np.isfinite(tilt).any() and np.nanmax(tilt) >= math.radians(30):
+            top = int(np.nanargmax(tilt))
+            ax.plot(u[top], v[top], "*", color="darkorange", ms=13, zorder=4,
+                    label=f"largest tilt ({math.degrees(tilt[top]):.0f}°)")
         if m.target is not None:
             ax.plot(0.0, 0.0, "+", color="crimson", ms=12, mew=2, zorder=5, label=f"{m.target} origin")
         ax.set_xlabel(f"{_AXES[i]} in {m.frame_name} [mm]", fontsize=8)
@@ -91,6 +97,5 @@ def save_motion_plot(motions: Sequence[SubActionMotion], out: str | Path, *, tit
         ax.tick_params(labelsize=7)
         ax.grid(True, linewidth=0.3)
         ax.set_title(_caption(m), fontsize=8)
-        if k == 0:
-            ax.legend(fontsize=6, loc="best")
+        ax.legend(fontsize=6, loc="best")
     return save_figure(fig, out)
