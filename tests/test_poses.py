@@ -148,8 +148,17 @@ def test_model_pose_reader(tmp_path):
 def test_model_pose_reader_errors(tmp_path):
     bad = tmp_path / "bad.mmm.xml"
     bad.write_text(MMM.replace("110 200 900", "110 200"))
-    with pytest.raises(RecordingError, match=r"bad.mmm.xml: motion 'true_box', timestep 0.1: RootPosition"):
+    where = r"bad.mmm.xml: line 8: motion 'true_box', timestep 0.1: RootPosition"
+    with pytest.raises(RecordingError, match=where):
         read_model_poses(bad)
+    nan = tmp_path / "nan.mmm.xml"
+    nan.write_text(MMM.replace("0.3 -0.2 1.5", "0.3 nan 1.5"))
+    with pytest.raises(RecordingError, match="RootRotation is '0.3 nan 1.5', expected three finite numbers"):
+        read_model_poses(nan)
+    bomb = tmp_path / "bomb.mmm.xml"
+    bomb.write_text(MMM.replace("<MMM", '<!DOCTYPE MMM [<!ENTITY a "aaaa">]>\n<MMM', 1))
+    with pytest.raises(RecordingError, match="document type declaration"):
+        read_model_poses(bomb)
     broken = tmp_path / "broken.mmm.xml"
     broken.write_text(MMM[:300])
     with pytest.raises(RecordingError, match="not well-formed XML at line"):

@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
 from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
 from oacdsl.errors import UsageError
 from oacdsl.segmentation.params import DEFAULT_MODE
@@ -40,6 +41,7 @@ def add_input_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--format", metavar="FMT",
                    help="read as this format (c3d, mmm, tsv, csv), not by the file's extension")
     g.add_argument("--preset", metavar="NAME", help=PRESET_HELP)
+    add_reading_options(g)
     add_aas_options(g)
 
 
@@ -51,12 +53,17 @@ def load_inputs(args: argparse.Namespace) -> Inputs:
     if Path(args.recording).suffix.lower() == ".json":
         given = [f"--{k}" for k in ("format", "preset", "distance", "speed", "frames", "merge")
                  if getattr(args, k) is not None] + (["--mode"] if args.mode != DEFAULT_MODE else [])
+        given += ["--allow-truncated"] if allow_truncated(args) else []
         if given:
             raise UsageError(f"{', '.join(given)}: these read and segment a recording; {args.recording} is a"
                              " segmentation already (.json)")
     params = params_from_args(args)  # bad units fail before any reading
-    return load(args.recording, args.library, args.scene, params, fmt=args.format, preset=args.preset,
-                segmentations=True, note=note)
+    with printed_warnings():
+        inputs = load(args.recording, args.library, args.scene, params, fmt=args.format, preset=args.preset,
+                      allow_truncated=allow_truncated(args), segmentations=True, note=note)
+    if inputs.recording is not None:
+        check_windows(args, inputs.recording)
+    return inputs
 
 
 def note(text: str) -> None:

@@ -7,6 +7,7 @@ import shlex
 import sys
 from pathlib import Path
 
+from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
 from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
 
 DESCRIPTION = """\
@@ -21,7 +22,8 @@ Writes into --out: report.html (one self-contained page), result.json (its data)
 figures/. Every executed OAC's outcome goes into the run store (oacc stats).
 
 Exit status: 0 reproduced and verified; 1 a stage failed, the robot failed or the closed loop
-differs (the report says which); 2 usage or input error (nothing is written).
+differs (the report says which), or the recording's content is wrong (nothing is written); 2 usage
+or input error (nothing is written).
 """
 
 EPILOG = """\
@@ -82,6 +84,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     g = p.add_argument_group("reading and segmenting the recording (as oacc segment; values carry units)")
     g.add_argument("--format", metavar="FMT", help="read as this format (c3d, mmm, tsv, csv)")
     g.add_argument("--preset", metavar="NAME", help=PRESET_HELP)
+    add_reading_options(g)
     add_aas_options(g, mode_help="touch detector for the demonstration: adaptive (per-pair distances"
                     " learned from co-motion; default) or paper (Eq. 1/2 as printed); the robot's own"
                     " recording is always segmented with paper")
@@ -112,12 +115,15 @@ def run(args: argparse.Namespace) -> int:
     if out.exists() and not out.is_dir():
         raise InputError("--out must be a folder; this is a file", location=str(out))
     try:
-        inputs = load_inputs(
-            args.recording, args.library, args.scene, params,
-            fmt=args.format, preset=args.preset, note=print_note,
-        )
+        with printed_warnings():
+            inputs = load_inputs(
+                args.recording, args.library, args.scene, params,
+                fmt=args.format, preset=args.preset, allow_truncated=allow_truncated(args), note=print_note,
+            )
     except MatchingError as error:  # no scene fits the recording: an input error, nothing is written
         raise InputError(error.message, location=args.recording or BUNDLED_NAME) from None
+    if inputs.recording is not None:
+        check_windows(args, inputs.recording)
     note = prepare_backend(not args.no_render)  # before MuJoCo is imported: it reads MUJOCO_GL once
     if note:
         note += "; no pictures of the robot"

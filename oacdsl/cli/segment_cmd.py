@@ -7,6 +7,7 @@ import json
 import sys
 from typing import Any
 
+from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
 from oacdsl.segmentation.params import DEFAULT_MODE
 
 DESCRIPTION = """\
@@ -20,7 +21,9 @@ merged into the last of them. Frames count from 0 at the file's first frame;
 keyframe 0 is the initial world state.
 
 Values carry units: --distance 150mm (or 15cm, 0.15m), --speed 100mm/s,
---merge 0.3s (or 300ms); --frames is a whole number of frames.
+--merge 0.3s (or 300ms); --frames is a whole number of frames. --frames and
+--merge must fit in the recording. A recording that breaks a reader's limits
+(rate 1 Hz..10 kHz, finite coordinates, size; docs/readers.md) is an error (exit 1).
 
 --motion adds the demonstrated motion of every sub-action: which object a hand
 moved, what it works on (the other side of the relation it makes, breaks or keeps),
@@ -48,6 +51,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     )
     p.add_argument("recording", metavar="RECORDING", help="a .c3d, .mmm.xml/.xml, .tsv or .csv file")
     p.add_argument("--format", metavar="FMT", help="read as this format, not by the file's extension")
+    add_reading_options(p)
     groups = p.add_argument_group("marker groups (default: as the file groups them)")
     groups.add_argument("--scene", metavar="PATH", action="append",
                         help=".oac file or folder (repeatable, loaded as one library) with a scene whose"
@@ -114,7 +118,10 @@ def load(args: argparse.Namespace) -> Any:
 
     if args.scene and args.preset:
         raise UsageError("--scene and --preset both define the marker groups; give one of them")
-    recording = apply_grouping(read_recording(args.recording, args.format), args.preset)
+    with printed_warnings():
+        recording = read_recording(args.recording, args.format, allow_truncated=allow_truncated(args))
+    check_windows(args, recording)
+    recording = apply_grouping(recording, args.preset)
     if args.scene:
         from oacdsl.segmentation.grouping import apply_scene_groups
 

@@ -9,21 +9,26 @@ Pour clips their model-frame coordinates vary by ≤ 2.5 mm; the intrinsic order
 ``Rx · Ry · Rz`` gives up to 93 mm). Motions are named as
 :func:`~oacdsl.segmentation.readers.mmm.read_mmm` names their marker groups
 (``true_cup_small`` → ``cup_small``), so the poses line up with the instances.
+Read like the marker reader: expat in chunks, a document type declaration refused,
+values checked (finite; positions within the readers' coordinate limit).
 """
 
 from __future__ import annotations
 
-import xml.etree.ElementTree as ET
+import math
+import xml.parsers.expat as expat
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from oacdsl.errors import RecordingError
+from oacdsl.errors import InvalidRecording
+from oacdsl.segmentation.readers.limits import MAX_COORDINATE_M, open_regular
 
 __all__ = ["ModelPoses", "read_model_poses", "rpy_matrix"]
 
 _MM_TO_M = 1e-3
+_CHUNK_BYTES = 1 << 16  # bytes fed to the parser at a time
 
 
 @dataclass(frozen=True)
@@ -47,56 +52,99 @@ def rpy_matrix(rpy_rad: np.ndarray) -> np.ndarray:
     ], axis=-2)
 
 
-def _numbers(text: str | None, what: str, motion: str, t: str | None, location: str) -> list[float]:
-    parts = (text or "").split()
-    try:
-        if len(parts) == 3:
-            return [float(p) for p in parts]
-    except ValueError:
-        pass
-    raise RecordingError(f"motion {motion!r}, timestep {t}: {what} is {text!r}, expected three numbers",
-                         location=location)
+class _PoseParser:
+    """Expat callbacks that collect each motion's ``ModelPose`` measurements.
+
+    As in :mod:`~oacdsl.segmentation.readers.mmm`, a document type declaration is
+    refused, so no entity is ever expanded.
+    """
+
+    def __init__(self, location: str) -> None:
+        self.location = location
+        self.rows: dict[str, list[tuple[float, list[float], list[float]]]] = {}
+        self.subjects: set[str] = set()
+        self.motion: str | None = None
+        self.sensor: str | None = None
+        self.timestep: str | None = None
+        self.field: str | None = None
+        self.values: dict[str, str] = {}
+        self.text: list[str] = []
+        self.expat = expat.ParserCreate()
+        self.expat.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
+        self.expat.StartDoctypeDeclHandler = self.refuse_dtd
+        self.expat.EntityDeclHandler = self.refuse_dtd
+        self.expat.StartElementHandler = self.start
+        self.expat.EndElementHandler = self.end
+        self.expat.CharacterDataHandler = self.characters
+
+    def fail(self, message: str) -> InvalidRecording:
+        return InvalidRecording(f"line {self.expat.CurrentLineNumber}: {message}", location=self.location)
+
+    def refuse_dtd(self, *_: object) -> None:
+        raise self.fail("a document type declaration (DTD, entities) is not allowed in an MMM file")
+
+    def start(self, tag: str, attrs: dict[str, str]) -> None:
+        if tag == "Motion":
+            self.motion = attrs.get("name") or f"motion{len(self.rows) + 1}"
+        elif tag == "Sensor":
+            self.sensor = attrs.get("type")
+            if self.sensor == "Kinematic" and self.motion:
+                self.subjects.add(self.motion)
+        elif tag == "Measurement" and self.sensor == "ModelPose":
+            self.timestep, self.values = attrs.get("timestep"), {}
+        elif tag in ("RootPosition", "RootRotation") and self.timestep is not None:
+            self.field, self.text = tag, []
+
+    def characters(self, data: str) -> None:
+        if self.field is not None:
+            self.text.append(data)
+
+    def end(self, tag: str) -> None:
+        if tag == self.field:
+            self.values[tag] = "".join(self.text)
+            self.field = None
+        elif tag == "Measurement" and self.timestep is not None and self.motion is not None:
+            self.rows.setdefault(self.motion, []).append(self.measurement())
+            self.timestep = None
+        elif tag == "Sensor":
+            self.sensor = None
+        elif tag == "Motion":
+            self.motion = None
+
+    def measurement(self) -> tuple[float, list[float], list[float]]:
+        where = f"motion {self.motion!r}, timestep {self.timestep}"
+        try:
+            time = float(self.timestep or "")
+        except ValueError:
+            time = math.nan
+        if not math.isfinite(time):
+            raise self.fail(f"motion {self.motion!r}: ModelPose timestep {self.timestep!r} is not a number")
+        out = []
+        for what, limit in (("RootPosition", MAX_COORDINATE_M / _MM_TO_M), ("RootRotation", 1e3)):
+            text = self.values.get(what)
+            try:
+                numbers = [float(v) for v in (text or "").split()]
+            except ValueError:
+                numbers = []
+            if len(numbers) != 3 or not all(abs(v) <= limit for v in numbers):
+                raise self.fail(f"{where}: {what} is {text!r}, expected three finite numbers")
+            out.append(numbers)
+        return time, out[0], out[1]
 
 
 def read_model_poses(path: str | Path) -> dict[str, ModelPoses]:
     """Every motion's ``ModelPose`` in an MMM file, by group name (motions without one are left out)."""
     location = str(path)
-    rows: dict[str, list[tuple[float, list[float], list[float]]]] = {}
-    subjects: set[str] = set()
-    motion: str | None = None
-    sensor: str | None = None
+    parser = _PoseParser(location)
     try:
-        for event, elem in ET.iterparse(str(path), events=("start", "end")):
-            if event == "start":
-                if elem.tag == "Motion":
-                    motion = elem.get("name") or f"motion{len(rows) + 1}"
-                elif elem.tag == "Sensor":
-                    sensor = elem.get("type")
-                    if sensor == "Kinematic" and motion:
-                        subjects.add(motion)
-                continue
-            if elem.tag == "Measurement" and sensor == "ModelPose" and motion is not None:
-                t = elem.get("timestep")
-                try:
-                    time = float(t or "")
-                except ValueError:
-                    raise RecordingError(f"motion {motion!r}: ModelPose timestep {t!r} is not a number",
-                                         location=location) from None
-                pos = _numbers(elem.findtext("RootPosition"), "RootPosition", motion, t, location)
-                rot = _numbers(elem.findtext("RootRotation"), "RootRotation", motion, t, location)
-                rows.setdefault(motion, []).append((time, pos, rot))
-                elem.clear()
-            elif elem.tag == "Sensor":
-                sensor = None
-            elif elem.tag == "Motion":
-                motion = None
-                elem.clear()
-    except ET.ParseError as err:
-        line, column = err.position
-        raise RecordingError(f"not well-formed XML at line {line}, column {column + 1}",
-                             location=location) from None
-    except OSError as err:
-        raise RecordingError(f"cannot read: {err.strerror or err}", location=location) from None
+        with open_regular(Path(path)) as fh:
+            while chunk := fh.read(_CHUNK_BYTES):
+                parser.expat.Parse(chunk, False)
+            parser.expat.Parse(b"", True)
+    except expat.ExpatError as err:
+        raise InvalidRecording(f"not well-formed XML at line {err.lineno}, column {err.offset + 1}"
+                               f" ({expat.ErrorString(err.code)})", location=location) from None
+    rows, subjects = parser.rows, parser.subjects
     if not rows:
         return {}
     t0 = min(r[0] for measurements in rows.values() for r in measurements)
