@@ -90,6 +90,13 @@ class RecordingWarning(UserWarning):
     """A recording was read, but something in it deserves a look (e.g. fewer frames than declared)."""
 
 
+class ResultError(InputError):
+    """A result document (``result.json``) is JSON but not a valid result: a field missing, of the
+    wrong type, or out of range (fidelity above 1, an index past its list, nesting too deep)."""
+
+    exit_code = 1
+
+
 class SegmentationError(OacError):
     """Segmentation parameters or inputs are invalid."""
 

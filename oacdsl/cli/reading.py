@@ -49,7 +49,8 @@ def printed_warnings() -> Iterator[None]:
 
 
 def check_windows(args: argparse.Namespace, recording: Any) -> None:
-    """``--frames`` and ``--merge``, when given, must fit in the recording (a usage error otherwise).
+    """``--frames``, ``--hold``, ``--change-window`` and ``--merge``, when given, must fit in the
+    recording (a usage error otherwise).
 
     A window of more frames than the recording holds can never be complete, and one
     that large would be allocated before anything else (``--frames 1e12``: 1.8 TiB);
@@ -67,3 +68,8 @@ def check_windows(args: argparse.Namespace, recording: Any) -> None:
     if merge is not None and parse_quantity(merge, "s", what="--merge") > duration_s:
         raise UsageError(f"--merge {merge}: longer than the recording ({duration_s:g} s)",
                          location=recording.source)
+    for option, attr in (("--hold", "hold"), ("--change-window", "change_window")):  # n and the slope window
+        value = getattr(args, attr, None)
+        if value is not None and parse_quantity(value, "s", what=option) > duration_s:
+            raise UsageError(f"{option} {value}: longer than the recording ({duration_s:g} s)",
+                             location=recording.source)

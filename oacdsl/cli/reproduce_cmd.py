@@ -7,6 +7,7 @@ import shlex
 import sys
 from pathlib import Path
 
+from oacdsl.cli import seed_arg
 from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
 from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
 
@@ -19,7 +20,9 @@ and match that recording the same way, and compare the robot's world-state chang
 demonstration's. Without RECORDING: the bundled dough demonstration (data/dough.c3d).
 
 Writes into --out: report.html (one self-contained page), result.json (its data), NAME.oac and
-figures/. Every executed OAC's outcome goes into the run store (oacc stats).
+figures/ — links into --out/runs/<id>/, switched to the new run in one atomic step (the last 3
+runs are kept; what killed runs left behind is removed). Every executed OAC's outcome goes into
+the run store (oacc stats).
 
 Exit status: 0 reproduced and verified; 1 a stage failed, the robot failed or the closed loop
 differs (the report says which), or the recording's content is wrong (nothing is written); 2 usage
@@ -65,7 +68,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     )
     p.add_argument(
         "--seed",
-        type=int,
+        type=seed_arg,
         metavar="N",
         help="move every object of the robot's scene by up to 10 cm at random (default: nominal)",
     )
@@ -106,11 +109,9 @@ def run(args: argparse.Namespace) -> int:
     params = params_from_args(args)  # bad units fail before any reading
     db = None
     if not args.no_record:
-        from oacdsl.stats import RunStore, resolve_db_path
+        from oacdsl.stats import ensure_writable, resolve_db_path
 
-        db = resolve_db_path(args.db)
-        if RunStore.exists(db):  # a foreign or newer file is refused now, before any work
-            RunStore(db, create=False).close()
+        db = ensure_writable(resolve_db_path(args.db))  # a foreign, newer or unwritable store: now
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError("--out must be a folder; this is a file", location=str(out))

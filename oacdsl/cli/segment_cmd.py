@@ -76,16 +76,23 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 PRESET_HELP = ("built-in marker grouping: 'kit' (KIT/MMM hand markers → left_hand, right_hand; applied"
                " unasked when the file has them, with a note on stderr) or 'none' (the file's own groups)")
 
-MODE_HELP = ("touch detector: adaptive (per-pair distances learned from co-motion; default:"
-             " F1 1.00 against 0.85 on the KIT clips) or paper (Eq. 1/2 as printed)")
+MODE_HELP = ("touch detector: adaptive (per-pair distances learned from co-motion, distance change"
+             " fitted over --change-window; default: F1 1.00 against 0.85 on the KIT clips), robust"
+             " (Eq. 1/2 at one distance, distance change fitted over --change-window) or paper"
+             " (Eq. 1/2 as printed: one-frame difference)")
 
 
 def add_aas_options(group: Any, mode_help: str = MODE_HELP) -> None:
     """The AAS parameters every command that segments takes (read by :func:`params_from_args`)."""
     group.add_argument("--distance", metavar="LEN", help="distance threshold d (default: 150mm)")
     group.add_argument("--speed", metavar="SPEED", help="distance-change threshold v (default: 100mm/s)")
-    group.add_argument("--frames", metavar="N",
-                       help="consecutive frames n (default: the frames in 0.1 s, at least 2)")
+    group.add_argument("--hold", metavar="TIME",
+                       help="how long a condition must hold: n as a duration (default: 0.1s, at least"
+                            " 2 frames)")
+    group.add_argument("--frames", metavar="N", help="n as a number of frames (instead of --hold)")
+    group.add_argument("--change-window", metavar="TIME",
+                       help="window of the least-squares fit that estimates the distance change in modes"
+                            " robust and adaptive (default: 0.1s; paper: one frame, as printed)")
     group.add_argument("--merge", metavar="TIME", help="keyframe merge window (default: 0.3s; 0s = off)")
     group.add_argument("--mode", metavar="MODE", default=DEFAULT_MODE, help=mode_help)
 
@@ -104,8 +111,14 @@ def params_from_args(args: argparse.Namespace) -> Any:
         kwargs["distance_m"] = parse_quantity(args.distance, "m", what="--distance")
     if args.speed is not None:
         kwargs["speed_m_s"] = parse_quantity(args.speed, "m/s", what="--speed")
+    if args.frames is not None and args.hold is not None:
+        raise UsageError("--frames and --hold both set n; give one of them")
     if args.frames is not None:
         kwargs["frames"] = int(parse_quantity(args.frames, "frames", what="--frames"))
+    if args.hold is not None:
+        kwargs["hold_s"] = parse_quantity(args.hold, "s", what="--hold")
+    if args.change_window is not None:
+        kwargs["change_window_s"] = parse_quantity(args.change_window, "s", what="--change-window")
     if args.merge is not None:
         kwargs["merge_s"] = parse_quantity(args.merge, "s", what="--merge")
     return AasParams(**kwargs)
@@ -211,7 +224,9 @@ def format_table(seg: Any) -> str:
         f"{seg.recording}: {seg.frames} frames at {seg.rate_hz:g} Hz ({duration:.2f} s),"
         f" {len(seg.instances)} instances: {', '.join(seg.instances) or '(none)'}",
         f"d = {format_quantity(p['distance_m'], 'm')}, v = {speed}, n = {p['frames']} frames,"
-        f" merge = {format_quantity(p['merge_s'], 's')}, mode = {p['mode']}",
+        f" merge = {format_quantity(p['merge_s'], 's')}, mode = {p['mode']}"
+        + (f", change window = {format_quantity(p['change_window_s'], 's')}"
+           if p.get("mode") != "paper" and "change_window_s" in p else ""),
         "",
         f"{'#':>3}  {'frame':>7}  {'time [s]':>9}  relations",
     ]
