@@ -127,9 +127,11 @@ def test_oacc_run_json_document_and_clean_failure(tmp_path):
         tmp_path, "place", "--scene", "kitchen", "--bind", "h=left_hand", "--bind", "o=red_cup", "--json"
     )
     assert out.returncode == 1 and "Traceback" not in out.stderr
-    assert out.stderr.strip().splitlines()[-1].startswith("oacc: error: precondition of place not met")
+    last = out.stderr.strip().splitlines()[-1]
+    assert last.startswith("oacc: error: step 1 place(left_hand, red_cup): precondition of place not met")
     doc = json.loads(out.stdout)
-    assert set(doc) == {"oac", "success", "steps", "metrics"} and doc["success"] is False
+    assert set(doc) == {"oac", "success", "failed_step", "steps", "composed", "metrics"}
+    assert doc["success"] is False and doc["failed_step"] == "step 1 place(left_hand, red_cup)"
     assert set(doc["metrics"]) == {"balls_total", "balls_in_bowl", "sim_time_s", "wall_time_s"}
     step = doc["steps"][0]
     assert set(step) == {"oac", "binding", "success", "duration_s", "predicted", "observed", "error"}
@@ -188,3 +190,22 @@ def test_oacc_run_usage_errors(tmp_path):
     assert out.returncode == 2 and "expected NAME=INSTANCE" in out.stderr
     out = oacc_run(tmp_path, "grsap", "--scene", "kitchen")
     assert out.returncode == 1 and "did you mean 'grasp'" in out.stderr
+
+
+def test_a_composed_step_whose_effect_is_not_observed_fails_the_run_and_is_named(tmp_path):
+    # grasp_into_bowl (composed of one grasp) predicts `green_cup <-> orange_bowl`, which no
+    # grasp makes true: the run stops after it (the place never runs), exit 1, step named
+    out = oacc_run(tmp_path, "grasp_into_bowl_and_place", "--scene", "pouring", "--json")
+    assert out.returncode == 1 and "Traceback" not in out.stderr
+    named = "composed step grasp_into_bowl(right_hand, green_cup, orange_bowl) (steps 1-1)"
+    last = out.stderr.strip().splitlines()[-1]
+    assert last.startswith(f"oacc: error: {named}: grasp_into_bowl: predicted effect not observed")
+    doc = json.loads(out.stdout)
+    assert doc["success"] is False and doc["failed_step"] == named
+    assert [(s["oac"], s["success"]) for s in doc["steps"]] == [("grasp", True)]
+    (inner,) = doc["composed"]
+    assert inner["oac"] == "grasp_into_bowl" and inner["steps"] == [1, 1] and inner["success"] is False
+    assert inner["predicted"] == [["green_cup", "orange_bowl"], ["green_cup", "right_hand"]]
+    # the one-line summary (without --json) names the step too
+    out = oacc_run(tmp_path, "grasp_into_bowl_and_place", "--scene", "pouring")
+    assert f"failed at {named}" in out.stdout and out.returncode == 1

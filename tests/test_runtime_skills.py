@@ -13,7 +13,7 @@ from runtime_lib import task_library  # noqa: E402
 from oacdsl.runtime.control import FORCE_LIMIT_N  # noqa: E402
 from oacdsl.runtime.executor import execute, prepare, run_prepared  # noqa: E402
 from oacdsl.runtime.layout import BALLS_PER_LIQUID  # noqa: E402
-from oacdsl.runtime.objects import SHAPES  # noqa: E402
+from oacdsl.runtime.objects import SHAPES, TABLE_TOP  # noqa: E402
 from oacdsl.runtime.skills.place import CONTACT_FORCE_N  # noqa: E402
 
 
@@ -150,3 +150,35 @@ def test_a_bowl_is_held_by_its_rim_lifted_and_put_back():
     assert abs(t[2, 3] - table_z) < 0.005 and t[2, 2] > 0.99
     assert run.world.held["r"] is None
     assert run.world.warnings() == {}
+
+
+def test_place_sets_the_sponge_down_on_the_tray_the_composed_effect_names():
+    # grasp, wipe, place as a demonstration composes it: `place` itself predicts only
+    # `h <-> nothing`; the composed effect `sponge <-> tray` decides where the sponge goes
+    run, result = run_task("wipe_and_leave", "wiping")
+    assert result.success, result.error
+    assert [s.oac for s in result.steps] == ["grasp", "wipe", "place"]
+    place = result.steps[-1]
+    assert ["sponge", "tray"] in place.observed and ["right_hand", "nothing"] in place.observed
+    world = run.world
+    sponge, tray = world.body_pose("sponge"), world.body_pose("tray")
+    local = np.linalg.inv(tray) @ sponge
+    assert abs(local[0, 3]) < 0.15 and abs(local[1, 3]) < 0.11  # on the plate (30 × 22 cm)
+    assert sponge[2, 2] > 0.99 and world.held["r"] is None
+    assert [(c.oac, c.success) for c in result.composed] == [("wipe_and_leave", True)]
+
+
+def test_a_hand_over_keeps_the_cup_still_and_ends_in_the_other_hand():
+    # the right hand takes the cup the left hand holds (no lift: both hold it), then the
+    # left hand lets go (no set-down: the right hand holds it)
+    log = ForceLog()
+    run, result = run_task("hand_over", "handing", [log])
+    assert result.success, result.error
+    grasp_l, grasp_r, release = result.steps
+    assert ["cup", "left_hand"] in grasp_r.observed and ["cup", "right_hand"] in grasp_r.observed
+    assert ["cup", "right_hand"] in release.observed and ["left_hand", "nothing"] in release.observed
+    world = run.world
+    assert world.held == {"r": "cup", "l": None}
+    assert world.body_pose("cup")[2, 3] > TABLE_TOP + 0.05  # still up in the air, in the right hand
+    assert max(log.peak.values()) < 0.5 * FORCE_LIMIT_N
+    assert world.warnings() == {}

@@ -1,5 +1,7 @@
 """``reach_and_grasp``: approach an object along its declared grasp and close the hand.
 
+The object is lifted by :data:`LIFT_M` afterwards, unless the other hand holds it
+already (a hand-over: both hands hold it still, and the other one lets go next).
 The grasp *holds by a weld* (a MuJoCo equality constraint between palm and object)
 that is switched on only when the hand is at the grasp pose and its fingers touch the
 object; see docs/runtime.md for why friction alone was not used.
@@ -12,7 +14,7 @@ import numpy as np
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M, plan_grasps
 from oacdsl.runtime.hands import CLOSED, TOP_PRESHAPE, finger_joint_names
-from oacdsl.runtime.skills.base import SkillContext, fmt_xyz
+from oacdsl.runtime.skills.base import Pick, SkillContext, fmt_xyz
 from oacdsl.runtime.transforms import make_T
 
 __all__ = ["reach_and_grasp", "GRASP_POSE_TOLERANCE_M", "LIFT_M"]
@@ -35,6 +37,8 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
         raise RuntimeFailure(f"{hand} already holds {world.held[side]}")
     grasp = ctx.grasp_for(obj)
     t_obj = world.body_pose(obj)
+    supports = world.relations().partners(obj) & ctx.objects()
+    handover = ctx.other_holder(side, obj) is not None
     support = ctx.support_height(t_obj[:2, 3], exclude=obj)
     ctl.activity = f"reaching for {obj}"
     plans = plan_grasps(grasp, ctx.kind(obj), t_obj, side, support_z=support)
@@ -81,7 +85,9 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
     now = world.joint_positions()
     ctl.set_fingers(side, {k: min(now[j] + SQUEEZE_RAD, CLOSED[k]) for k, j in names.items()})
     ctl.wait(0.3)
-    ctx.picked[obj] = (t_obj, plan.approach)
+    ctx.picked[side] = Pick(obj, t_obj, plan.approach, supports)
+    if handover:  # the other hand holds it up: lifting would pull against that hand
+        return
     ctl.activity = f"lifting {obj}"
     lift = make_T(ctl.ik.target(side)[:3, :3], ctl.ik.target(side)[:3, 3] + np.array([0.0, 0.0, LIFT_M]))
     ctl.move(side, lift, 1.0)
