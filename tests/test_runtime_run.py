@@ -209,3 +209,18 @@ def test_a_composed_step_whose_effect_is_not_observed_fails_the_run_and_is_named
     # the one-line summary (without --json) names the step too
     out = oacc_run(tmp_path, "grasp_into_bowl_and_place", "--scene", "pouring")
     assert f"failed at {named}" in out.stdout and out.returncode == 1
+
+
+def test_oacc_run_pinches_the_flat_tray_of_the_wiping_scene():
+    # the command of issue 10, on the standard library alone
+    cmd = [sys.executable, "-m", "oacdsl", "run", "grasp", "--library", "library", "--scene", "wiping"]
+    out = subprocess.run(
+        [*cmd, "--bind", "h=right_hand", "--bind", "o=tray", "--json"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=ROOT,
+    )
+    assert out.returncode == 0, out.stderr
+    (step,) = json.loads(out.stdout)["steps"]
+    assert step["success"] and ["right_hand", "tray"] in step["observed"]

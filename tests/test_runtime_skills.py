@@ -182,3 +182,31 @@ def test_a_hand_over_keeps_the_cup_still_and_ends_in_the_other_hand():
     assert world.body_pose("cup")[2, 3] > TABLE_TOP + 0.05  # still up in the air, in the right hand
     assert max(log.peak.values()) < 0.5 * FORCE_LIMIT_N
     assert world.warnings() == {}
+
+
+class PartsLog(HeldLog):
+    """HeldLog, plus which parts of the right hand touch the object while it holds it."""
+
+    def __init__(self, obj):
+        super().__init__(obj)
+        self.parts = []
+
+    def __call__(self, world):
+        super().__call__(world)
+        if world.held["r"] == self.obj:
+            self.parts.append(world.hand_parts_touching("r", self.obj))
+
+
+def test_a_flat_tray_is_pinched_at_its_edge_lifted_and_put_back():
+    # `grasp Tray { type pinch approach top … }`: the finger plate beside the edge, the thumb on top
+    log = PartsLog("tray")
+    run, result = run_task("carry_tray", "wiping", [log])
+    assert result.success, result.error
+    assert ["right_hand", "tray"] in result.steps[0].observed
+    assert log.parts and {"fingers", "thumb"} <= log.parts[0]  # pinched, not held by the palm
+    body = np.array(log.body)
+    assert body[:, 2].max() > TABLE_TOP + 0.06  # lifted
+    t = run.world.body_pose("tray")
+    start = run.world.layout.placement("tray")
+    assert math.dist(t[:2, 3], (start.x, start.y)) < 0.03 and t[2, 2] > 0.99
+    assert run.world.held["r"] is None and run.world.warnings() == {}

@@ -13,7 +13,7 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M, plan_grasps
-from oacdsl.runtime.hands import CLOSED, TOP_PRESHAPE, finger_joint_names
+from oacdsl.runtime.hands import CLOSED, PINCH_CLOSED, TOP_PRESHAPE, finger_joint_names
 from oacdsl.runtime.skills.base import Pick, SkillContext, fmt_xyz
 from oacdsl.runtime.transforms import make_T
 
@@ -65,11 +65,24 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
     ctl.move(side, plan.pre_grasp, 0.6)
     travel = float(np.linalg.norm(plan.end[:3, 3] - plan.pre_grasp[:3, 3]))
     ctl.activity = f"approaching {obj}"
-    ctl.move(side, plan.end, travel / APPROACH_SPEED_M_S, guard=lambda: world.touching(hand, obj))
+    pinch = grasp.type == "pinch"
+    needed = {"fingers", "thumb"} if pinch else set()
+    # a pinch comes down until both the finger plate (beside the edge) and the thumb (on top) touch
+    ctl.move(
+        side,
+        plan.end,
+        travel / APPROACH_SPEED_M_S,
+        guard=lambda: world.touching(hand, obj) and needed <= world.hand_parts_touching(side, obj),
+    )
     ctl.activity = f"closing {hand} on {obj}"
     # the weld is switched on the moment the fingers touch the object (if the hand is at the
     # grasp pose): a closing finger would otherwise push a light object out of the hand
-    ctl.close_hand(side, until=lambda: world.fingers_touch(side, obj))
+    closed = PINCH_CLOSED if pinch else CLOSED
+    ctl.close_hand(
+        side,
+        until=lambda: world.fingers_touch(side, obj) and needed <= world.hand_parts_touching(side, obj),
+        targets=closed,
+    )
     centre = world.frame_pose(f"grasp_{side}")[:3, 3]
     off = float(np.linalg.norm(centre - plan.grasp[:3, 3]))
     if off > GRASP_POSE_TOLERANCE_M:
@@ -79,11 +92,16 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
         )
     if not world.fingers_touch(side, obj):
         raise RuntimeFailure(f"could not grasp {obj}: the fingers of {hand} do not touch it")
+    missing = needed - world.hand_parts_touching(side, obj)
+    if missing:
+        raise RuntimeFailure(
+            f"could not pinch {obj}: the {' and '.join(sorted(missing))} of {hand} do not touch it"
+        )
     world.weld(side, obj)
     # hold the fingers where they met the object, pressing lightly, so that they stay on it
     names = finger_joint_names(side)
     now = world.joint_positions()
-    ctl.set_fingers(side, {k: min(now[j] + SQUEEZE_RAD, CLOSED[k]) for k, j in names.items()})
+    ctl.set_fingers(side, {k: min(now[j] + SQUEEZE_RAD, closed[k]) for k, j in names.items()})
     ctl.wait(0.3)
     ctx.picked[side] = Pick(obj, t_obj, plan.approach, supports)
     if handover:  # the other hand holds it up: lifting would pull against that hand
