@@ -210,3 +210,29 @@ def test_a_flat_tray_is_pinched_at_its_edge_lifted_and_put_back():
     start = run.world.layout.placement("tray")
     assert math.dist(t[:2, 3], (start.x, start.y)) < 0.03 and t[2, 2] > 0.99
     assert run.world.held["r"] is None and run.world.warnings() == {}
+
+
+def test_a_stick_is_taken_by_its_handle_lifted_and_put_back():
+    # `grasp Whisk { type handle approach side … }`: a handle on the object's axis, taken
+    # from the hand's own side, the fingers wrapped around the grip
+    log = PartsLog("whisk")
+    run, result = run_task("carry_whisk", "whisking", [log])
+    assert result.success, result.error
+    assert log.parts and "fingers" in log.parts[0]
+    assert np.array(log.body)[:, 2].max() > TABLE_TOP + 0.06
+    t = run.world.body_pose("whisk")
+    start = run.world.layout.placement("whisk")
+    assert math.dist(t[:2, 3], (start.x, start.y)) < 0.03 and t[2, 2] > 0.99
+
+
+def test_place_carries_the_sponge_onto_the_tray_when_the_composed_effect_says_so():
+    # seed 1: the sponge stands elsewhere; a grasp from above must not stop on the thumb alone
+    run = prepare(task_library(), "put_on_tray", scene="wiping", seed=1)
+    start = run.world.body_pose("sponge")
+    result = run_prepared(run)
+    assert result.success, result.error
+    assert ["sponge", "tray"] in result.steps[-1].observed
+    sponge, tray = run.world.body_pose("sponge"), run.world.body_pose("tray")
+    local = np.linalg.inv(tray) @ sponge
+    assert abs(local[0, 3]) < 0.15 and abs(local[1, 3]) < 0.11 and sponge[2, 2] > 0.99
+    assert math.dist(sponge[:2, 3], start[:2, 3]) > 0.15  # not back where it came from

@@ -10,6 +10,9 @@ front of the palm) on that point, and orients the hand:
 * ``top``: the hand comes down, palm facing down, fingers pointing away from the
   robot (or along the offset's horizontal direction, e.g. outward over a bowl's rim);
 * ``front``: the hand comes from the robot towards the object, palm facing it, fingers up.
+* ``type handle`` with ``side``: a vertical handle (a bar along the object's z) centred
+  at ``offset``; the hand comes at it from outside, towards the object's axis, and wraps
+  it (see :func:`_handle_plans`). Its direction is the object's, never turned.
 * ``type pinch`` with ``top``: the edge of a flat object (a tray, a plate) is pinched
   between the fingertips, beside the edge, and the folded thumb, on the top
   (see :func:`_pinch_plans`); ``offset`` is a point of the top edge.
@@ -131,7 +134,9 @@ def plan_grasps(
     radius = float(np.hypot(offset[0], offset[1]))
     symmetric = kind in SYMMETRIC_KINDS
     plans: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []  # (point, rotation, approach)
-    if grasp.approach == "side":
+    if grasp.approach == "side" and grasp.type == "handle":
+        plans = _handle_plans(offset, r_obj, p_obj, fwd, side)
+    elif grasp.approach == "side":
         base = np.cross(up, fwd) if side == "r" else -np.cross(up, fwd)  # the right hand comes from the right
         turns = (0.0, -30.0, 30.0, -60.0, 60.0) if symmetric else (0.0,)
         for deg in turns:
@@ -262,4 +267,31 @@ def _pinch_plans(
                 make_T(rot, point - 0.003 * up),
             )
         )
+    return plans
+
+
+def _handle_plans(
+    offset: np.ndarray, r_obj: np.ndarray, p_obj: np.ndarray, fwd: np.ndarray, side: str
+) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """(point, R_world_hand, approach) of a vertical handle at ``offset`` (object frame).
+
+    A handle off the object's axis (a jug's) sticks out horizontally along the offset: the
+    hand comes at it from outside, towards the axis, palm facing the axis, the grasp
+    centre on the bar and the fingers across it, pointing away from the robot when
+    they can. A handle on the axis (a stick) is taken from the hand's own side. The bar is
+    round: the approach may also be turned by ±30° about it."""
+    up = np.array([0.0, 0.0, 1.0])
+    point = p_obj + r_obj @ offset
+    out = r_obj @ np.array([offset[0], offset[1], 0.0])
+    out[2] = 0.0
+    if float(np.linalg.norm(out)) < 1e-6:  # on the axis: come from the hand's own side
+        base = np.cross(up, fwd) if side == "r" else -np.cross(up, fwd)
+    else:
+        base = -_unit(out)
+    plans = []
+    for deg in (0.0, -30.0, 30.0):
+        d = rot_axis(up, np.radians(deg)) @ base
+        across = _unit(np.cross(d, up))
+        for fingers in sorted((across, -across), key=lambda f: -float(f @ fwd)):
+            plans.append((point, hand_rotation_for(d, fingers), d))
     return plans

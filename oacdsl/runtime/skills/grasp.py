@@ -67,12 +67,19 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
     ctl.activity = f"approaching {obj}"
     pinch = grasp.type == "pinch"
     needed = {"fingers", "thumb"} if pinch else set()
-    # a pinch comes down until both the finger plate (beside the edge) and the thumb (on top) touch
+    # a pinch comes down until both the finger plate (beside the edge) and the thumb (on top)
+    # touch; any other grasp from above until the palm or the finger plate does (the folded
+    # thumb, lying under the palm, yields to the object's top)
+    stop = {"palm", "fingers"} if grasp.approach == "top" and grasp.type != "rim" and not pinch else None
     ctl.move(
         side,
         plan.end,
         travel / APPROACH_SPEED_M_S,
-        guard=lambda: world.touching(hand, obj) and needed <= world.hand_parts_touching(side, obj),
+        guard=lambda: (
+            world.touching(hand, obj)
+            and needed <= (parts := world.hand_parts_touching(side, obj))
+            and (stop is None or bool(stop & parts))
+        ),
     )
     ctl.activity = f"closing {hand} on {obj}"
     # the weld is switched on the moment the fingers touch the object (if the hand is at the
@@ -94,8 +101,9 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
         raise RuntimeFailure(f"could not grasp {obj}: the fingers of {hand} do not touch it")
     missing = needed - world.hand_parts_touching(side, obj)
     if missing:
+        verb = "do" if len(missing) > 1 else "does"
         raise RuntimeFailure(
-            f"could not pinch {obj}: the {' and '.join(sorted(missing))} of {hand} do not touch it"
+            f"could not pinch {obj}: the {' and '.join(sorted(missing))} of {hand} {verb} not touch it"
         )
     world.weld(side, obj)
     # hold the fingers where they met the object, pressing lightly, so that they stay on it
