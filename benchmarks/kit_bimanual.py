@@ -1,10 +1,14 @@
 """Accuracy of the hand–object contact keyframes on the KIT bimanual clips.
 
-For each clip in ``../shared/mocap/kit_bimanual`` the MMM recording is read with the
-``kit`` marker preset (left_hand, right_hand, one group per object), segmented, and the
-contact starts and ends of each hand are scored against the dataset's own per-frame
-labels (contact = Move, Hold, Place or the main action) within ±3 frames; see
-:mod:`oacdsl.segmentation.evaluate`.
+For each clip in ``../shared/mocap/kit_bimanual`` the MMM recording is read (its KIT
+marker set is recognised: left_hand, right_hand, one group per object), segmented, and
+
+- the contact starts and ends of each hand are scored against the dataset's own per-frame
+  labels (contact = Move, Hold, Place or the main action) within ±3 frames; see
+  :mod:`oacdsl.segmentation.evaluate`;
+- the contacts of the tool with what it works on during the main action are scored
+  against the clip's tool–target pairs, and the frames where a hand touches the object
+  the other hand holds are counted; see :mod:`oacdsl.segmentation.toolscore`.
 
 Development clips (Pour, Stir, Mix, Wipe, Scoop, Cut) are always scored. The evaluation
 clips (Open, Close, Peel, RollOut, Transfer) are scored only with ``--evaluation``, in
@@ -37,8 +41,9 @@ from oacdsl.segmentation.evaluate import (  # noqa: E402
     read_labels,
     score_clip,
 )
-from oacdsl.segmentation.grouping import apply_preset  # noqa: E402
+from oacdsl.segmentation.grouping import recognise_preset  # noqa: E402
 from oacdsl.segmentation.readers import read_recording  # noqa: E402
+from oacdsl.segmentation.toolscore import KIT_TOOL_TARGETS, ToolScore, cross_hand_frames, score_tools  # noqa: E402
 from oacdsl.units import parse_quantity  # noqa: E402
 
 DEVELOPMENT = ("Pour", "Stir", "Mix", "Wipe", "Scoop", "Cut")
@@ -63,15 +68,19 @@ def clip_files(folder: Path, action: str) -> tuple[Path, Path]:
 
 
 def run_clip(folder: Path, action: str, params: AasParams,
-             tolerance: int) -> tuple[ClipScore, dict[str, Any]]:
+             tolerance: int) -> tuple[ClipScore, dict[str, Any], ToolScore, dict[str, int]]:
     xml, labels_path = clip_files(folder, action)
-    recording = apply_preset(read_recording(xml), "kit")
+    recording, preset = recognise_preset(read_recording(xml))
+    if preset != "kit":
+        sys.exit(f"{xml}: the KIT marker set was not recognised")
     labels = read_labels(labels_path)
-    result = score_clip(action, segment(recording, params), labels, tolerance)
+    segmentation = segment(recording, params)
+    result = score_clip(action, segmentation, labels, tolerance)
     objects = {g: recording.group_positions(g) for g in recording.instances if g not in labels}
     reference = {hand: nearest_object(recording.group_positions(hand), objects, contact_from_labels(lab))
                  for hand, lab in labels.items()}
-    return result, reference
+    tools = score_tools(action, segmentation, labels, KIT_TOOL_TARGETS[action], tolerance)
+    return result, reference, tools, cross_hand_frames(segmentation, reference)
 
 
 def describe(params: AasParams) -> str:
@@ -85,10 +94,14 @@ def block(title: str, folder: Path, actions: tuple[str, ...], params: AasParams,
     print(f"  {title}")
     print(f"  {'clip':<9} {'P':>5} {'R':>5} {'F1':>5}  {'match/pred/lab':>14}  frames  touching (L | R)")
     total = Score()
+    tool_total = Score()
     clips = []
+    tool_lines = []
     for action in actions:
-        result, reference = run_clip(folder, action, params, tolerance)
+        result, reference, tools, cross = run_clip(folder, action, params, tolerance)
         total += result.score
+        tool_total += tools.score
+        tool_lines.append(tool_text(tools, cross))
         s = result.score
         agree = sum(result.frame_agreement.values()) / len(result.frame_agreement)
 
@@ -106,12 +119,40 @@ def block(title: str, folder: Path, actions: tuple[str, ...], params: AasParams,
         clips.append({"clip": action, "precision": s.precision, "recall": s.recall, "f1": s.f1,
                       "matched": s.matched, "predicted": s.predicted, "labelled": s.labelled,
                       "frame_agreement": result.frame_agreement, "touched": result.touched,
-                      "nearest_in_labelled_contact": reference})
+                      "nearest_in_labelled_contact": reference,
+                      "tool_target": {"precision": tools.score.precision, "recall": tools.score.recall,
+                                      "f1": tools.score.f1, "labelled": tools.labelled,
+                                      "predicted": tools.predicted, "window": list(tools.window),
+                                      "coverage": {f"{t}-{g}": c for (t, g), c in tools.coverage.items()},
+                                      "not_scored": tools.other},
+                      "cross_hand_frames": cross})
     print(f"  {'overall':<9} {total.precision:5.2f} {total.recall:5.2f} {total.f1:5.2f}  "
           f"{total.matched:>4}/{total.predicted:>3}/{total.labelled:>3}")
-    return {"clips": clips, "overall": {"precision": total.precision, "recall": total.recall, "f1": total.f1,
-                                        "matched": total.matched, "predicted": total.predicted,
-                                        "labelled": total.labelled}}
+    print("  tool-target contacts during the main action (tool's contacts scored; coverage = labelled"
+          " pair's share of main-action frames); cross-hand frames L | R")
+    print(f"  {'clip':<9} {'P':>5} {'R':>5} {'F1':>5}  {'match/pred/lab':>14}  found / coverage / cross-hand")
+    for line in tool_lines:
+        print(line)
+    print(f"  {'overall':<9} {tool_total.precision:5.2f} {tool_total.recall:5.2f} {tool_total.f1:5.2f}  "
+          f"{tool_total.matched:>4}/{tool_total.predicted:>3}/{tool_total.labelled:>3}")
+    return {"clips": clips,
+            "overall": {"precision": total.precision, "recall": total.recall, "f1": total.f1,
+                        "matched": total.matched, "predicted": total.predicted, "labelled": total.labelled},
+            "tool_target": {"precision": tool_total.precision, "recall": tool_total.recall,
+                            "f1": tool_total.f1, "matched": tool_total.matched,
+                            "predicted": tool_total.predicted, "labelled": tool_total.labelled}}
+
+
+def tool_text(tools: ToolScore, cross: dict[str, int]) -> str:
+    s = tools.score
+    labelled = {frozenset(p) for p in tools.labelled}
+    found = ", ".join(f"{t}-{o}" + ("" if frozenset((t, o)) in labelled else " (extra)")
+                      for t, o in tools.predicted) or "-"
+    coverage = ", ".join(f"{c:.0%}" for c in tools.coverage.values()) or "-"
+    dash = f"{'-':>5} {'-':>5} {'-':>5}"
+    scored = f"{s.precision:5.2f} {s.recall:5.2f} {s.f1:5.2f}" if tools.labelled else dash
+    return (f"  {tools.action:<9} {scored}  {s.matched:>4}/{s.predicted:>3}/{s.labelled:>3}    {found} / "
+            f"{coverage} / {cross.get('left_hand', 0)} | {cross.get('right_hand', 0)}")
 
 
 def main(argv: list[str] | None = None) -> int:

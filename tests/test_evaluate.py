@@ -124,5 +124,5 @@ def test_development_clips_adaptive_beats_paper():
         rec, labels = kit(action)
         for mode, total in totals.items():
             total += score_clip(action, segment(rec, AasParams(mode=mode)), labels).score
-    assert totals["adaptive"].f1 >= 0.9  # the target, one parameter set for all clips
+    assert totals["adaptive"].f1 >= 0.95  # the target, one parameter set for all clips
     assert totals["paper"].f1 < totals["adaptive"].f1

@@ -95,3 +95,27 @@ def test_kit_preset_on_a_real_clip():
     out = apply_preset(read_recording(path), "kit")
     assert out.instances == ("cup_large", "left_hand", "right_hand", "tablespoon")
     assert [out.marker_names[i] for i in out.groups["right_hand"]] == list(KIT_HANDS["right_hand"])
+
+
+def test_kit_marker_set_is_recognised_unasked():
+    from oacdsl.segmentation.grouping import group_recording, recognise_preset
+
+    body = tuple(m for hand in KIT_HANDS.values() for m in hand) + ("C7", "LKNE")
+    names = (*body, "cup_01", "cup_02")
+    subject = {"subject_7": tuple(range(len(body))), "cup": (len(body), len(body) + 1)}
+    found, preset = recognise_preset(rec(names, subject))
+    assert preset == "kit" and set(found.groups) == {"cup", "left_hand", "right_hand"}
+    assert [found.marker_names[i] for i in found.groups["left_hand"]] == list(KIT_HANDS["left_hand"])
+    # one hand's markers missing: nothing recognised, the file's groups stay
+    partial = tuple(n for n in names if n != "RWTS")
+    same, preset = recognise_preset(rec(partial, {"cup": (len(partial) - 2, len(partial) - 1)}))
+    assert preset is None and set(same.groups) == {"cup"}
+    # a recording that names its hands already keeps them
+    named = {"left_hand": (0,), "cup": (len(body), len(body) + 1)}
+    assert recognise_preset(rec(names, named))[1] is None
+    # the command line: a named preset, none (the file's groups), or unset (recognised)
+    assert set(group_recording(rec(names, subject), "none")[0].groups) == {"subject_7", "cup"}
+    assert group_recording(rec(names, subject), "kit")[1] is None
+    assert group_recording(rec(names, subject), None)[1] == "kit"
+    with pytest.raises(RecordingError, match=r"unknown marker preset 'nones' \(did you mean 'none'\?\)"):
+        group_recording(rec(names, subject), "nones")

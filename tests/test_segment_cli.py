@@ -184,3 +184,39 @@ def test_real_kit_pour_with_the_kit_preset(capsys):
     seen = {tuple(r) for k in doc["keyframes"] for r in k["relations"]}
     assert {("cup_small", "left_hand"), ("milk_small", "right_hand")} <= seen
     assert doc["keyframes"][0]["relations"] == [] and doc["keyframes"][-1]["relations"] == []
+
+
+def test_kit_marker_set_recognised_without_preset(tmp_path, capsys):
+    # a CSV with the KIT/MMM hand markers (and a knee) and a cup: hands found, and said so
+    from oacdsl.segmentation.grouping import KIT_HANDS
+
+    markers = [m for hand in KIT_HANDS.values() for m in hand] + ["LKNE", "cup_1", "cup_2"]
+    header = "frame,time," + ",".join(f"{m}_{a}" for m in markers for a in "xyz")
+    rows = [f"{f},{f / 10:.1f}," + ",".join(f"{0.01 * i + 0.001 * f:.4f}" for i in range(3 * len(markers)))
+            for f in range(10)]
+    csv = tmp_path / "kit.csv"
+    csv.write_text("# rate_hz: 10\n" + header + "\n" + "\n".join(rows) + "\n", encoding="utf-8")
+    code, out, err = run(capsys, csv, "--json")
+    assert code == 0, err
+    assert json.loads(out)["instances"] == ["LKNE", "cup", "left_hand", "right_hand"]
+    assert err.startswith(f"oacc: note: {csv}: marker set 'kit' recognised (left_hand = LHPS")
+    assert "--preset none keeps the file's groups" in err and err.count("\n") == 1
+    code, out, err = run(capsys, csv, "--json", "--preset", "none")
+    assert code == 0 and err == "" and "left_hand" not in json.loads(out)["instances"]
+    assert main(["inspect", str(csv), "--json"]) == 0  # inspect recognises it alike
+    out, err = capsys.readouterr()
+    assert "marker set 'kit' recognised" in err
+    assert [g["name"] for g in json.loads(out)["groups"]] == ["LKNE", "cup", "left_hand", "right_hand"]
+
+
+@pytest.mark.mocap
+def test_real_kit_clip_without_preset(capsys):
+    stir = mocap_file("kit_bimanual/Stir_files_motions_2941_Stir1_bc_s_right_03.mmm.xml")
+    code, out, err = run(capsys, stir, "--json")
+    doc = json.loads(out)
+    assert code == 0 and "marker set 'kit' recognised" in err
+    assert doc["instances"] == ["cup_large", "left_hand", "right_hand", "tablespoon"]
+    seen = {tuple(r) for k in doc["keyframes"] for r in k["relations"]}
+    # the spoon stirs in the cup; neither hand touches the object the other hand holds
+    assert ("cup_large", "tablespoon") in seen
+    assert ("cup_large", "right_hand") not in seen and ("left_hand", "tablespoon") not in seen

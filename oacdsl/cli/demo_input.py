@@ -16,7 +16,7 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 
-from oacdsl.cli.segment_cmd import add_aas_options
+from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
 from oacdsl.errors import InputError, UsageError
 from oacdsl.library import Library
 from oacdsl.model import Scene
@@ -44,7 +44,7 @@ def add_input_options(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("reading and segmenting a recording (as oacc segment; values carry units)")
     g.add_argument("--format", metavar="FMT",
                    help="read as this format (c3d, mmm, tsv, csv), not by the file's extension")
-    g.add_argument("--preset", metavar="NAME", help="built-in marker grouping, e.g. 'kit' (KIT hands)")
+    g.add_argument("--preset", metavar="NAME", help=PRESET_HELP)
     add_aas_options(g)
 
 
@@ -140,15 +140,13 @@ def load_inputs(args: argparse.Namespace) -> Inputs:
         segmentation = read_segmentation_json(source)
         library, scene, outside = _scene(library, segmentation.instances, args.scene)
     else:
-        from oacdsl.cli.segment_cmd import params_from_args
+        from oacdsl.cli.segment_cmd import apply_grouping, params_from_args
         from oacdsl.segmentation import segment
-        from oacdsl.segmentation.grouping import apply_preset, apply_scene_groups
+        from oacdsl.segmentation.grouping import apply_scene_groups
         from oacdsl.segmentation.readers import read_recording
 
         params = params_from_args(args)  # bad units fail before any reading
-        recording = read_recording(source, args.format)
-        if args.preset:
-            recording = apply_preset(recording, args.preset)
+        recording = apply_grouping(read_recording(source, args.format), args.preset)
         library, scene, outside = _scene(library, recording.instances, args.scene)
         if any(i.markers for i in scene.instances):
             recording = apply_scene_groups(recording, scene)

@@ -29,8 +29,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
                    help="file format (default: by extension)")
     p.add_argument("--units", choices=["mm", "cm", "m"],
                    help="length unit of a TSV/CSV file (default: TSV mm, CSV its '# units:' line or m)")
-    p.add_argument("--preset", choices=sorted(PRESETS),
-                   help="marker grouping preset (kit: KIT/MMM hand markers → left_hand, right_hand)")
+    p.add_argument("--preset", choices=[*sorted(PRESETS), "none"],
+                   help="marker grouping preset (kit: KIT/MMM hand markers → left_hand, right_hand;"
+                        " applied unasked when the file has them, with a note on stderr;"
+                        " none: the file's own groups)")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(func=run)
 
@@ -113,8 +115,8 @@ def _wrapped(head: str, text: str, width: int = 110) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
+    from oacdsl.cli.segment_cmd import apply_grouping
     from oacdsl.errors import RecordingWarning
-    from oacdsl.segmentation.grouping import apply_preset
     from oacdsl.segmentation.readers import format_of, read_recording
 
     with warnings.catch_warnings(record=True) as caught:
@@ -122,8 +124,7 @@ def run(args: argparse.Namespace) -> int:
         recording = read_recording(args.recording, args.fmt, units=args.units)
     for w in caught:
         print(f"oacc: warning: {w.message}", file=sys.stderr)
-    if args.preset:
-        recording = apply_preset(recording, args.preset)
+    recording = apply_grouping(recording, args.preset)
     doc = summary(recording, args.fmt or format_of(args.recording))
     print(json.dumps(doc, indent=2) if args.json else render(doc))
     return 0

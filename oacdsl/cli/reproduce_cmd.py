@@ -8,7 +8,7 @@ import shlex
 import sys
 from pathlib import Path
 
-from oacdsl.cli.segment_cmd import add_aas_options
+from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
 
 DESCRIPTION = """\
 Reproduce a demonstrated task on the simulated ARMAR-III, and check it (Wächter et al. 2013,
@@ -82,7 +82,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
     g = p.add_argument_group("reading and segmenting the recording (as oacc segment; values carry units)")
     g.add_argument("--format", metavar="FMT", help="read as this format (c3d, mmm, tsv, csv)")
-    g.add_argument("--preset", metavar="NAME", help="built-in marker grouping, e.g. 'kit' (KIT hands)")
+    g.add_argument("--preset", metavar="NAME", help=PRESET_HELP)
     add_aas_options(g, mode_help="touch detector for the demonstration: adaptive (per-pair distances"
                     " learned from co-motion; default) or paper (Eq. 1/2 as printed); the robot's own"
                     " recording is always segmented with paper")

@@ -106,7 +106,8 @@ def load_inputs(
 ) -> Inputs:
     """Read and check everything (see the module docstring); raises OacError subclasses."""
     from oacdsl.cli.demo_input import open_library, resolve_scene
-    from oacdsl.segmentation.grouping import apply_preset, apply_scene_groups
+    from oacdsl.cli.segment_cmd import apply_grouping
+    from oacdsl.segmentation.grouping import apply_scene_groups
 
     library_path = Path(library) if library is not None else default_library()
     lib = open_library(library_path)
@@ -119,9 +120,7 @@ def load_inputs(
 
         if not Path(recording).is_file():
             raise InputError("no such recording file", location=recording)
-        rec, source = read_recording(recording, fmt), recording
-        if preset:
-            rec = apply_preset(rec, preset)
+        rec, source = apply_grouping(read_recording(recording, fmt), preset), recording
     try:
         lib, sc, outside = resolve_scene(lib, tuple(rec.instances), scene)
     except MatchingError as error:  # no scene fits the recording: a problem of the input

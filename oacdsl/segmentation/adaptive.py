@@ -22,15 +22,22 @@ cup "touch" it. This detector learns the distance from the recording itself:
    pair by marker pair, gaps as in the paper's mode) run at each pair's own
    distance: the learned one (the median of its episodes' thresholds) for a pair
    that co-moves somewhere in the recording, else ``static_distance_m``. This
-   catches contacts without co-motion (a mixer stirring in a bowl, liquid poured
-   into a bowl, a second grasp of the same object that does not move it).
+   catches contacts without co-motion (liquid poured into a bowl, a second grasp
+   of the same object that does not move it).
+5. **Tools and hands** (:mod:`oacdsl.segmentation.tooluse`, when the recording has
+   agents, instances named like ``*hand*``): an object held by a hand touches the
+   object it stays near for ``tool_dwell_s`` (stirring, mixing, wiping, cutting:
+   sliding and oscillating contacts), and a hand holding an object does not touch
+   an object the other hand holds.
 
-Two instances touch when (1–3) or (4) says so. The episodes need the whole
+Two instances touch when (1–3), (4) or the tool rule says so, and the cross-hand
+rule does not forbid it. The episodes need the whole
 recording, so :meth:`AdaptiveDetector.begin` scans it once (chunked, memory
 O(frames) per instance pair that ever comes within reach, float32); step 4 runs
 chunk by chunk with one paper detector per distinct distance. Results do not
 depend on the chunk size. The instance-level decision of (1–3) is reported on the
-first marker pair of the instance pair, OR-ed with the paper's state of that pair.
+first marker pair of the instance pair; for such a pair the detector follows the
+paper's state of all its marker pairs itself and reports only the combined state.
 """
 
 from __future__ import annotations
@@ -46,6 +53,7 @@ from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.paper import PaperDetector
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.tooluse import agents_of, tool_contacts
 
 __all__ = ["AdaptiveDetector", "AdaptiveSettings", "comotion"]
 
@@ -62,20 +70,24 @@ class AdaptiveDetector:
         self.reach_m: float | None = max(params.distance_m, self.settings.static_distance_m)
         self._table: PairTable | None = None
         self._inner: list[tuple[PaperDetector, np.ndarray]] = []  # (detector, (Q,) bool: its blocks)
-        self._events: dict[int, np.ndarray] = {}  # block → (E, 2) [causal frame, on?], sorted
+        # block → (E, 3) [causal frame, kind (1 episode, 2 tool, 3 veto), on?], sorted
+        self._events: dict[int, np.ndarray] = {}
         self._heads = np.zeros(0, dtype=np.intp)
-        self._paper_head = np.zeros(0, dtype=bool)  # paper state of each block's first marker pair
+        self._paper_count = np.zeros(0, dtype=np.int64)  # managed blocks: touching marker pairs
+        self._pair_state = np.zeros(0, dtype=bool)  # managed blocks: paper state per marker pair
+        self._flags = np.zeros((0, 4), dtype=bool)  # per block: [unused, episode, tool, veto]
         self._combined = np.zeros(0, dtype=bool)
-        self._episode = np.zeros(0, dtype=bool)
 
     def begin(self, recording: Recording, table: PairTable) -> None:
         self._table = table
         self._heads = table.block_offsets[:-1].copy()
         n_q = table.n_instance_pairs
-        self._paper_head = np.zeros(n_q, dtype=bool)
+        self._paper_count = np.zeros(n_q, dtype=np.int64)
+        self._pair_state = np.zeros(table.n_pairs, dtype=bool)
+        self._flags = np.zeros((n_q, 4), dtype=bool)
         self._combined = np.zeros(n_q, dtype=bool)
-        self._episode = np.zeros(n_q, dtype=bool)
-        learned = comotion(recording, table, self.params, self.settings)
+        found = comotion(recording, table, self.params, self.settings)
+        learned = found.learned
         # the paper's rule per pair: at the pair's learned distance, else at the static distance
         by_distance: dict[float, np.ndarray] = {}
         default = np.ones(n_q, dtype=bool)
@@ -91,18 +103,26 @@ class AdaptiveDetector:
             detector.begin(recording, table)
             self._inner.append((detector, blocks))
         self.reach_m = max(by_distance)
+        tools = tool_contacts(
+            table, recording.n_frames, recording.rate_hz, {q: spans for q, (spans, _) in learned.items()},
+            found.closest, agents_of(table.instances, self.settings.agent_pattern), self.params.distance_m,
+            self.settings.tool_dwell_s, self.settings.tool_bridge_s,
+        )
         last = recording.n_frames - 1
-        self._events = {}
-        for q, (spans, _) in learned.items():
-            events = []
-            for a, b in spans:  # true frames [a, b) → causal frames (+ delay), clamped to the recording
-                on, off = min(a + self.delay_frames, last), min(b + self.delay_frames, last)
-                if b >= recording.n_frames:
-                    events.append((on, 1))
-                elif off > on:
-                    events += [(on, 1), (off, 0)]
-            if events:
-                self._events[q] = np.asarray(events, dtype=np.intp)
+        collected: dict[int, list[tuple[int, int, int]]] = {}
+        sources = [(1, {q: spans for q, (spans, _) in learned.items()}), (2, tools.added), (3, tools.removed)]
+        for kind, per_pair in sources:
+            for q, spans in per_pair.items():
+                events = []
+                for a, b in spans:  # true frames [a, b) → causal frames (+ delay), clamped to the recording
+                    on, off = min(a + self.delay_frames, last), min(b + self.delay_frames, last)
+                    if b >= recording.n_frames:
+                        events.append((on, kind, 1))
+                    elif off > on:
+                        events += [(on, kind, 1), (off, kind, 0)]
+                collected.setdefault(q, []).extend(events)
+        self._events = {q: np.asarray(sorted(e), dtype=np.intp).reshape(-1, 3)
+                        for q, e in collected.items() if e}
 
     def step(self, chunk: DistanceChunk) -> PairChanges:
         if self._table is None:
@@ -121,27 +141,32 @@ class AdaptiveDetector:
         )
         if not self._events:
             return inner
-        block_of_head = {int(self._heads[q]): q for q in self._events}
-        is_head = np.isin(inner.pairs, list(block_of_head))
-        out_pairs = [inner.pairs[~is_head]]
-        out_frames = [inner.frames[~is_head]]
-        out_values = [inner.touching[~is_head]]
-        # block → [(frame, kind: 0 = paper 1 = episode, new value)]
-        head_changes: dict[int, list[tuple[int, int, bool]]] = {}
-        heads = zip(inner.pairs[is_head], inner.frames[is_head], inner.touching[is_head], strict=True)
-        for p, f, v in heads:
-            head_changes.setdefault(block_of_head[int(p)], []).append((int(f), 0, bool(v)))
+        managed = np.isin(self._table.block[inner.pairs], list(self._events))
+        out_pairs = [inner.pairs[~managed]]
+        out_frames = [inner.frames[~managed]]
+        out_values = [inner.touching[~managed]]
+        # block → [(frame, kind: 0 = paper marker pair p, else event kind, value, p)]
+        changes: dict[int, list[tuple[int, int, bool, int]]] = {}
+        ours = zip(inner.pairs[managed], inner.frames[managed], inner.touching[managed], strict=True)
+        for p, f, v in ours:
+            changes.setdefault(int(self._table.block[p]), []).append((int(f), 0, bool(v), int(p)))
         for q, events in self._events.items():
             inside = (events[:, 0] >= chunk.start) & (events[:, 0] < chunk.stop)
-            for f, v in events[inside]:
-                head_changes.setdefault(q, []).append((int(f), 1, bool(v)))
-        for q, changes in head_changes.items():
-            for f, kind, v in sorted(changes):
+            for f, kind, v in events[inside]:
+                changes.setdefault(q, []).append((int(f), int(kind), bool(v), -1))
+        for q, block_changes in changes.items():
+            block_changes.sort()
+            for k, (f, kind, v, p) in enumerate(block_changes):
                 if kind == 0:
-                    self._paper_head[q] = v
+                    if self._pair_state[p] != v:
+                        self._pair_state[p] = v
+                        self._paper_count[q] += 1 if v else -1
                 else:
-                    self._episode[q] = v
-                state = bool(self._paper_head[q] or self._episode[q])
+                    self._flags[q, kind] = v
+                if k + 1 < len(block_changes) and block_changes[k + 1][0] == f:
+                    continue  # the state after all changes of a frame counts
+                flags = self._flags[q]
+                state = bool((self._paper_count[q] > 0 or flags[1] or flags[2]) and not flags[3])
                 if state != self._combined[q]:
                     self._combined[q] = state
                     out_pairs.append(np.array([self._heads[q]]))

@@ -9,6 +9,7 @@ chunks; memory O(frames) per instance pair that comes within reach (float32).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -18,7 +19,7 @@ from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
 
-__all__ = ["AdaptiveSettings", "comotion"]
+__all__ = ["AdaptiveSettings", "CoMotion", "comotion"]
 
 _SCAN_FRAMES = 4096  # frames per chunk of the scan
 
@@ -29,9 +30,10 @@ class AdaptiveSettings:
 
     Attributes:
         static_distance_m: metres, ``d`` of the paper's rule for pairs that never
-            co-move, whose own distance is unknown. 100 mm: a hand resting beside an
-            object (60–140 mm on the KIT clips) mostly stays out, a mixer stirring in
-            a bowl (70–85 mm between their markers in the synthetic dough scene) is in.
+            co-move, whose own distance is unknown. 80 mm: a hand resting beside an
+            object (60–140 mm on the KIT clips, 80–93 mm from the rack in Wipe) stays
+            out; a mixer stirring in a bowl (70–85 mm in the synthetic dough scene) is a
+            tool contact (:mod:`oacdsl.segmentation.tooluse`).
         move_speed_m_s: metres per second, both instances must move faster than this
             for co-motion (40 mm/s: four times the marker jitter of a 100 Hz Vicon
             recording, far below a carried object's 0.2–1 m/s).
@@ -46,34 +48,59 @@ class AdaptiveSettings:
         lag_s: seconds over which speeds and distance changes are measured (≥ 1 frame),
             so that the test means the same at 10 Hz and at 100 Hz.
         min_episode_s: seconds, the shortest co-motion episode (≥ 1 frame).
+        agent_pattern: glob (case-insensitive) naming the agents, the instances that
+            hold things (``*hand*``: ``left_hand``, ``right_hand``); used by the tool and
+            cross-hand rules of :mod:`oacdsl.segmentation.tooluse`.
+        tool_dwell_s: seconds a held object must stay within ``d`` of another object
+            for a tool contact (0.5 s: carrying a tool past an object takes less,
+            stirring, wiping, cutting take seconds).
+        tool_bridge_s: seconds beyond ``d`` that do not end a tool contact (0.2 s: a
+            stroke of a whisk or a knife lifting between cuts).
 
     The defaults sit inside the range that scores best on the KIT development
     clips (``docs/segmentation-adaptive.md`` lists the sensitivity).
     """
 
-    static_distance_m: float = 0.1
+    static_distance_m: float = 0.08
     move_speed_m_s: float = 0.04
     rigid_ratio: float = 0.5
     margin: float = 0.15
     lag_s: float = 0.1
     min_episode_s: float = 0.1
+    agent_pattern: str = "*hand*"
+    tool_dwell_s: float = 0.5
+    tool_bridge_s: float = 0.2
 
     def __post_init__(self) -> None:
-        for name in ("static_distance_m", "move_speed_m_s", "rigid_ratio", "lag_s"):
+        for name in ("static_distance_m", "move_speed_m_s", "rigid_ratio", "lag_s", "tool_dwell_s"):
             if not getattr(self, name) > 0:
                 raise SegmentationError(f"adaptive: {name} must be positive, got {getattr(self, name)}")
-        if not (self.margin >= 0 and self.min_episode_s >= 0):
-            raise SegmentationError("adaptive: margin and min_episode_s must be ≥ 0")
+        if not (self.margin >= 0 and self.min_episode_s >= 0 and self.tool_bridge_s >= 0):
+            raise SegmentationError("adaptive: margin, min_episode_s and tool_bridge_s must be ≥ 0")
 
     def frames(self, seconds: float, rate_hz: float) -> int:
         """``seconds`` in whole frames at ``rate_hz``, at least 1."""
         return max(1, round(seconds * rate_hz))
 
 
+class CoMotion(NamedTuple):
+    """What the co-motion scan found.
+
+    Attributes:
+        learned: instance pair → (sorted, disjoint frame intervals ``[a, b)`` of touching
+            by steps 1–3, the pair's learned distance: the median of its episodes'
+            thresholds, metres); only pairs with an episode.
+        closest: instance pair → (F,) float32 closest marker distance, metres (inf
+            beyond reach, NaN in gaps); every pair that comes within reach.
+    """
+
+    learned: dict[int, tuple[list[tuple[int, int]], float]]
+    closest: dict[int, np.ndarray]
+
+
 def comotion(recording: Recording, table: PairTable, params: AasParams,
-             settings: AdaptiveSettings) -> dict[int, tuple[list[tuple[int, int]], float]]:
-    """Instance pair → (sorted, disjoint frame intervals ``[a, b)`` of touching by steps 1–3,
-    the pair's learned distance: the median of its episodes' thresholds, metres)."""
+             settings: AdaptiveSettings) -> CoMotion:
+    """Co-motion episodes, grown into touching intervals, and each pair's learned distance."""
     signals = _scan(recording, table, params, settings)
     _prune_indirect(signals, table)
     min_len = settings.frames(settings.min_episode_s, recording.rate_hz)
@@ -88,7 +115,7 @@ def comotion(recording: Recording, table: PairTable, params: AasParams,
             thresholds.append(threshold)
         if spans:
             out[q] = (_union(spans), float(np.median(thresholds)))
-    return out
+    return CoMotion(out, {q: dmin for q, (dmin, _) in signals.items()})
 
 
 def _scan(recording: Recording, table: PairTable, params: AasParams,

@@ -39,6 +39,7 @@ __all__ = [
     "nearest_object",
     "read_labels",
     "score_clip",
+    "states_per_frame",
     "touched_objects",
 ]
 
@@ -145,7 +146,7 @@ def contact_from_labels(labels: Sequence[str]) -> np.ndarray:
     return np.array([label in CONTACT_LABELS for label in labels], dtype=bool)
 
 
-def _states_per_frame(segmentation: Segmentation) -> list[int]:
+def states_per_frame(segmentation: Segmentation) -> list[int]:
     """Index of the keyframe in force at each frame."""
     index = np.zeros(segmentation.frames, dtype=np.intp)
     for k, kf in enumerate(segmentation.keyframes):
@@ -157,14 +158,14 @@ def contact_from_segmentation(segmentation: Segmentation, hand: str, hands: Iter
     """(F,) bool: frames where ``hand`` touches an instance that is not in ``hands``."""
     others = set(hands)
     per_keyframe = [any(p not in others for p in kf.state.partners(hand)) for kf in segmentation.keyframes]
-    return np.array([per_keyframe[k] for k in _states_per_frame(segmentation)], dtype=bool)
+    return np.array([per_keyframe[k] for k in states_per_frame(segmentation)], dtype=bool)
 
 
 def touched_objects(segmentation: Segmentation, hand: str, hands: Iterable[str]) -> dict[str, int]:
     """Object → number of frames ``hand`` was found touching it."""
     others = set(hands)
     counts: dict[str, int] = {}
-    for k in _states_per_frame(segmentation):
+    for k in states_per_frame(segmentation):
         for partner in segmentation.keyframes[k].state.partners(hand):
             if partner not in others:
                 counts[partner] = counts.get(partner, 0) + 1

@@ -10,7 +10,8 @@ Four sources, in the order a reader or a user applies them:
 * **motion** — an MMM file has one motion per object (readers).
 * **mapping** — an explicit ``{instance: [marker, …]}``, e.g. from a scene's
   ``Instance.markers`` (:func:`apply_scene_groups`), or a built-in preset
-  (:data:`PRESETS`, :func:`apply_preset`).
+  (:data:`PRESETS`, :func:`apply_preset`), which is also applied unasked when the
+  recording holds every marker of exactly one preset (:func:`recognise_preset`).
 
 A marker name in a mapping matches a label exactly, or the part after the prefix
 (``gauche_ext`` matches ``boite:gauche_ext`` when that is unique), or is a glob
@@ -37,6 +38,8 @@ __all__ = [
     "with_mapping",
     "apply_scene_groups",
     "apply_preset",
+    "recognise_preset",
+    "group_recording",
 ]
 
 #: Hand and wrist markers of the KIT/MMM (Vicon) marker set: pinky and thumb side of
@@ -159,3 +162,40 @@ def apply_preset(recording: Recording, name: str) -> Recording:
     used = {i for idx in new.values() for i in idx}
     kept = {g: idx for g, idx in recording.groups.items() if not used.intersection(idx) and g not in new}
     return _rebuild(recording, {**kept, **new})
+
+
+def _has_markers(recording: Recording, names: Sequence[str]) -> bool:
+    try:
+        resolve_markers(recording, names, "?")
+    except RecordingError:
+        return False
+    return True
+
+
+def recognise_preset(recording: Recording) -> tuple[Recording, str | None]:
+    """Apply the preset whose every marker the recording holds, if exactly one does.
+
+    A KIT/MMM recording names its subject's hand markers ``LHPS``, ``RWTS``, …: its hands
+    become ``left_hand`` and ``right_hand`` without asking. Returns the recording
+    (unchanged when no preset or several fit) and the preset's name or ``None``.
+    Instances the recording already has with a preset's names are kept as they are.
+    """
+    fits = [name for name, mapping in PRESETS.items()
+            if not set(mapping) & set(recording.groups)
+            and all(_has_markers(recording, names) for names in mapping.values())]
+    if len(fits) != 1:
+        return recording, None
+    return apply_preset(recording, fits[0]), fits[0]
+
+
+def group_recording(recording: Recording, preset: str | None) -> tuple[Recording, str | None]:
+    """The recording grouped as the command line asks: a named preset, ``"none"`` (the
+    file's own groups), or ``None``: a recognised preset. Returns the preset recognised
+    unasked (for a note to the user), else ``None``."""
+    if preset == "none":
+        return recording, None
+    if preset and preset not in PRESETS:
+        raise RecordingError(f"unknown marker preset {preset!r}{did_you_mean(preset, [*PRESETS, 'none'])}")
+    if preset:
+        return apply_preset(recording, preset), None
+    return recognise_preset(recording)

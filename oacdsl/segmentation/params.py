@@ -22,7 +22,7 @@ The defaults, and why (``docs/segmentation.md`` has the long version):
   crossings disagree by up to 3 frames (0.3 s) anyway.
 - ``mode = "adaptive"`` is the default because it is the more accurate detector on real
   recordings: it learns per-pair contact distances from the recording (co-motion of a held
-  object with the hand) and scores F1 0.96 on the KIT development clips against 0.85 for
+  object with the hand) and scores F1 1.00 on the KIT development clips against 0.85 for
   the paper's rule at its best fixed parameters (docs/segmentation-adaptive.md).
   ``mode = "paper"`` is Eq. 1 and Eq. 2 as printed
   (:class:`~oacdsl.segmentation.paper.PaperDetector`); the keyframe frames of

@@ -1,0 +1,153 @@
+"""Tool–target contacts and cross-hand contacts: what a held object touches, and what a hand does not.
+
+Step 5 of the adaptive touch detector (:mod:`oacdsl.segmentation.adaptive`), on the
+instance level, after co-motion (:mod:`oacdsl.segmentation.comotion`) has found which
+agent (hand) *holds* which object at each frame. Agents are the instances whose name
+matches ``AdaptiveSettings.agent_pattern`` (``*hand*``: ``left_hand``, ``right_hand``,
+as the KIT preset and the dough scene name them); without agents this step does nothing.
+
+**A hand and what it holds are one body.** Markers sit on object corners, handles and
+attachments, so a spoon stirring in a cup, a sponge sliding over a plate or a knife
+cutting a cucumber held at its end have markers 30–210 mm from their target's, and
+their distance changes fast: the paper's rule (Eq. 1 needs ``|Δdist| < v``) misses
+them. Two rules on the closest-marker distances, per frame:
+
+- **Tool contact.** An object X *wielded* by agent H (H holds X) touches an object A
+  that H does not hold when X stays within ``d`` (``AasParams.distance_m``, the largest
+  contact distance) of A — or of the agent holding A, since a knife cutting next to the
+  hand that holds the cucumber cuts the cucumber — for at least ``tool_dwell_s``, with
+  excursions beyond ``d`` of at most ``tool_bridge_s`` bridged. Carrying a tool past an
+  object lasts a fraction of that; stirring, mixing, wiping, scooping and cutting last
+  seconds, sliding and oscillating inside that reach.
+- **No cross-hand contact.** A hand that holds an object does not touch an object that
+  the *other* hand holds, unless the two co-move (a hand-over): when one hand pours or
+  stirs into the cup the other hand holds, both objects come within 100 mm of both hands
+  (13–19 frames of cross-hand "touching" on the KIT Pour and Stir clips); the contact
+  between them is the tool contact.
+
+Memory O(frames) per instance pair within reach, as the co-motion scan.
+"""
+
+from __future__ import annotations
+
+import fnmatch
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from oacdsl.segmentation.pairs import PairTable
+
+__all__ = ["ToolContacts", "agents_of", "tool_contacts"]
+
+Spans = list[tuple[int, int]]
+
+
+@dataclass(frozen=True)
+class ToolContacts:
+    """Per instance pair, frame intervals ``[a, b)``: contacts added (tool) and removed (cross-hand)."""
+
+    added: dict[int, Spans]
+    removed: dict[int, Spans]
+
+
+def agents_of(instances: Sequence[str], pattern: str) -> tuple[int, ...]:
+    """Indices of the instances whose name matches the glob ``pattern`` (case-insensitive)."""
+    return tuple(i for i, name in enumerate(instances) if fnmatch.fnmatch(name.lower(), pattern.lower()))
+
+
+def tool_contacts(table: PairTable, n_frames: int, rate_hz: float, held: Mapping[int, Spans],
+                  closest: Mapping[int, np.ndarray], agents: Sequence[int], reach_m: float,
+                  dwell_s: float, bridge_s: float) -> ToolContacts:
+    """Tool contacts and cross-hand vetoes (see the module docstring).
+
+    ``held``: instance pair → intervals in which it touches by co-motion (steps 1–3);
+    ``closest``: instance pair → (F,) closest marker distance, metres (inf beyond
+    reach, NaN in a gap: a gap inside a tool contact does not end it); ``reach_m``: ``d``;
+    ``dwell_s``, ``bridge_s``: seconds.
+    """
+    agent_set = set(agents)
+    if not agent_set:
+        return ToolContacts({}, {})
+    index = {(int(a), int(b)): q for q, (a, b) in enumerate(table.instance_pairs)}
+    objects = [i for i in range(len(table.instances)) if i not in agent_set]
+
+    def pair(i: int, j: int) -> int | None:
+        return index.get((min(i, j), max(i, j)))
+
+    def dist(i: int, j: int) -> np.ndarray:
+        q = pair(i, j)
+        if q is None or q not in closest:
+            return np.full(n_frames, np.inf)
+        return np.asarray(closest[q], dtype=np.float64)  # NaN: a gap, unknown
+
+    holds: dict[tuple[int, int], np.ndarray] = {}  # (agent, object) → (F,) bool
+    for h in agent_set:
+        for x in objects:
+            q = pair(h, x)
+            mask = np.zeros(n_frames, dtype=bool)
+            for a, b in held.get(q, []) if q is not None else []:
+                mask[a:b] = True
+            holds[(h, x)] = mask
+    dwell = max(1, round(dwell_s * rate_hz))
+    bridge = max(0, round(bridge_s * rate_hz))
+    added: dict[int, Spans] = {}
+    for i, x in enumerate(objects):
+        for a in objects[i + 1:]:
+            q = pair(x, a)
+            if q is None:
+                continue
+            near = np.zeros(n_frames, dtype=bool)
+            unknown = np.zeros(n_frames, dtype=bool)
+            for tool, target in ((x, a), (a, x)):
+                for h in agent_set:
+                    wielded = holds[(h, tool)] & ~holds[(h, target)]
+                    if not wielded.any():
+                        continue
+                    reach = dist(tool, target)
+                    gap = np.isnan(reach)
+                    for other in agent_set - {h}:  # the hand holding the target is part of it
+                        to_other = np.where(holds[(other, target)], dist(tool, other), np.inf)
+                        gap |= np.isnan(to_other)
+                        reach = np.fmin(reach, to_other)
+                    with np.errstate(invalid="ignore"):
+                        close = reach < reach_m
+                    near |= wielded & close
+                    unknown |= wielded & gap & ~close
+            near = _bridge(near, bridge, unknown & ~near)
+            spans = [(s, e) for s, e in _runs(near) if e - s >= dwell]
+            if spans:
+                added[q] = spans
+    removed: dict[int, Spans] = {}
+    for h in agent_set:
+        busy = np.zeros(n_frames, dtype=bool)
+        for x in objects:
+            busy |= holds[(h, x)]
+        for x in objects:
+            q = pair(h, x)
+            if q is None:
+                continue
+            by_other = np.zeros(n_frames, dtype=bool)
+            for other in agent_set - {h}:
+                by_other |= holds[(other, x)]
+            veto = busy & by_other & ~holds[(h, x)]
+            if veto.any():
+                removed[q] = _runs(veto)
+    return ToolContacts(added, removed)
+
+
+def _bridge(mask: np.ndarray, frames: int, unknown: np.ndarray) -> np.ndarray:
+    """``mask`` with each run of False between two True runs set True when it is at most
+    ``frames`` long or unknown throughout (a gap neither ends nor starts a contact)."""
+    out = mask.copy()
+    for a, b in _runs(~mask):
+        if a > 0 and b < mask.size and (b - a <= frames or unknown[a:b].all()):
+            out[a:b] = True
+    return out
+
+
+def _runs(mask: np.ndarray) -> Spans:
+    """``[a, b)`` runs of True."""
+    padded = np.concatenate([[False], mask, [False]])
+    edges = np.flatnonzero(padded[1:] != padded[:-1])
+    return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))
