@@ -195,20 +195,20 @@ def test_oacc_run_usage_errors(tmp_path):
 def test_a_composed_step_whose_effect_is_not_observed_fails_the_run_and_is_named(tmp_path):
     # grasp_into_bowl (composed of one grasp) predicts `green_cup <-> orange_bowl`, which no
     # grasp makes true: the run stops after it (the place never runs), exit 1, step named
-    out = oacc_run(tmp_path, "grasp_into_bowl_and_place", "--scene", "pouring", "--json")
-    assert out.returncode == 1 and "Traceback" not in out.stderr
     named = "composed step grasp_into_bowl(right_hand, green_cup, orange_bowl) (steps 1-1)"
+    out = oacc_run(tmp_path, "grasp_into_bowl_and_place", "--scene", "pouring")
+    assert out.returncode == 1 and "Traceback" not in out.stderr
     last = out.stderr.strip().splitlines()[-1]
     assert last.startswith(f"oacc: error: {named}: grasp_into_bowl: predicted effect not observed")
-    doc = json.loads(out.stdout)
+    assert f"failed at {named}" in out.stdout  # the one-line summary
+    assert "composed grasp_into_bowl(right_hand, green_cup, orange_bowl) of steps 1-1: FAILED" in out.stdout
+    # the JSON document (the same run in-process)
+    doc = execute(task_library(), "grasp_into_bowl_and_place", scene="pouring").to_json()
     assert doc["success"] is False and doc["failed_step"] == named
     assert [(s["oac"], s["success"]) for s in doc["steps"]] == [("grasp", True)]
     (inner,) = doc["composed"]
     assert inner["oac"] == "grasp_into_bowl" and inner["steps"] == [1, 1] and inner["success"] is False
     assert inner["predicted"] == [["green_cup", "orange_bowl"], ["green_cup", "right_hand"]]
-    # the one-line summary (without --json) names the step too
-    out = oacc_run(tmp_path, "grasp_into_bowl_and_place", "--scene", "pouring")
-    assert f"failed at {named}" in out.stdout and out.returncode == 1
 
 
 def test_oacc_run_pinches_the_flat_tray_of_the_wiping_scene():
