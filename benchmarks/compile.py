@@ -28,7 +28,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from oacdsl.compiler import compile_sources  # noqa: E402
-from oacdsl.compiler.parser import lark_parser  # noqa: E402
+from oacdsl.compiler.grammar import lark_parser  # noqa: E402
 from oacdsl.skills import SKILLS  # noqa: E402
 
 N_CLASSES = 200

@@ -55,6 +55,13 @@ class LanguageError(OacError):
         self.rendered: str = rendered if rendered is not None else str(self)
 
 
+class SourceEncodingError(LanguageError):
+    """A ``.oac`` file is not UTF-8 text: a diagnostic (E024, at the first bad byte) like a
+    language error, but exit status 2 like any input that cannot be read."""
+
+    exit_code = 2
+
+
 class RecordingError(InputError):
     """A motion-capture recording is unreadable or inconsistent."""
 

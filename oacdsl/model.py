@@ -166,9 +166,7 @@ class Atom(Node):
     def _canonical(cls, data: Any) -> Any:
         if isinstance(data, dict):
             left, right = data.get("left"), data.get("right")
-            if left == NOTHING and right != NOTHING:
-                data = {**data, "left": right, "right": left}
-            elif isinstance(left, str) and isinstance(right, str) and right != NOTHING and right < left:
+            if isinstance(left, str) and isinstance(right, str) and pair_order(left, right) != (left, right):
                 data = {**data, "left": right, "right": left}
         return data
 
@@ -179,6 +177,24 @@ class Atom(Node):
 
     def sort_key(self) -> tuple[str, str, bool]:
         return (self.left, self.right, self.negated)
+
+
+def pair_order(left: str, right: str) -> tuple[str, str]:
+    """The order an atom stores its two names in: sorted, ``nothing`` always on the right."""
+    if right == NOTHING or (left != NOTHING and left <= right):
+        return left, right
+    return right, left
+
+
+def atom_text(atom: Atom, order: tuple[str, str] | None = None) -> str:
+    """The atom as written in ``.oac``: ``not a <-> b``, ``x <-> nothing``.
+
+    ``order`` writes the pair in another order than the stored one (the printer
+    puts the earlier parameter first). No check that the names are names: for
+    messages; :func:`oacdsl.compiler.printer.format_atom` checks them.
+    """
+    left, right = order if order is not None else (atom.left, atom.right)
+    return f"not {left} <-> {right}" if atom.negated else f"{left} <-> {right}"
 
 
 def _atoms(v: tuple[Atom, ...]) -> tuple[Atom, ...]:

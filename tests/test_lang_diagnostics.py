@@ -162,6 +162,8 @@ BAD = [
         "3:26",
     ),
     (G + "  effect h <-> o\n  steps { }\n}", "E023", "composed OAC 'g' has no steps", "3:3"),
+    # the file's bytes (as compile_paths passes them): the column counts characters
+    ("class A\n# caf\u00e9 ".encode() + b"\xff", "E024", "not UTF-8 text (byte 0xff on line 2)", "2:8"),
     (
         G + "  pre h <-> nothing\n  effect not h <-> nothing\n  execute reach_and_grasp\n}",
         "W001",

@@ -9,8 +9,8 @@ from hypothesis import strategies as st
 from lark import Lark, Token, UnexpectedInput
 
 from oacdsl.compiler.fastmodel import make
+from oacdsl.compiler.grammar import grammar_text
 from oacdsl.compiler.lexer import PATTERNS, OacLexer
-from oacdsl.compiler.parser import grammar_text
 from oacdsl.model import Atom, Instance, Oac, Param, Span
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -7,7 +7,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from oacdsl.compiler import compile_sources, parse_text, print_module
-from oacdsl.compiler.checks import KEYWORDS
+from oacdsl.compiler.grammar import keywords
 from oacdsl.errors import LanguageError
 from oacdsl.model import Atom, Call, Grasp, Instance, Module, Oac, ObjectClass, Param, Scene
 from oacdsl.world import NOTHING
@@ -18,7 +18,7 @@ LIBRARY = {
 }
 SETTINGS = settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
-lower = st.from_regex(r"[a-z_][a-z0-9_]{0,6}", fullmatch=True).filter(lambda s: s not in KEYWORDS)
+lower = st.from_regex(r"[a-z_][a-z0-9_]{0,6}", fullmatch=True).filter(lambda s: s not in keywords())
 upper = st.from_regex(r"[A-Z][A-Za-z0-9_]{0,6}", fullmatch=True)
 # comments and notes: one line of any text (the printer keeps them, they are outside equality)
 line_text = st.text(st.characters(blacklist_categories=("Cc", "Cs", "Zl", "Zp")), max_size=12)

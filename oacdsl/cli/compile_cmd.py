@@ -5,16 +5,23 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from typing import TYPE_CHECKING
 
 from oacdsl.errors import UsageError
+
+if TYPE_CHECKING:
+    from oacdsl.compiler.loader import CompileResult
 
 _HELP = """\
 Parse and validate the .oac files at PATH (files, or folders searched
 recursively); all of them form one library and may use each other's names.
 Every error and warning is reported, sorted by position, as
 'file:line:col: error[CODE]: message' with the source line and a caret.
-Exit status: 0 no errors, 1 errors (or warnings with --strict), 2 usage or I/O error.
-Codes are documented in docs/language.md."""
+A file with a syntax error does not stop the others: the checks run over the
+files that parsed (leaving out "unknown name" errors a broken file may explain).
+Exit status: 0 no errors, 1 errors (or warnings with --strict), 2 usage or I/O
+error (a missing path, a file that is not UTF-8). Codes are documented in
+docs/language.md."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -55,13 +62,19 @@ def run(args: argparse.Namespace) -> int:
             "diagnostics": diagnostics_json(result.diagnostics),
         }
         print(json.dumps(doc, indent=2))
-        return 1 if failed else 0
+        return _status(result, failed)
     if result.diagnostics:
         print(render(result.diagnostics, result.sources), file=sys.stderr)
     if not failed and not args.quiet:
         what = ", ".join(f"{n} {k}" for k, n in counts.items())
         tail = f" ({summary(result.diagnostics)})" if result.diagnostics else ""
         print(f"ok: {len(result.sources)} file{'s' if len(result.sources) != 1 else ''}, {what}{tail}")
+    return _status(result, failed)
+
+
+def _status(result: CompileResult, failed: bool) -> int:
+    if result.undecodable:
+        return 2  # input that cannot be read as text, like a missing file
     return 1 if failed else 0
 
 

@@ -49,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
     inputs = load_inputs(args)
     mode: Mode = "paper" if args.paper else "strict"
     matcher = Matcher.from_library(inputs.library, inputs.scene, mode=mode)
-    matches = match_segmentation(inputs.segmentation, matcher)
+    matches = match_segmentation(inputs.segmented(), matcher)
     demo = compose_demonstration(args.name, matches, inputs.library, inputs.scene,
                                  propose=args.propose, paper_effects=args.paper_effects)
     comp = demo.composition
@@ -107,6 +107,6 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _atoms(atoms: tuple) -> str:  # type: ignore[type-arg]
-    from oacdsl.matching.conditions import atom_text
+    from oacdsl.model import atom_text
 
     return ", ".join(atom_text(a) for a in atoms) or "(none)"

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import os
 import shlex
 import sys
 from pathlib import Path
@@ -89,28 +88,13 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p.set_defaults(func=run)
 
 
-def prepare_backend(render: bool) -> str | None:
-    """Choose MuJoCo's OpenGL backend before MuJoCo is imported; a note when there is none."""
-    if "mujoco" in sys.modules:
-        return None
-    from oacdsl.runtime.render import backend_available, choose_backend
-
-    chosen = os.environ.get("MUJOCO_GL")
-    if chosen and not backend_available(chosen):
-        os.environ["MUJOCO_GL"] = "disable"
-        return f"MUJOCO_GL={chosen} but its library is not installed; no pictures of the robot"
-    if not chosen and render:
-        backend = choose_backend()
-        if backend is None:
-            return "no offscreen OpenGL backend (EGL or OSMesa); no pictures of the robot"
-        os.environ["MUJOCO_GL"] = backend
-    return None
-
-
 def run(args: argparse.Namespace) -> int:
+    from oacdsl.cli.backend import prepare_backend
+    from oacdsl.cli.demo_input import note as print_note
     from oacdsl.cli.segment_cmd import params_from_args
-    from oacdsl.errors import InputError, UsageError
+    from oacdsl.errors import InputError, MatchingError, UsageError
     from oacdsl.pipeline import default_name, load_inputs, reproduce
+    from oacdsl.pipeline.inputs import BUNDLED_NAME
 
     if args.name is not None and not (args.name.isidentifier() and args.name.isascii()):
         raise UsageError(
@@ -127,10 +111,16 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError("--out must be a folder; this is a file", location=str(out))
-    inputs = load_inputs(
-        args.recording, args.library, args.scene, params, fmt=args.format, preset=args.preset
-    )
+    try:
+        inputs = load_inputs(
+            args.recording, args.library, args.scene, params,
+            fmt=args.format, preset=args.preset, note=print_note,
+        )
+    except MatchingError as error:  # no scene fits the recording: an input error, nothing is written
+        raise InputError(error.message, location=args.recording or BUNDLED_NAME) from None
     note = prepare_backend(not args.no_render)  # before MuJoCo is imported: it reads MUJOCO_GL once
+    if note:
+        note += "; no pictures of the robot"
     try:
         import mujoco  # noqa: F401  (the robot extra)
         import placo  # noqa: F401

@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from oacdsl.cli.backend import NONE_FOUND, prepare_backend
 from oacdsl.errors import RuntimeFailure, UsageError
 from oacdsl.model import Scene
 
@@ -122,31 +123,15 @@ def load_inputs(paths: list[str], scene: str | None) -> tuple[Any, str | None]:
     return load_library(paths), scene
 
 
-def _prepare_backend(args: argparse.Namespace) -> None:
-    """Settle MuJoCo's OpenGL backend before MuJoCo is imported (it reads MUJOCO_GL once)."""
-    if "mujoco" in sys.modules:
-        return
-    from oacdsl.runtime.render import backend_available, choose_backend
-
-    chosen = os.environ.get("MUJOCO_GL")
-    if chosen and not backend_available(chosen):
-        print(
-            f"oacc: warning: MUJOCO_GL={chosen} but its library is not installed; running without rendering",
-            file=sys.stderr,
-        )
-        os.environ["MUJOCO_GL"] = "disable"
-    elif not chosen and (args.video or args.frames):
-        backend = choose_backend()
-        if backend:
-            os.environ["MUJOCO_GL"] = backend
-
-
 def run(args: argparse.Namespace) -> int:
     bindings = _pairs(args.bind, "--bind")
     fill = _pairs(args.fill, "--fill")
     places = _places(args.place)
     library, scene = load_inputs(args.library or ["library"], args.scene)
-    _prepare_backend(args)
+    note = prepare_backend(bool(args.video or args.frames))  # before MuJoCo is imported
+    if note:
+        then = "running without rendering" if note != NONE_FOUND else "trying MuJoCo's default (GLFW)"
+        print(f"oacc: warning: {note}; {then}", file=sys.stderr)
     try:
         from oacdsl.runtime.executor import prepare, run_prepared
         from oacdsl.runtime.render import Renderer, RenderUnavailable, VideoRecorder, Viewer, write_png

@@ -114,13 +114,11 @@ def load(args: argparse.Namespace) -> Any:
 
 def apply_grouping(recording: Any, preset: str | None) -> Any:
     """The recording grouped by ``--preset`` (a name, ``none``, or unset: recognised, with a note)."""
-    from oacdsl.segmentation.grouping import PRESETS, group_recording
+    from oacdsl.segmentation.grouping import group_recording, recognised_note
 
     recording, recognised = group_recording(recording, preset)
     if recognised is not None:
-        hands = ", ".join(f"{inst} = {' '.join(names)}" for inst, names in PRESETS[recognised].items())
-        print(f"oacc: note: {recording.source}: marker set {recognised!r} recognised ({hands});"
-              " --preset none keeps the file's groups", file=sys.stderr)
+        print(f"oacc: note: {recognised_note(recording, recognised)}", file=sys.stderr)
     return recording
 
 

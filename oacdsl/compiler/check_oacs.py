@@ -8,19 +8,15 @@ relation and may not be named.
 
 from __future__ import annotations
 
-from oacdsl.compiler.checks import KEYWORDS, Context
+from oacdsl.compiler.context import Context
 from oacdsl.compiler.diagnostics import Note
+from oacdsl.compiler.grammar import keywords
 from oacdsl.errors import did_you_mean
-from oacdsl.model import Atom, Call, Node, Oac, Param
+from oacdsl.model import Atom, Call, Node, Oac, Param, atom_text
 from oacdsl.skills import SKILLS
 from oacdsl.world import NOTHING
 
 __all__ = ["check_oacs"]
-
-
-def _show(atom: Atom) -> str:
-    text = f"{atom.left} <-> {atom.right}"
-    return f"not {text}" if atom.negated else text
 
 
 class _OacChecker:
@@ -73,7 +69,7 @@ class _OacChecker:
                 )
                 continue
             self.params[param.name] = param
-            if param.name in KEYWORDS:
+            if param.name in keywords():
                 self.ctx.add(
                     "E018",
                     f"'{param.name}' is a reserved word and cannot name a parameter",
@@ -108,7 +104,8 @@ class _OacChecker:
         if atom.left == atom.right:
             self.ctx.add(
                 "E008",
-                f"'{_show(atom)}' relates '{atom.left}' with itself: a relation needs two different objects",
+                f"'{atom_text(atom)}' relates '{atom.left}' with itself: "
+                "a relation needs two different objects",
                 atom.span,
             )
             return
@@ -135,9 +132,10 @@ class _OacChecker:
             if other is not None:
                 self.ctx.add(
                     code,
-                    f"{what} contradicts itself: '{_show(atom)}' and '{_show(other)}' cannot both hold",
+                    f"{what} contradicts itself: '{atom_text(atom)}' and '{atom_text(other)}' "
+                    "cannot both hold",
                     atom.span,
-                    Note(f"'{_show(other)}' is stated here", other.span),
+                    Note(f"'{atom_text(other)}' is stated here", other.span),
                 )
 
     def check_effect(self) -> None:
@@ -161,7 +159,9 @@ class _OacChecker:
             return
         for atom in already:
             self.ctx.add(
-                "W003", f"effect '{_show(atom)}' already holds before: it is also a precondition", atom.span
+                "W003",
+                f"effect '{atom_text(atom)}' already holds before: it is also a precondition",
+                atom.span,
             )
 
     # -- execution -------------------------------------------------------

@@ -9,92 +9,20 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field
 
+import networkx as nx
+
+from oacdsl.compiler.check_oacs import check_oacs
+from oacdsl.compiler.context import Context
 from oacdsl.compiler.diagnostics import Diagnostic, Note
+from oacdsl.compiler.grammar import keywords
 from oacdsl.errors import did_you_mean
-from oacdsl.library import Library
-from oacdsl.model import APPROACHES, GRASP_TYPES, Grasp, Instance, Module, Node, Oac, ObjectClass, Scene, Span
+from oacdsl.model import APPROACHES, GRASP_TYPES, Grasp, Instance, Module, Oac, ObjectClass, Scene, Span
 
-__all__ = ["KEYWORDS", "Context", "check_modules"]
-
-#: Words of the language; parameters and instances may not be called so (E018).
-KEYWORDS = frozenset(
-    {
-        "approach",
-        "class",
-        "effect",
-        "environment",
-        "execute",
-        "grasp",
-        "markers",
-        "not",
-        "nothing",
-        "oac",
-        "offset",
-        "pre",
-        "scene",
-        "steps",
-        "type",
-    }
-)
+__all__ = ["check_modules"]
 
 #: Grasp offsets longer than this (metres) are probably millimetres by mistake (W005).
 MAX_OFFSET_M = 0.5
-
-
-@dataclass
-class Context:
-    """The definitions of all modules, first definition of each name winning."""
-
-    modules: Sequence[Module]
-    library: Library = field(init=False)
-    diagnostics: list[Diagnostic] = field(default_factory=list)
-    #: instance name → every (scene, instance) that declares it.
-    instances: dict[str, list[tuple[Scene, Instance]]] = field(default_factory=dict)
-
-    def __post_init__(self) -> None:
-        self.library = Library(self.modules)
-        for scene in self.library.scenes.values():
-            for inst in scene.instances:
-                self.instances.setdefault(inst.name, []).append((scene, inst))
-
-    def add(self, code: str, message: str, span: Span | None, *notes: Note) -> None:
-        self.diagnostics.append(Diagnostic(code, message, span, tuple(notes)))
-
-    def unknown_class(self, name: str, span: Span | None, what: str = "class") -> None:
-        """E003 with "did you mean" and where the suggestion is defined."""
-        classes = self.library.classes
-        hint = did_you_mean(name, classes)
-        notes = []
-        close = _suggested(hint)
-        if close in classes:
-            notes.append(Note(f"class '{close}' is defined here", classes[close].part("name")))
-        self.add("E003", f"unknown {what} '{name}'{hint}", span, *notes)
-
-    def class_ok(self, name: str, node: Node, key: str, what: str = "class") -> bool:
-        """True when class ``name`` exists; else E003 at ``node.part(key)``."""
-        if name in self.library.classes:
-            return True
-        self.unknown_class(name, node.part(key), what)
-        return False
-
-    def instance_classes(self, name: str) -> list[frozenset[str]]:
-        """For each scene that declares ``name``: all its classes, inherited included."""
-        out = []
-        for _, inst in self.instances.get(name, []):
-            found: set[str] = set()
-            for cls in inst.classes:
-                found |= self.library.ancestors(cls)
-            out.append(frozenset(found))
-        return out
-
-
-def _suggested(hint: str) -> str | None:
-    marker = "did you mean '"
-    if marker in hint:
-        return hint.split(marker, 1)[1].split("'", 1)[0]
-    return None
 
 
 def _duplicates(
@@ -127,50 +55,15 @@ def check_classes(ctx: Context) -> None:
 
 
 def _check_cycles(ctx: Context) -> None:
-    """E007 once per strongly connected component of the parent graph (Tarjan, iterative)."""
+    """E007 once per strongly connected component of the parent graph."""
     classes = ctx.library.classes
     graph = {n: [p for p in c.parents if p in classes] for n, c in classes.items()}
-    index: dict[str, int] = {}
-    low: dict[str, int] = {}
-    stack: list[str] = []
-    on_stack: set[str] = set()
-    components: list[list[str]] = []
-    for root in graph:
-        if root in index:
+    digraph = nx.DiGraph([(n, p) for n, parents in graph.items() for p in parents])
+    for comp in nx.strongly_connected_components(digraph):
+        if len(comp) == 1 and not digraph.has_edge(next(iter(comp)), next(iter(comp))):
             continue
-        work = [(root, 0)]
-        while work:
-            node, i = work.pop()
-            if i == 0:
-                index[node] = low[node] = len(index)
-                stack.append(node)
-                on_stack.add(node)
-            if i < len(graph[node]):
-                work.append((node, i + 1))
-                nxt = graph[node][i]
-                if nxt not in index:
-                    work.append((nxt, 0))
-                elif nxt in on_stack:
-                    low[node] = min(low[node], index[nxt])
-                continue
-            if low[node] == index[node]:
-                comp = []
-                while True:
-                    top = stack.pop()
-                    on_stack.discard(top)
-                    comp.append(top)
-                    if top == node:
-                        break
-                components.append(comp)
-            if work:
-                parent = work[-1][0]
-                low[parent] = min(low[parent], low[node])
-    for comp in components:
-        if len(comp) == 1 and comp[0] not in graph[comp[0]]:
-            continue
-        members = set(comp)
         start = min(comp, key=lambda n: _pos(classes[n].span))
-        path = _cycle_path(start, graph, members)
+        path = _cycle_path(start, graph, set(comp))
         ctx.add(
             "E007",
             "cycle in the class hierarchy: " + " → ".join(path),
@@ -222,7 +115,7 @@ def check_scenes(ctx: Context) -> None:
                 )
             else:
                 seen[inst.name] = inst
-            if inst.name in KEYWORDS:
+            if inst.name in keywords():
                 ctx.add(
                     "E018", f"'{inst.name}' is a reserved word and cannot name an instance", inst.part("name")
                 )
@@ -280,8 +173,6 @@ def check_grasps(ctx: Context) -> None:
 
 def check_modules(modules: Sequence[Module]) -> list[Diagnostic]:
     """Run every validation pass over ``modules`` (one library); return all diagnostics."""
-    from oacdsl.compiler.check_oacs import check_oacs
-
     ctx = Context(modules)
     check_classes(ctx)
     check_scenes(ctx)

@@ -58,6 +58,7 @@ CODES: dict[str, str] = {
     "E021": "environment instance in a relation",
     "E022": "marker assigned to two instances",
     "E023": "composed OAC without steps",
+    "E024": "file is not UTF-8 text",
     "W001": "unused variable",
     "W002": "name or relation listed twice",
     "W003": "effect already holds before (it is also a precondition)",

@@ -9,18 +9,25 @@ from __future__ import annotations
 
 import contextlib
 import gc
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from oacdsl.compiler.checks import check_modules
 from oacdsl.compiler.diagnostics import Diagnostic, language_error, sort_diagnostics
-from oacdsl.compiler.parser import parse_source, read_source
-from oacdsl.errors import InputError, LanguageError
+from oacdsl.compiler.parser import decode_source, parse_source, read_bytes
+from oacdsl.errors import InputError, LanguageError, SourceEncodingError
 from oacdsl.library import Library
 from oacdsl.model import Module
 
-__all__ = ["CompileResult", "collect_files", "compile_paths", "compile_sources", "load_library"]
+__all__ = [
+    "NEED_EVERY_FILE",
+    "CompileResult",
+    "collect_files",
+    "compile_paths",
+    "compile_sources",
+    "load_library",
+]
 
 
 @dataclass
@@ -39,9 +46,20 @@ class CompileResult:
     def ok(self) -> bool:
         return not self.errors
 
+    @property
+    def undecodable(self) -> list[str]:
+        """The files that are not UTF-8 text (E024)."""
+        return sorted({d.span.file for d in self.diagnostics if d.code == "E024" and d.span is not None})
+
     def error(self) -> LanguageError:
-        """The :class:`LanguageError` for these diagnostics (raise it when not ``ok``)."""
-        return language_error(self.diagnostics, self.sources)
+        """The :class:`LanguageError` for these diagnostics (raise it when not ``ok``).
+
+        A :class:`~oacdsl.errors.SourceEncodingError` (exit status 2) when a file is not UTF-8.
+        """
+        error = language_error(self.diagnostics, self.sources)
+        if self.undecodable:
+            return SourceEncodingError(str(error), diagnostics=error.diagnostics, rendered=error.rendered)
+        return error
 
 
 def collect_files(paths: Sequence[str | Path]) -> list[Path]:
@@ -74,27 +92,48 @@ def collect_files(paths: Sequence[str | Path]) -> list[Path]:
     return list(unique.values())
 
 
-def compile_sources(sources: dict[str, str]) -> CompileResult:
-    """Parse and validate already-read texts (path → text) as one library.
+#: Diagnostics about a name or declaration that a file with a syntax error may hold: left
+#: out when one did not parse (unknown class, instance, variable or OAC, environment
+#: instance, graspable instance without a grasp), so they are not reported by mistake.
+NEED_EVERY_FILE = frozenset({"E003", "E004", "E005", "E013", "E021", "W004"})
 
-    Syntax errors are reported per file; the semantic checks run only when
-    every file parsed (otherwise names defined in a broken file would show up
-    as spurious "unknown" errors).
+
+def compile_sources(sources: Mapping[str, str | bytes]) -> CompileResult:
+    """Parse and validate texts (path → text, or the file's bytes, decoded as UTF-8) as one library.
+
+    Every problem is reported at once: a file that is not UTF-8 (E024) or has
+    a syntax error (one per file: its parse stops there) leaves the others to
+    be parsed, and the semantic checks run over the files that parsed. While a
+    file is broken, diagnostics about names it may define
+    (:data:`NEED_EVERY_FILE`) are left out.
     """
-    result = CompileResult(sources=dict(sources))
-    syntax_failed = False
+    result = CompileResult()
+    broken = False
     with gc_paused():
-        for path, text in sources.items():
+        for path, source in sources.items():
+            if isinstance(source, bytes):
+                try:
+                    text = decode_source(source, path)
+                except SourceEncodingError as error:
+                    result.sources[path] = source.decode("utf-8", errors="replace")
+                    result.diagnostics += list(error.diagnostics)
+                    broken = True
+                    continue
+            else:
+                text = source
+            result.sources[path] = text
             try:
                 module, warnings = parse_source(text, path)
             except LanguageError as error:
                 result.diagnostics += list(error.diagnostics)
-                syntax_failed = True
+                broken = True
                 continue
             result.modules.append(module)
             result.diagnostics += warnings
-        if not syntax_failed:
-            result.diagnostics += check_modules(result.modules)
+        checked = check_modules(result.modules)
+        if broken:
+            checked = [d for d in checked if d.code not in NEED_EVERY_FILE]
+        result.diagnostics += checked
     result.diagnostics = sort_diagnostics(result.diagnostics)
     return result
 
@@ -121,7 +160,7 @@ def gc_paused() -> Iterator[None]:
 def compile_paths(paths: Sequence[str | Path]) -> CompileResult:
     """Read, parse and validate the library at ``paths`` (I/O problems raise InputError)."""
     files = collect_files(paths)
-    return compile_sources({str(f): read_source(f) for f in files})
+    return compile_sources({str(f): read_bytes(f) for f in files})
 
 
 def load_library(paths: Sequence[str | Path]) -> Library:

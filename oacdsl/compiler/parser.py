@@ -1,7 +1,7 @@
 """Parse ``.oac`` text into a :class:`~oacdsl.model.Module`.
 
-The grammar is ``grammar/oac.lark`` (installed as package data); the Lark LALR
-parser is built once per process and builds the model while it parses
+The grammar is ``grammar/oac.lark``; the Lark LALR parser is built once per
+process (:mod:`oacdsl.compiler.grammar`) and builds the model while it parses
 (:mod:`oacdsl.compiler.transform`). Comments reach us through a lexer callback
 and are attached to nodes afterwards (:mod:`oacdsl.compiler.comments`). Syntax
 errors become :class:`~oacdsl.errors.LanguageError` with one diagnostic
@@ -10,60 +10,23 @@ errors become :class:`~oacdsl.errors.LanguageError` with one diagnostic
 
 from __future__ import annotations
 
-import functools
-import importlib.resources
 import threading
 from pathlib import Path
 from typing import cast
 
-from lark import Lark, Token, UnexpectedInput
+from lark import Token, UnexpectedInput
 
 from oacdsl.compiler.comments import Comment, attach_comments, comment_text
 from oacdsl.compiler.diagnostics import Diagnostic, language_error
 from oacdsl.compiler.fastmodel import make
-from oacdsl.compiler.lexer import OacLexer
-from oacdsl.compiler.transform import ModelBuilder
-from oacdsl.errors import InputError
-from oacdsl.model import Decl, Module
+from oacdsl.compiler.grammar import comment_sink, lark_parser, model_builder
+from oacdsl.compiler.syntax import syntax_diagnostic
+from oacdsl.errors import InputError, SourceEncodingError
+from oacdsl.model import Decl, Module, Span
 
-__all__ = ["grammar_text", "lark_parser", "parse_file", "parse_source", "parse_text", "read_source"]
+__all__ = ["decode_source", "parse_file", "parse_source", "parse_text", "read_bytes", "read_source"]
 
 _lock = threading.Lock()
-_comment_sink: list[Token] = []
-
-
-def grammar_text() -> str:
-    """The text of ``grammar/oac.lark`` as installed with the package."""
-    return importlib.resources.files("oacdsl").joinpath("grammar/oac.lark").read_text(encoding="utf-8")
-
-
-def _on_comment(token: Token) -> Token:
-    _comment_sink.append(token)
-    return token
-
-
-@functools.lru_cache(maxsize=1)
-def _builder() -> ModelBuilder:
-    return ModelBuilder()
-
-
-@functools.lru_cache(maxsize=1)
-def lark_parser() -> Lark:
-    """The process-wide LALR parser, building the model as it parses (built on first use).
-
-    The lexer is :class:`~oacdsl.compiler.lexer.OacLexer` (Lark's contextual
-    lexer, faster).
-    Its ``parse`` returns the list of declarations; use :func:`parse_source`,
-    which also sets the file name and collects comments and warnings.
-    """
-    return Lark(
-        grammar_text(),
-        parser="lalr",
-        lexer=OacLexer,
-        maybe_placeholders=True,
-        transformer=_builder(),
-        lexer_callbacks={"COMMENT": _on_comment},
-    )
 
 
 def _comments(text: str, tokens: list[Token]) -> list[Comment]:
@@ -82,20 +45,18 @@ def parse_source(text: str, path: str = "<string>") -> tuple[Module, list[Diagno
     Raises :class:`~oacdsl.errors.LanguageError` (one E001/E002 diagnostic) on a
     syntax error.
     """
-    from oacdsl.compiler.syntax import syntax_diagnostic
-
     parser = lark_parser()
-    builder = _builder()
+    builder = model_builder()
     with _lock:
         builder.reset(path)
-        _comment_sink.clear()
+        comment_sink.clear()
         try:
             decls = cast(list[Decl], parser.parse(text))
         except UnexpectedInput as error:
             raise language_error([syntax_diagnostic(error, text, path)], {path: text}) from None
-        tokens = list(_comment_sink)
+        tokens = list(comment_sink)
         warnings = builder.diagnostics
-        _comment_sink.clear()
+        comment_sink.clear()
     decls, header, trailing = attach_comments(decls, _comments(text, tokens))
     module = make(Module, {"path": path, "decls": tuple(decls), "comments": header, "trailing": trailing})
     return module, warnings
@@ -106,25 +67,50 @@ def parse_text(text: str, path: str = "<string>") -> Module:
     return parse_source(text, path)[0]
 
 
-def read_source(path: str | Path) -> str:
-    """Read a ``.oac`` file as UTF-8; :class:`~oacdsl.errors.InputError` when that fails."""
+def read_bytes(path: str | Path) -> bytes:
+    """The bytes of a ``.oac`` file; :class:`~oacdsl.errors.InputError` when it cannot be read."""
     p = Path(path)
     try:
-        data = p.read_bytes()
+        return p.read_bytes()
     except FileNotFoundError:
         raise InputError("no such file", location=str(path)) from None
     except IsADirectoryError:
         raise InputError("is a directory, expected a .oac file", location=str(path)) from None
     except OSError as error:
         raise InputError(f"cannot read: {error.strerror or error}", location=str(path)) from None
+
+
+def decode_source(data: bytes, path: str) -> str:
+    """The UTF-8 text of a ``.oac`` file, without a byte-order mark.
+
+    Raises :class:`~oacdsl.errors.SourceEncodingError` with one E024 diagnostic
+    at the line and column (in characters) of the first byte that is not UTF-8.
+    """
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as error:
-        line = data.count(b"\n", 0, error.start) + 1
-        raise InputError(
-            f"not UTF-8 text (byte 0x{data[error.start]:02x} on line {line})", location=str(path)
-        ) from None
-    return text[1:] if text.startswith("\ufeff") else text
+        raise _encoding_error(data, error.start, path) from None
+    return text.removeprefix(_BOM)
+
+
+_BOM = "\ufeff"
+
+
+def _encoding_error(data: bytes, start: int, path: str) -> SourceEncodingError:
+    line = data.count(b"\n", 0, start) + 1
+    line_start = data.rfind(b"\n", 0, start) + 1
+    before = data[line_start:start].decode("utf-8")  # valid: decoding failed first at ``start``
+    column = len(before.removeprefix(_BOM) if line_start == 0 else before) + 1
+    span = Span(file=path, line=line, column=column, end_line=line, end_column=column + 1)
+    diagnostic = Diagnostic("E024", f"not UTF-8 text (byte 0x{data[start]:02x} on line {line})", span)
+    shown = data.decode("utf-8", errors="replace").removeprefix(_BOM)
+    error = language_error([diagnostic], {path: shown})
+    return SourceEncodingError(str(error), diagnostics=error.diagnostics, rendered=error.rendered)
+
+
+def read_source(path: str | Path) -> str:
+    """Read a ``.oac`` file as UTF-8 text (:func:`read_bytes`, :func:`decode_source`)."""
+    return decode_source(read_bytes(path), str(path))
 
 
 def parse_file(path: str | Path) -> Module:

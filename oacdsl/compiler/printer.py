@@ -18,22 +18,34 @@ steps in their order. Layout rules:
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Iterable
 
+from oacdsl.compiler.grammar import name_pattern
 from oacdsl.errors import LanguageError
-from oacdsl.model import Atom, Call, Decl, Grasp, Instance, Module, Node, Oac, ObjectClass, Param, Scene
+from oacdsl.model import (
+    Atom,
+    Call,
+    Decl,
+    Grasp,
+    Instance,
+    Module,
+    Node,
+    Oac,
+    ObjectClass,
+    Param,
+    Scene,
+    atom_text,
+)
 from oacdsl.world import NOTHING
 
 __all__ = ["format_atom", "format_decl", "format_oac", "print_module"]
 
-_IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 _WIDTH = 100
 _IND = "    "
 
 
 def _name(name: str) -> str:
-    if not _IDENT.match(name):
+    if not name_pattern().fullmatch(name):
         raise LanguageError(
             f"cannot print {name!r}: not a name (letters, digits, '_', not starting with a digit)"
         )
@@ -72,9 +84,8 @@ def _with_note(text: str, node: Node) -> str:
 
 
 def format_atom(atom: Atom) -> str:
-    """``not a <-> b`` — one relation, without its note."""
-    text = f"{_name(atom.left)} <-> {_name(atom.right)}"
-    return f"not {text}" if atom.negated else text
+    """``not a <-> b`` — one relation, without its note (:class:`LanguageError` for a name that is none)."""
+    return atom_text(atom, (_name(atom.left), _name(atom.right)))
 
 
 def _class(decl: ObjectClass) -> list[str]:
@@ -175,8 +186,7 @@ def _display(oac: Oac, atoms: tuple[Atom, ...]) -> list[tuple[Atom, str]]:
         a, b = atom.left, atom.right
         if b != NOTHING and key(b) < key(a):
             a, b = b, a
-        text = f"{_name(a)} <-> {_name(b)}"
-        rows.append(((atom.negated, key(a), key(b)), atom, f"not {text}" if atom.negated else text))
+        rows.append(((atom.negated, key(a), key(b)), atom, atom_text(atom, (_name(a), _name(b)))))
     rows.sort(key=lambda r: r[0])
     return [(atom, text) for _, atom, text in rows]
 

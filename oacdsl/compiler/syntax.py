@@ -16,7 +16,7 @@ from lark import Token, UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 from lark.lexer import PatternStr
 
 from oacdsl.compiler.diagnostics import Diagnostic
-from oacdsl.compiler.parser import lark_parser
+from oacdsl.compiler.grammar import lark_parser
 from oacdsl.compiler.syntax_examples import EXAMPLES
 from oacdsl.model import Span
 
@@ -59,20 +59,26 @@ def _found(token: Token) -> str:
     return f"'{token}'"
 
 
+_Key = tuple[tuple[int, ...], frozenset[str]]
+
+
 @functools.lru_cache(maxsize=1)
-def _tables() -> tuple[dict[tuple[int, frozenset[str]], str], dict[frozenset[str], str]]:
-    """What is expected, in words, by LALR state and by set of acceptable terminals.
+def _tables() -> tuple[dict[_Key, str], dict[frozenset[str], str]]:
+    """What is expected, in words, by LALR states and by set of acceptable terminals.
 
     Built once from :data:`EXAMPLES`: each snippet is parsed as it is (the
     error comes at the end of input) and followed by ``@`` (a character no
     token starts with), which stops the parser at the same place before any
-    reduction. Like Lark's ``match_examples`` but keyed on the state and the
-    acceptable terminals only (Lark's also compares the depth of the parser
-    stack, so an example would only match errors with as many parameters or
-    atoms before them). The table by acceptable terminals alone is the
-    fallback and keeps only unambiguous sets.
+    reduction. Like Lark's ``match_examples`` but keyed on the acceptable
+    terminals and the state of the error, and once more on that state with
+    the one below it on the parser stack (Lark's compares the whole stack, so
+    an example would only match errors with as many parameters or atoms
+    before them). The state below tells apart places that share a state:
+    after the ',' of a list of classes, of instance names and of step
+    arguments, where one rule ``NAME ("," NAME)*`` reads all three. The table
+    by acceptable terminals alone is the fallback and keeps only unambiguous sets.
     """
-    by_state: dict[tuple[int, frozenset[str]], str] = {}
+    by_state: dict[_Key, str] = {}
     by_accepts: dict[frozenset[str], str | None] = {}
     parser = lark_parser()
     for label, snippets in EXAMPLES:
@@ -81,10 +87,11 @@ def _tables() -> tuple[dict[tuple[int, frozenset[str]], str], dict[frozenset[str
                 try:
                     parser.parse(text)
                 except UnexpectedInput as error:
-                    state = _state(error)
                     accepts = frozenset(_accepted(error))
-                    if state is not None:
-                        by_state.setdefault((state, accepts), label)
+                    stack = _stack(error)
+                    if stack:
+                        by_state.setdefault((stack[-2:], accepts), label)
+                        by_state.setdefault((stack[-1:], accepts), label)
                     if by_accepts.get(accepts, label) != label:
                         by_accepts[accepts] = None
                     else:
@@ -92,10 +99,10 @@ def _tables() -> tuple[dict[tuple[int, frozenset[str]], str], dict[frozenset[str
     return by_state, {k: v for k, v in by_accepts.items() if v is not None}
 
 
-def _state(error: UnexpectedInput) -> int | None:
-    state = getattr(error, "state", None)
-    position = getattr(state, "position", None)
-    return position if isinstance(position, int) else None
+def _stack(error: UnexpectedInput) -> tuple[int, ...]:
+    """The LALR states on the parser's stack when it failed (top last; empty when unknown)."""
+    stack = getattr(getattr(error, "state", None), "state_stack", None)
+    return tuple(stack) if isinstance(stack, list) and all(isinstance(s, int) for s in stack) else ()
 
 
 def _accepted(error: UnexpectedInput) -> set[str]:
@@ -108,11 +115,11 @@ def _accepted(error: UnexpectedInput) -> set[str]:
 
 def _expected(error: UnexpectedInput) -> str:
     by_state, by_accepts = _tables()
-    accepted = _accepted(error)
-    state = _state(error)
-    label = by_state.get((state, frozenset(accepted))) if state is not None else None
+    accepted = frozenset(_accepted(error))
+    stack = _stack(error)
+    label = by_state.get((stack[-2:], accepted)) or by_state.get((stack[-1:], accepted))
     if label is None:
-        label = by_accepts.get(frozenset(accepted))
+        label = by_accepts.get(accepted)
     return label if label is not None else expected_words(accepted)
 
 

@@ -1,10 +1,12 @@
 """Small bad snippets, each labelled with what is expected where it fails.
 
 :mod:`oacdsl.compiler.syntax` parses each snippet once, notes the parser state
-where it fails, and says "expected <label>" for any error in that state. To
-improve a message: add a snippet that fails at the same place, under the
-label you want. Snippets are listed with and without repetitions (one or two
-parameters, atoms, markers) because LALR states differ between them.
+where it fails (and the state below it on the stack), and says "expected
+<label>" for any error in that state. To improve a message: add a snippet that
+fails at the same place, under the label you want. Snippets are listed with and
+without repetitions (one or two parameters, atoms, markers) because LALR states
+differ between them. ``tests/test_lang_grammar.py`` checks that every snippet
+gets its own label (a snippet that parses is followed by ``@``, as the table does).
 """
 
 from __future__ import annotations

@@ -8,8 +8,8 @@ tokens: the grammar keeps the tokens that start and end declarations
 (``CLASS``, ``RBRACE``, …).
 
 Nodes are built with :func:`oacdsl.compiler.fastmodel.make` after applying the
-model's own normalisation (sorted parents, sorted instances, canonical
-atoms). Things
+model's own normalisation (sorted parents, sorted instances, atoms in
+:func:`~oacdsl.model.pair_order`). Things
 the model normalises away (a parent or an atom listed twice) are reported here
 as warnings (W002), since only the parse still shows them.
 """
@@ -22,8 +22,20 @@ from lark import Token, Transformer
 
 from oacdsl.compiler.diagnostics import Diagnostic, Note
 from oacdsl.compiler.fastmodel import make, unquote
-from oacdsl.model import Atom, Call, Decl, Grasp, Instance, Oac, ObjectClass, Param, Scene, Span
-from oacdsl.world import NOTHING
+from oacdsl.model import (
+    Atom,
+    Call,
+    Decl,
+    Grasp,
+    Instance,
+    Oac,
+    ObjectClass,
+    Param,
+    Scene,
+    Span,
+    atom_text,
+    pair_order,
+)
 
 __all__ = ["ModelBuilder"]
 
@@ -34,11 +46,6 @@ _Parts = list[_PartT]
 
 def _part(key: str, tok: Token) -> _PartT:
     return (key, tok.line, tok.column, tok.end_line, tok.end_column)  # type: ignore[return-value]
-
-
-def _show(atom: Atom) -> str:
-    text = f"{atom.left} <-> {atom.right}"
-    return f"not {text}" if atom.negated else text
 
 
 class ModelBuilder(Transformer[Token, list[Decl]]):
@@ -196,10 +203,8 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
 
     def atom(self, children: list[Any]) -> Atom:
         negated, first, last = children
-        a, b = str(first), str(last)
-        ta, tb = first, last
-        if (a == NOTHING and b != NOTHING) or (b != NOTHING and a != NOTHING and b < a):
-            a, b, ta, tb = b, a, tb, ta
+        a, b = pair_order(str(first), str(last))
+        ta, tb = (first, last) if a == str(first) else (last, first)
         start = negated if negated is not None else first
         return make(
             Atom,
@@ -228,7 +233,7 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
                 self.diagnostics.append(
                     Diagnostic(
                         "W002",
-                        f"{what} '{_show(atom)}' is listed twice",
+                        f"{what} '{atom_text(atom)}' is listed twice",
                         atom.span,
                         (Note("first listed here", first.span),),
                     )

@@ -14,9 +14,9 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 from oacdsl.errors import MatchingError
-from oacdsl.matching.conditions import atom_text, holds
+from oacdsl.matching.conditions import holds
 from oacdsl.matching.results import Binding, call_text
-from oacdsl.model import Atom, Oac
+from oacdsl.model import Atom, Oac, atom_text
 from oacdsl.world import NOTHING, Relation, WorldState, relation
 
 __all__ = ["Net", "Requirements", "Step", "decide_precondition", "key", "net_effects"]

@@ -40,9 +40,9 @@ from typing import Any
 from oacdsl.errors import MatchingError
 from oacdsl.library import Library
 from oacdsl.matching.algorithm1 import Net, Requirements, Step, decide_precondition, key, net_effects
-from oacdsl.matching.conditions import atom_text, bind_atoms
+from oacdsl.matching.conditions import bind_atoms
 from oacdsl.matching.lift import lift
-from oacdsl.model import Atom, Call, Oac, Scene
+from oacdsl.model import Atom, Call, Oac, Scene, atom_text
 from oacdsl.world import NOTHING, Relation
 
 __all__ = ["Composition", "Step", "compose"]

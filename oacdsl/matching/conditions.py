@@ -22,22 +22,16 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 
 from oacdsl.errors import MatchingError
-from oacdsl.model import Atom
+from oacdsl.model import Atom, atom_text
 from oacdsl.world import NOTHING, Relation, WorldState, relation
 
 __all__ = [
     "apply_effects",
-    "atom_text",
     "bind_atom",
     "bind_atoms",
     "holds",
     "why_not",
 ]
-
-
-def atom_text(atom: Atom) -> str:
-    """The atom as written in ``.oac``: ``not a <-> b``, ``x <-> nothing``."""
-    return f"{'not ' if atom.negated else ''}{atom.left} <-> {atom.right}"
 
 
 def bind_atom(atom: Atom, binding: Mapping[str, str]) -> Atom:

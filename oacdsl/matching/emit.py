@@ -24,8 +24,7 @@ from typing import Literal
 
 from oacdsl.atomic import write_atomic
 from oacdsl.errors import InputError, LanguageError, MatchingError
-from oacdsl.matching.conditions import atom_text
-from oacdsl.model import Module, Oac
+from oacdsl.model import Module, Oac, atom_text
 
 __all__ = ["DRAFTS", "LEARNED", "Emitted", "differences", "emit", "library_files", "render"]
 

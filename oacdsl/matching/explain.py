@@ -14,10 +14,10 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 
-from oacdsl.matching.conditions import atom_text, bind_atom, why_not
+from oacdsl.matching.conditions import bind_atom, why_not
 from oacdsl.matching.results import Mode, NearMiss, change_text
 from oacdsl.matching.search import AFTER, BEFORE, CompiledOac, StateView, plan
-from oacdsl.model import Atom
+from oacdsl.model import Atom, atom_text
 from oacdsl.world import NOTHING, WorldState
 
 __all__ = ["closest_binding", "explain_no_match"]

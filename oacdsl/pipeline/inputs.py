@@ -1,34 +1,53 @@
-"""What ``oacc reproduce`` starts from: the demonstration, the library and the scene.
+"""What ``oacc reproduce``, ``match`` and ``compose`` start from: demonstration, library, scene.
 
-**The bundled demonstration.** With no recording given, the pipeline runs on the
-paper's dough task: ``data/dough.c3d`` of the source tree (seed 2013 of
-``oacc synth dough``) when the package runs from a checkout or an editable install,
-where ``data/`` sits next to the ``oacdsl`` package. An installed wheel carries no
-``data/``; then the same demonstration is generated in memory from the same seed
+**The demonstration** is a motion-capture recording (``--format``, ``--preset``
+as ``oacc segment``) or, for ``match`` and ``compose``, a segmentation already
+made (the ``.json`` that ``oacc segment --json`` prints). With no recording
+given, ``reproduce`` runs on the paper's dough task: ``data/dough.c3d`` of the
+source tree (seed 2013 of ``oacc synth dough``) when the package runs from a
+checkout or an editable install, where ``data/`` sits next to the ``oacdsl``
+package. An installed wheel carries no ``data/``; then the same demonstration is
+generated in memory from the same seed
 (:func:`~oacdsl.segmentation.synth.dough_demonstration`, deterministic, about a
 second), which the synth tests check equals the bundled file.
 
-**The library.** ``--library DIR`` (default: ``library/`` in the working folder, else
-the source tree's ``library/``), every ``.oac`` file under it except ``drafts/``.
-**The scene** is ``--scene NAME`` of the library, a ``.oac`` file with one scene, or
-the library's scene whose tracked instances are the recording's marker groups.
-Everything here is checked before anything is written: a missing file, a recording
-the scene does not describe, a broken library are one-line errors (exit 2).
+**The library.** ``--library DIR`` (``reproduce``'s default: ``library/`` in the
+working folder, else the source tree's ``library/``), every ``.oac`` file under it
+except ``drafts/``, or one file. **The scene** is ``--scene NAME`` of the library, a
+``.oac`` file with one scene, or the library's scene whose tracked instances are
+the recording's marker groups; every instance of the demonstration must be one of
+them. Everything here is checked before anything is written; each problem is a
+one-line error (:mod:`oacdsl.errors`).
 """
 
 from __future__ import annotations
 
+import json
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from oacdsl.errors import InputError, MatchingError, UsageError
+from oacdsl.errors import InputError, UsageError
 from oacdsl.library import Library
 from oacdsl.model import Scene
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.result import Keyframe, Segmentation
+from oacdsl.world import WorldState
 
-__all__ = ["BUNDLED_NAME", "Inputs", "bundled_recording", "default_name", "load_inputs", "source_root"]
+__all__ = [
+    "BUNDLED_NAME",
+    "Inputs",
+    "bundled_recording",
+    "default_library",
+    "default_name",
+    "load_inputs",
+    "open_library",
+    "read_segmentation_json",
+    "resolve_scene",
+    "source_root",
+]
 
 #: The bundled demonstration, relative to the source tree.
 BUNDLED_NAME = "data/dough.c3d"
@@ -83,58 +102,172 @@ def default_name(source: str) -> str:
 
 @dataclass(frozen=True)
 class Inputs:
-    """The checked inputs of a reproduction."""
+    """The checked inputs: library, scene, and the demonstration as a recording or a segmentation."""
 
-    recording: Recording
-    source: str
     library: Library
     library_path: Path
     scene: Scene
+    source: str
+    #: How a recording is (to be) segmented.
     params: AasParams
+    #: The motion capture, grouped by the scene's markers (None when a segmentation was given).
+    recording: Recording | None = None
+    #: A segmentation given instead of a recording (``.json``).
+    segmentation: Segmentation | None = None
     #: The --scene FILE when it lies outside the library (its instances are unknown there).
     outside_scene: Path | None = None
 
+    def __post_init__(self) -> None:
+        if (self.recording is None) == (self.segmentation is None):
+            raise TypeError("Inputs holds a recording or a segmentation, exactly one")
+
+    def motion_capture(self) -> Recording:
+        """The recording; :class:`UsageError` when the demonstration was a segmentation."""
+        if self.recording is None:
+            raise UsageError(f"{self.source}: a segmentation (.json); this needs the motion capture")
+        return self.recording
+
+    def segmented(self) -> Segmentation:
+        """The segmentation given, or the recording segmented with ``params``."""
+        if self.segmentation is not None:
+            return self.segmentation
+        from oacdsl.segmentation import segment
+
+        return segment(self.motion_capture(), self.params)
+
+
+def read_segmentation_json(path: Path) -> Segmentation:
+    """A segmentation from the document ``oacc segment --json`` prints."""
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except OSError as error:
+        raise InputError(f"cannot read: {error.strerror or error}", location=str(path)) from error
+    except (UnicodeDecodeError, json.JSONDecodeError) as error:
+        raise InputError(f"not a JSON document: {error}", location=str(path)) from error
+    try:
+        instances = tuple(str(i) for i in doc["instances"])
+        keyframes = tuple(
+            Keyframe(int(k["frame"]), float(k["time_s"]),
+                     WorldState.of(instances, [(str(a), str(b)) for a, b in k["relations"]]))
+            for k in doc["keyframes"]
+        )
+        return Segmentation(str(doc.get("recording", path)), float(doc["rate_hz"]), int(doc["frames"]),
+                            instances, keyframes, dict(doc.get("parameters", {})))
+    except (KeyError, TypeError, ValueError) as error:
+        what = f"missing key {error}" if isinstance(error, KeyError) else str(error)
+        raise InputError(f"not a segmentation (oacc segment --json): {what}", location=str(path)) from error
+
+
+def open_library(path: Path) -> Library:
+    """The library at ``path`` (a folder without its drafts/, or a file), as ``--library`` reads it."""
+    from oacdsl.compiler import load_library
+    from oacdsl.matching.emit import library_files
+
+    if not path.exists():
+        raise InputError("no such library folder or file (give one with --library DIR)", location=str(path))
+    files = library_files(path)
+    if not files:
+        raise InputError("no .oac files in the library", location=str(path))
+    return load_library(files)
+
+
+def resolve_scene(
+    library: Library, instances: tuple[str, ...], value: str | None
+) -> tuple[Library, Scene, Path | None]:
+    """The scene for ``--scene value`` (a name, a .oac file, or None: found by ``instances``), the
+    library it belongs to, and the scene file when it lies outside the library."""
+    from oacdsl.matching.demonstration import find_scene
+
+    if value is None or not (value.endswith(".oac") or Path(value).is_file()):
+        return library, find_scene(library, instances, value), None
+    from oacdsl.compiler import compile_sources, parse_file, read_source
+
+    path = Path(value)
+    if not path.is_file():
+        raise InputError("no such scene file", location=value)
+    inside = {Path(m.path).resolve() for m in library.modules}
+    if path.resolve() in inside:  # already part of the library
+        named = [d.name for d in parse_file(path).decls if isinstance(d, Scene)]
+        if len(named) != 1:
+            raise UsageError(f"{value}: a scene file must hold exactly one scene, it holds {len(named)}")
+        return library, library.scenes[named[0]], None
+    sources = {m.path: read_source(Path(m.path)) for m in library.modules if Path(m.path).is_file()}
+    sources[str(path)] = read_source(path)
+    result = compile_sources(sources)
+    if not result.ok:
+        raise result.error()
+    extra = next(m for m in result.modules if m.path == str(path))
+    scenes = [d for d in extra.decls if isinstance(d, Scene)]
+    if len(scenes) != 1:
+        raise UsageError(f"{value}: a scene file must hold exactly one scene, it holds {len(scenes)}")
+    merged = Library(result.modules)
+    return merged, merged.scenes[scenes[0].name], path
+
 
 def load_inputs(
-    recording: str | None,
-    library: str | None,
+    recording: str | Path | None,
+    library: str | Path | None,
     scene: str | None,
     params: AasParams,
     *,
     fmt: str | None = None,
     preset: str | None = None,
+    segmentations: bool = False,
+    note: Callable[[str], None] | None = None,
 ) -> Inputs:
-    """Read and check everything (see the module docstring); raises OacError subclasses."""
-    from oacdsl.cli.demo_input import open_library, resolve_scene
-    from oacdsl.cli.segment_cmd import apply_grouping
-    from oacdsl.segmentation.grouping import apply_scene_groups
+    """Read and check everything (see the module docstring); raises OacError subclasses.
 
+    ``recording`` None: the bundled demonstration. ``segmentations``: a ``.json``
+    recording is a segmentation (``match``, ``compose``). ``preset`` None: a marker
+    set recognised in a recording file groups it, and ``note`` hears of it; ``"none"``:
+    the file's own groups. No scene that fits the demonstration is a
+    :class:`~oacdsl.errors.MatchingError`.
+    """
     library_path = Path(library) if library is not None else default_library()
     lib = open_library(library_path)
+    rec: Recording | None = None
+    seg: Segmentation | None = None
     if recording is None:
         if fmt or preset:
             raise UsageError("--format and --preset need a RECORDING (the bundled one needs neither)")
         rec, source = bundled_recording()
+    elif segmentations and Path(recording).suffix.lower() == ".json":
+        if fmt or preset:
+            raise UsageError(f"--format, --preset: these read a recording; {recording} is a segmentation"
+                             " already (.json)")
+        source = str(recording)
+        seg = read_segmentation_json(Path(recording))
     else:
         from oacdsl.segmentation.readers import read_recording
 
+        source = str(recording)
         if not Path(recording).is_file():
-            raise InputError("no such recording file", location=recording)
-        rec, source = apply_grouping(read_recording(recording, fmt), preset), recording
-    try:
-        lib, sc, outside = resolve_scene(lib, tuple(rec.instances), scene)
-    except MatchingError as error:  # no scene fits the recording: a problem of the input
-        raise InputError(error.message, location=source) from None
-    if any(i.markers for i in sc.instances):
+            raise InputError("no such recording file", location=source)
+        from oacdsl.segmentation.grouping import group_recording, recognised_note
+
+        rec, recognised = group_recording(read_recording(recording, fmt), preset)
+        if recognised is not None and note is not None:
+            note(recognised_note(rec, recognised))
+    instances = tuple(rec.instances if rec is not None else seg.instances if seg is not None else ())
+    lib, sc, outside = resolve_scene(lib, instances, scene)
+    if rec is not None and any(i.markers for i in sc.instances):
+        from oacdsl.segmentation.grouping import apply_scene_groups
+
         rec = apply_scene_groups(rec, sc)
-    tracked = {i.name for i in sc.tracked()}
-    unknown = sorted(set(rec.instances) - tracked)
+        instances = tuple(rec.instances)
+    _check_tracked(instances, sc, source, "marker groups" if rec is not None else "instances")
+    if rec is not None and not instances:
+        raise InputError("the recording has no marker groups to segment", location=source)
+    return Inputs(lib, library_path, sc, source, params, rec, seg, outside)
+
+
+def _check_tracked(instances: tuple[str, ...], scene: Scene, source: str, what: str) -> None:
+    """Every instance of the demonstration is a tracked instance of the scene."""
+    tracked = {i.name for i in scene.tracked()}
+    unknown = sorted(set(instances) - tracked)
     if unknown:
         known = ", ".join(sorted(tracked))
         raise InputError(
-            f"marker groups {', '.join(unknown)} are not tracked instances of scene {sc.name!r} ({known})",
+            f"{what} {', '.join(unknown)} are not tracked instances of scene {scene.name!r} ({known})",
             location=source,
         )
-    if not rec.instances:
-        raise InputError("the recording has no marker groups to segment", location=source)
-    return Inputs(rec, source, lib, library_path, sc, params, outside)

@@ -22,6 +22,7 @@ from typing import Any
 
 from oacdsl.errors import InputError, OacError
 from oacdsl.pipeline.inputs import Inputs
+from oacdsl.pipeline.result import ResultRecord
 from oacdsl.progress import Progress
 
 __all__ = ["STAGES", "Outcome", "publish", "reproduce"]
@@ -43,32 +44,32 @@ class _Failed(Exception):
     """A stage failed; the error is recorded, the rest of the stages that need it are skipped."""
 
 
-def _verdict(result: dict[str, Any], failure: tuple[str, OacError] | None, name: str) -> dict[str, Any]:
+def _verdict(result: ResultRecord, failure: tuple[str, OacError] | None, name: str) -> dict[str, Any]:
     if failure is not None:
         stage, error = failure
         return {"success": False, "summary": f"The {stage} stage failed: {error}", "failed_stage": stage}
-    run, v = result.get("run"), result.get("verification")
-    if run is not None and not run["success"]:
+    run, v = result.run, result.verification
+    if run is not None and not run.success:
         return {
             "success": False,
             "failed_stage": "execute",
-            "summary": f"The robot did not complete {name}: {run.get('error') or 'a step failed'}.",
+            "summary": f"The robot did not complete {name}: {run.error or 'a step failed'}.",
         }
-    if v is not None and not v["verified"]:
+    if v is not None and not v.verified:
         return {
             "success": False,
             "failed_stage": "verify",
             "summary": f"The robot executed {name}, but the closed loop differs from the demonstration:"
-            f" {v['verdict']}.",
+            f" {v.verdict}.",
         }
-    m = run["metrics"] if run is not None else {}
+    m = run.metrics if run is not None else {}
     balls = f", {m['balls_in_bowl']} of {m['balls_total']} balls in the bowl" if "balls_total" in m else ""
-    n = len(v["demonstration"]) if v is not None else 0
+    n = len(v.demonstration) if v is not None else 0
     return {
         "success": True,
-        "summary": f"ARMAR-III executed {name} ({len(run['steps']) if run else 0} steps{balls}), and its own"
+        "summary": f"ARMAR-III executed {name} ({len(run.steps) if run else 0} steps{balls}), and its own"
         f" recording, segmented by the same AAS, shows the demonstration's {n} world-state"
-        f" changes in order (edit distance {v['distance'] if v else '–'}).",
+        f" changes in order (edit distance {v.distance if v else '–'}).",
     }
 
 
@@ -106,21 +107,20 @@ def reproduce(
     try:
         figures = staging / "figures"
         figures.mkdir()
-        result: dict[str, Any] = {
-            "schema_version": 1,
-            "created_utc": datetime.now(timezone.utc).replace(microsecond=0).isoformat(),
-            "oacdsl_version": __version__,
-            "demonstration": {
+        record = ResultRecord(
+            created_utc=datetime.now(timezone.utc).replace(microsecond=0).isoformat(),
+            oacdsl_version=__version__,
+            demonstration={
                 "recording": inputs.source,
                 "scene": inputs.scene.name,
                 "library": [str(inputs.library_path)],
                 "seed": seed,
                 "command": command,
             },
-        }
+        )
         failure = _stages(
             inputs,
-            result,
+            record,
             progress,
             staging,
             name=name,
@@ -130,10 +130,8 @@ def reproduce(
             db=db,
             warn=note_warning,
         )
-        result["verdict"] = _verdict(result, failure, name)
-        result["stages"] = progress.records()
-        if warnings:
-            result["warnings"] = warnings
+        verdict = _verdict(record, failure, name)
+        result = record.to_json(verdict, progress.records(), warnings)
         with progress.stage("report"):
             from oacdsl.report import write_report
 
@@ -153,7 +151,7 @@ def reproduce(
 
 def _stages(
     inputs: Inputs,
-    result: dict[str, Any],
+    result: ResultRecord,
     progress: Progress,
     staging: Path,
     *,
@@ -164,7 +162,8 @@ def _stages(
     db: Path | None,
     warn: Callable[[str], None],
 ) -> tuple[str, OacError] | None:
-    """Fill ``result`` stage by stage; the first failed stage and its error, or None."""
+    """Fill ``result`` stage by stage, each part checked as it is set; the first failed stage and
+    its error, or None."""
     from oacdsl.pipeline import analyse, figures, robot
 
     failed: list[tuple[str, OacError]] = []
@@ -179,7 +178,7 @@ def _stages(
             raise _Failed from None
 
     def segment() -> Any:
-        seg = analyse.segment_stage(inputs.recording, inputs.params)
+        seg = analyse.segment_stage(inputs.motion_capture(), inputs.params)
         seg.doc["plot"] = figures.distance_plot(seg.recording, seg.segmentation, figs, "aas.png")
         snaps = figures.keyframe_snapshots(seg.recording, seg.segmentation, figs)
         for kf, image in zip(seg.doc["keyframes"], snaps, strict=True):
@@ -228,21 +227,21 @@ def _stages(
 
     try:
         seg = attempt("segment", segment)
-        result["segment"] = analyse.segment_doc(seg, inputs.source)
+        result.put("segment", analyse.segment_doc(seg, inputs.source))
         matched = attempt(
             "match", lambda: analyse.match_stage(seg.segmentation, inputs.library, inputs.scene)
         )
-        result["match"] = matched.doc
+        result.put("match", matched.doc)
         composed = attempt("compose", compose)
-        result["compose"] = composed.doc
+        result.put("compose", composed.doc)
         for w in composed.warnings:
             warn(w)
         executed = attempt("execute", execute)
-        result["run"] = executed.doc
+        result.put("run", executed.doc)
         if executed.render_note:
             warn(f"{executed.render_note}; the report has no pictures of the robot")
         # a robot that failed a step is still verified: the report shows how far it got
-        result["verification"] = attempt("verify", verify).doc
+        result.put("verification", attempt("verify", verify).doc)
     except _Failed:
         pass
     done = {r["name"] for r in progress.records()}
@@ -253,7 +252,7 @@ def _stages(
         progress.skip("record", "no run store")
     elif "run" in result:
         try:
-            attempt("record", lambda: _record(db, result["run"], result, inputs, seed))
+            attempt("record", lambda: _record(db, executed.doc, result, inputs, seed))
         except _Failed:
             pass
     else:
@@ -262,23 +261,23 @@ def _stages(
 
 
 def _record(
-    db: Path, run_doc: dict[str, Any], result: dict[str, Any], inputs: Inputs, seed: int | None
+    db: Path, run_doc: dict[str, Any], result: ResultRecord, inputs: Inputs, seed: int | None
 ) -> None:
     """Store the run's outcome per OAC; put the measured reliability into ``result``."""
     from oacdsl.report import reliability_doc
     from oacdsl.stats import RunStore
 
-    v = result.get("verification")
+    v = result.verification
     with RunStore(db) as store:
         store.record_run_json(
             run_doc,
             recording=inputs.source,
             seed=seed,
-            fidelity=v["fidelity"] if v else None,
-            edit_distance=v["distance"] if v else None,
+            fidelity=v.fidelity if v else None,
+            edit_distance=v.distance if v else None,
             command="reproduce",
         )
-    result["reliability"] = reliability_doc(db)
+    result.put("reliability", reliability_doc(db))
 
 
 def publish(staging: Path, out: Path) -> list[Path]:

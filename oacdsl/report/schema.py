@@ -144,6 +144,7 @@ class RunDoc(_Doc):
     frame: Image = None  # the robot before the first step
     video: str | None = None  # linked, not embedded
     grasp: str | None = None  # how grasps hold: "friction" or "weld"
+    error: str | None = None  # why the run failed
 
 
 class ChangeDoc(_Doc):

@@ -188,6 +188,13 @@ def recognise_preset(recording: Recording) -> tuple[Recording, str | None]:
     return apply_preset(recording, fits[0]), fits[0]
 
 
+def recognised_note(recording: Recording, preset: str) -> str:
+    """What to tell the user when ``preset`` was recognised unasked in ``recording``."""
+    hands = ", ".join(f"{inst} = {' '.join(names)}" for inst, names in PRESETS[preset].items())
+    return (f"{recording.source}: marker set {preset!r} recognised ({hands});"
+            " --preset none keeps the file's groups")
+
+
 def group_recording(recording: Recording, preset: str | None) -> tuple[Recording, str | None]:
     """The recording grouped as the command line asks: a named preset, ``"none"`` (the
     file's own groups), or ``None``: a recognised preset. Returns the preset recognised
