@@ -7,7 +7,8 @@ meaning, not layout. Collections whose order carries no meaning (parents,
 preconditions, effects) are normalised to sorted, de-duplicated tuples when a
 node is built, so two models that mean the same compare equal.
 
-Units: grasp offsets are metres in the object's frame.
+Units: grasp offsets are metres in the object's frame; geometry keeps each
+quantity with the unit it was written in (:class:`Quantity`).
 """
 
 from __future__ import annotations
@@ -78,12 +79,75 @@ class Node(BaseModel):
         return hash((type(self).__name__, self._key()))
 
 
+class Quantity(Node):
+    """A number as written with its unit as written (``4cm`` → 4.0, ``"cm"``; ``0.04`` → ``""``).
+
+    The model keeps the text's unit so that printing gives back what was written;
+    :func:`oacdsl.geometry.si` converts to SI (metres, kilograms). The compiler checks units.
+    """
+
+    value: float
+    unit: str = ""
+
+
+class Dim(Node):
+    """A named parameter of a shape: ``radius 4cm``."""
+
+    name: str
+    value: Quantity
+
+
+class Point(Node):
+    """A point ``(x, y, z)`` in an object's frame (lengths, each with its unit)."""
+
+    x: Quantity
+    y: Quantity
+    z: Quantity
+
+
+class Shape(Node):
+    """One primitive of an object's geometry: ``shell(radius 4cm, height 10cm, wall 6mm) at (0, 0, 1cm)``.
+
+    ``primitive`` is the shape's name (``cylinder``, ``box``, ``sphere``, ``capsule``,
+    ``shell``, ``mesh``, ``balls``, ``hand``, ``table``: see :mod:`oacdsl.geometry`),
+    ``dims`` its named sizes in written order, ``file`` a mesh file (relative to the
+    ``.oac`` file) and ``at`` where the centre of its base sits in the object frame.
+    """
+
+    primitive: str
+    dims: tuple[Dim, ...] = ()
+    file: str | None = None
+    at: Point | None = None
+
+    def dim(self, name: str) -> Quantity | None:
+        for d in self.dims:
+            if d.name == name:
+                return d.value
+        return None
+
+
+class Geometry(Node):
+    """``{ shape … mass … }`` — an object's physical description (of a class or an instance).
+
+    Several shapes make a compound. Unset properties come from the class (for an
+    instance) or the nearest parent class that sets them (for a class).
+    """
+
+    shapes: tuple[Shape, ...] = ()
+    mass: Quantity | None = None
+    friction: float | None = None
+    colour: str | None = None
+    markers: tuple[Point, ...] = ()
+
+
 class ObjectClass(Node):
-    """``class Cup : Graspable, Container`` — a class with zero or more parents."""
+    """``class Cup : Graspable, Container { … }`` — a class with zero or more parents and,
+    optionally, its geometry."""
 
     kind: Literal["class"] = "class"
     name: str
     parents: tuple[str, ...] = ()
+    geometry: Geometry | None = None
 
     @field_validator("parents")
     @classmethod
@@ -97,12 +161,14 @@ class Instance(Node):
     ``markers`` optionally lists the motion-capture marker names of the group
     (an explicit mapping); ``environment`` marks geometry that is not tracked
     (the table in the paper's scene): it takes no part in touching relations.
+    ``geometry`` overrides its class's geometry property by property.
     """
 
     name: str
     classes: tuple[str, ...]
     markers: tuple[str, ...] = ()
     environment: bool = False
+    geometry: Geometry | None = None
 
     @field_validator("classes")
     @classmethod

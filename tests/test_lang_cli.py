@@ -73,7 +73,9 @@ def test_compile_json(tmp_path):
 def test_warnings_pass_unless_strict(tmp_path):
     lib = copy_library(tmp_path)
     (lib / "spoon.oac").write_text(
-        "class Spoon : Graspable\nscene drawer { spoon : Spoon }\n", encoding="utf-8"
+        "class Spoon : Graspable { shape capsule(radius 1cm, height 18cm) }\n"
+        "scene drawer { spoon : Spoon }\n",
+        encoding="utf-8",
     )
     out = oacc("compile", lib)
     assert out.returncode == 0 and "warning[W004]" in out.stderr and "(0 errors, 1 warning)" in out.stdout

@@ -23,7 +23,8 @@ BAD = [
     (
         "class Mug Cup",
         "E001",
-        "unexpected 'Cup', expected ':' and the parent classes, or a declaration",
+        "unexpected 'Cup', expected ':' and the parent classes, '{' and the class's geometry,"
+        " or a declaration",
         "1:11",
     ),
     ("scene s {\n  a b\n}", "E001", "unexpected 'b', expected ':' and the instance's classes", "2:5"),
@@ -164,6 +165,75 @@ BAD = [
     (G + "  effect h <-> o\n  steps { }\n}", "E023", "composed OAC 'g' has no steps", "3:3"),
     # the file's bytes (as compile_paths passes them): the column counts characters
     ("class A\n# caf\u00e9 ".encode() + b"\xff", "E024", "not UTF-8 text (byte 0xff on line 2)", "2:8"),
+    # geometry
+    (
+        "class Jug { shape cylindre(radius 5cm, height 20cm) }",
+        "E030",
+        "unknown shape 'cylindre' (did you mean 'cylinder'?)",
+        "1:19",
+    ),
+    ("class Jug { shape cylinder(radius 5cm, hieght 20cm) }", "E031", "needs height", "1:19"),
+    (
+        "class Jug {\n  shape cylinder(radius 5cm, height 2cm, hieght 20cm)\n}",
+        "E031",
+        "no parameter 'hieght' (did you mean 'height'?)",
+        "2:42",
+    ),
+    (
+        "class Jug { shape hand(radius 5cm) }",
+        "E031",
+        "hand has no parameter 'radius' (it takes no sizes)",
+        "1:24",
+    ),
+    (
+        "class Jug { shape cylinder(radius 5cms, height 20cm) }",
+        "E032",
+        "unknown unit 'cms' in 'radius' of cylinder (did you mean 'cm'?)",
+        "1:36",
+    ),
+    (
+        "class Jug { shape cylinder(radius 5g, height 20cm) }",
+        "E032",
+        "'g' is a unit of mass, but 'radius' of cylinder is a length",
+        "1:36",
+    ),
+    (
+        "class Jug { shape cylinder(radius 0, height 20cm) }",
+        "E033",
+        "'radius' of cylinder must be a positive, finite length",
+        "1:35",
+    ),
+    (
+        "scene s { jug : Cup { mass -1kg } }",
+        "E033",
+        "the mass of instance 'jug' must be a positive, finite mass",
+        "1:28",
+    ),
+    (
+        "class Jug { shape shell(radius 5cm, height 20cm, wall 6cm) }",
+        "E033",
+        "shell wall must be thinner than its radius",
+        "1:13",
+    ),
+    ('class Jug { shape mesh("nowhere.stl") }', "E034", "mesh file 'nowhere.stl' not found", "1:24"),
+    (
+        "class Jug { shape sphere(radius 1cm) mass 1kg mass 2kg }",
+        "E035",
+        "'mass' is given twice in one geometry",
+        "1:47",
+    ),
+    (
+        "class Jug { shape hand shape sphere(radius 1cm) }",
+        "E036",
+        "hand stands for what the runtime provides",
+        "1:13",
+    ),
+    (
+        "class Jug { shape sphere(radius 2cm) colour rde }",
+        "E037",
+        "unknown colour 'rde' (did you mean 'red'?)",
+        "1:38",
+    ),
     (
         G + "  pre h <-> nothing\n  effect not h <-> nothing\n  execute reach_and_grasp\n}",
         "W001",
@@ -191,6 +261,18 @@ BAD = [
         "2:11",
     ),
     ("grasp Bowl { type power approach side offset (0.0, 0.0, 60.0) }", "W005", "offsets are metres", "1:39"),
+    (
+        "class Spoon : Graspable\nscene s { spoon : Spoon }",
+        "W007",
+        "instance 'spoon' has no shape: the robot's simulation cannot build it (give Spoon a shape",
+        "2:11",
+    ),
+    (
+        "class Jug { shape sphere(radius 20) }",
+        "W006",
+        "'radius' of sphere is 20 m: a size without a unit is metres",
+        "1:33",
+    ),
 ]
 
 
@@ -238,7 +320,7 @@ def test_duplicates_point_at_the_other_definition():
     result = compile_sources({**LIBRARY, "bad.oac": "\n\nclass Hand\n"})
     (dup,) = [d for d in result.diagnostics if d.code == "E006"]
     assert dup.notes[0].message == "first defined here"
-    assert str(dup.notes[0].span) == "library/classes.oac:4:7"
+    assert str(dup.notes[0].span) == "library/classes.oac:10:7"
 
 
 def test_all_errors_are_collected_and_sorted():

@@ -23,7 +23,7 @@ def grasp(kind, approach, offset):
 def test_a_handle_off_the_axis_is_taken_from_outside_whichever_way_the_object_turns(yaw_deg):
     # a handle 7 cm out along the object's x, 10 cm up: it turns with the object
     t = pose(0.6, -0.2, yaw_deg)
-    plans = plan_grasps(grasp("handle", "side", (0.07, 0.0, 0.10)), "thing", t, "r", support_z=0.80)
+    plans = plan_grasps(grasp("handle", "side", (0.07, 0.0, 0.10)), False, t, "r", support_z=0.80)
     out = t[:3, :3] @ np.array([1.0, 0.0, 0.0])
     handle = t[:3, 3] + t[:3, :3] @ np.array([0.07, 0.0, 0.10])
     first = plans[0]
@@ -44,7 +44,7 @@ def test_a_handle_off_the_axis_is_taken_from_outside_whichever_way_the_object_tu
 def test_a_handle_on_the_axis_is_taken_from_the_hands_own_side():
     t = pose(0.7, -0.3)
     for side, direction in (("r", 1.0), ("l", -1.0)):
-        first = plan_grasps(grasp("handle", "side", (0.0, 0.0, 0.14)), "thing", t, side)[0]
+        first = plan_grasps(grasp("handle", "side", (0.0, 0.0, 0.14)), False, t, side)[0]
         assert np.allclose(first.approach, (0.0, direction, 0.0))  # right hand from the right
         assert np.allclose(first.grasp[:3, 2], (1.0, 0.0, 0.0))  # fingers forward
 
@@ -52,7 +52,7 @@ def test_a_handle_on_the_axis_is_taken_from_the_hands_own_side():
 def test_a_pinch_puts_the_fingertips_beside_the_edge_and_the_palm_over_the_top():
     # a plate 1.2 cm thick on a table at 0.80 m; the edge point 11 cm to its right
     t = pose(0.68, 0.02)
-    plans = plan_grasps(grasp("pinch", "top", (0.0, -0.11, 0.012)), "thing", t, "r", support_z=0.80)
+    plans = plan_grasps(grasp("pinch", "top", (0.0, -0.11, 0.012)), False, t, "r", support_z=0.80)
     first = plans[0]
     out = np.array([0.0, -1.0, 0.0])  # the right hand takes the edge on its side first
     fingers, palm_normal = first.grasp[:3, 2], -first.grasp[:3, 0]
@@ -66,5 +66,5 @@ def test_a_pinch_puts_the_fingertips_beside_the_edge_and_the_palm_over_the_top()
     assert 0.80 < tip_mid[2] < 0.812  # … below the plate's top
     assert np.allclose(first.approach, -UP)
     # the left hand takes the opposite edge first
-    left = plan_grasps(grasp("pinch", "top", (0.0, -0.11, 0.012)), "thing", t, "l", support_z=0.80)[0]
+    left = plan_grasps(grasp("pinch", "top", (0.0, -0.11, 0.012)), False, t, "l", support_z=0.80)[0]
     assert left.grasp[1, 3] > t[1, 3]

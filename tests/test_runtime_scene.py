@@ -14,7 +14,6 @@ from oacdsl.errors import RuntimeFailure  # noqa: E402
 from oacdsl.model import Scene  # noqa: E402
 from oacdsl.runtime.build import build_model, home_posture  # noqa: E402
 from oacdsl.runtime.layout import MAX_SHIFT_M, MIN_GAP_M, NOMINAL, plan_layout  # noqa: E402
-from oacdsl.runtime.objects import SHAPES  # noqa: E402
 from oacdsl.runtime.simworld import SimWorld  # noqa: E402
 from oacdsl.runtime.skills import IMPLEMENTATIONS  # noqa: E402
 from oacdsl.skills import SKILLS  # noqa: E402
@@ -60,7 +59,7 @@ def test_seeded_layouts_move_objects_up_to_10_cm_and_keep_them_apart():
         ps = layout.placements
         for i, a in enumerate(ps):
             for b in ps[i + 1 :]:
-                gap = math.dist((a.x, a.y), (b.x, b.y)) - SHAPES[a.kind].radius - SHAPES[b.kind].radius
+                gap = math.dist((a.x, a.y), (b.x, b.y)) - a.body.radius - b.body.radius
                 assert gap >= MIN_GAP_M - 1e-9, (seed, a.name, b.name)
     assert np.median(moved) > 0.03
 
@@ -77,7 +76,7 @@ def test_liquids_start_where_asked_or_in_the_papers_cups():
 def test_layout_errors_name_the_problem():
     lib = task_library()
     odd = Scene(name="odd", instances=(inst("left_hand", "Hand"), inst("teapot", "Graspable")))
-    with pytest.raises(RuntimeFailure, match="teapot.*no geometry.*Cup"):
+    with pytest.raises(RuntimeFailure, match="teapot.*has no shape.*Cup"):
         plan_layout(lib, odd)
     hands = Scene(name="hands", instances=(inst("hand_a", "Hand"), inst("right_hand", "Hand")))
     with pytest.raises(RuntimeFailure, match="left from right"):

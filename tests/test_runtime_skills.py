@@ -13,7 +13,7 @@ from runtime_lib import task_library  # noqa: E402
 from oacdsl.runtime.control import FORCE_LIMIT_N  # noqa: E402
 from oacdsl.runtime.executor import execute, prepare, run_prepared  # noqa: E402
 from oacdsl.runtime.layout import BALLS_PER_LIQUID  # noqa: E402
-from oacdsl.runtime.objects import SHAPES, TABLE_TOP  # noqa: E402
+from oacdsl.runtime.objects import TABLE_TOP  # noqa: E402
 from oacdsl.runtime.skills.place import CONTACT_FORCE_N  # noqa: E402
 
 
@@ -76,8 +76,9 @@ def test_mix_ends_with_the_mixer_in_the_bowl():
     assert ["mixer", "orange_bowl"] in result.steps[-1].observed
     world = run.world
     mixer, bowl = world.body_pose("mixer"), world.body_pose("orange_bowl")
-    assert math.dist(mixer[:2, 3], bowl[:2, 3]) < SHAPES["bowl"].inner_radius
-    assert mixer[2, 3] < bowl[2, 3] + SHAPES["bowl"].height
+    shape = run.world.layout.bodies["orange_bowl"]
+    assert math.dist(mixer[:2, 3], bowl[:2, 3]) < shape.inner_radius
+    assert mixer[2, 3] < bowl[2, 3] + shape.height
 
 
 def test_wipe_keeps_the_sponge_on_the_tray():
@@ -236,3 +237,31 @@ def test_place_carries_the_sponge_onto_the_tray_when_the_composed_effect_says_so
     local = np.linalg.inv(tray) @ sponge
     assert abs(local[0, 3]) < 0.15 and abs(local[1, 3]) < 0.11 and sponge[2, 2] > 0.99
     assert math.dist(sponge[:2, 3], start[:2, 3]) > 0.15  # not back where it came from
+
+
+def test_a_jug_is_taken_by_its_handle_poured_from_and_put_back():
+    # the jug written only in tests/data/new_objects/jug_plate.oac (a shell and a box handle
+    # 6 cm out along +x); tests/data/jug_handle.oac grasps it `type handle` at the handle
+    from runtime_lib import ROOT, STANDARD
+
+    from oacdsl.compiler import load_library
+
+    data = ROOT / "tests" / "data"
+    lib = load_library([*STANDARD, data / "new_objects" / "jug_plate.oac", data / "jug_handle.oac"])
+    run = prepare(lib, "pour_from_jug", scene="jug_by_handle")
+    held = {}
+
+    def on_step(index, step, world):
+        if step.oac == "grasp":
+            t_jug, t_grasp = world.body_pose("jug"), world.frame_pose("grasp_l")
+            held["centre"] = (np.linalg.inv(t_jug) @ t_grasp[:, 3])[:3]
+            held["palm"] = t_jug[:3, :3].T @ -t_grasp[:3, 0]
+            held["parts"] = world.hand_parts_touching("l", "jug")
+
+    result = run_prepared(run, on_step=on_step)
+    assert result.success, result.error
+    assert held["centre"][0] > 0.03  # the hand is at the handle, outside the body (radius 4.5 cm)
+    assert held["palm"] @ np.array([-1.0, 0.0, 0.0]) > 0.9  # palm facing the jug's axis
+    assert "fingers" in held["parts"]
+    assert run.world.balls_inside("basin", "water") >= 9
+    assert run.world.held["l"] is None and run.world.body_pose("jug")[2, 2] > 0.99

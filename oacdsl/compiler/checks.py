@@ -12,6 +12,7 @@ from collections.abc import Iterable, Sequence
 
 import networkx as nx
 
+from oacdsl.compiler.check_geometry import check_geometry
 from oacdsl.compiler.check_oacs import check_oacs
 from oacdsl.compiler.context import Context
 from oacdsl.compiler.diagnostics import Diagnostic, Note
@@ -177,5 +178,6 @@ def check_modules(modules: Sequence[Module]) -> list[Diagnostic]:
     check_classes(ctx)
     check_scenes(ctx)
     check_grasps(ctx)
+    check_geometry(ctx)
     check_oacs(ctx)
     return ctx.diagnostics

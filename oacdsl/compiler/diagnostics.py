@@ -59,11 +59,21 @@ CODES: dict[str, str] = {
     "E022": "marker assigned to two instances",
     "E023": "composed OAC without steps",
     "E024": "file is not UTF-8 text",
+    "E030": "unknown shape",
+    "E031": "unknown, repeated or missing parameter of a shape",
+    "E032": "unknown unit, or a unit of the wrong kind",
+    "E033": "size, mass or friction not positive and finite, or sizes that do not fit together",
+    "E034": "mesh file not found",
+    "E035": "geometry property given twice",
+    "E036": "hand, table or balls combined with other shapes",
+    "E037": "unknown colour",
     "W001": "unused variable",
     "W002": "name or relation listed twice",
     "W003": "effect already holds before (it is also a precondition)",
     "W004": "graspable instance whose classes have no grasp",
     "W005": "grasp offset longer than 0.5 m (offsets are metres)",
+    "W006": "size over 5 m written without a unit (sizes without a unit are metres)",
+    "W007": "instance without a shape (the robot's simulation cannot build it)",
 }
 
 

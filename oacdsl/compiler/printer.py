@@ -26,6 +26,7 @@ from oacdsl.model import (
     Atom,
     Call,
     Decl,
+    Geometry,
     Grasp,
     Instance,
     Module,
@@ -33,7 +34,10 @@ from oacdsl.model import (
     Oac,
     ObjectClass,
     Param,
+    Point,
+    Quantity,
     Scene,
+    Shape,
     atom_text,
 )
 from oacdsl.world import NOTHING
@@ -88,11 +92,53 @@ def format_atom(atom: Atom) -> str:
     return atom_text(atom, (_name(atom.left), _name(atom.right)))
 
 
+def _quantity(q: Quantity) -> str:
+    if not math.isfinite(q.value):
+        raise LanguageError(f"cannot print the number {q.value!r}: sizes must be finite")
+    number = str(int(q.value)) if q.value.is_integer() and abs(q.value) < 1e15 else repr(q.value)
+    return number + (_name(q.unit) if q.unit else "")
+
+
+def _point(p: Point) -> str:
+    return f"({_quantity(p.x)}, {_quantity(p.y)}, {_quantity(p.z)})"
+
+
+def _shape(shape: Shape) -> str:
+    args = ([_string(shape.file)] if shape.file is not None else []) + [
+        f"{_name(d.name)} {_quantity(d.value)}" for d in shape.dims
+    ]
+    text = f"shape {_name(shape.primitive)}"
+    if args:
+        text += "(" + ", ".join(args) + ")"
+    if shape.at is not None:
+        text += " at " + _point(shape.at)
+    return text
+
+
+def _geometry(geometry: Geometry, indent: str) -> list[str]:
+    """The lines inside a geometry block, each indented by ``indent``."""
+    lines = [_shape(s) for s in geometry.shapes]
+    if geometry.mass is not None:
+        lines.append(f"mass {_quantity(geometry.mass)}")
+    if geometry.friction is not None:
+        lines.append(f"friction {_number(geometry.friction)}")
+    if geometry.colour is not None:
+        lines.append(f"colour {_name(geometry.colour)}")
+    if geometry.markers:
+        lines.append("markers " + ", ".join(_point(p) for p in geometry.markers))
+    return [indent + line for line in lines]
+
+
 def _class(decl: ObjectClass) -> list[str]:
     text = f"class {_name(decl.name)}"
     if decl.parents:
         text += " : " + ", ".join(_name(p) for p in decl.parents)
-    return [_with_note(text, decl)]
+    if decl.geometry is None:
+        return [_with_note(text, decl)]
+    inside = _geometry(decl.geometry, _IND)
+    if not inside:
+        return [_with_note(text + " { }", decl)]
+    return [text + " {", *inside, _with_note("}", decl)]
 
 
 def _instance_line(names: list[str], inst: Instance, width: int) -> str:
@@ -101,6 +147,11 @@ def _instance_line(names: list[str], inst: Instance, width: int) -> str:
         text += " markers (" + ", ".join(_string(m) for m in inst.markers) + ")"
     if inst.environment:
         text += " environment"
+    if inst.geometry is not None:
+        inside = _geometry(inst.geometry, _IND * 2)
+        if not inside:
+            return _with_note(text + " { }", inst)
+        return "\n".join([text + " {", *inside, _with_note(_IND + "}", inst)])
     return _with_note(text, inst)
 
 
@@ -112,7 +163,7 @@ def _groups(instances: tuple[Instance, ...]) -> list[list[Instance]]:
     groups: list[list[Instance]] = []
     by_kind: dict[tuple[tuple[str, ...], bool], list[Instance]] = {}
     for inst in instances:
-        if inst.markers or inst.comments or inst.note is not None:
+        if inst.markers or inst.geometry is not None or inst.comments or inst.note is not None:
             groups.append([inst])
             continue
         key = (inst.classes, inst.environment)
@@ -261,6 +312,8 @@ def format_oac(oac: Oac) -> str:
 
 
 def _tight(prev: Decl, decl: Decl) -> bool:
+    if any(isinstance(d, ObjectClass) and d.geometry is not None for d in (prev, decl)):
+        return False
     return isinstance(decl, ObjectClass | Grasp) and type(prev) is type(decl) and not decl.comments
 
 

@@ -14,11 +14,15 @@ from __future__ import annotations
 __all__ = ["EXAMPLES"]
 
 _DECL = "a declaration ('class', 'scene', 'grasp' or 'oac')"
+_SHAPES = "box, cylinder, sphere, capsule, shell, mesh, balls, hand or table"
 
 #: (what is expected, snippets that fail at the same parser state).
 EXAMPLES: list[tuple[str, list[str]]] = [
-    ("':' and the parent classes, or " + _DECL, ["class A", "class A B"]),
-    ("',' and more parent classes, or " + _DECL, ["class A : B", "class A : B C", "class A : B, C"]),
+    ("':' and the parent classes, '{' and the class's geometry, or " + _DECL, ["class A", "class A B"]),
+    (
+        "',' and more parent classes, '{' and the class's geometry, or " + _DECL,
+        ["class A : B", "class A : B C", "class A : B, C"],
+    ),
     (
         _DECL,
         [
@@ -63,7 +67,8 @@ EXAMPLES: list[tuple[str, list[str]]] = [
         ["scene s { a", "scene s { a b", "scene s { a, b", "scene s { a, b, c"],
     ),
     (
-        "',' and more classes, 'markers (…)', 'environment', the next instance or '}'",
+        "',' and more classes, 'markers (…)', 'environment', '{' and the instance's geometry,"
+        " the next instance or '}'",
         [
             "scene s { a : B",
             "scene s { a : B, C",
@@ -72,7 +77,7 @@ EXAMPLES: list[tuple[str, list[str]]] = [
         ],
     ),
     (
-        "'environment', the next instance or '}'",
+        "'environment', '{' and the instance's geometry, the next instance or '}'",
         [
             'scene s { a : B markers ("x")',
             'scene s { a : B markers ("x",)',
@@ -80,7 +85,7 @@ EXAMPLES: list[tuple[str, list[str]]] = [
         ],
     ),
     (
-        "the next instance or '}'",
+        "'{' and the instance's geometry, the next instance or '}'",
         [
             "scene s { a : B environment",
             'scene s { a : B markers ("x") environment',
@@ -103,6 +108,56 @@ EXAMPLES: list[tuple[str, list[str]]] = [
             'scene s { a : B markers ("x", "y"',
             'scene s { a : B markers ("x", "y", "z"',
         ],
+    ),
+    (
+        "a shape (" + _SHAPES + ")",
+        ["class A { shape", "class A { shape (", "scene s { a : B { shape", "class A { shape }"],
+    ),
+    (
+        "'shape', 'mass', 'friction', 'colour', 'markers' or '}'",
+        [
+            "class A {",
+            "class A { shape box(length 1)",
+            "class A { shape hand",
+            "class A { friction 1",
+            "class A { colour red",
+            "class A { markers (1, 2, 3)",
+            "class A { shape box at (1, 2, 3)",
+            "scene s { a : B {",
+        ],
+    ),
+    (
+        "a unit (m, cm, mm; kg, g), 'shape', 'mass', 'friction', 'colour', 'markers' or '}'",
+        ["class A { mass 1", "class A { mass 1 2"],
+    ),
+    (
+        "a number with its unit, such as 4cm or 150g",
+        [
+            "class A { mass",
+            "class A { mass }",
+            "class A { shape box(length",
+            "class A { shape box(length )",
+            "class A { shape box at (",
+            "class A { shape box at (1,",
+            "class A { shape box at (1, 2,",
+            "class A { markers (",
+        ],
+    ),
+    (
+        "a size such as 'radius 4cm', a quoted file name or ')'",
+        ["class A { shape box(", "class A { shape box(1"],
+    ),
+    ("a size such as 'radius 4cm' or a quoted file name", ["class A { shape box(length 1,"]),
+    ("',' or ')' after a size", ["class A { shape box(length 1cm", "class A { shape box(length 1cm 2"]),
+    (
+        "a unit (m, cm, mm; kg, g), ',' or ')'",
+        ["class A { shape box(length 1", "class A { shape box(length 1 2"],
+    ),
+    ("a friction coefficient (a number)", ["class A { friction", "class A { friction }"]),
+    ("a colour name (red, green, …)", ["class A { colour", "class A { colour }"]),
+    (
+        "'(' and a point (x, y, z) in the object frame",
+        ["class A { markers", "class A { shape box at", "class A { markers (1, 2, 3),"],
     ),
     ("the class to grasp", ["grasp", "grasp {"]),
     ("'{' after the class to grasp", ["grasp G", "grasp G type"]),

@@ -22,6 +22,8 @@ from lark import Token, Transformer
 
 from oacdsl.compiler.diagnostics import Diagnostic, Note
 from oacdsl.compiler.fastmodel import make, unquote
+from oacdsl.compiler.transform_geometry import GeometryBuilder
+from oacdsl.compiler.transform_geometry import token_part as _part
 from oacdsl.model import (
     Atom,
     Call,
@@ -44,11 +46,7 @@ _PartT = tuple[str, int, int, int, int]
 _Parts = list[_PartT]
 
 
-def _part(key: str, tok: Token) -> _PartT:
-    return (key, tok.line, tok.column, tok.end_line, tok.end_column)  # type: ignore[return-value]
-
-
-class ModelBuilder(Transformer[Token, list[Decl]]):
+class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
     """Inline transformer from one file's tokens to its declarations.
 
     Call :meth:`reset` before each parse; ``diagnostics`` then collects the
@@ -111,25 +109,28 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
     instance_names = args = class_names
 
     def class_decl(self, children: list[Any]) -> ObjectClass:
-        kw, name, parents = children
+        kw, name, parents, geometry = children
         parts: _Parts = [_part("name", name)]
         names = self._names(parents or [], "parents", parts, "parent class")
-        last = parents[-1] if parents else name
-        return make(
-            ObjectClass,
-            {"name": str(name), "parents": names, "span": self._between(kw, last), "parts": tuple(parts)},
-        )
+        last = geometry.span if geometry is not None else parents[-1] if parents else name
+        values: dict[str, Any] = {"name": str(name), "parents": names}
+        if geometry is not None:
+            values["geometry"] = geometry
+        values.update(span=self._between(kw, last), parts=tuple(parts))
+        return make(ObjectClass, values)
 
     def strings(self, children: list[Token | None]) -> list[Token]:
         return [c for c in children if c is not None]
 
     def markers(self, children: list[Any]) -> tuple[list[Token], Token]:
-        strings, rpar = children
+        _, strings, rpar = children
         return strings or [], rpar
 
     def instance_group(self, children: list[Any]) -> list[Instance]:
-        names, classes, markers, environment = children
+        names, classes, markers, environment, geometry = children
         last = environment or (markers[1] if markers else classes[-1])
+        if geometry is not None:
+            last = geometry.span
         shared: _Parts = []
         cls = self._names(classes, "classes", shared, "class")
         marks: list[str] = []
@@ -144,6 +145,7 @@ class ModelBuilder(Transformer[Token, list[Decl]]):
                     "classes": cls,
                     "markers": tuple(marks),
                     "environment": environment is not None,
+                    "geometry": geometry,
                     "span": self._between(name, last),
                     "parts": (_part("name", name), *shared),
                 },

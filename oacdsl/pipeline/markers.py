@@ -14,6 +14,9 @@ surfaces by which an instance takes part in the task's relations.
 - A hand: the centre of every face of its palm, finger plate and thumb boxes, and a
   20 mm grid on the faces that grip (palm and finger plate: -x of the hand frame; thumb: +z;
   see :mod:`oacdsl.runtime.hands`).
+Containers are the objects whose shape has a ``shell`` (:mod:`oacdsl.geometry`); a cup
+below means a container with a grasp declared for it, a bowl one without.
+
 - A cup: rings of 12 on its outer wall every 20 mm from the rim down to 40 % of its
   height (where a hand holds it, as the demonstration's rim and handle markers), and its
   floor inside (where a liquid lies; floor markers sit one ball radius above the floor, where
@@ -94,6 +97,8 @@ FLOOR_SPACING_M = 0.02
 GRIP_SPACING_M = 0.02
 #: Cylinders up to this radius are grips (rings all along them), metres.
 GRIP_RADIUS_M = 0.025
+#: Height of a container's floor markers above its floor when the scene has no liquid, metres.
+DEFAULT_BALL_RADIUS_M = 0.009
 #: At most this many grid cells along one side of a box face.
 MAX_CELLS = 6
 
@@ -126,15 +131,6 @@ def _disc(radius: float, z: float, spacing: float) -> Points:
         for j in range(-n, n + 1)
         if math.hypot(i * spacing, j * spacing) <= radius + 1e-9
     ]
-
-
-def _floor_z(model: Any, instance: str) -> float:
-    """Height of the top of an object's base above its frame's origin (0 without a base), m."""
-    try:
-        base = model.geom(f"{instance}/base")
-    except KeyError:
-        return 0.0
-    return float(base.pos[2] + base.size[1])
 
 
 def _box_face(half: np.ndarray, axis: int, sign: int, spacing: float) -> Points:
@@ -174,12 +170,17 @@ def _geom_local(model: Any, g: int, grip_face: tuple[int, int] | None = None) ->
     return [(0.0, 0.0, 0.0)]  # spheres, ellipsoids, meshes: the centre
 
 
-def _body_points(model: Any, body: int, grip_face: tuple[int, int] | None = None) -> np.ndarray:
-    """Points on the collision shapes of ``body``, in the body frame."""
+def _body_points(
+    model: Any, body: int, grip_face: tuple[int, int] | None = None, skip: str | None = None
+) -> np.ndarray:
+    """Points on the collision shapes of ``body``, in the body frame (geoms whose name
+    starts with ``skip`` left out)."""
     import mujoco
 
     out = []
     for g in np.flatnonzero(model.geom_bodyid == body):
+        if skip is not None and model.geom(int(g)).name.startswith(skip):
+            continue
         rot = np.zeros(9)
         mujoco.mju_quat2Mat(rot, model.geom_quat[g])
         local = np.asarray(_geom_local(model, int(g), grip_face), dtype=float)
@@ -192,25 +193,32 @@ def _hand_grip_face(body_name: str) -> tuple[int, int]:
     return (2, 1) if body_name.startswith("thumb_") else (0, -1)
 
 
-def _object_points(model: Any, instance: str, kind: str, body: int) -> np.ndarray:
-    from oacdsl.runtime.objects import BALL_RADIUS, SHAPES
-
-    shape = SHAPES.get(kind)
-    if shape is None or kind not in ("cup", "bowl"):
+def _object_points(model: Any, instance: str, shape: Any, body: int, ball_radius: float) -> np.ndarray:
+    """Markers of an object (``shape``: its :class:`~oacdsl.runtime.bodies.Body`): its
+    collision shapes, except for an open container (see the module docstring): a graspable
+    one (a cup) on its outer wall's upper part and its floor, one that is not (a bowl) on
+    its floor and low on its outer wall; the other parts of a compound (a jug's handle)
+    by their collision shapes."""
+    cont = shape.shell
+    if cont is None:
         return _body_points(model, body)
+    radius, height, inner = cont.dims["radius"], cont.top, shape.inner_radius
+    x0, y0, _ = cont.at
     # the floor markers sit one ball radius above the floor inside, where a resting ball's centre is
-    floor = _floor_z(model, instance) + BALL_RADIUS
-    if kind == "cup":  # the outer wall's upper part (where a hand holds it), the floor inside
-        n = max(1, round(0.6 * shape.height / GRIP_SPACING_M))
-        rings = [p for k in range(n + 1) for p in _ring(shape.radius, shape.height * (1 - 0.6 * k / n), 12,
-                                                          k * math.pi / 12)]
-        points = [*rings, (0.0, 0.0, floor), *_ring(0.5 * shape.inner_radius, floor, 4)]
-    else:
-        points = [
-            *_disc(shape.inner_radius - BALL_RADIUS, floor, FLOOR_SPACING_M),
-            *_ring(shape.radius, 0.25 * shape.height, 8),
+    floor = shape.floor + ball_radius
+    if shape.graspable:  # the outer wall's upper part (where a hand holds it), the floor inside
+        n = max(1, round(0.6 * height / GRIP_SPACING_M))
+        rings = [
+            p for k in range(n + 1) for p in _ring(radius, height * (1 - 0.6 * k / n), 12, k * math.pi / 12)
         ]
-    return np.asarray(points, dtype=float)
+        points = [*rings, (0.0, 0.0, floor), *_ring(0.5 * inner, floor, 4)]
+    else:
+        points = [*_disc(inner - ball_radius, floor, FLOOR_SPACING_M), *_ring(radius, 0.25 * height, 8)]
+    out = np.asarray(points, dtype=float) + np.array([x0, y0, 0.0])
+    if len(shape.solids) == 1:
+        return out
+    shell_name = f"{instance}/part{shape.solids.index(cont)}/"
+    return np.concatenate([out, _body_points(model, body, skip=shell_name)])
 
 
 class VirtualMarkers:
@@ -235,9 +243,12 @@ class VirtualMarkers:
             parts = [(slot(b), _body_points(model, b, _hand_grip_face(model.body(b).name)))
                      for b in world.hand_bodies[side]]
             self._groups.append((inst, [p for p in parts if len(p[1])]))
+        balls = [b.ball_radius for b in world.layout.bodies.values() if b.ball_radius > 0]
+        ball_radius = max(balls, default=DEFAULT_BALL_RADIUS_M)
         for p in world.layout.placements:
             body = model.body(p.name).id
-            self._groups.append((p.name, [(slot(body), _object_points(model, p.name, p.kind, body))]))
+            points = _object_points(model, p.name, p.body, body, ball_radius)
+            self._groups.append((p.name, [(slot(body), points)]))
         for liquid, balls in sorted(world.built.balls.items()):
             origin = np.zeros((1, 3))
             self._groups.append((liquid, [(slot(model.body(b).id), origin) for b in balls]))

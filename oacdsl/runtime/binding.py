@@ -10,6 +10,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from oacdsl.errors import RuntimeFailure, did_you_mean
+from oacdsl.geometry import ROLE_LIQUID, resolve_scene
 from oacdsl.library import Library
 from oacdsl.model import Atom, Oac, Scene
 from oacdsl.world import NOTHING, WorldState
@@ -177,13 +178,14 @@ def explain(state: WorldState, a: str, b: str, negated: bool) -> str:
 
 def liquid_contents(library: Library, scene: Scene, oac: Oac, binding: Mapping[str, str]) -> dict[str, str]:
     """Liquid → container named by the OAC's own preconditions (``l <-> c``): where the
-    runtime puts each liquid before the run, as the demonstrator filled the cups."""
-    classes = library.instance_classes(scene)
+    runtime puts each liquid before the run, as the demonstrator filled the cups. A liquid
+    is an instance whose shape is ``balls``; a container one whose shape has a ``shell``."""
+    shapes = {name: geo for name, geo in resolve_scene(library, scene).items() if geo is not None}
     out: dict[str, str] = {}
     for a, b, negated in bound_atoms(oac.pre, binding):
-        if negated or NOTHING in (a, b) or a not in classes or b not in classes:
+        if negated or NOTHING in (a, b) or a not in shapes or b not in shapes:
             continue
         for liquid, container in ((a, b), (b, a)):
-            if "Liquid" in classes[liquid] and "Container" in classes[container] and liquid not in out:
+            if shapes[liquid].role == ROLE_LIQUID and shapes[container].container and liquid not in out:
                 out[liquid] = container
     return out

@@ -9,7 +9,7 @@ each other or the floor (placo keeps the robot free of self-collision).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import mujoco
 import numpy as np
@@ -20,12 +20,10 @@ from oacdsl.runtime.layout import Layout
 from oacdsl.runtime.objects import (
     OBJECT_CONAFFINITY,
     OBJECT_CONTYPE,
-    SHAPES,
     TABLE_TOP,
     add_balls,
     add_object,
     add_table,
-    colour_for,
 )
 from oacdsl.runtime.transforms import quat_from_matrix
 from oacdsl.runtime.urdf import URDF_PATH
@@ -182,21 +180,15 @@ def build_model(layout: Layout, seed: int | None = None) -> BuiltModel:
     _add_sensors(spec)
     rng = np.random.default_rng(seed if seed is not None else 0)
     for p in layout.placements:
-        add_object(spec, p.name, p.kind, (p.x, p.y, TABLE_TOP), p.yaw)
+        add_object(spec, p.name, p.body, (p.x, p.y, TABLE_TOP), p.yaw)
     balls: dict[str, tuple[str, ...]] = {}
     for i, (liquid, container) in enumerate(sorted(layout.liquids.items())):
         p = layout.placement(container)
-        shape = SHAPES[p.kind]
-        rgba = _LIQUID_RGBA.get(i, colour_for(liquid, "ball"))
+        body = layout.bodies[liquid]
+        body = replace(body, rgba=_LIQUID_RGBA.get(i, body.rgba))
         balls[liquid] = tuple(
             add_balls(
-                spec,
-                liquid,
-                layout.balls_per_liquid,
-                np.array([p.x, p.y, TABLE_TOP]),
-                shape.inner_radius,
-                rgba,
-                rng,
+                spec, liquid, layout.balls_per_liquid, np.array([p.x, p.y, TABLE_TOP]), p.body, body, rng
             )
         )
     welds: dict[tuple[str, str], str] = {}

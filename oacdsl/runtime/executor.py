@@ -218,10 +218,12 @@ def run_prepared(
         if failed is not None:
             break
     success = bool(results) and failed is None and len(results) == len(run.steps)
-    bowls = [p.name for p in world.layout.placements if p.kind == "bowl"]
+    # containers that start empty: where liquids are poured to
+    filled = set(world.layout.liquids.values())
+    targets = [p.name for p in world.layout.placements if p.body.container and p.name not in filled]
     metrics: dict[str, float | int] = {
         "balls_total": world.balls_total,
-        "balls_in_bowl": sum(world.balls_inside(b) for b in bowls),
+        "balls_in_bowl": sum(world.balls_inside(b) for b in targets),
         "sim_time_s": round(world.time_s, 4),
         "wall_time_s": round(time.perf_counter() - wall0, 4),
     }

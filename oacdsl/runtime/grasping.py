@@ -21,7 +21,8 @@ front of the palm) on that point, and orients the hand:
   plate (outside) and the folded thumb (inside); ``offset`` gives the rim's radius and
   height (see :func:`_rim_plans`).
 
-Rotationally symmetric objects (cups, bowls, the mixer) have no preferred azimuth:
+Rotationally symmetric objects (every solid round and on the z axis, e.g. a cup, a bowl,
+a stick mixer: :attr:`~oacdsl.runtime.bodies.Body.round`) have no preferred azimuth:
 the offset is turned about the object's vertical axis to face the hand's approach,
 keeping its radius and height. A few variants (the side approach turned by ±30°/±60°,
 top grasps along other headings or tilted by 25°) are offered in order of preference;
@@ -39,9 +40,8 @@ from oacdsl.errors import RuntimeFailure
 from oacdsl.model import Grasp
 from oacdsl.runtime.transforms import make_T, rot_axis
 
-__all__ = ["GraspPlan", "plan_grasps", "SYMMETRIC_KINDS", "APPROACHES", "hand_rotation_for", "RIM_GAP_H"]
+__all__ = ["GraspPlan", "plan_grasps", "APPROACHES", "hand_rotation_for", "RIM_GAP_H"]
 
-SYMMETRIC_KINDS = frozenset({"cup", "bowl", "mixer"})
 APPROACHES = ("side", "top", "front")
 #: Distance of the pre-grasp pose from the grasp point, along the approach, metres.
 PRE_GRASP_M = 0.20
@@ -108,14 +108,14 @@ def _unit(v: np.ndarray) -> np.ndarray:
 
 def plan_grasps(
     grasp: Grasp,
-    kind: str,
+    symmetric: bool,
     t_world_object: np.ndarray,
     side: str,
     forward: np.ndarray | None = None,
     support_z: float | None = None,
 ) -> list[GraspPlan]:
-    """Candidate grasps of an object of ``kind`` at ``t_world_object`` by hand ``side``,
-    most natural first (the skill takes the first the whole-body IK can reach).
+    """Candidate grasps of an object (rotationally ``symmetric`` or not) at ``t_world_object``
+    by hand ``side``, most natural first (the skill takes the first the whole-body IK can reach).
 
     ``forward``: the robot's forward direction in the world (default +x). ``support_z``:
     height of the surface the object stands on; a side or front grasp is raised so that
@@ -132,7 +132,6 @@ def plan_grasps(
     r_obj, p_obj = t_world_object[:3, :3], t_world_object[:3, 3]
     offset = np.array(grasp.offset, dtype=float)
     radius = float(np.hypot(offset[0], offset[1]))
-    symmetric = kind in SYMMETRIC_KINDS
     plans: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []  # (point, rotation, approach)
     if grasp.approach == "side" and grasp.type == "handle":
         plans = _handle_plans(offset, r_obj, p_obj, fwd, side)

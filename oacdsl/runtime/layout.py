@@ -1,8 +1,8 @@
 """Where the scene's instances go on the table, and which liquid starts in which cup.
 
-A :class:`Layout` is computed from a DSL scene: every instance gets an object kind
-from its most specific class that has geometry (:data:`~oacdsl.runtime.objects.CLASS_SHAPES`),
-hands are mapped to the robot's right/left hand by their names, liquids start inside a
+A :class:`Layout` is computed from a DSL scene: every instance gets its
+:class:`~oacdsl.runtime.bodies.Body` from the language's geometry (its own, else its
+most specific class's), hands are mapped to the robot's right/left hand by their names, liquids start inside a
 container, and the other objects stand on the table at nominal places (the paper's
 kitchen: cups left and right, the bowl in the middle, the mixer to the right). With a
 seed, every object is moved by up to :data:`MAX_SHIFT_M` in a random direction, keeping
@@ -18,9 +18,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure, did_you_mean
+from oacdsl.geometry import ROLE_HAND, ROLE_LIQUID, ROLE_OBJECT, ROLE_TABLE
 from oacdsl.library import Library
 from oacdsl.model import Scene
-from oacdsl.runtime.objects import CLASS_SHAPES, SHAPES, TABLE_DEPTH, TABLE_FRONT
+from oacdsl.runtime.bodies import Body, bodies_for_scene
+from oacdsl.runtime.objects import TABLE_DEPTH, TABLE_FRONT
 
 __all__ = ["Placement", "Layout", "plan_layout", "MAX_SHIFT_M", "NOMINAL", "hand_side"]
 
@@ -58,10 +60,10 @@ _Y_LIMIT = 0.60
 
 @dataclass(frozen=True)
 class Placement:
-    """A free object of kind ``kind`` standing at (x, y) on the table, rotated by ``yaw`` (rad)."""
+    """A free object built from ``body`` standing at (x, y) on the table, rotated by ``yaw`` (rad)."""
 
     name: str
-    kind: str
+    body: Body
     x: float
     y: float
     yaw: float = 0.0
@@ -78,7 +80,8 @@ class Layout:
     table: str
     seed: int | None = None
     balls_per_liquid: int = BALLS_PER_LIQUID
-    kinds: Mapping[str, str] = field(default_factory=dict)
+    #: Every instance's body (hands, liquids and the table included).
+    bodies: Mapping[str, Body] = field(default_factory=dict)
 
     def placement(self, name: str) -> Placement:
         for p in self.placements:
@@ -97,14 +100,6 @@ def hand_side(name: str) -> str | None:
     return "r" if right else "l"
 
 
-def _kind(library: Library, cls_names: frozenset[str]) -> str | None:
-    known = [c for c in cls_names if c in CLASS_SHAPES]
-    if not known:
-        return None
-    best = max(sorted(known), key=lambda c: len(library.ancestors(c)))
-    return CLASS_SHAPES[best]
-
-
 def plan_layout(
     library: Library,
     scene: Scene,
@@ -114,49 +109,41 @@ def plan_layout(
 ) -> Layout:
     """The layout of ``scene``; ``contents`` maps liquids to their starting containers;
     ``places`` puts named objects at given (x, y) positions on the table (metres)."""
-    classes = library.instance_classes(scene)
-    kinds: dict[str, str] = {}
-    table = "table"
+    bodies = bodies_for_scene(library, scene)
+    table = None
     for inst in scene.instances:
-        kind = _kind(library, classes[inst.name])
-        if kind == "table" or (inst.environment and kind is None):
-            if kind is None:
-                raise RuntimeFailure(
-                    f"environment instance {inst.name!r} (classes {', '.join(inst.classes)}) has no geometry;"
-                    " the runtime builds only a Table as environment"
-                )
-            table = inst.name
-            continue
-        if kind is None:
-            have = ", ".join(sorted(classes[inst.name]))
+        role = bodies[inst.name].role
+        if inst.environment and role != ROLE_TABLE:
             raise RuntimeFailure(
-                f"instance {inst.name!r} of scene {scene.name!r} (classes {have})"
-                f" has no geometry in the runtime; classes with geometry: {', '.join(sorted(CLASS_SHAPES))}"
+                f"environment instance {inst.name!r} (classes {', '.join(inst.classes)}) is not the table;"
+                " the runtime builds only the table (`shape table`) as environment"
             )
-        kinds[inst.name] = kind
+        if role == ROLE_TABLE:
+            table = inst.name
+    kinds = {n: b.role for n, b in bodies.items() if n != table}
     hands = _hands(kinds)
-    liquids = _liquids(kinds, dict(contents or {}))
-    names = sorted(n for n, k in kinds.items() if k in SHAPES)
-    nominal = _nominal(names, kinds)
-    placed = nominal if seed is None else _shuffle(nominal, kinds, np.random.default_rng(seed))
+    liquids = _liquids(bodies, dict(contents or {}))
+    names = sorted(n for n, k in kinds.items() if k == ROLE_OBJECT)
+    nominal = _nominal(names, bodies)
+    placed = nominal if seed is None else _shuffle(nominal, bodies, np.random.default_rng(seed))
     for name, xy in (places or {}).items():
         if name not in placed:
             raise RuntimeFailure(
                 f"cannot place {name!r}: not an object on the table{did_you_mean(name, placed)}"
             )
-        r = SHAPES[kinds[name]].radius
+        r = bodies[name].radius
         if not (
             TABLE_FRONT <= xy[0] - r and xy[0] + r <= TABLE_FRONT + TABLE_DEPTH and abs(xy[1]) + r <= 0.8
         ):
             raise RuntimeFailure(f"cannot place {name!r} at ({xy[0]:.2f}, {xy[1]:.2f}) m: off the table")
         placed[name] = (float(xy[0]), float(xy[1]))
-    placements = tuple(Placement(n, kinds[n], placed[n][0], placed[n][1]) for n in names)
-    return Layout(scene.name, placements, liquids, hands, table, seed, kinds=kinds)
+    placements = tuple(Placement(n, bodies[n], placed[n][0], placed[n][1]) for n in names)
+    return Layout(scene.name, placements, liquids, hands, table or ROLE_TABLE, seed, bodies=bodies)
 
 
 def _hands(kinds: Mapping[str, str]) -> dict[str, str]:
     hands: dict[str, str] = {}
-    for name in sorted(n for n, k in kinds.items() if k == "hand"):
+    for name in sorted(n for n, k in kinds.items() if k == ROLE_HAND):
         side = hand_side(name)
         if side is None:
             raise RuntimeFailure(
@@ -172,11 +159,12 @@ def _hands(kinds: Mapping[str, str]) -> dict[str, str]:
     return hands
 
 
-def _liquids(kinds: Mapping[str, str], contents: dict[str, str]) -> dict[str, str]:
-    containers = sorted(n for n, k in kinds.items() if k in ("cup", "bowl"))
+def _liquids(bodies: Mapping[str, Body], contents: dict[str, str]) -> dict[str, str]:
+    containers = sorted(n for n, b in bodies.items() if b.container)
+    liquid_names = sorted(n for n, b in bodies.items() if b.role == ROLE_LIQUID)
     for liquid, container in contents.items():
-        if kinds.get(liquid) != "liquid":
-            valid = [n for n, k in kinds.items() if k == "liquid"]
+        if liquid not in liquid_names:
+            valid = liquid_names
             raise RuntimeFailure(
                 f"cannot fill {liquid!r}: not a liquid of the scene{did_you_mean(liquid, valid)}"
             )
@@ -186,8 +174,9 @@ def _liquids(kinds: Mapping[str, str], contents: dict[str, str]) -> dict[str, st
                 f"{did_you_mean(container, containers)}"
             )
     taken = set(contents.values())
-    free_cups = [c for c in containers if kinds[c] == "cup" and c not in taken]
-    for liquid in sorted(n for n, k in kinds.items() if k == "liquid"):
+    # a liquid starts in a container the robot can pour from: one it can grasp
+    free_cups = [c for c in containers if bodies[c].graspable and c not in taken]
+    for liquid in liquid_names:
         if liquid in contents:
             continue
         if NOMINAL_CONTENTS.get(liquid) in free_cups:
@@ -203,22 +192,22 @@ def _liquids(kinds: Mapping[str, str], contents: dict[str, str]) -> dict[str, st
 
 
 def _fits(
-    name: str, xy: tuple[float, float], placed: Mapping[str, tuple[float, float]], kinds: Mapping[str, str]
+    name: str, xy: tuple[float, float], placed: Mapping[str, tuple[float, float]], bodies: Mapping[str, Body]
 ) -> bool:
-    r = SHAPES[kinds[name]].radius
+    r = bodies[name].radius
     if not (_X_RANGE[0] <= xy[0] - r and xy[0] + r <= _X_RANGE[1]) or abs(xy[1]) + r > _Y_LIMIT:
         return False
     for other, oxy in placed.items():
-        if other != name and math.dist(xy, oxy) < r + SHAPES[kinds[other]].radius + MIN_GAP_M:
+        if other != name and math.dist(xy, oxy) < r + bodies[other].radius + MIN_GAP_M:
             return False
     return True
 
 
-def _nominal(names: list[str], kinds: Mapping[str, str]) -> dict[str, tuple[float, float]]:
+def _nominal(names: list[str], bodies: Mapping[str, Body]) -> dict[str, tuple[float, float]]:
     placed: dict[str, tuple[float, float]] = {}
     for name in sorted(names, key=lambda n: (n not in NOMINAL, n)):
         wanted = ([NOMINAL[name]] if name in NOMINAL else []) + list(_SLOTS)
-        slot = next((s for s in wanted if _fits(name, s, placed, kinds)), None)
+        slot = next((s for s in wanted if _fits(name, s, placed, bodies)), None)
         if slot is None:
             raise RuntimeFailure(f"no room on the table for {name!r} ({len(names)} objects)")
         placed[name] = slot
@@ -226,7 +215,7 @@ def _nominal(names: list[str], kinds: Mapping[str, str]) -> dict[str, tuple[floa
 
 
 def _shuffle(
-    nominal: dict[str, tuple[float, float]], kinds: Mapping[str, str], rng: np.random.Generator
+    nominal: dict[str, tuple[float, float]], bodies: Mapping[str, Body], rng: np.random.Generator
 ) -> dict[str, tuple[float, float]]:
     placed = dict(nominal)
     for name in sorted(nominal):
@@ -234,7 +223,7 @@ def _shuffle(
             r = MAX_SHIFT_M * math.sqrt(rng.uniform())
             a = rng.uniform(0, 2 * math.pi)
             xy = (nominal[name][0] + r * math.cos(a), nominal[name][1] + r * math.sin(a))
-            if _fits(name, xy, placed, kinds):
+            if _fits(name, xy, placed, bodies):
                 placed[name] = xy
                 break
     return placed

@@ -1,33 +1,31 @@
-"""Object geometry per class: cups, bowls, balls (liquid), mixer, sponge, tray, table.
+"""Build the scene's objects in MuJoCo from their :class:`~oacdsl.runtime.bodies.Body`.
 
 Every object is one MuJoCo body with a free joint (the table is fixed). Its frame, the
 *object frame* in which grasp offsets are given, has its origin at the centre of the
-object's base, z up and x pointing away from the robot at the nominal placement.
-Containers are shells of boxes around a base disc, so that balls can lie inside and
-be poured out. Sizes are metres, masses kilograms.
+object's base, z up and x pointing away from the robot at the nominal placement. Each
+solid of the language's geometry becomes geoms: a box, cylinder, sphere or capsule one
+geom; an open container (``shell``) a base disc and a ring of wall boxes, so that balls
+can lie inside and be poured out; a mesh a mesh geom. Sizes are metres, masses kilograms.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
 
+from oacdsl.runtime.bodies import Body, Solid
+
 __all__ = [
-    "Shape3D",
-    "SHAPES",
-    "CLASS_SHAPES",
     "add_object",
     "add_table",
     "add_balls",
-    "BALL_RADIUS",
+    "BALL_GROUP",
     "TABLE_TOP",
     "TABLE_FRONT",
     "TABLE_DEPTH",
     "TABLE_WIDTH",
-    "colour_for",
 ]
 
 #: Height of the table top above the floor and its front edge (x), metres.
@@ -35,83 +33,14 @@ TABLE_TOP = 0.80
 TABLE_FRONT = 0.40
 TABLE_DEPTH = 1.00
 TABLE_WIDTH = 1.60
-#: Radius of a liquid ball, metres (the paper's robot runs used small balls).
-BALL_RADIUS = 0.009
-BALL_MASS = 0.003
 
 #: Geom group of the balls (objects and the table are group 0).
 BALL_GROUP = 1
 #: Collision bits: robot geoms (2) touch objects (1) but not each other.
 OBJECT_CONTYPE, OBJECT_CONAFFINITY = 1, 3
-
-
-@dataclass(frozen=True)
-class Shape3D:
-    """The geometry of one object kind.
-
-    ``radius``: footprint radius used for placement; ``inner_radius``/``height``: the
-    inside of a container (0 when it is not one); ``grip_height``: where a hand holds it.
-    ``markers``: a few points in the object frame, for recorded trajectories.
-    """
-
-    kind: str
-    radius: float
-    height: float
-    mass: float
-    inner_radius: float = 0.0
-    markers: tuple[tuple[float, float, float], ...] = field(default=())
-
-
-SHAPES: dict[str, Shape3D] = {
-    "cup": Shape3D("cup", 0.04, 0.10, 0.15, 0.034, ((0.0, 0.0, 0.10), (0.04, 0.0, 0.05), (0.0, 0.04, 0.02))),
-    "bowl": Shape3D(
-        "bowl", 0.115, 0.055, 0.5, 0.108, ((0.0, 0.0, 0.0), (0.115, 0.0, 0.055), (0.0, 0.115, 0.055))
-    ),
-    "mixer": Shape3D("mixer", 0.036, 0.22, 0.62, 0.0, ((0.0, 0.0, 0.0), (0.0, 0.0, 0.12), (0.0, 0.0, 0.22))),
-    "sponge": Shape3D(
-        "sponge", 0.06, 0.05, 0.06, 0.0, ((0.05, 0.0, 0.05), (-0.05, 0.0, 0.05), (0.0, 0.035, 0.0))
-    ),
-    "tray": Shape3D(
-        "tray", 0.17, 0.012, 0.6, 0.0, ((0.15, 0.0, 0.012), (-0.15, 0.0, 0.012), (0.0, 0.11, 0.012))
-    ),
-}
-
-#: DSL class → object kind (the most specific class of an instance that is listed wins).
-CLASS_SHAPES: dict[str, str] = {
-    "Cup": "cup",
-    "Bowl": "bowl",
-    "Mixer": "mixer",
-    "Sponge": "sponge",
-    "Tray": "tray",
-    "Surface": "tray",
-    "Liquid": "liquid",
-    "Hand": "hand",
-    "Table": "table",
-}
-
-_COLOURS = {
-    "red": (0.8, 0.15, 0.12, 1.0),
-    "green": (0.15, 0.65, 0.2, 1.0),
-    "blue": (0.15, 0.3, 0.8, 1.0),
-    "orange": (0.95, 0.55, 0.1, 1.0),
-    "yellow": (0.95, 0.85, 0.2, 1.0),
-    "white": (0.9, 0.9, 0.9, 1.0),
-}
-_DEFAULT = {
-    "cup": (0.6, 0.6, 0.65, 1.0),
-    "bowl": (0.95, 0.55, 0.1, 1.0),
-    "mixer": (0.9, 0.9, 0.92, 1.0),
-    "sponge": (0.95, 0.85, 0.2, 1.0),
-    "tray": (0.45, 0.3, 0.2, 1.0),
-}
-
-
-def colour_for(name: str, kind: str) -> tuple[float, float, float, float]:
-    """A colour from a colour word in the instance name, else the kind's default."""
-    for word, rgba in _COLOURS.items():
-        if word in name:
-            return rgba
-    return _DEFAULT.get(kind, (0.6, 0.6, 0.6, 1.0))
+#: Width of one wall box of a shell along its circumference, metres (at least 12 boxes).
+WALL_SEGMENT_M = 0.036
+_FRICTION = (1.0, 0.005, 0.0001)
 
 
 def _geom(
@@ -146,15 +75,18 @@ def _shell(
     n: int,
     rgba: tuple[float, float, float, float],
     mass: float,
+    at: tuple[float, float, float] = (0.0, 0.0, 0.0),
 ) -> None:
-    """A cylindrical container: a base disc and ``n`` wall boxes (mass split evenly)."""
+    """A cylindrical container with its base centre at ``at``: a base disc and ``n`` wall
+    boxes (mass split evenly)."""
     each = mass / (n + 1)
+    x0, y0, z0 = at
     _geom(
         body,
         f"{name}/base",
         mujoco.mjtGeom.mjGEOM_CYLINDER,
         (inner + wall, bottom / 2),
-        (0.0, 0.0, bottom / 2),
+        (x0, y0, z0 + bottom / 2),
         rgba,
         mass=each,
     )
@@ -169,58 +101,130 @@ def _shell(
             f"{name}/wall{i}",
             mujoco.mjtGeom.mjGEOM_BOX,
             (wall / 2, half_width, (height - 0.002) / 2),
-            (r_mid * math.cos(a), r_mid * math.sin(a), 0.002 + (height - 0.002) / 2),
+            (x0 + r_mid * math.cos(a), y0 + r_mid * math.sin(a), z0 + 0.002 + (height - 0.002) / 2),
             rgba,
             quat=quat,
             mass=each,
         )
 
 
+def _wall_count(radius: float) -> int:
+    return max(12, round(2 * math.pi * radius / WALL_SEGMENT_M))
+
+
+def _solid(
+    body: mujoco.MjsBody,
+    name: str,
+    s: Solid,
+    rgba: tuple[float, float, float, float],
+    mass: float,
+    friction: tuple[float, float, float],
+) -> None:
+    d, (x, y, z) = s.dims, s.at
+    if s.kind == "shell":
+        inner = d["radius"] - d["wall"]
+        _shell(
+            body,
+            name,
+            inner,
+            d["wall"],
+            d["height"],
+            d.get("floor", d["wall"]),
+            _wall_count(d["radius"]),
+            rgba,
+            mass,
+            (x, y, z),
+        )
+    elif s.kind == "box":
+        size = (d["length"] / 2, d["width"] / 2, d["height"] / 2)
+        _geom(
+            body,
+            name,
+            mujoco.mjtGeom.mjGEOM_BOX,
+            size,
+            (x, y, z + size[2]),
+            rgba,
+            mass=mass,
+            friction=friction,
+        )
+    elif s.kind == "cylinder":
+        _geom(
+            body,
+            name,
+            mujoco.mjtGeom.mjGEOM_CYLINDER,
+            (d["radius"], d["height"] / 2),
+            (x, y, z + d["height"] / 2),
+            rgba,
+            mass=mass,
+            friction=friction,
+        )
+    elif s.kind == "capsule":
+        _geom(
+            body,
+            name,
+            mujoco.mjtGeom.mjGEOM_CAPSULE,
+            (d["radius"], d["height"] / 2 - d["radius"]),
+            (x, y, z + d["height"] / 2),
+            rgba,
+            mass=mass,
+            friction=friction,
+        )
+    elif s.kind == "sphere":
+        _geom(
+            body,
+            name,
+            mujoco.mjtGeom.mjGEOM_SPHERE,
+            (d["radius"],),
+            (x, y, z + d["radius"]),
+            rgba,
+            mass=mass,
+            friction=friction,
+        )
+    elif s.kind == "mesh":
+        g = body.add_geom()
+        g.name, g.type, g.meshname, g.pos, g.rgba = name, mujoco.mjtGeom.mjGEOM_MESH, name, (x, y, z), rgba
+        g.contype, g.conaffinity, g.friction, g.mass = OBJECT_CONTYPE, OBJECT_CONAFFINITY, friction, mass
+    else:
+        raise ValueError(f"the runtime cannot build a {s.kind!r}")
+
+
+def _masses(body: Body) -> list[float]:
+    """Each solid's mass: its own, else a share of the rest of the body's mass by volume."""
+    given = sum(s.mass for s in body.solids if s.mass is not None)
+    free = [s for s in body.solids if s.mass is None]
+    volume = sum(s.volume for s in free)
+    rest = max(body.mass - given, 1e-3 * len(free))
+    return [s.mass if s.mass is not None else rest * s.volume / volume for s in body.solids]
+
+
+def _add_meshes(spec: mujoco.MjSpec, name: str, body: Body) -> None:
+    for i, s in enumerate(body.solids):
+        if s.kind == "mesh":
+            mesh = spec.add_mesh()
+            mesh.name, mesh.file, mesh.scale = _part_name(name, body, i), str(s.file), (s.scale,) * 3
+            mesh.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
+
+
+def _part_name(name: str, body: Body, i: int) -> str:
+    """Geom names: a single solid is ``name/body`` (a shell's base ``name/base``), else ``name/partI``."""
+    return f"{name}/body" if len(body.solids) == 1 else f"{name}/part{i}"
+
+
 def add_object(
-    spec: mujoco.MjSpec, name: str, kind: str, pos: tuple[float, float, float], yaw: float = 0.0
+    spec: mujoco.MjSpec, name: str, shape: Body, pos: tuple[float, float, float], yaw: float = 0.0
 ) -> mujoco.MjsBody:
-    """Add a free object of ``kind`` called ``name`` with its base centre at ``pos``."""
-    s = SHAPES[kind]
-    rgba = colour_for(name, kind)
+    """Add a free object called ``name`` built from ``shape`` with its base centre at ``pos``."""
+    if not shape.solids:
+        raise ValueError(f"{name!r} has no solids to build")
+    _add_meshes(spec, name, shape)
     body = spec.worldbody.add_body()
     body.name, body.pos = name, pos
     body.quat = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
     body.add_freejoint().name = f"{name}/free"
-    if kind == "cup":
-        _shell(body, name, s.inner_radius, s.radius - s.inner_radius, s.height, 0.006, 12, rgba, s.mass)
-    elif kind == "bowl":
-        _shell(body, name, s.inner_radius, s.radius - s.inner_radius, s.height, 0.008, 20, rgba, s.mass)
-    elif kind == "mixer":
-        cyl = mujoco.mjtGeom.mjGEOM_CYLINDER
-        # a stick mixer: whisk head 0-6 cm, neck, grip 7-22 cm (the hand takes it around 12 cm)
-        steel = (0.75, 0.75, 0.8, 1.0)
-        _geom(body, f"{name}/head", cyl, (0.036, 0.03), (0.0, 0.0, 0.03), steel, mass=0.35)
-        _geom(body, f"{name}/neck", cyl, (0.01, 0.006), (0.0, 0.0, 0.065), steel, mass=0.02)
-        _geom(body, f"{name}/grip", cyl, (0.02, 0.075), (0.0, 0.0, 0.145), rgba, mass=0.25)
-    elif kind == "sponge":  # a kitchen sponge block, taken from above
-        _geom(
-            body,
-            f"{name}/body",
-            mujoco.mjtGeom.mjGEOM_BOX,
-            (0.05, 0.035, 0.025),
-            (0.0, 0.0, 0.025),
-            rgba,
-            mass=s.mass,
-            friction=(1.2, 0.005, 0.0001),
-        )
-    elif kind == "tray":
-        _geom(
-            body,
-            f"{name}/plate",
-            mujoco.mjtGeom.mjGEOM_BOX,
-            (0.15, 0.11, 0.006),
-            (0.0, 0.0, 0.006),
-            rgba,
-            mass=s.mass,
-            friction=(0.4, 0.005, 0.0001),
-        )
-    else:
-        raise ValueError(f"unknown object kind {kind!r}")
+    friction = (shape.friction, 0.005, 0.0001) if shape.friction is not None else _FRICTION
+    for i, (s, mass) in enumerate(zip(shape.solids, _masses(shape), strict=True)):
+        part = name if s.kind == "shell" and len(shape.solids) == 1 else _part_name(name, shape, i)
+        _solid(body, part, s, shape.rgba, mass, friction)
     return body
 
 
@@ -229,12 +233,13 @@ def add_balls(
     name: str,
     count: int,
     centre: np.ndarray,
-    inner_radius: float,
-    rgba: tuple[float, float, float, float],
+    container: Body,
+    liquid: Body,
     rng: np.random.Generator,
 ) -> list[str]:
-    """``count`` free balls stacked in layers inside a container whose base centre is ``centre``."""
-    r = BALL_RADIUS
+    """``count`` free balls of ``liquid`` stacked in layers inside ``container``, whose base
+    centre is at ``centre`` (world, metres)."""
+    r, inner_radius, rgba = liquid.ball_radius, container.inner_radius, liquid.rgba
     ring = max(inner_radius - r - 0.002, 0.0)
     slots: list[tuple[float, float]] = [(0.0, 0.0)]
     per_ring = max(int(2 * math.pi * ring / (2.2 * r)), 1)
@@ -252,7 +257,7 @@ def add_balls(
         body.pos = (
             float(centre[0] + x),
             float(centre[1] + y),
-            float(centre[2] + 0.008 + r + layer * 2.05 * r),
+            float(centre[2] + container.floor + 0.002 + r + layer * 2.05 * r),
         )
         body.add_freejoint()
         # frictionless (condim 1): balls flow like a liquid and cost one constraint row per contact
@@ -263,7 +268,7 @@ def add_balls(
             (r,),
             (0.0, 0.0, 0.0),
             rgba,
-            mass=BALL_MASS,
+            mass=liquid.ball_mass,
             condim=1,
         )
         body.first_geom().group = BALL_GROUP

@@ -17,7 +17,6 @@ import mujoco
 import numpy as np
 
 from oacdsl.runtime.build import BuiltModel, home_posture
-from oacdsl.runtime.objects import SHAPES
 from oacdsl.world import WorldState
 
 __all__ = ["SimWorld", "pose_of"]
@@ -190,8 +189,7 @@ class SimWorld:
 
     def balls_inside(self, container: str, liquid: str | None = None) -> int:
         """Balls (of ``liquid``, or of every liquid) inside ``container``'s shell now."""
-        kind = self.layout.kinds[container]
-        shape = SHAPES[kind]
+        shape = self.layout.bodies[container]
         t = self.body_pose(container)
         liquids = [liquid] if liquid is not None else sorted(self._ball_ids)
         count = 0
@@ -252,7 +250,7 @@ class SimWorld:
             out[inst] = (t[:3, :3] @ np.array(_HAND_MARKERS).T).T + t[:3, 3]
         for p in self.layout.placements:
             t = self.body_pose(p.name)
-            out[p.name] = (t[:3, :3] @ np.array(SHAPES[p.kind].markers).T).T + t[:3, 3]
+            out[p.name] = (t[:3, :3] @ np.array(p.body.markers).T).T + t[:3, 3]
         for liq in self._ball_ids:
             out[liq] = self.ball_positions(liq)
         return out

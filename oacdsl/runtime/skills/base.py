@@ -19,9 +19,9 @@ import numpy as np
 from oacdsl.errors import RuntimeFailure
 from oacdsl.library import Library
 from oacdsl.model import Grasp
+from oacdsl.runtime.bodies import Body
 from oacdsl.runtime.control import Controller
 from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M
-from oacdsl.runtime.objects import SHAPES
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.world import WorldState
 
@@ -84,8 +84,9 @@ class SkillContext:
             raise RuntimeFailure(f"{hand!r} is not a hand of the scene (hands: {', '.join(sorted(sides))})")
         return sides[hand]
 
-    def kind(self, instance: str) -> str:
-        return self.world.layout.kinds[instance]
+    def body(self, instance: str) -> Body:
+        """The geometry of ``instance`` (from the language)."""
+        return self.world.layout.bodies[instance]
 
     def grasp_for(self, obj: str) -> Grasp:
         grasp = self.library.grasp_for(self.classes[obj])
@@ -157,7 +158,7 @@ class SkillContext:
             if p.name in exclude or p.name in held:
                 continue
             t = self.world.body_pose(p.name)
-            shape = SHAPES[p.kind]
+            shape = p.body
             out.append((t[:2, 3].copy(), shape.radius, float(t[2, 3] + shape.height)))
         return out
 

@@ -26,6 +26,8 @@ LIFT_M = 0.10
 APPROACH_SPEED_M_S = 0.15
 #: Half the hand's width across the fingers, plus a margin: the free corridor an approach needs, m.
 HAND_HALF_WIDTH_M = 0.07
+#: How far a hand that came down onto an object is raised again before it closes, m.
+EASE_OFF_M = 0.004
 #: How much further than where they touched the object the fingers are told to close, rad.
 SQUEEZE_RAD = 0.08
 
@@ -41,7 +43,7 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
     handover = ctx.other_holder(side, obj) is not None
     support = ctx.support_height(t_obj[:2, 3], exclude=obj)
     ctl.activity = f"reaching for {obj}"
-    plans = plan_grasps(grasp, ctx.kind(obj), t_obj, side, support_z=support)
+    plans = plan_grasps(grasp, ctx.body(obj).round, t_obj, side, support_z=support)
     # approaches whose corridor (pre-grasp to grasp) keeps the hand off other objects first
     free = [ctx.clearance(p.pre_grasp[:3, 3], p.grasp[:3, 3], {obj}) >= HAND_HALF_WIDTH_M for p in plans]
     plans = [p for p, ok in zip(plans, free, strict=True) if ok] + [
@@ -81,6 +83,10 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
             and (stop is None or bool(stop & parts))
         ),
     )
+    if stop is not None:  # the arm lags its target: ease off what the palm pressed down
+        eased = ctl.ik.frame(f"grasp_{side}")
+        eased[2, 3] += EASE_OFF_M
+        ctl.move(side, eased, 0.2)
     ctl.activity = f"closing {hand} on {obj}"
     # the weld is switched on the moment the fingers touch the object (if the hand is at the
     # grasp pose): a closing finger would otherwise push a light object out of the hand

@@ -13,7 +13,6 @@ import math
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.objects import SHAPES
 from oacdsl.runtime.skills.base import SkillContext
 from oacdsl.runtime.skills.place import DESCENT_SPEED_M_S
 from oacdsl.runtime.transforms import make_T
@@ -37,7 +36,7 @@ def mix(ctx: SkillContext, hand: str, tool: str, container: str) -> None:
     side = ctx.require_held(hand, tool)
     t_tool, tool_in_hand = ctx.held_pose(side, tool)
     t_bowl = world.body_pose(container)
-    bowl = SHAPES[ctx.kind(container)]
+    bowl = ctx.body(container)
     centre = t_bowl[:3, 3]
     upright = make_T(t_tool[:3, :3], (0.0, 0.0, 0.0))
     upright[:3, :3] = _upright(t_tool[:3, :3])

@@ -16,7 +16,6 @@ import math
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.objects import SHAPES
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
 from oacdsl.runtime.transforms import make_T, rot_axis
 
@@ -43,20 +42,21 @@ def _cup_pose(
 def pour(ctx: SkillContext, hand: str, source: str, liquid: str, target: str) -> None:
     world, ctl = ctx.world, ctx.ctl
     side = ctx.require_held(hand, source)
-    if ctx.kind(liquid) != "liquid" or liquid not in world.built.balls:
+    if liquid not in world.built.balls:
         raise RuntimeFailure(f"pour: {liquid!r} is not a liquid of the scene")
     total = len(world.built.balls[liquid])
     t_cup, cup_in_hand = ctx.held_pose(side, source)
-    cup = SHAPES[ctx.kind(source)]
-    bowl = SHAPES[ctx.kind(target)]
+    cup, bowl = ctx.body(source), ctx.body(target)
+    if not cup.container:
+        raise RuntimeFailure(f"pour: {source!r} is no container (its shape has no shell)")
     t_bowl = world.body_pose(target)
-    centre, rim_z = t_bowl[:3, 3], t_bowl[2, 3] + bowl.height
+    centre, rim_z = t_bowl[:3, 3], t_bowl[2, 3] + bowl.rim_height
     # the cup kept upright with its current heading
     yaw = math.atan2(t_cup[1, 0], t_cup[0, 0])
     base_r = rot_axis((0.0, 0.0, 1.0), yaw)
 
     def plan(u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        lip_local = base_r.T @ (-u * cup.radius) + np.array([0.0, 0.0, cup.height])
+        lip_local = base_r.T @ (-u * cup.rim_radius) + np.array([0.0, 0.0, cup.rim_height])
         lip = np.array([*(centre[:2] + u[:2] * LIP_FROM_CENTRE_M), rim_z + LIP_ABOVE_RIM_M])
         return lip_local, lip, np.cross(u, (0.0, 0.0, 1.0))
 

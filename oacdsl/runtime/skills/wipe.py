@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from oacdsl.runtime.objects import SHAPES
 from oacdsl.runtime.skills.base import SkillContext
 from oacdsl.runtime.skills.place import lower_until_contact
 from oacdsl.runtime.transforms import make_T
@@ -27,7 +26,7 @@ def wipe(ctx: SkillContext, hand: str, tool: str, surface: str) -> None:
     side = ctx.require_held(hand, tool)
     t_tool, tool_in_hand = ctx.held_pose(side, tool)
     t_surface = world.body_pose(surface)
-    top = t_surface[2, 3] + (SHAPES[ctx.kind(surface)].height if ctx.kind(surface) in SHAPES else 0.0)
+    top = t_surface[2, 3] + ctx.body(surface).height
 
     def hand_for(p: np.ndarray) -> np.ndarray:
         return make_T(t_tool[:3, :3], p) @ np.linalg.inv(tool_in_hand)
