@@ -66,8 +66,35 @@ class RecordingError(InputError):
     """A motion-capture recording is unreadable or inconsistent."""
 
 
+class InvalidRecording(RecordingError):
+    """A recording's content is wrong (input error, exit 1): a bad rate, frame or time column,
+    non-finite or implausible coordinates, too large to read, truncated.
+
+    The message names the file and where in it (byte offset, line, frame).
+    """
+
+    exit_code = 1
+
+
+class TruncatedRecording(InvalidRecording):
+    """A recording ends before its declared frames: ``declared`` frames, ``complete`` present."""
+
+    def __init__(self, message: str, *, location: str | None = None, declared: int = 0,
+                 complete: int = 0) -> None:
+        super().__init__(message, location=location)
+        self.declared = declared
+        self.complete = complete
+
+
 class RecordingWarning(UserWarning):
     """A recording was read, but something in it deserves a look (e.g. fewer frames than declared)."""
+
+
+class ResultError(InputError):
+    """A result document (``result.json``) is JSON but not a valid result: a field missing, of the
+    wrong type, or out of range (fidelity above 1, an index past its list, nesting too deep)."""
+
+    exit_code = 1
 
 
 class SegmentationError(OacError):

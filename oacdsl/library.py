@@ -9,7 +9,6 @@ grasps exist. It does not validate: ``oacc compile`` does that first.
 from __future__ import annotations
 
 from collections.abc import Iterable
-from functools import cached_property
 
 from oacdsl.model import Grasp, Module, Oac, ObjectClass, Scene
 
@@ -23,6 +22,7 @@ class Library:
         self.scenes: dict[str, Scene] = {}
         self.grasps: dict[str, Grasp] = {}
         self.oacs: dict[str, Oac] = {}
+        self._ancestors: dict[str, frozenset[str]] = {}
         for module in self.modules:
             for decl in module.decls:
                 if isinstance(decl, ObjectClass):
@@ -34,29 +34,24 @@ class Library:
                 elif isinstance(decl, Oac):
                     self.oacs.setdefault(decl.name, decl)
 
-    @cached_property
-    def _ancestors(self) -> dict[str, frozenset[str]]:
-        result: dict[str, frozenset[str]] = {}
-
-        def visit(name: str, stack: tuple[str, ...]) -> frozenset[str]:
-            if name in result:
-                return result[name]
-            found = {name}
-            cls = self.classes.get(name)
-            if cls is not None:
-                for parent in cls.parents:
-                    if parent not in stack:  # cycles are reported by the compiler
-                        found |= visit(parent, (*stack, name))
-            result[name] = frozenset(found)
-            return result[name]
-
-        for name in self.classes:
-            visit(name, ())
-        return result
-
     def ancestors(self, cls: str) -> frozenset[str]:
-        """``cls`` and every class it inherits from, transitively."""
-        return self._ancestors.get(cls, frozenset({cls}))
+        """``cls`` and every class it inherits from, transitively (cycles tolerated).
+
+        Computed when asked, iteratively, and remembered for the classes asked about: a
+        chain of 100,000 classes costs one walk per class queried, not a set per class.
+        """
+        found = self._ancestors.get(cls)
+        if found is None:
+            seen, todo = {cls}, [cls]
+            while todo:
+                decl = self.classes.get(todo.pop())
+                if decl is not None:
+                    for parent in decl.parents:
+                        if parent not in seen:
+                            seen.add(parent)
+                            todo.append(parent)
+            found = self._ancestors[cls] = frozenset(seen)
+        return found
 
     def is_subclass(self, cls: str, ancestor: str) -> bool:
         """True when ``cls`` is ``ancestor`` or inherits from it."""

@@ -48,13 +48,13 @@ def test_pass_by_is_no_touch():
     hand = path(F, [(0, (-2.0, 0.05, 0)), (F - 1, (-2.0 + 0.01 * (F - 1), 0.05, 0))])
     rec = recording({"hand": hand, "cup": still(F, CUP)})
     assert summary(segment(rec)) == [(0, [])]
-    # the same path, but the hand stops next to the cup: that is a touch (from frame 200,
-    # whose step is tangential: the distance changes by 0.99 mm, under v Δt = 1 mm)
-    stop = path(F, [(0, (-2.0, 0.05, 0)), (200, (0.0, 0.05, 0))])
-    assert summary(segment(recording({"hand": stop, "cup": still(F, CUP)}))) == [
-        (0, []),
-        (200, [("cup", "hand")]),
-    ]
+    # the same path, but the hand stops next to the cup: that is a touch. By the paper's
+    # one-frame difference from frame 200, whose step is tangential (the distance changes by
+    # 0.99 mm, under v Δt = 1 mm); by the default detector's slope over ±5 frames two frames
+    # later, when the window no longer holds enough of the approach.
+    stop = recording({"hand": path(F, [(0, (-2.0, 0.05, 0)), (200, (0.0, 0.05, 0))]), "cup": still(F, CUP)})
+    assert summary(segment(stop, AasParams(mode="paper"))) == [(0, []), (200, [("cup", "hand")])]
+    assert summary(segment(stop)) == [(0, []), (202, [("cup", "hand")])]
 
 
 def test_slow_pass_by_touches_when_n_is_too_small():
@@ -200,6 +200,8 @@ def test_to_json_has_the_documented_schema():
         "frames": 3,
         "merge_s": 0.3,
         "mode": "paper",
+        "hold_s": 0.1,
+        "change_window_s": 0.1,
     }
     assert doc["keyframes"][0] == {"frame": 0, "time_s": 0.0, "relations": []}
     assert doc["keyframes"][1]["relations"] == [["cup", "hand"]]

@@ -40,10 +40,10 @@ def test_inspect_json(tmp_path: Path, capsys):
     assert doc["gap_fraction"] == pytest.approx(50 / 600)
 
 
-def test_inspect_bad_file_is_one_line_exit_2(tmp_path: Path, capsys):
+def test_inspect_bad_file_is_one_line_exit_1(tmp_path: Path, capsys):
     bad = tmp_path / "bad.c3d"
     bad.write_bytes(b"\x02\x50" + bytes(1200))
-    assert main(["inspect", str(bad)]) == 2
+    assert main(["inspect", str(bad)]) == 1
     err = capsys.readouterr().err
     assert err.startswith(f"oacc: error: {bad}: not a valid C3D file") and err.count("\n") == 1
 
@@ -56,5 +56,10 @@ def test_inspect_kit_preset_and_warning(capsys):
     assert [g["name"] for g in doc["groups"]] == [
         "draining_rack", "left_hand", "plate_dish", "right_hand", "sponge_small"]
     assert len(doc["ungrouped"]) == 43
-    assert main(["inspect", str(mocap_file("c3d/ezc3d/Optotrak.c3d"))]) == 0
+    optotrak = str(mocap_file("c3d/ezc3d/Optotrak.c3d"))
+    assert main(["inspect", optotrak]) == 1
+    err = capsys.readouterr().err
+    assert "frames 30..1149 lost; --allow-truncated reads the 29 complete frames" in err
+    assert err.count("\n") == 1
+    assert main(["inspect", optotrak, "--allow-truncated"]) == 0
     assert "oacc: warning:" in capsys.readouterr().err

@@ -134,3 +134,44 @@ def test_fmt_refuses_files_with_syntax_errors(tmp_path):
 def test_fmt_stdin():
     out = oacc("fmt", "-", stdin="class Cup:Graspable,Container\n")
     assert out.returncode == 0 and out.stdout == "class Cup : Container, Graspable\n"
+
+
+def test_fmt_formats_a_symlinks_target_once_and_keeps_the_link(tmp_path):
+    lib = copy_library(tmp_path)
+    actions = lib / "actions.oac"
+    canonical = actions.read_text(encoding="utf-8")
+    elsewhere = tmp_path / "shared" / "actions.oac"
+    elsewhere.parent.mkdir()
+    messy = canonical.replace("    pre     h <-> nothing", "  pre h<->nothing  ")
+    elsewhere.write_text(messy, encoding="utf-8")
+    actions.unlink()
+    actions.symlink_to(elsewhere)
+    (lib / "again.oac").symlink_to(elsewhere)  # the same target twice in one folder
+    done = oacc("fmt", lib)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.count("formatted") == 1
+    assert actions.is_symlink() and (lib / "again.oac").is_symlink()
+    assert elsewhere.read_text(encoding="utf-8") == canonical
+    assert oacc("fmt", "--check", lib).returncode == 0
+
+
+def test_cr_and_mixed_line_ends_keep_every_declaration(tmp_path):
+    lib = copy_library(tmp_path)
+    actions = lib / "actions.oac"
+    lf = actions.read_text(encoding="utf-8")
+    assert "#" in lf  # a comment that a CR-only file would stretch over the rest of it
+    lines = lf.split("\n")
+    mixed = "".join(line + ("\r\n", "\r", "\n")[i % 3] for i, line in enumerate(lines[:-1]))
+    for variant in (lf.replace("\n", "\r"), mixed):
+        actions.write_bytes(variant.encode("utf-8"))
+        out = oacc("compile", lib, "--format", "json")
+        assert out.returncode == 0, out.stderr
+        assert json.loads(out.stdout)["declarations"]["OACs"] == 5
+    # an error in a CR-only file is located on the line an editor shows
+    actions.write_bytes(lf.replace("<->", "<=>", 1).replace("\n", "\r").encode("utf-8"))
+    out = oacc("compile", lib)
+    bad_line = next(i for i, line in enumerate(lines, 1) if "<->" in line)
+    assert out.returncode == 1 and f"{actions}:{bad_line}:" in out.stderr.splitlines()[0]
+    actions.write_bytes(lf.replace("\n", "\r").encode("utf-8"))
+    done = oacc("fmt", actions)
+    assert done.returncode == 0 and actions.read_text(encoding="utf-8") == lf

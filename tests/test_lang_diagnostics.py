@@ -261,6 +261,8 @@ BAD = [
         "2:11",
     ),
     ("grasp Bowl { type power approach side offset (0.0, 0.0, 60.0) }", "W005", "offsets are metres", "1:39"),
+    ("grasp Bowl { type power approach side offset (0.0, 1e400, 0.0) }", "E025", "too large to be", "1:39"),
+    ("grasp Bowl { type power approach side offset (-1e309, 0, 0) }", "E025", "too large to be", "1:39"),
     (
         "class Spoon : Graspable\nscene s { spoon : Spoon }",
         "W007",

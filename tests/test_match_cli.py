@@ -102,6 +102,9 @@ def test_compose_golden_and_idempotent(capsys, lib_dir, dough_json):
     assert doc["file"] == str(target) and target.is_file()
     assert "dough" in load_library([lib_dir]).oacs and compile_paths([lib_dir]).diagnostics == []
     text = target.read_text()
+    gone = subprocess.Popen([sys.executable, "-c", ""])  # a compose killed while writing left this
+    gone.wait()
+    (target.parent / f".dough.oac.{gone.pid}.k1ll3d_x.tmp").write_text("half")
     code, out, _ = run(capsys, "compose", str(dough_json), "--library", str(lib_dir), "--name", "dough")
     assert code == 0 and out.splitlines()[0] == f"dough: unchanged {target}"
     assert target.read_text() == text and sorted(p.name for p in target.parent.iterdir()) == ["dough.oac"]

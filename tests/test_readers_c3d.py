@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from _mocap import mocap_file
 
-from oacdsl.errors import RecordingError, RecordingWarning
+from oacdsl.errors import RecordingError, RecordingWarning, TruncatedRecording
 from oacdsl.segmentation.readers import read_c3d, read_recording, write_c3d
 from oacdsl.segmentation.recording import Recording
 
@@ -42,9 +42,13 @@ def test_qualisys_first_frame_and_rate():
     assert 0.5 < np.nanmax(np.abs(rec.positions_m)) < 5.0  # metres, a person in a lab
 
 
-def test_optotrak_gaps_and_declared_frames_warning():
-    with pytest.warns(RecordingWarning, match="declares 1149 frames but holds 29"):
-        rec = read_c3d(mocap_file("c3d/ezc3d/Optotrak.c3d"))
+def test_optotrak_declares_more_frames_than_it_holds():
+    path = mocap_file("c3d/ezc3d/Optotrak.c3d")
+    with pytest.raises(TruncatedRecording, match="it holds 29 of 1149 frames; frames 30..1149 lost") as err:
+        read_c3d(path)
+    assert (err.value.declared, err.value.complete, err.value.exit_code) == (1149, 29, 1)
+    with pytest.warns(RecordingWarning, match="frames 30..1149 of 1149 lost; reading the 29 complete frames"):
+        rec = read_c3d(path, allow_truncated=True)
     assert (rec.n_frames, rec.rate_hz, len(rec.marker_names)) == (29, 30.0, 54)
     assert rec.marker_names[0] == "Marker_1" and rec.marker_names[-1] == "Marker_54"
     assert gap_fraction(rec) == pytest.approx(0.0377, abs=5e-4)
@@ -102,7 +106,8 @@ def corrupt(tmp_path: Path, name: str, edit) -> Path:
     ("name", "edit", "message"),
     [
         ("empty.c3d", lambda d: b"", "shorter than a header"),
-        ("half.c3d", lambda d: d[: len(d) // 2], "truncated C3D file: it ends inside frame 289 of 580"),
+        ("half.c3d", lambda d: d[: len(d) // 2],
+         "truncated C3D file: it ends at byte 1125408, inside frame 289 of 580 frames; frames 289..580 lost"),
         ("params.c3d", lambda d: d[:3000], "truncated inside the parameter section"),
         ("key.c3d", lambda d: d[:1] + b"\x00" + d[2:], "header key byte"),
         ("text.c3d", lambda d: b"frame,x,y,z\n" * 200, "header key byte"),

@@ -8,7 +8,7 @@ import shutil
 import pytest
 from report_fixture import INSTANCES, STEPS, dough_result, keyframe_relations
 
-from oacdsl.errors import InputError
+from oacdsl.errors import InputError, ResultError
 from oacdsl.report import render_html, validate_result, write_report
 from oacdsl.report.demonstration import steps_of_sub_actions
 from oacdsl.report.execution import compare_step
@@ -167,14 +167,71 @@ def test_an_unmatched_sub_action_shows_its_explanation(work):
         (lambda r: r["verdict"].pop("success"), "verdict.success"),
         (lambda r: r["run"]["steps"][0].update(observed=[["a"]]), "run.steps.0.observed.0.1"),
         (lambda r: r["stages"][0].update(status="done"), "stages.0.status"),
+        # impossible values: out of range, not finite, indices past their lists
+        (lambda r: r["verification"].update(fidelity=2.5), "verification.fidelity"),
+        (lambda r: r["match"]["sub_actions"][0].update(chosen=99), "match.sub_actions.0"),
+        (lambda r: r["segment"]["keyframes"][1].update(frame=-3), "segment.keyframes.1.frame"),
+        (lambda r: r["segment"].update(rate_hz=float("nan")), "segment.rate_hz"),
+        (lambda r: r["segment"].update(rate_hz=float("inf")), "segment.rate_hz"),
+        (lambda r: r["run"]["steps"][0].update(duration_s=-1.0), "run.steps.0.duration_s"),
+        (lambda r: r["reliability"]["oacs"][0].update(successes=10**6), "(top)"),
+        (lambda r: r["reliability"]["oacs"][0].update(rate=1.5), "reliability.oacs.0.rate"),
+        (lambda r: r["verification"]["alignment"][0].update(robot=500), "verification"),
+        (lambda r: r["compose"]["provenance"][0].update(keyframe=77), "(top)"),
+        (lambda r: r["match"]["sub_actions"][0].update(step=40), "(top)"),
     ],
 )
 def test_a_result_that_does_not_fit_the_schema_is_a_one_line_error(base, change, where):
     result = copy.deepcopy(base[1])
     change(result)
-    with pytest.raises(InputError) as err:
+    with pytest.raises(ResultError) as err:
         validate_result(result, source="result.json")
     assert str(err.value).startswith(f"result.json: {where}: ") and "\n" not in str(err.value)
+    assert err.value.exit_code == 1
+
+
+@pytest.mark.parametrize(
+    "video, linked",
+    [
+        ("javascript:alert(1)", False),
+        (" JavaScript:alert(1)", False),
+        ("java\tscript:alert(1)", False),
+        ("data:text/html,<script>alert(1)</script>", False),
+        ("vbscript:msgbox", False),
+        ("//evil.example/x.mp4", False),
+        ("run.mp4", True),
+        ("videos/dough run.mp4", True),
+        ("https://example.org/dough.mp4", True),
+        ("file:///tmp/dough.mp4", True),
+    ],
+)
+def test_a_video_link_is_only_made_for_a_relative_path_or_a_web_or_file_url(work, video, linked):
+    out, result = work
+    result["run"]["video"] = video
+    page, _ = render_html(result, out)
+    paragraph = next(line for line in page.split("<p>") if line.startswith("Video:"))
+    assert ("<a href=" in paragraph) is linked, paragraph
+    assert "<script" not in page
+
+
+def test_oacc_report_refuses_deep_or_impossible_json_with_one_line(work, capsys):
+    from oacdsl.cli import main
+
+    out, result = work
+    cases = {
+        "deep.json": "[" * 100_000 + "]" * 100_000,
+        "deep_field.json": json.dumps({**result, "extra": json.loads("[" * 200 + "]" * 200)}),
+        "fidelity.json": json.dumps({**result, "verification": {**result["verification"], "fidelity": 2.5}}),
+        "nan.json": json.dumps(result).replace('"rate_hz": 100.0', '"rate_hz": NaN'),
+        "list.json": "[1, 2]",
+    }
+    assert '"rate_hz": NaN' in cases["nan.json"]
+    for name, text in cases.items():
+        (out / name).write_text(text)
+        assert main(["report", str(out / name)]) == 1, name
+        err = capsys.readouterr().err
+        assert err.startswith(f"oacc: error: {out / name}: ") and err.count("\n") == 1, err
+    assert not (out / "report.html").exists()
 
 
 def test_newer_schema_and_unserialisable_values_are_refused_without_touching_files(work):
@@ -242,6 +299,24 @@ def test_oacc_report_renders_the_page_again_from_result_json(work, capsys):
     assert capsys.readouterr().out.strip() == str(out / "report.html")
     assert len(img_sources((out / "report.html").read_text(encoding="utf-8"))) == 2 + 9 * 3 + 8
     (out / "bad.json").write_text('{"demonstration": {"recording": "x"}}')
-    assert main(["report", str(out / "bad.json")]) == 2
+    assert main(["report", str(out / "bad.json")]) == 1
     err = capsys.readouterr().err
     assert err == f"oacc: error: {out / 'bad.json'}: verdict: Field required\n"
+
+
+def test_oacc_report_through_a_published_folder_writes_into_the_run_and_keeps_the_links(work, capsys):
+    from oacdsl.cli import main
+    from oacdsl.pipeline.publish import make_staging, publish
+
+    src, result = work
+    out = src / "out"
+    staging = make_staging(out)
+    shutil.copytree(src / "figures", staging / "figures")
+    write_report(result, staging)
+    publish(staging, out)
+    run_folder = (out / "current").resolve()
+    (run_folder / "report.html").unlink()
+    assert main(["report", str(out / "result.json")]) == 0
+    assert capsys.readouterr().out.strip() == str(run_folder / "report.html")
+    assert all((out / name).is_symlink() for name in ("report.html", "result.json", "figures"))
+    assert len(img_sources((out / "report.html").read_text(encoding="utf-8"))) == 2 + 9 * 3 + 8

@@ -11,6 +11,8 @@ import math
 import os
 import shutil
 import sqlite3
+import subprocess
+import sys
 from dataclasses import replace
 from pathlib import Path
 
@@ -112,7 +114,8 @@ def test_reproduce_first_pour(short_demo: Path, library: Path, tmp_path: Path, g
     if r.get("frame"):  # a rendering backend was available: each step after it, and as predicted
         assert all((out / s["frame"]).is_file() and (out / s["moment"]).is_file() for s in r["steps"])
     names = sorted(p.name for p in out.iterdir())
-    assert names == ["figures", "first_pour.oac", "report.html", "result.json"]
+    assert names == ["current", "figures", "first_pour.oac", "report.html", "result.json", "runs"]
+    assert all((out / n).is_symlink() for n in names if n != "runs")  # one run, published at once
 
 
 def test_rerunning_compose_does_not_duplicate_the_learned_oac(short_demo: Path, library: Path) -> None:
@@ -190,6 +193,23 @@ def test_a_run_store_of_another_program_is_refused_before_any_work(tmp_path: Pat
     assert run("--out", out, "--db", db) == 2
     assert "other.sqlite3" in _one_line_error(capsys)
     assert not out.exists()
+
+
+def test_an_unwritable_run_store_fails_at_once(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                               monkeypatch: pytest.MonkeyPatch) -> None:
+    import oacdsl.pipeline
+
+    def no_pipeline(*args: object, **kwargs: object) -> None:
+        raise AssertionError("the inputs were read before the run store was checked")
+
+    monkeypatch.setattr(oacdsl.pipeline, "load_inputs", no_pipeline)
+    a_file = tmp_path / "file"
+    a_file.write_text("x")
+    out = tmp_path / "out"
+    for db in (a_file / "runs.sqlite3", tmp_path):
+        assert run("--out", out, "--db", db) == 2
+        assert str(db) in _one_line_error(capsys)
+    assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["file"]
 
 
 def test_bad_name_and_out_that_is_a_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -283,6 +303,13 @@ def test_a_closed_loop_that_differs_fails_the_run(short_demo: Path, library: Pat
     monkeypatch.setattr(robot, "execute_stage", fake_execute)
     monkeypatch.setattr(robot, "verify_stage", fake_verify)
     out, db = tmp_path / "out", tmp_path / "runs.sqlite3"
+    # what a killed run left behind: its staging folder and a temporary file of the library
+    gone = subprocess.Popen([sys.executable, "-c", ""])
+    gone.wait()
+    (out / ".reproduce-killed").mkdir(parents=True)
+    (out / ".reproduce-killed" / ".owner").write_text(f"{gone.pid}\n")
+    (library / "learned").mkdir()
+    (library / "learned" / f".first_pour.oac.{gone.pid}.abcdefgh.tmp").write_text("half")
     assert run(short_demo, "--library", library, "--out", out, "--db", db, "--quiet", "--no-render") == 1
     printed = capsys.readouterr().out
     assert printed.startswith("FAILED: The robot executed first_pour, but the closed loop differs")
@@ -293,3 +320,13 @@ def test_a_closed_loop_that_differs_fails_the_run(short_demo: Path, library: Pat
     with sqlite3.connect(db) as conn:  # the execution is recorded, with the closed loop's figures
         assert conn.execute("SELECT success, edit_distance FROM runs").fetchall() == [(1, 1)]
     assert "Not reproduced" in (out / "report.html").read_text()
+    assert sorted(p.name for p in out.iterdir()) == [
+        "current", "figures", "first_pour.oac", "report.html", "result.json", "runs"
+    ]
+    assert sorted(p.name for p in (library / "learned").iterdir()) == ["first_pour.oac"]
+    first = (out / "current").resolve()
+    assert run(short_demo, "--library", library, "--out", out, "--no-record", "--quiet", "--no-render") == 1
+    assert (out / "current").resolve() != first and (out / "result.json").resolve().parent == (
+        out / "current"
+    ).resolve()
+    assert len(list((out / "runs").iterdir())) == 2

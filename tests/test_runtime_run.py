@@ -1,6 +1,8 @@
 """Executing OACs: the paper's dough sequence, pose invariance, clean failures, `oacc run`."""
 
 import json
+import os
+import sqlite3
 import subprocess
 import sys
 from pathlib import Path
@@ -123,8 +125,10 @@ def oacc_run(tmp_path, *args, env=None):
 
 
 def test_oacc_run_json_document_and_clean_failure(tmp_path):
+    db = tmp_path / "runs.sqlite3"
     out = oacc_run(
-        tmp_path, "place", "--scene", "kitchen", "--bind", "h=left_hand", "--bind", "o=red_cup", "--json"
+        tmp_path, "place", "--scene", "kitchen", "--bind", "h=left_hand", "--bind", "o=red_cup", "--json",
+        env={**os.environ, "OACDSL_DB": str(db)},
     )
     assert out.returncode == 1 and "Traceback" not in out.stderr
     last = out.stderr.strip().splitlines()[-1]
@@ -138,6 +142,20 @@ def test_oacc_run_json_document_and_clean_failure(tmp_path):
     assert step["binding"] == {"h": "left_hand", "o": "red_cup"} and step["predicted"] == [
         ["left_hand", "nothing"]
     ]
+    # the failed run is in the run store ($OACDSL_DB), as oacc stats shows
+    stats = subprocess.run([sys.executable, "-m", "oacdsl", "stats", "--json"], capture_output=True,
+                           text=True, env={**os.environ, "OACDSL_DB": str(db)}, cwd=ROOT)
+    assert stats.returncode == 0, stats.stderr
+    summary = json.loads(stats.stdout)
+    assert summary["runs"] == 1 and [(o["oac"], o["runs"], o["successes"]) for o in summary["oacs"]] == [
+        ("place", 1, 0)
+    ]
+    assert "precondition of place not met" in summary["oacs"][0]["last_failure"]
+    again = oacc_run(tmp_path, "place", "--scene", "kitchen", "--bind", "h=left_hand", "--bind", "o=red_cup",
+                     "--db", str(db), "--no-record")
+    assert again.returncode == 1
+    with sqlite3.connect(db) as conn:
+        assert conn.execute("SELECT oac, success, command FROM runs").fetchall() == [("place", 0, "run")]
 
 
 def test_oacc_run_succeeds_in_a_scene_file_and_renders_step_frames(tmp_path):
@@ -188,6 +206,27 @@ def test_oacc_run_without_a_rendering_backend_still_completes(tmp_path):
 def test_oacc_run_usage_errors(tmp_path):
     out = oacc_run(tmp_path, "grasp", "--bind", "h")
     assert out.returncode == 2 and "expected NAME=INSTANCE" in out.stderr
+    a_file = tmp_path / "file"
+    a_file.write_text("x")
+    (tmp_path / "clip.mp4").mkdir()
+    for args, message in [
+        (["--seed", "-1"], "a seed is a whole number from 0 to 2^63-1"),
+        (["--seed", str(2**63)], "a seed is a whole number"),
+        (["--frames", a_file], "exists and is not a folder"),
+        (["--frames", a_file / "sub"], "a parent is a file"),
+        (["--video", a_file / "v.mp4"], "exists and is not a folder"),
+        (["--video", tmp_path / "clip.mp4"], "is a folder; give a file name ending in .mp4"),
+        (["--video", a_file], "exists and is not a folder"),
+        (["--db", a_file / "runs.sqlite3"], "cannot record runs here"),
+        (["--db", tmp_path], "is a directory"),
+    ]:
+        out = oacc_run(tmp_path, "grasp", "--bind", "h=right_hand", "--bind", "o=green_cup", *map(str, args))
+        assert out.returncode == 2 and "Traceback" not in out.stderr, (args, out.stderr)
+        lines = out.stderr.strip().splitlines()
+        assert message in lines[-1], (args, out.stderr)
+        assert len(lines) == 1 or lines[0].startswith("usage:"), out.stderr
+        assert "step 1" not in out.stdout  # refused before the simulation
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["clip.mp4", "file"]
     out = oacc_run(tmp_path, "grsap", "--scene", "kitchen")
     assert out.returncode == 1 and "did you mean 'grasp'" in out.stderr
 

@@ -39,11 +39,13 @@ def test_json_document(demo, capsys):
     assert doc["recording"] == str(demo) and doc["rate_hz"] == 100.0 and doc["frames"] == F
     assert doc["instances"] == ["cup", "hand", "liquid", "wand"]
     assert doc["parameters"] == {"distance_m": 0.15, "speed_m_s": 0.1, "frames": 3, "merge_s": 0.3,
-                                 "mode": "adaptive"}  # the default detector
+                                 "mode": "adaptive", "hold_s": 0.1, "change_window_s": 0.1}  # the default
+    # the default detector's slope over ±5 frames sees the rest one frame after the paper's
+    # one-frame difference (101), and the departure two frames before it (201)
     assert doc["keyframes"] == [
         {"frame": 0, "time_s": 0.0, "relations": [["cup", "liquid"]]},
-        {"frame": 101, "time_s": 1.01, "relations": [["cup", "hand"], ["cup", "liquid"], ["hand", "liquid"]]},
-        {"frame": 201, "time_s": 2.01, "relations": [["cup", "liquid"]]},
+        {"frame": 102, "time_s": 1.02, "relations": [["cup", "hand"], ["cup", "liquid"], ["hand", "liquid"]]},
+        {"frame": 199, "time_s": 1.99, "relations": [["cup", "liquid"]]},
     ]
 
 
@@ -53,16 +55,16 @@ def test_parameters_with_units(demo, capsys):
     doc = json.loads(out)
     assert code == 0
     assert doc["parameters"] == {"distance_m": 0.04, "speed_m_s": 0.2, "frames": 2, "merge_s": 0.0,
-                                 "mode": "paper"}
+                                 "mode": "paper", "hold_s": 0.1, "change_window_s": 0.1}
     assert [k["relations"] for k in doc["keyframes"]] == [[["cup", "liquid"]]]  # hand stays 5 cm away
 
 
 def test_table(demo, capsys):
-    code, out, _ = run(capsys, demo, "--frames", "3")
+    code, out, _ = run(capsys, demo, "--frames", "3", "--mode", "paper")
     assert code == 0
     lines = out.splitlines()
     assert lines[0].startswith(f"{demo}: 400 frames at 100 Hz (4.00 s), 4 instances: cup, hand, liquid, wand")
-    assert "d = 150mm, v = 100mm/s, n = 3 frames, merge = 0.3s, mode = adaptive" in lines[1]
+    assert "d = 150mm, v = 100mm/s, n = 3 frames, merge = 0.3s, mode = paper" in lines[1]
     assert any(line.split()[:5] == ["0", "0", "0.000", "initial:", "cup"] for line in lines)
     assert any(line.split() == ["1", "101", "1.010", "+", "cup", "<->", "hand"] for line in lines)
     assert any(line.split() == ["+", "hand", "<->", "liquid"] for line in lines)
@@ -98,7 +100,8 @@ def test_missing_recording(capsys, tmp_path):
 
 def test_plot_and_graphs_are_written(demo, capsys, tmp_path):
     out_png, graphs = tmp_path / "fig3.png", tmp_path / "graphs"
-    code, out, err = run(capsys, demo, "--frames", "3", "--plot", out_png, "--graphs", graphs)
+    code, out, err = run(capsys, demo, "--frames", "3", "--mode", "paper", "--plot", out_png,
+                         "--graphs", graphs)
     assert code == 0, err
     assert out_png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out_png.stat().st_size > 20_000
     names = sorted(p.name for p in graphs.iterdir())

@@ -64,7 +64,7 @@ def test_distance_plot_shows_near_pairs_thresholds_and_keyframes():
     F = 300
     hand = path(F, [(0, (0.5, 0, 0)), (100, (0.05, 0, 0)), (200, (0.05, 0, 0)), (250, (0.5, 0, 0))])
     rec = recording({"hand": hand, "cup": still(F, (0, 0, 0)), "far": still(F, (5, 5, 5))})
-    seg = segment(rec, AasParams(frames=3))
+    seg = segment(rec, AasParams(frames=3, mode="paper"))
     fig = plt.figure()
     plot_distances(rec, seg, fig)
     ax_d, ax_v = fig.axes[:2]

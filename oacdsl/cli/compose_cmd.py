@@ -36,7 +36,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 
 
 def run(args: argparse.Namespace) -> int:
-    from oacdsl.cli.demo_input import load_inputs
+    from oacdsl.cli.demo_input import load_inputs, transient_s
     from oacdsl.errors import UsageError
     from oacdsl.matching.demonstration import compose_demonstration, match_segmentation
     from oacdsl.matching.emit import DRAFTS, LEARNED, Emitted, emit, render
@@ -46,10 +46,11 @@ def run(args: argparse.Namespace) -> int:
     if not args.name.isidentifier() or not args.name.isascii():
         raise UsageError(f"--name {args.name!r}: a name is letters, digits and '_',"
                          " not starting with a digit")
+    window = transient_s(args)  # a bad value fails before any reading
     inputs = load_inputs(args)
     mode: Mode = "paper" if args.paper else "strict"
     matcher = Matcher.from_library(inputs.library, inputs.scene, mode=mode)
-    matches = match_segmentation(inputs.segmented(), matcher)
+    matches = match_segmentation(inputs.segmented(), matcher, transient_s=window)
     demo = compose_demonstration(args.name, matches, inputs.library, inputs.scene,
                                  propose=args.propose, paper_effects=args.paper_effects)
     comp = demo.composition
@@ -73,6 +74,10 @@ def run(args: argparse.Namespace) -> int:
         if args.json:
             print(json.dumps(comp.to_json(None), indent=2))
         return 0
+    from oacdsl.atomic import remove_stale_temporaries
+
+    for written_to in {target.parent, root / LEARNED, drafts_dir}:  # what killed runs left behind
+        remove_stale_temporaries(written_to)
     # Check everything before writing anything: the drafts, then the OAC that calls them.
     drafts = {drafts_dir / f"{d.name}.oac": d for _, d in demo.drafts}
     pending = {path: render([d], str(path)) for path, d in drafts.items()}

@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
 from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
 from oacdsl.errors import UsageError
 from oacdsl.segmentation.params import DEFAULT_MODE
@@ -21,7 +22,7 @@ from oacdsl.segmentation.params import DEFAULT_MODE
 if TYPE_CHECKING:
     from oacdsl.pipeline.inputs import Inputs
 
-__all__ = ["add_input_options", "load_inputs", "note"]
+__all__ = ["add_input_options", "load_inputs", "note", "transient_s"]
 
 def add_input_options(p: argparse.ArgumentParser) -> None:
     """The demonstration, library and scene arguments, and the segmentation options."""
@@ -36,10 +37,15 @@ def add_input_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--paper", action="store_true",
                    help="match by the paper's rule alone (pre holds before, effects after); default: strict,"
                         " the effects must also account for every changed relation")
+    p.add_argument("--transient", metavar="TIME",
+                   help="a state shorter than this in which an object (not a Hand) touches nothing between"
+                        " two contacts -- a liquid in flight, a dropped object -- splits no sub-action"
+                        " (default: 1.5s; 0s = off; docs/matching.md)")
     g = p.add_argument_group("reading and segmenting a recording (as oacc segment; values carry units)")
     g.add_argument("--format", metavar="FMT",
                    help="read as this format (c3d, mmm, tsv, csv), not by the file's extension")
     g.add_argument("--preset", metavar="NAME", help=PRESET_HELP)
+    add_reading_options(g)
     add_aas_options(g)
 
 
@@ -49,14 +55,33 @@ def load_inputs(args: argparse.Namespace) -> Inputs:
     from oacdsl.pipeline.inputs import load_inputs as load
 
     if Path(args.recording).suffix.lower() == ".json":
-        given = [f"--{k}" for k in ("format", "preset", "distance", "speed", "frames", "merge")
-                 if getattr(args, k) is not None] + (["--mode"] if args.mode != DEFAULT_MODE else [])
+        segmenting = ("format", "preset", "distance", "speed", "hold", "frames", "change_window", "merge")
+        given = [f"--{k.replace('_', '-')}" for k in segmenting if getattr(args, k) is not None]
+        given += ["--mode"] if args.mode != DEFAULT_MODE else []
+        given += ["--allow-truncated"] if allow_truncated(args) else []
         if given:
             raise UsageError(f"{', '.join(given)}: these read and segment a recording; {args.recording} is a"
                              " segmentation already (.json)")
     params = params_from_args(args)  # bad units fail before any reading
-    return load(args.recording, args.library, args.scene, params, fmt=args.format, preset=args.preset,
-                segmentations=True, note=note)
+    with printed_warnings():
+        inputs = load(args.recording, args.library, args.scene, params, fmt=args.format, preset=args.preset,
+                      allow_truncated=allow_truncated(args), segmentations=True, note=note)
+    if inputs.recording is not None:
+        check_windows(args, inputs.recording)
+    return inputs
+
+
+def transient_s(args: argparse.Namespace) -> float:
+    """The ``--transient`` window, seconds (default :data:`~oacdsl.matching.transient.TRANSIENT_S`)."""
+    from oacdsl.matching.transient import TRANSIENT_S
+    from oacdsl.units import parse_quantity
+
+    if getattr(args, "transient", None) is None:
+        return TRANSIENT_S
+    value = parse_quantity(args.transient, "s", what="--transient")
+    if value < 0:
+        raise UsageError(f"--transient must be a duration ≥ 0, got {args.transient!r}")
+    return value
 
 
 def note(text: str) -> None:

@@ -13,7 +13,8 @@ from oacdsl.errors import InputError
 _HELP = """\
 Print the .oac files at PATH (files, or folders searched recursively) in
 canonical form: sorted where order carries no meaning, aligned, comments kept.
-Files are rewritten in place (atomically); with --check nothing is written and
+Files are rewritten in place (atomically; a symbolic link's target is rewritten
+and the link kept; CR LF and CR line ends become LF); with --check nothing is written and
 the files that would change are listed. 'oacc fmt -' formats stdin to stdout.
 Exit status: 0 done (or nothing to change), 1 a file would change (--check) or
 has a syntax error, 2 usage or I/O error."""
@@ -73,8 +74,8 @@ def run(args: argparse.Namespace) -> int:
             else:
                 print(path)
         else:
-            try:
-                write_atomic(path, text)
+            try:  # a symlink stays a link: its target is formatted (collect_files lists each target once)
+                write_atomic(path.resolve(), text)
             except OSError as error:
                 raise InputError(f"cannot write: {error.strerror or error}", location=str(path)) from None
             print(f"formatted {path}")

@@ -9,10 +9,9 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
-import warnings
 from typing import Any
 
+from oacdsl.cli.reading import add_reading_options, allow_truncated, printed_warnings
 from oacdsl.segmentation.grouping import PRESETS
 from oacdsl.segmentation.readers import FORMATS
 
@@ -22,7 +21,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         "inspect",
         help="show a recording's rate, frames, marker groups and gaps",
         description="Read a motion-capture recording (C3D, MMM XML, Qualisys TSV, CSV) and show what it "
-        "holds: rate, frames, duration, extent, marker groups with their markers and gap percentages.",
+        "holds: rate, frames, duration, extent, marker groups with their markers and gap percentages. "
+        "A file that breaks a reader's limits (docs/readers.md) is an error here as in segment.",
     )
     p.add_argument("recording", metavar="RECORDING", help="a .c3d, .mmm.xml/.xml, .tsv or .csv file")
     p.add_argument("--format", dest="fmt", choices=sorted(FORMATS),
@@ -33,6 +33,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
                    help="marker grouping preset (kit: KIT/MMM hand markers → left_hand, right_hand;"
                         " applied unasked when the file has them, with a note on stderr;"
                         " none: the file's own groups)")
+    add_reading_options(p)
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(func=run)
 
@@ -116,14 +117,11 @@ def _wrapped(head: str, text: str, width: int = 110) -> str:
 
 def run(args: argparse.Namespace) -> int:
     from oacdsl.cli.segment_cmd import apply_grouping
-    from oacdsl.errors import RecordingWarning
     from oacdsl.segmentation.readers import format_of, read_recording
 
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", RecordingWarning)
-        recording = read_recording(args.recording, args.fmt, units=args.units)
-    for w in caught:
-        print(f"oacc: warning: {w.message}", file=sys.stderr)
+    with printed_warnings():
+        recording = read_recording(args.recording, args.fmt, units=args.units,
+                                   allow_truncated=allow_truncated(args))
     recording = apply_grouping(recording, args.preset)
     doc = summary(recording, args.fmt or format_of(args.recording))
     print(json.dumps(doc, indent=2) if args.json else render(doc))

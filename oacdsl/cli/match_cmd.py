@@ -23,15 +23,16 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 
 
 def run(args: argparse.Namespace) -> int:
-    from oacdsl.cli.demo_input import load_inputs
+    from oacdsl.cli.demo_input import load_inputs, transient_s
     from oacdsl.matching.demonstration import match_segmentation
     from oacdsl.matching.matcher import Matcher
     from oacdsl.matching.results import Mode
 
+    window = transient_s(args)  # a bad value fails before any reading
     inputs = load_inputs(args)
     mode: Mode = "paper" if args.paper else "strict"
     matcher = Matcher.from_library(inputs.library, inputs.scene, mode=mode)
-    matches = match_segmentation(inputs.segmented(), matcher)
+    matches = match_segmentation(inputs.segmented(), matcher, transient_s=window)
     unmatched = sum(1 for m in matches if m.result.chosen is None)
     if args.json:
         print(json.dumps({"sub_actions": [m.to_json() for m in matches]}, indent=2))
@@ -43,6 +44,9 @@ def run(args: argparse.Namespace) -> int:
         chosen = m.result.chosen
         what = chosen.text() if chosen is not None else "no match"
         print(f"{m.index + 1:>{width}}  frames {frames:<{span}}  {what}")
+        for t in m.transient:
+            print(f"{'':>{width}}  through a transient state at frame {t.keyframe.frame}"
+                  f" ({t.duration_s:.2f} s: {', '.join(t.objects)} touching nothing)")
         if m.explanation:
             print(f"{'':>{width}}  {m.explanation}")
     ambiguous = sum(1 for m in matches if m.result.ambiguous)

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import argparse
 
+#: The largest result.json read, bytes (the pipeline's are well under 1 MiB; pictures are files).
+MAX_BYTES = 64 * 2**20
+
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p = sub.add_parser(
@@ -11,7 +14,11 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         help="render report.html from a result.json written by `oacc reproduce`",
         description="Render the self-contained report page again from RESULT (a result.json, see"
         " docs/report.md). The page is written next to it as report.html; pictures are read from"
-        " the paths RESULT names, relative to its folder.",
+        " the paths RESULT names, relative to its folder. RESULT is checked first: types, finite"
+        " numbers, counts and indices in range, fidelity and rates in [0, 1]; a link to a video"
+        " is kept only for a relative path or an http(s)/file URL. Exit status: 0 written,"
+        " 1 RESULT is not a valid result document (one line naming the field), 2 unreadable or"
+        " not JSON.",
     )
     p.add_argument("result", metavar="RESULT", help="a result.json file")
     p.set_defaults(func=run)
@@ -22,10 +29,12 @@ def run(args: argparse.Namespace) -> int:
     import sys
     from pathlib import Path
 
-    from oacdsl.errors import InputError
+    from oacdsl.errors import InputError, ResultError
     from oacdsl.report import write_report
 
     path = Path(args.result)
+    if path.is_file() and path.stat().st_size > MAX_BYTES:
+        raise InputError(f"larger than {MAX_BYTES // 2**20} MiB; not a result document", location=str(path))
     try:
         doc = json.loads(path.read_text(encoding="utf-8"))
     except OSError as e:
@@ -33,9 +42,13 @@ def run(args: argparse.Namespace) -> int:
     except (UnicodeDecodeError, json.JSONDecodeError) as e:
         line = getattr(e, "lineno", None)
         raise InputError(f"not JSON: {e}", location=f"{path}:{line}" if line else str(path)) from None
+    except RecursionError:
+        raise ResultError("nested too deeply; not a result document", location=str(path)) from None
     if not isinstance(doc, dict):
-        raise InputError("not a result document (expected a JSON object)", location=str(path))
-    report = write_report(doc, path.parent, source=str(path))
+        raise ResultError("not a result document (expected a JSON object)", location=str(path))
+    # the folder of the file itself: through out/result.json, a link, that is the run's own folder
+    folder = path.resolve().parent if path.is_symlink() else path.parent
+    report = write_report(doc, folder, source=str(path))
     for warning in report.warnings:
         print(f"oacc: warning: {warning}", file=sys.stderr)
     print(report.html)

@@ -7,6 +7,8 @@ import shlex
 import sys
 from pathlib import Path
 
+from oacdsl.cli import seed_arg
+from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
 from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
 
 DESCRIPTION = """\
@@ -18,10 +20,13 @@ and match that recording the same way, and compare the robot's world-state chang
 demonstration's. Without RECORDING: the bundled dough demonstration (data/dough.c3d).
 
 Writes into --out: report.html (one self-contained page), result.json (its data), NAME.oac and
-figures/. Every executed OAC's outcome goes into the run store (oacc stats).
+figures/ — links into --out/runs/<id>/, switched to the new run in one atomic step (the last 3
+runs are kept; what killed runs left behind is removed). Every executed OAC's outcome goes into
+the run store (oacc stats).
 
 Exit status: 0 reproduced and verified; 1 a stage failed, the robot failed or the closed loop
-differs (the report says which); 2 usage or input error (nothing is written).
+differs (the report says which), or the recording's content is wrong (nothing is written); 2 usage
+or input error (nothing is written).
 """
 
 EPILOG = """\
@@ -63,7 +68,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     )
     p.add_argument(
         "--seed",
-        type=int,
+        type=seed_arg,
         metavar="N",
         help="move every object of the robot's scene by up to 10 cm at random (default: nominal)",
     )
@@ -82,6 +87,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     g = p.add_argument_group("reading and segmenting the recording (as oacc segment; values carry units)")
     g.add_argument("--format", metavar="FMT", help="read as this format (c3d, mmm, tsv, csv)")
     g.add_argument("--preset", metavar="NAME", help=PRESET_HELP)
+    add_reading_options(g)
     add_aas_options(g, mode_help="touch detector for the demonstration: adaptive (per-pair distances"
                     " learned from co-motion; default) or paper (Eq. 1/2 as printed); the robot's own"
                     " recording is always segmented with paper")
@@ -103,21 +109,22 @@ def run(args: argparse.Namespace) -> int:
     params = params_from_args(args)  # bad units fail before any reading
     db = None
     if not args.no_record:
-        from oacdsl.stats import RunStore, resolve_db_path
+        from oacdsl.stats import ensure_writable, resolve_db_path
 
-        db = resolve_db_path(args.db)
-        if RunStore.exists(db):  # a foreign or newer file is refused now, before any work
-            RunStore(db, create=False).close()
+        db = ensure_writable(resolve_db_path(args.db))  # a foreign, newer or unwritable store: now
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError("--out must be a folder; this is a file", location=str(out))
     try:
-        inputs = load_inputs(
-            args.recording, args.library, args.scene, params,
-            fmt=args.format, preset=args.preset, note=print_note,
-        )
+        with printed_warnings():
+            inputs = load_inputs(
+                args.recording, args.library, args.scene, params,
+                fmt=args.format, preset=args.preset, allow_truncated=allow_truncated(args), note=print_note,
+            )
     except MatchingError as error:  # no scene fits the recording: an input error, nothing is written
         raise InputError(error.message, location=args.recording or BUNDLED_NAME) from None
+    if inputs.recording is not None:
+        check_windows(args, inputs.recording)
     note = prepare_backend(not args.no_render)  # before MuJoCo is imported: it reads MUJOCO_GL once
     if note:
         note += "; no pictures of the robot"

@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from oacdsl.cli import seed_arg
 from oacdsl.cli.backend import NONE_FOUND, prepare_backend
 from oacdsl.errors import RuntimeFailure, UsageError
 from oacdsl.model import Scene
@@ -28,7 +29,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         description="Execute a primitive or composed OAC on ARMAR-III in MuJoCo: bind its parameters,"
         " check its preconditions in the simulated world, run each step's skill and judge every step,"
         " primitive or composed, by its predicted effects: the observed touching relations after it."
-        " Exit 1 names the first step that failed.",
+        " Exit 1 names the first step that failed. The outcome of every run (also a failed one) goes"
+        " into the run store (oacc stats).",
     )
     p.add_argument("name", metavar="NAME", help="the OAC to execute")
     p.add_argument(
@@ -43,7 +45,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     )
     p.add_argument(
         "--seed",
-        type=int,
+        type=seed_arg,
         metavar="N",
         help="move every object by up to 10 cm at random (default: nominal places)",
     )
@@ -68,6 +70,12 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         metavar="OBJECT=X,Y",
         help="put an object at (X, Y) metres on the table (repeatable)",
     )
+    p.add_argument(
+        "--db",
+        metavar="PATH",
+        help="run store (default: $OACDSL_DB, else ~/.local/share/oacdsl/runs.sqlite3)",
+    )
+    p.add_argument("--no-record", action="store_true", help="do not store the run's outcome in the run store")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
     p.add_argument(
         "--video", metavar="OUT.mp4", help="record a video (an .mp4 file, or a folder of PNG frames)"
@@ -123,11 +131,55 @@ def load_inputs(paths: list[str], scene: str | None) -> tuple[Any, str | None]:
     return load_library(paths), scene
 
 
+def _writable_folder(folder: Path, flag: str) -> None:
+    """Create ``folder`` if needed and check that a file can be written in it (exit 2 if not)."""
+    import tempfile
+
+    from oacdsl.errors import InputError
+
+    if folder.exists() and not folder.is_dir():
+        raise UsageError(f"{flag}: {folder} exists and is not a folder")
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except (FileExistsError, NotADirectoryError):  # a parent is a file
+        raise UsageError(f"{flag}: cannot make the folder {folder}: a parent is a file") from None
+    except OSError as error:
+        why = error.strerror or error
+        raise InputError(f"{flag}: cannot make this folder: {why}", location=str(folder)) from None
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".oacc-probe-", dir=folder)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as error:
+        why = error.strerror or error
+        raise InputError(f"{flag}: cannot write here: {why}", location=str(folder)) from None
+
+
+def _check_outputs(args: argparse.Namespace) -> None:
+    """Fail before the simulation when ``--frames`` or ``--video`` cannot be written."""
+    if args.frames:
+        _writable_folder(Path(args.frames), "--frames")
+    if args.video:
+        video = Path(args.video)
+        if video.suffix.lower() != ".mp4":
+            _writable_folder(video, "--video")
+        elif video.is_dir():
+            raise UsageError(f"--video {video}: is a folder; give a file name ending in .mp4")
+        else:
+            _writable_folder(video.parent, "--video")
+
+
 def run(args: argparse.Namespace) -> int:
     bindings = _pairs(args.bind, "--bind")
     fill = _pairs(args.fill, "--fill")
     places = _places(args.place)
     library, scene = load_inputs(args.library or ["library"], args.scene)
+    db = None
+    if not args.no_record:  # an unusable store fails now, before the simulation
+        from oacdsl.stats import ensure_writable, resolve_db_path
+
+        db = ensure_writable(resolve_db_path(args.db))
+    _check_outputs(args)
     note = prepare_backend(bool(args.video or args.frames))  # before MuJoCo is imported
     if note:
         then = "running without rendering" if note != NONE_FOUND else "trying MuJoCo's default (GLFW)"
@@ -194,6 +246,11 @@ def run(args: argparse.Namespace) -> int:
             print(f"composed {call.oac}({args_text}) of steps {call.first}-{call.last}: {status}", file=out)
 
         result = run_prepared(run_, on_step=on_step, on_call=on_call)
+    except OSError as error:  # a picture could not be written after all (disk full, folder removed)
+        from oacdsl.errors import InputError
+
+        where = getattr(error, "filename", None) or args.frames or args.video
+        raise InputError(f"cannot write: {error.strerror or error}", location=str(where)) from None
     finally:
         for c in closers:
             c.close()
@@ -206,6 +263,11 @@ def run(args: argparse.Namespace) -> int:
             f"{result.oac}: {verdict} — {m['balls_in_bowl']}/{m['balls_total']} balls in a bowl,"
             f" {m['sim_time_s']:.1f} s simulated in {m['wall_time_s']:.1f} s"
         )
+    if db is not None:
+        from oacdsl.stats import RunStore
+
+        with RunStore(db) as store:
+            store.record_run_json(result.to_json(), seed=args.seed, command="run")
     if not result.success:
         raise RuntimeFailure(result.error or f"{result.oac} failed")
     return 0

@@ -7,6 +7,7 @@ import json
 import sys
 from typing import Any
 
+from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
 from oacdsl.segmentation.params import DEFAULT_MODE
 
 DESCRIPTION = """\
@@ -20,7 +21,15 @@ merged into the last of them. Frames count from 0 at the file's first frame;
 keyframe 0 is the initial world state.
 
 Values carry units: --distance 150mm (or 15cm, 0.15m), --speed 100mm/s,
---merge 0.3s (or 300ms); --frames is a whole number of frames.
+--merge 0.3s (or 300ms); --frames is a whole number of frames. --frames and
+--merge must fit in the recording. A recording that breaks a reader's limits
+(rate 1 Hz..10 kHz, finite coordinates, size; docs/readers.md) is an error (exit 1).
+
+--motion adds the demonstrated motion of every sub-action: which object a hand
+moved, what it works on (the other side of the relation it makes, breaks or keeps),
+and that object's path in the target's frame from a rigid fit of each instance's
+markers (>= 3): path length, extent, the period of an oscillation (stirring,
+wiping), the tilt reached (pouring). See docs/motion.md.
 """
 
 EPILOG = """\
@@ -28,6 +37,7 @@ examples:
   oacc segment demo.c3d
   oacc segment Pour.mmm.xml --json            # KIT/MMM: hands recognised (note on stderr)
   oacc segment demo.c3d --scene library/ --scene-name kitchen --plot aas.png --graphs graphs/
+  oacc segment Stir.mmm.xml --motion --plot-motion stir.png   # what moved, relative to what
 """
 
 
@@ -41,6 +51,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     )
     p.add_argument("recording", metavar="RECORDING", help="a .c3d, .mmm.xml/.xml, .tsv or .csv file")
     p.add_argument("--format", metavar="FMT", help="read as this format, not by the file's extension")
+    add_reading_options(p)
     groups = p.add_argument_group("marker groups (default: as the file groups them)")
     groups.add_argument("--scene", metavar="PATH", action="append",
                         help=".oac file or folder (repeatable, loaded as one library) with a scene whose"
@@ -54,22 +65,34 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
                      help="draw distances, thresholds and keyframes over time (the paper's Fig. 3)")
     out.add_argument("--graphs", metavar="DIR",
                      help="write the world state of every keyframe as a graph picture (the paper's Fig. 4)")
+    out.add_argument("--motion", action="store_true",
+                     help="also the demonstrated motion of every sub-action: moved object, target,"
+                          " path features (with --json: the records, T_target_object per frame)")
+    out.add_argument("--plot-motion", metavar="OUT.png",
+                     help="draw each sub-action's object path in its target's frame, one panel each")
     p.set_defaults(func=run)
 
 
 PRESET_HELP = ("built-in marker grouping: 'kit' (KIT/MMM hand markers → left_hand, right_hand; applied"
                " unasked when the file has them, with a note on stderr) or 'none' (the file's own groups)")
 
-MODE_HELP = ("touch detector: adaptive (per-pair distances learned from co-motion; default:"
-             " F1 1.00 against 0.85 on the KIT clips) or paper (Eq. 1/2 as printed)")
+MODE_HELP = ("touch detector: adaptive (per-pair distances learned from co-motion, distance change"
+             " fitted over --change-window; default: F1 1.00 against 0.85 on the KIT clips), robust"
+             " (Eq. 1/2 at one distance, distance change fitted over --change-window) or paper"
+             " (Eq. 1/2 as printed: one-frame difference)")
 
 
 def add_aas_options(group: Any, mode_help: str = MODE_HELP) -> None:
     """The AAS parameters every command that segments takes (read by :func:`params_from_args`)."""
     group.add_argument("--distance", metavar="LEN", help="distance threshold d (default: 150mm)")
     group.add_argument("--speed", metavar="SPEED", help="distance-change threshold v (default: 100mm/s)")
-    group.add_argument("--frames", metavar="N",
-                       help="consecutive frames n (default: the frames in 0.1 s, at least 2)")
+    group.add_argument("--hold", metavar="TIME",
+                       help="how long a condition must hold: n as a duration (default: 0.1s, at least"
+                            " 2 frames)")
+    group.add_argument("--frames", metavar="N", help="n as a number of frames (instead of --hold)")
+    group.add_argument("--change-window", metavar="TIME",
+                       help="window of the least-squares fit that estimates the distance change in modes"
+                            " robust and adaptive (default: 0.1s; paper: one frame, as printed)")
     group.add_argument("--merge", metavar="TIME", help="keyframe merge window (default: 0.3s; 0s = off)")
     group.add_argument("--mode", metavar="MODE", default=DEFAULT_MODE, help=mode_help)
 
@@ -88,8 +111,14 @@ def params_from_args(args: argparse.Namespace) -> Any:
         kwargs["distance_m"] = parse_quantity(args.distance, "m", what="--distance")
     if args.speed is not None:
         kwargs["speed_m_s"] = parse_quantity(args.speed, "m/s", what="--speed")
+    if args.frames is not None and args.hold is not None:
+        raise UsageError("--frames and --hold both set n; give one of them")
     if args.frames is not None:
         kwargs["frames"] = int(parse_quantity(args.frames, "frames", what="--frames"))
+    if args.hold is not None:
+        kwargs["hold_s"] = parse_quantity(args.hold, "s", what="--hold")
+    if args.change_window is not None:
+        kwargs["change_window_s"] = parse_quantity(args.change_window, "s", what="--change-window")
     if args.merge is not None:
         kwargs["merge_s"] = parse_quantity(args.merge, "s", what="--merge")
     return AasParams(**kwargs)
@@ -102,7 +131,10 @@ def load(args: argparse.Namespace) -> Any:
 
     if args.scene and args.preset:
         raise UsageError("--scene and --preset both define the marker groups; give one of them")
-    recording = apply_grouping(read_recording(args.recording, args.format), args.preset)
+    with printed_warnings():
+        recording = read_recording(args.recording, args.format, allow_truncated=allow_truncated(args))
+    check_windows(args, recording)
+    recording = apply_grouping(recording, args.preset)
     if args.scene:
         from oacdsl.segmentation.grouping import apply_scene_groups
 
@@ -145,10 +177,28 @@ def run(args: argparse.Namespace) -> int:
     params = params_from_args(args)  # bad units fail before any reading
     recording = load(args)
     seg = segment(recording, params, progress=_progress_printer(recording.n_frames))
+    motions = None
+    if args.motion or args.plot_motion:
+        from oacdsl.segmentation.motion import sub_action_motions
+
+        motions = sub_action_motions(recording, seg)
     if args.json:
-        print(json.dumps(seg.to_json(), indent=2))
+        doc = seg.to_json()
+        if args.motion and motions is not None:
+            doc["motions"] = [m.to_json() for m in motions]
+        print(json.dumps(doc, indent=2))
     else:
         print(format_table(seg))
+        if args.motion and motions is not None:
+            from oacdsl.cli.motion_table import format_motion_table
+
+            print()
+            print(format_motion_table(motions))
+    if args.plot_motion and motions is not None:
+        from oacdsl.segmentation.motionplot import save_motion_plot
+
+        written = save_motion_plot(motions, args.plot_motion, title=str(recording.source))
+        print(f"wrote {written}", file=sys.stderr)
     if args.plot:
         from oacdsl.segmentation.plots import save_distance_plot
 
@@ -174,7 +224,9 @@ def format_table(seg: Any) -> str:
         f"{seg.recording}: {seg.frames} frames at {seg.rate_hz:g} Hz ({duration:.2f} s),"
         f" {len(seg.instances)} instances: {', '.join(seg.instances) or '(none)'}",
         f"d = {format_quantity(p['distance_m'], 'm')}, v = {speed}, n = {p['frames']} frames,"
-        f" merge = {format_quantity(p['merge_s'], 's')}, mode = {p['mode']}",
+        f" merge = {format_quantity(p['merge_s'], 's')}, mode = {p['mode']}"
+        + (f", change window = {format_quantity(p['change_window_s'], 's')}"
+           if p.get("mode") != "paper" and "change_window_s" in p else ""),
         "",
         f"{'#':>3}  {'frame':>7}  {'time [s]':>9}  relations",
     ]

@@ -162,7 +162,14 @@ def check_grasps(ctx: Context) -> None:
                 f"unknown approach direction '{grasp.approach}'{did_you_mean(grasp.approach, APPROACHES)}",
                 grasp.part("approach"),
             )
-        length = math.sqrt(sum(x * x for x in grasp.offset))
+        if not all(math.isfinite(x) for x in grasp.offset):  # e.g. 1e400 reads as infinity
+            ctx.add(
+                "E025",
+                "grasp offset has a number too large to be finite; offsets are metres",
+                grasp.part("offset"),
+            )
+            continue
+        length = math.hypot(*grasp.offset)
         if length > MAX_OFFSET_M:
             ctx.add(
                 "W005",

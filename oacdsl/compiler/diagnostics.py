@@ -15,6 +15,7 @@ example message for each and a test checks the two agree.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -59,6 +60,7 @@ CODES: dict[str, str] = {
     "E022": "marker assigned to two instances",
     "E023": "composed OAC without steps",
     "E024": "file is not UTF-8 text",
+    "E025": "number too large to be a finite value",
     "E030": "unknown shape",
     "E031": "unknown, repeated or missing parameter of a shape",
     "E032": "unknown unit, or a unit of the wrong kind",
@@ -144,11 +146,18 @@ def sort_diagnostics(diagnostics: Iterable[Diagnostic]) -> list[Diagnostic]:
     return [unique[k] for k in sorted(unique, key=lambda k: k[0])]
 
 
+@functools.lru_cache(maxsize=8)
+def _lines(text: str) -> list[str]:
+    """``text`` split into lines, once per text (a file with 100,000 errors is split once, not
+    100,000 times; a str caches its hash, so the lookup is cheap)."""
+    return text.split("\n")
+
+
 def _excerpt(span: Span, sources: Mapping[str, str]) -> list[str]:
     text = sources.get(span.file)
     if text is None:
         return []
-    lines = text.split("\n")
+    lines = _lines(text)
     if not 1 <= span.line <= len(lines):
         return []
     line = lines[span.line - 1].rstrip("\r")

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from oacdsl.compiler.checks import check_modules
 from oacdsl.compiler.diagnostics import Diagnostic, language_error, sort_diagnostics
-from oacdsl.compiler.parser import decode_source, parse_source, read_bytes
+from oacdsl.compiler.parser import decode_source, normalize_newlines, parse_source, read_bytes
 from oacdsl.errors import InputError, LanguageError, SourceEncodingError
 from oacdsl.library import Library
 from oacdsl.model import Module
@@ -121,6 +121,7 @@ def compile_sources(sources: Mapping[str, str | bytes]) -> CompileResult:
                     continue
             else:
                 text = source
+            text = normalize_newlines(text)  # CR LF and CR line ends count as lines, as in an editor
             result.sources[path] = text
             try:
                 module, warnings = parse_source(text, path)

@@ -24,7 +24,15 @@ from oacdsl.compiler.syntax import syntax_diagnostic
 from oacdsl.errors import InputError, SourceEncodingError
 from oacdsl.model import Decl, Module, Span
 
-__all__ = ["decode_source", "parse_file", "parse_source", "parse_text", "read_bytes", "read_source"]
+__all__ = [
+    "decode_source",
+    "normalize_newlines",
+    "parse_file",
+    "parse_source",
+    "parse_text",
+    "read_bytes",
+    "read_source",
+]
 
 _lock = threading.Lock()
 
@@ -39,12 +47,26 @@ def _comments(text: str, tokens: list[Token]) -> list[Comment]:
     return out
 
 
+def normalize_newlines(text: str) -> str:
+    """``text`` with CR LF and lone CR line ends turned into LF.
+
+    The grammar ends a line (and a ``#`` comment) at LF only: a file saved with
+    classic-Mac CR line ends would otherwise be one long line, everything after
+    its first ``#`` one comment. Line numbers of diagnostics count the lines a
+    text editor shows.
+    """
+    if "\r" not in text:
+        return text
+    return text.replace("\r\n", "\n").replace("\r", "\n")
+
+
 def parse_source(text: str, path: str = "<string>") -> tuple[Module, list[Diagnostic]]:
     """Parse ``text``; return the module and the warnings found while building it.
 
-    Raises :class:`~oacdsl.errors.LanguageError` (one E001/E002 diagnostic) on a
-    syntax error.
+    Line ends may be LF, CR LF or CR (:func:`normalize_newlines`). Raises
+    :class:`~oacdsl.errors.LanguageError` (one E001/E002 diagnostic) on a syntax error.
     """
+    text = normalize_newlines(text)
     parser = lark_parser()
     builder = model_builder()
     with _lock:

@@ -18,6 +18,7 @@ from oacdsl.matching.composer import Composition, Step, compose
 from oacdsl.matching.drafts import propose_draft
 from oacdsl.matching.matcher import Matcher
 from oacdsl.matching.results import MatchResult, Mode
+from oacdsl.matching.transient import TRANSIENT_S, Transient, agents_of, stable_segmentation
 from oacdsl.model import Oac, Scene
 from oacdsl.segmentation.result import Segmentation, SubAction
 from oacdsl.world import Relation
@@ -35,6 +36,8 @@ class SubActionMatch:
 
     sub_action: SubAction
     result: MatchResult
+    #: Transient states inside the sub-action (an object in flight), not keyframes of their own.
+    transient: tuple[Transient, ...] = ()
 
     @property
     def index(self) -> int:
@@ -48,7 +51,7 @@ class SubActionMatch:
     def to_json(self) -> dict[str, Any]:
         """One entry of ``oacc match --json``'s ``sub_actions``."""
         r = self.result
-        return {
+        doc: dict[str, Any] = {
             "from_frame": int(self.sub_action.start.frame),
             "to_frame": int(self.sub_action.end.frame),
             "before": _pairs(r.before.relations),
@@ -57,6 +60,9 @@ class SubActionMatch:
             "chosen": 0 if r.matches else None,
             "explanation": self.explanation,
         }
+        if self.transient:
+            doc["transient"] = [t.to_json() for t in self.transient]
+        return doc
 
 
 def find_scene(library: Library, instances: Sequence[str], name: str | None = None) -> Scene:
@@ -81,11 +87,21 @@ def find_scene(library: Library, instances: Sequence[str], name: str | None = No
 
 
 def match_segmentation(
-    segmentation: Segmentation, matcher: Matcher, mode: Mode | None = None
+    segmentation: Segmentation, matcher: Matcher, mode: Mode | None = None, transient_s: float = TRANSIENT_S
 ) -> list[SubActionMatch]:
-    """Match every sub-action of ``segmentation``, in time order."""
-    return [SubActionMatch(sa, matcher.match(sa.before, sa.after, mode=mode))
-            for sa in segmentation.sub_actions()]
+    """Match every sub-action of ``segmentation``, in time order.
+
+    Keyframes of transient states (an object in flight for less than ``transient_s``
+    seconds, :mod:`oacdsl.matching.transient`) delimit no sub-action; the agents are the
+    matcher's instances of class ``Hand``.
+    """
+    agents = agents_of(matcher.instance_classes)
+    stable, dropped = stable_segmentation(segmentation, agents.__contains__, transient_s)
+    out = []
+    for sa in stable.sub_actions():
+        inside = tuple(t for t in dropped if sa.start.frame < t.keyframe.frame < sa.end.frame)
+        out.append(SubActionMatch(sa, matcher.match(sa.before, sa.after, mode=mode), inside))
+    return out
 
 
 @dataclass(frozen=True)

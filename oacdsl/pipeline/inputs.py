@@ -212,12 +212,15 @@ def load_inputs(
     *,
     fmt: str | None = None,
     preset: str | None = None,
+    allow_truncated: bool = False,
     segmentations: bool = False,
     note: Callable[[str], None] | None = None,
 ) -> Inputs:
     """Read and check everything (see the module docstring); raises OacError subclasses.
 
-    ``recording`` None: the bundled demonstration. ``segmentations``: a ``.json``
+    ``recording`` None: the bundled demonstration. ``allow_truncated``: a C3D file cut
+    short is read as far as its frames are complete, with a warning (else an error).
+    ``segmentations``: a ``.json``
     recording is a segmentation (``match``, ``compose``). ``preset`` None: a marker
     set recognised in a recording file groups it, and ``note`` hears of it; ``"none"``:
     the file's own groups. No scene that fits the demonstration is a
@@ -228,24 +231,26 @@ def load_inputs(
     rec: Recording | None = None
     seg: Segmentation | None = None
     if recording is None:
-        if fmt or preset:
-            raise UsageError("--format and --preset need a RECORDING (the bundled one needs neither)")
+        if fmt or preset or allow_truncated:
+            raise UsageError("--format, --preset and --allow-truncated need a RECORDING"
+                             " (the bundled one needs none)")
         rec, source = bundled_recording()
     elif segmentations and Path(recording).suffix.lower() == ".json":
-        if fmt or preset:
-            raise UsageError(f"--format, --preset: these read a recording; {recording} is a segmentation"
-                             " already (.json)")
+        if fmt or preset or allow_truncated:
+            raise UsageError(f"--format, --preset, --allow-truncated: these read a recording; {recording} is"
+                             " a segmentation already (.json)")
         source = str(recording)
         seg = read_segmentation_json(Path(recording))
     else:
         from oacdsl.segmentation.readers import read_recording
 
         source = str(recording)
-        if not Path(recording).is_file():
+        if not Path(recording).exists():  # a special file is refused by read_recording, unopened
             raise InputError("no such recording file", location=source)
         from oacdsl.segmentation.grouping import group_recording, recognised_note
 
-        rec, recognised = group_recording(read_recording(recording, fmt), preset)
+        read = read_recording(recording, fmt, allow_truncated=allow_truncated)
+        rec, recognised = group_recording(read, preset)
         if recognised is not None and note is not None:
             note(recognised_note(rec, recognised))
     instances = tuple(rec.instances if rec is not None else seg.instances if seg is not None else ())

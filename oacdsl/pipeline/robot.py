@@ -117,6 +117,7 @@ def verify_stage(
     """Segment the robot's virtual markers, match them, compare with the demonstration."""
     from oacdsl.matching import Matcher
     from oacdsl.matching.demonstration import match_segmentation
+    from oacdsl.matching.transient import agents_of, stable_segmentation
     from oacdsl.pipeline.analyse import match_doc
     from oacdsl.segmentation import segment
     from oacdsl.verify import verify
@@ -125,14 +126,19 @@ def verify_stage(
     recording = markers.to_recording("robot (virtual markers)", instances=instances)
     params = robot_params(demo_params)
     seg = segment(recording, params)
-    robot_matches = match_segmentation(seg, Matcher.from_library(library, scene))
+    matcher = Matcher.from_library(library, scene)
+    robot_matches = match_segmentation(seg, matcher)
+    # both sides without their transient states (an object in flight), as matching sees them
+    agents = agents_of(matcher.instance_classes)
+    demo_kfs = stable_segmentation(demonstration, agents.__contains__)[0].keyframes
+    robot_kfs = stable_segmentation(seg, agents.__contains__)[0].keyframes
     v = verify(
-        [k.state for k in demonstration.keyframes],
-        [k.state for k in seg.keyframes],
-        demonstration_frames=[k.frame for k in demonstration.keyframes],
-        robot_frames=[k.frame for k in seg.keyframes],
-        demonstration_times_s=[k.time_s for k in demonstration.keyframes],
-        robot_times_s=[k.time_s for k in seg.keyframes],
+        [k.state for k in demo_kfs],
+        [k.state for k in robot_kfs],
+        demonstration_frames=[k.frame for k in demo_kfs],
+        robot_frames=[k.frame for k in robot_kfs],
+        demonstration_times_s=[k.time_s for k in demo_kfs],
+        robot_times_s=[k.time_s for k in robot_kfs],
         instances=instances,
     )
     doc = v.to_json()

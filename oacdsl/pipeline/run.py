@@ -3,17 +3,16 @@
 Stages, each timed by :class:`~oacdsl.progress.Progress`: segment → match → compose →
 execute → verify → record → report. Inputs are checked first (:func:`load_inputs`),
 before anything is written. The outputs are built in a hidden folder inside ``out``
-and renamed into place at the end (``report.html``, ``result.json``, ``NAME.oac``,
-``figures/``), so ``out`` never holds half a report. A stage that fails (no OAC
+and published in one step at the end (:mod:`oacdsl.pipeline.publish`: ``out/runs/<id>/``
+and the link ``out/current``; ``report.html``, ``result.json``, ``NAME.oac``, ``figures``
+link to it), so ``out`` never shows half a report or entries of two runs. A stage that fails (no OAC
 matches a sub-action, the robot drops a cup) stops the stages that need it and the
 report says so, with a red verdict; the run store records every execution.
 """
 
 from __future__ import annotations
 
-import os
 import shutil
-import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
@@ -25,7 +24,7 @@ from oacdsl.pipeline.inputs import Inputs
 from oacdsl.pipeline.result import ResultRecord
 from oacdsl.progress import Progress
 
-__all__ = ["STAGES", "Outcome", "publish", "reproduce"]
+__all__ = ["STAGES", "Outcome", "reproduce"]
 
 STAGES = ("segment", "match", "compose", "execute", "verify", "record", "report")
 
@@ -98,9 +97,15 @@ def reproduce(
         if warn is not None:
             warn(text)
 
+    from oacdsl.atomic import remove_stale_temporaries
+    from oacdsl.matching.emit import LEARNED
+    from oacdsl.pipeline.publish import clean_stale, make_staging, publish
+
+    library_root = inputs.library_path if inputs.library_path.is_dir() else inputs.library_path.parent
+    remove_stale_temporaries(library_root / LEARNED)  # what killed runs left behind
+    clean_stale(out)
     try:
-        out.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(prefix=".reproduce-", dir=out))
+        staging = make_staging(out)
     except OSError as error:
         why = error.strerror or str(error)
         raise InputError(f"cannot write the report here: {why}", location=str(out)) from None
@@ -279,21 +284,3 @@ def _record(
         )
     result.put("reliability", reliability_doc(db))
 
-
-def publish(staging: Path, out: Path) -> list[Path]:
-    """Move the finished outputs from ``staging`` into ``out`` (each by a rename)."""
-    files = []
-    old = staging / ".figures.old"
-    if (staging / "figures").is_dir():
-        if (out / "figures").is_dir():
-            os.replace(out / "figures", old)
-        os.replace(staging / "figures", out / "figures")
-        files.append(out / "figures")
-    order = sorted(
-        p.name for p in staging.iterdir() if p.is_file() and p.name not in ("result.json", "report.html")
-    )
-    for fname in [*order, "result.json", "report.html"]:
-        if (staging / fname).exists():
-            os.replace(staging / fname, out / fname)
-            files.append(out / fname)
-    return files

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from oacdsl.report.html import Images, badge, call, esc, holds, rel, rel_list, seconds
+from oacdsl.report.html import Images, badge, call, esc, holds, rel, rel_list, safe_link, seconds
 from oacdsl.report.overview import not_run
 from oacdsl.report.schema import ChangeDoc, Result, RunStepDoc
 from oacdsl.world import NOTHING
@@ -86,7 +86,11 @@ def execution_section(r: Result, images: Images) -> str:
     if facts:
         out.append(_cards(facts))
     if run.video:
-        out.append(f'<p>Video: <a href="{esc(run.video)}">{esc(run.video)}</a></p>')
+        href = safe_link(run.video)
+        if href is None:  # e.g. javascript:…: shown as text, never a live link
+            out.append(f"<p>Video: <code>{esc(run.video)}</code> (not linked)</p>")
+        else:
+            out.append(f'<p>Video: <a href="{esc(href)}">{esc(run.video)}</a></p>')
     rows = []
     previous = run.initial
     for i, s in enumerate(run.steps):

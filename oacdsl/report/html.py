@@ -10,10 +10,46 @@ from pathlib import Path
 
 from oacdsl.world import NOTHING
 
-__all__ = ["Images", "badge", "call", "esc", "highlight_oac", "rel", "rel_list", "seconds"]
+__all__ = [
+    "LINK_SCHEMES",
+    "Images",
+    "badge",
+    "call",
+    "esc",
+    "highlight_oac",
+    "rel",
+    "rel_list",
+    "safe_link",
+    "seconds",
+]
 
 _MIME = {".png": "image/png", ".jpg": "image/jpeg", ".jpeg": "image/jpeg", ".gif": "image/gif",
          ".svg": "image/svg+xml", ".webp": "image/webp"}
+
+
+#: URL schemes a link of the page may use; anything else (javascript:, data:, …) is not linked.
+LINK_SCHEMES = ("http", "https", "file")
+
+
+def safe_link(ref: str) -> str | None:
+    """``ref`` as an ``href`` when it is a relative path or an http(s)/file URL, else None.
+
+    A relative path is percent-quoted (so ``a:b`` cannot pass for a scheme); control
+    characters, which browsers strip before reading the scheme, make any reference unsafe.
+    """
+    from urllib.parse import quote, urlsplit
+
+    if not ref or any(ord(c) < 0x20 or ord(c) == 0x7F for c in ref) or ref.startswith(("//", "\\")):
+        return None
+    try:
+        parts = urlsplit(ref)
+    except ValueError:
+        return None
+    if parts.scheme:
+        return ref if parts.scheme.lower() in LINK_SCHEMES else None
+    if ":" in ref.split("/", 1)[0]:
+        return None
+    return quote(ref, safe="/#?=&%.-_~")
 
 
 def esc(value: object) -> str:

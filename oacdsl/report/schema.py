@@ -14,23 +14,37 @@ See docs/report.md for the field-by-field reference.
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, ValidationError
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
-from oacdsl.errors import InputError
+from oacdsl.errors import ResultError
 
-__all__ = ["SCHEMA_VERSION", "Result", "validate_result"]
+__all__ = ["MAX_DEPTH", "SCHEMA_VERSION", "Result", "validate_result"]
 
 #: The version of the result.json schema this code writes and reads.
 SCHEMA_VERSION = 1
+#: How deeply a result may nest (objects and arrays); the pipeline's go 8 deep.
+MAX_DEPTH = 64
 
 Pair = tuple[str, str]
 Image = str | None
+#: A count or an index: a whole number ≥ 0.
+Count = Annotated[int, Field(ge=0)]
+#: A share: a number in [0, 1].
+Fraction = Annotated[float, Field(ge=0.0, le=1.0)]
+#: A duration or a time stamp, seconds ≥ 0.
+Seconds = Annotated[float, Field(ge=0.0)]
 
 
 class _Doc(BaseModel):
-    model_config = ConfigDict(extra="allow")
+    # numbers must be finite: JSON's NaN and Infinity (which Python reads) are refused
+    model_config = ConfigDict(extra="allow", allow_inf_nan=False)
+
+
+def _index_ok(index: int | None, size: int, what: str) -> None:
+    if index is not None and not 0 <= index < size:
+        raise ValueError(f"{what} {index} is out of range (there are {size})")
 
 
 class Demonstration(_Doc):
@@ -38,7 +52,7 @@ class Demonstration(_Doc):
     title: str | None = None
     scene: str | None = None
     library: list[str] = []
-    seed: int | None = None
+    seed: Count | None = None
     command: str | None = None
 
 
@@ -51,12 +65,12 @@ class Verdict(_Doc):
 class Stage(_Doc):
     name: str
     status: Literal["ok", "failed", "skipped"]
-    duration_s: float | None = None
+    duration_s: Seconds | None = None
     detail: str | None = None
 
 
 class KeyframeDoc(_Doc):
-    frame: int
+    frame: Count
     time_s: float
     relations: list[Pair]
     image: Image = None  # the demonstration at this keyframe (e.g. a marker snapshot)
@@ -65,8 +79,8 @@ class KeyframeDoc(_Doc):
 
 class SegmentDoc(_Doc):
     recording: str
-    rate_hz: float
-    frames: int
+    rate_hz: Annotated[float, Field(gt=0.0)]
+    frames: Count
     parameters: dict[str, Any] = {}
     instances: list[str]
     keyframes: list[KeyframeDoc]
@@ -84,14 +98,19 @@ class MatchDoc(_Doc):
 
 
 class SubActionDoc(_Doc):
-    from_frame: int
-    to_frame: int
+    from_frame: Count
+    to_frame: Count
     before: list[Pair]
     after: list[Pair]
     matches: list[MatchDoc]
-    chosen: int | None
+    chosen: Count | None
     explanation: str | None = None
-    step: int | None = None  # index into run.steps of its execution (default: in order)
+    step: Count | None = None  # index into run.steps of its execution (default: in order)
+
+    @model_validator(mode="after")
+    def _chosen_in_range(self) -> SubActionDoc:
+        _index_ok(self.chosen, len(self.matches), "chosen")
+        return self
 
 
 class MatchSection(_Doc):
@@ -106,8 +125,8 @@ class CallDoc(_Doc):
 class ProvenanceDoc(_Doc):
     kind: Literal["pre", "effect", "ended"]
     relation: Pair
-    step: int | None = None  # index into compose.steps
-    keyframe: int | None = None  # index into segment.keyframes
+    step: Count | None = None  # index into compose.steps
+    keyframe: Count | None = None  # index into segment.keyframes
     note: str | None = None
 
 
@@ -126,7 +145,7 @@ class RunStepDoc(_Doc):
     oac: str
     binding: dict[str, str]
     success: bool
-    duration_s: float | None = None
+    duration_s: Seconds | None = None
     predicted: list[Pair] = []
     predicted_not: list[Pair] = []
     observed: list[Pair] = []
@@ -148,8 +167,8 @@ class RunDoc(_Doc):
 
 
 class ChangeDoc(_Doc):
-    index: int
-    frame: int | None = None
+    index: Count
+    frame: Count | None = None
     time_s: float | None = None
     added: list[Pair]
     removed: list[Pair]
@@ -157,8 +176,8 @@ class ChangeDoc(_Doc):
 
 class AlignDoc(_Doc):
     op: Literal["match", "substitute", "missing", "extra"]
-    demonstration: int | None
-    robot: int | None
+    demonstration: Count | None
+    robot: Count | None
 
 
 class StatesDoc(_Doc):
@@ -171,25 +190,32 @@ class VerificationDoc(_Doc):
     demonstration: list[ChangeDoc]
     robot: list[ChangeDoc]
     alignment: list[AlignDoc]
-    distance: int
-    relation_distance: int | None = None
-    fidelity: float
+    distance: Count
+    relation_distance: Count | None = None
+    fidelity: Fraction
     initial: StatesDoc
     final: StatesDoc
     verified: bool
     verdict: str
-    tolerance: int = 0
+    tolerance: Count = 0
     plot: Image = None  # e.g. the robot recording's distance plot
+
+    @model_validator(mode="after")
+    def _alignment_in_range(self) -> VerificationDoc:
+        for i, a in enumerate(self.alignment):
+            _index_ok(a.demonstration, len(self.demonstration), f"alignment.{i}.demonstration")
+            _index_ok(a.robot, len(self.robot), f"alignment.{i}.robot")
+        return self
 
 
 class ReliabilityRow(_Doc):
     oac: str
-    runs: int
-    successes: int
-    rate: float
-    ci_low: float
-    ci_high: float
-    median_duration_s: float | None = None
+    runs: Count
+    successes: Count
+    rate: Fraction
+    ci_low: Fraction
+    ci_high: Fraction
+    median_duration_s: Seconds | None = None
     last_failure: str | None = None
     last_failure_utc: str | None = None
 
@@ -213,11 +239,48 @@ class Result(_Doc):
     verification: VerificationDoc | None = None
     reliability: ReliabilityDoc | None = None
 
+    @model_validator(mode="after")
+    def _indices_in_range(self) -> Result:
+        if self.match is not None and self.run is not None:
+            for i, sub in enumerate(self.match.sub_actions):
+                _index_ok(sub.step, len(self.run.steps), f"match.sub_actions.{i}.step")
+        if self.compose is not None:
+            keyframes = len(self.segment.keyframes) if self.segment is not None else None
+            for i, p in enumerate(self.compose.provenance):
+                _index_ok(p.step, len(self.compose.steps), f"compose.provenance.{i}.step")
+                if keyframes is not None:
+                    _index_ok(p.keyframe, keyframes, f"compose.provenance.{i}.keyframe")
+        if self.reliability is not None:
+            for row in self.reliability.oacs:
+                if row.successes > row.runs:
+                    why = f"{row.successes} successes in {row.runs} runs"
+                    raise ValueError(f"reliability of {row.oac}: {why}")
+        return self
+
+
+def _depth(value: Any) -> int:
+    """How deeply ``value`` nests lists and dicts (iteratively: no recursion limit to hit)."""
+    deepest, todo = 0, [(value, 1)]
+    while todo:
+        item, depth = todo.pop()
+        if isinstance(item, dict | list):
+            deepest = max(deepest, depth)
+            if depth > MAX_DEPTH:
+                break
+            todo.extend((v, depth + 1) for v in (item.values() if isinstance(item, dict) else item))
+    return deepest
+
 
 def validate_result(result: Any, *, source: str = "result") -> Result:
-    """Check a result dict against the schema; the first problem as a one-line InputError."""
+    """Check a result dict against the schema; the first problem as a one-line ResultError (exit 1).
+
+    Beyond the types: numbers finite, counts and indices ≥ 0 and in range of what they point
+    into, shares (fidelity, rates) in [0, 1], nesting at most :data:`MAX_DEPTH` deep.
+    """
+    if _depth(result) > MAX_DEPTH:
+        raise ResultError(f"nested more than {MAX_DEPTH} levels deep; not a result document", location=source)
     if isinstance(result, dict) and result.get("schema_version", SCHEMA_VERSION) != SCHEMA_VERSION:
-        raise InputError(
+        raise ResultError(
             f"schema_version {result.get('schema_version')!r} is not supported (this oacdsl reads"
             f" {SCHEMA_VERSION})",
             location=source,
@@ -228,4 +291,4 @@ def validate_result(result: Any, *, source: str = "result") -> Result:
         err = e.errors()[0]
         where = ".".join(str(p) for p in err["loc"]) or "(top)"
         more = f" (and {e.error_count() - 1} more)" if e.error_count() > 1 else ""
-        raise InputError(f"{where}: {err['msg']}{more}", location=source) from None
+        raise ResultError(f"{where}: {err['msg']}{more}", location=source) from None

@@ -128,8 +128,9 @@ class VideoRecorder:
         self.renderer = Renderer(model, size)
         self.frames = 0
         self._writer: Any = None
-        self._tmp = self.out.with_name(self.out.stem + ".tmp" + self.out.suffix)
+        self._tmp = self.out
         if self.out.suffix.lower() == ".mp4":
+            self._tmp = self.out.with_name(self.out.stem + ".tmp" + self.out.suffix)
             import imageio.v2 as imageio
 
             self.out.parent.mkdir(parents=True, exist_ok=True)

@@ -28,13 +28,39 @@ from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import Segmentation
 
-__all__ = ["segment", "DEFAULT_CHUNK_FRAMES"]
+__all__ = ["segment", "DEFAULT_CHUNK_FRAMES", "MAX_INSTANCES", "MAX_PAIR_FRAMES", "check_work"]
 
 #: Frames per chunk: large enough to amortise Python overhead, small enough that
 #: the broad phase stays tight and a chunk's arrays stay in cache-sized blocks.
 DEFAULT_CHUNK_FRAMES = 512
 
 Progress = Callable[[int, int], None]
+
+#: Instances (marker groups) a segmentation takes: their pairs are examined one by one.
+MAX_INSTANCES = 100
+#: Cross-instance marker pairs × frames a segmentation examines: 18 times the one-hour
+#: recording of benchmarks/segmentation.py (5.6e8), which a 1 GiB recording reaches only
+#: with hundreds of markers.
+MAX_PAIR_FRAMES = 10_000_000_000
+
+
+def check_work(recording: Recording, frames: int | None = None) -> None:
+    """Refuse, before any work, a segmentation beyond the bounds above or a window ``frames``
+    (``n``, when given explicitly) longer than the recording."""
+    where = recording.source
+    if frames is not None and frames > recording.n_frames:
+        raise SegmentationError(f"frames n = {frames} is more than the recording's {recording.n_frames}"
+                                " frames", location=where)
+    hint = "group the markers (--preset, --scene) or segment a shorter part"
+    if len(recording.groups) > MAX_INSTANCES:
+        raise SegmentationError(f"{len(recording.groups)} marker groups (instances), more than the"
+                                f" {MAX_INSTANCES} a segmentation takes; {hint}", location=where)
+    sizes = [len(set(idx)) for idx in recording.groups.values()]
+    pairs = (sum(sizes) ** 2 - sum(k * k for k in sizes)) // 2
+    if pairs * recording.n_frames > MAX_PAIR_FRAMES:
+        raise SegmentationError(f"{pairs} marker pairs × {recording.n_frames} frames is more than the"
+                                f" {MAX_PAIR_FRAMES:.0e} pair-frames a segmentation examines; {hint}",
+                                location=where)
 
 
 def segment(
@@ -52,7 +78,9 @@ def segment(
     total)`` is called after each chunk with frame counts. The result does not
     depend on ``chunk_frames``.
     """
-    params = (params or AasParams()).resolved(recording.rate_hz)
+    params = params or AasParams()
+    check_work(recording, params.frames)
+    params = params.resolved(recording.rate_hz)
     if chunk_frames < 1:
         raise SegmentationError(f"chunk size must be at least 1 frame, got {chunk_frames}")
     times = np.asarray(recording.times_s, dtype=np.float64)

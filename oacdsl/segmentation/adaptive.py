@@ -19,7 +19,8 @@ cup "touch" it. This detector learns the distance from the recording itself:
    NaN — neither ends nor starts it): the grasp before the object starts to move,
    the hold after it is set down, until the hand leaves.
 4. **The paper's rule per pair.** Eq. 1 / Eq. 2 (the paper's ``v`` and ``n``, marker
-   pair by marker pair, gaps as in the paper's mode) run at each pair's own
+   pair by marker pair, gaps as in the paper's mode), with the distance change estimated
+   over a window in seconds (:class:`~oacdsl.segmentation.robust.RobustDetector`), run at each pair's own
    distance: the learned one (the median of its episodes' thresholds) for a pair
    that co-moves somewhere in the recording, else ``static_distance_m``. This
    catches contacts without co-motion (liquid poured into a bowl, a second grasp
@@ -34,7 +35,7 @@ Two instances touch when (1–3), (4) or the tool rule says so, and the cross-ha
 rule does not forbid it. The episodes need the whole
 recording, so :meth:`AdaptiveDetector.begin` scans it once (chunked, memory
 O(frames) per instance pair that ever comes within reach, float32); step 4 runs
-chunk by chunk with one paper detector per distinct distance. Results do not
+chunk by chunk with one robust detector per distinct distance. Results do not
 depend on the chunk size. The instance-level decision of (1–3) is reported on the
 first marker pair of the instance pair; for such a pair the detector follows the
 paper's state of all its marker pairs itself and reports only the combined state.
@@ -50,9 +51,9 @@ from oacdsl.errors import SegmentationError
 from oacdsl.segmentation.comotion import AdaptiveSettings, comotion
 from oacdsl.segmentation.detectors import DistanceChunk, PairChanges
 from oacdsl.segmentation.pairs import PairTable
-from oacdsl.segmentation.paper import PaperDetector
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.robust import RobustDetector
 from oacdsl.segmentation.tooluse import agents_of, tool_contacts
 
 __all__ = ["AdaptiveDetector", "AdaptiveSettings", "comotion"]
@@ -64,12 +65,12 @@ class AdaptiveDetector:
     def __init__(self, params: AasParams, settings: AdaptiveSettings | None = None) -> None:
         self.settings = settings or AdaptiveSettings()
         self.params = params
-        template = PaperDetector(params)
+        template = RobustDetector(params)  # frames of history and delay: set again in begin()
         self.history_frames = template.history_frames
         self.delay_frames = template.delay_frames
         self.reach_m: float | None = max(params.distance_m, self.settings.static_distance_m)
         self._table: PairTable | None = None
-        self._inner: list[tuple[PaperDetector, np.ndarray]] = []  # (detector, (Q,) bool: its blocks)
+        self._inner: list[tuple[RobustDetector, np.ndarray]] = []  # (detector, (Q,) bool: its blocks)
         # block → (E, 3) [causal frame, kind (1 episode, 2 tool, 3 veto), on?], sorted
         self._events: dict[int, np.ndarray] = {}
         self._heads = np.zeros(0, dtype=np.intp)
@@ -79,6 +80,8 @@ class AdaptiveDetector:
         self._combined = np.zeros(0, dtype=bool)
 
     def begin(self, recording: Recording, table: PairTable) -> None:
+        template = RobustDetector(self.params, recording.rate_hz)
+        self.history_frames, self.delay_frames = template.history_frames, template.delay_frames
         self._table = table
         self._heads = table.block_offsets[:-1].copy()
         n_q = table.n_instance_pairs
@@ -99,7 +102,7 @@ class AdaptiveDetector:
         by_distance[self.settings.static_distance_m] |= default
         self._inner = []
         for distance, blocks in sorted(by_distance.items()):
-            detector = PaperDetector(replace(self.params, distance_m=distance))
+            detector = RobustDetector(replace(self.params, distance_m=distance), recording.rate_hz)
             detector.begin(recording, table)
             self._inner.append((detector, blocks))
         self.reach_m = max(by_distance)

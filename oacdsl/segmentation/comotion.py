@@ -104,6 +104,7 @@ def comotion(recording: Recording, table: PairTable, params: AasParams,
     signals = _scan(recording, table, params, settings)
     _prune_indirect(signals, table)
     min_len = settings.frames(settings.min_episode_s, recording.rate_hz)
+    bridge = round(settings.tool_bridge_s * recording.rate_hz)  # frames: a short excursion is no release
     out: dict[int, tuple[list[tuple[int, int]], float]] = {}
     for q, (dmin, carry) in signals.items():
         spans, thresholds = [], []
@@ -111,7 +112,7 @@ def comotion(recording: Recording, table: PairTable, params: AasParams,
             if b - a < min_len:
                 continue
             threshold = min(float(np.nanmedian(dmin[a:b])) * (1 + settings.margin), params.distance_m)
-            spans.append(_extend(dmin, a, b, threshold))
+            spans.append(_extend(dmin, a, b, threshold, bridge))
             thresholds.append(threshold)
         if spans:
             out[q] = (_union(spans), float(np.median(thresholds)))
@@ -218,10 +219,21 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))
 
 
-def _extend(dmin: np.ndarray, a: int, b: int, threshold: float) -> tuple[int, int]:
-    """Grow ``[a, b)`` both ways while the closest distance is within ``threshold`` or unknown."""
+def _extend(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int = 0) -> tuple[int, int]:
+    """Grow ``[a, b)`` both ways while the closest distance is within ``threshold`` or unknown.
+
+    Excursions beyond ``threshold`` of at most ``bridge`` frames between two frames within
+    it do not stop the growth: a marker of the hand hidden for a few frames makes the closest
+    distance jump to the next marker's, the hand has not let go.
+    """
     with np.errstate(invalid="ignore"):
         beyond = dmin > threshold  # NaN: unknown, not beyond
+    if bridge > 0 and beyond.any():
+        padded = np.concatenate([[False], beyond, [False]])
+        edges = np.flatnonzero(padded[1:] != padded[:-1])
+        for s, e in zip(edges[::2], edges[1::2], strict=True):
+            if e - s <= bridge and s > 0 and e < beyond.size:
+                beyond[s:e] = False
     before = np.flatnonzero(beyond[:a])
     after = np.flatnonzero(beyond[b:])
     return (int(before[-1]) + 1 if before.size else 0, b + int(after[0]) if after.size else dmin.size)

@@ -35,6 +35,7 @@ __all__ = ["DETECTORS", "DistanceChunk", "PairChanges", "TouchDetector", "make_d
 DETECTORS: dict[str, str] = {
     "paper": "oacdsl.segmentation.paper:PaperDetector",
     "adaptive": "oacdsl.segmentation.adaptive:AdaptiveDetector",
+    "robust": "oacdsl.segmentation.robust:RobustDetector",
 }
 
 

@@ -10,13 +10,21 @@ The defaults, and why (``docs/segmentation.md`` has the long version):
   hand–box while carrying 20–90 mm/s, marker jitter about 0.1 mm per frame = 10 mm/s
   at 100 Hz), while a hand approaching or passing an object closes the distance at
   0.3–1 m/s. 100 mm/s lies between the two.
-- ``frames = None`` (automatic): the frames in 0.1 s at the recording's rate, at least 2
-  (10 Hz → 2, 30 Hz → 3, 100 Hz → 10). ``n`` counts frames, but what it must reject
+- ``hold_s = 0.1`` (``n`` as a duration; ``frames = None`` = automatic): the frames in 0.1 s
+  at the recording's rate, at least 2 (10 Hz → 2, 50 Hz → 5, 100 Hz → 10, 240 Hz → 24).
+  ``n`` counts frames in Eq. 1/2, but what it must reject
   lasts a certain *time*: a hand passing an object at speed ``u`` and distance ``b``
   has ``|dist'| < v`` only for about ``2 v b / u²`` seconds around the closest point
   (0.02 s at 0.5 m/s and 5 cm), and a noise spike lasts a frame or two. The KIT data
   README recommends 2–3 frames at 10 Hz; three frames at 100 Hz (30 ms) would let slow
   pass-bys through.
+- ``change_window_s = 0.1`` (100 ms): the default detectors (``robust``, ``adaptive``)
+  estimate the distance change as the slope of a least-squares line through the distances
+  of a centred window of this length (:mod:`~oacdsl.segmentation.slope`), not as the
+  one-frame difference of Eq. 1/2: white jitter σ then gives a slope noise of about
+  ``σ √24 / (w^1.5 √rate)`` instead of ``2 σ rate`` (0.5 mm at 240 Hz: 5 mm/s instead of
+  240 mm/s). 0.1 s was chosen by the sweep in docs/segmentation.md ("Choosing the window").
+  ``mode = "paper"`` ignores it (one-frame difference, as printed).
 - ``merge_s = 0.3`` (300 ms): an object set down bounces for 0.1–0.2 s, while the
   demonstrated sub-actions last a second or more; the KIT labels and the distance
   crossings disagree by up to 3 frames (0.3 s) anyway.
@@ -39,15 +47,23 @@ from typing import Any
 
 from oacdsl.errors import SegmentationError
 
-__all__ = ["AUTO_MIN_FRAMES", "AUTO_WINDOW_S", "DEFAULT_MODE", "AasParams"]
+__all__ = ["AUTO_MIN_FRAMES", "AUTO_WINDOW_S", "DEFAULT_CHANGE_WINDOW_S", "DEFAULT_MODE", "AasParams",
+           "frames_in"]
 
 #: The touch detector used unless one is named (see the module docstring for why).
 DEFAULT_MODE = "adaptive"
 
-#: Seconds that ``frames=None`` spans at the recording's frame rate.
+#: Seconds that ``frames=None`` spans at the recording's frame rate (the default ``hold_s``).
 AUTO_WINDOW_S = 0.1
 #: The fewest frames ``frames=None`` resolves to.
 AUTO_MIN_FRAMES = 2
+#: Seconds of the window over which the default detectors fit the distance change.
+DEFAULT_CHANGE_WINDOW_S = 0.1
+
+
+def frames_in(seconds: float, rate_hz: float) -> int:
+    """Whole frames in ``seconds`` at ``rate_hz``, rounded half up (``round`` rounds 2.5 to 2)."""
+    return int(math.floor(seconds * rate_hz + 0.5))
 
 
 @dataclass(frozen=True)
@@ -61,11 +77,16 @@ class AasParams:
             below this while touching begins; above it (or beyond ``d``) touching ends.
             ``math.inf`` switches the speed condition off.
         frames: ``n``, frames: how many consecutive frames a condition must hold;
-            ``None`` = the frames in :data:`AUTO_WINDOW_S` at the recording's rate, at
+            ``None`` = the frames in ``hold_s`` at the recording's rate, at
             least :data:`AUTO_MIN_FRAMES` (see :meth:`resolved`).
         merge_s: seconds: keyframes closer than this are merged (0 = no merging).
         mode: the touch detector, a key of
-            :data:`~oacdsl.segmentation.detectors.DETECTORS` (``"adaptive"`` or ``"paper"``).
+            :data:`~oacdsl.segmentation.detectors.DETECTORS` (``"adaptive"``, ``"robust"``
+            or ``"paper"``).
+        hold_s: seconds: ``n`` as a duration, used when ``frames`` is ``None``.
+        change_window_s: seconds: the window of the least-squares slope that estimates
+            the distance change (modes ``robust`` and ``adaptive``; ``paper`` uses the
+            one-frame difference of Eq. 1/2).
     """
 
     distance_m: float = 0.15
@@ -73,6 +94,8 @@ class AasParams:
     frames: int | None = None
     merge_s: float = 0.3
     mode: str = DEFAULT_MODE
+    hold_s: float = AUTO_WINDOW_S
+    change_window_s: float = DEFAULT_CHANGE_WINDOW_S
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.distance_m) and self.distance_m > 0):
@@ -85,13 +108,22 @@ class AasParams:
             object.__setattr__(self, "frames", int(self.frames))
         if not (math.isfinite(self.merge_s) and self.merge_s >= 0):
             raise SegmentationError(f"merge window must be a duration ≥ 0, got {self.merge_s} s")
+        if not (math.isfinite(self.hold_s) and self.hold_s > 0):
+            raise SegmentationError(f"hold must be a positive duration, got {self.hold_s} s")
+        if not (math.isfinite(self.change_window_s) and self.change_window_s > 0):
+            raise SegmentationError(
+                f"change window must be a positive duration, got {self.change_window_s} s")
 
     def resolved(self, rate_hz: float) -> AasParams:
         """These parameters with ``frames`` fixed for a recording at ``rate_hz``."""
         if self.frames is not None:
             return self
-        frames = max(AUTO_MIN_FRAMES, round(AUTO_WINDOW_S * rate_hz))
+        frames = max(AUTO_MIN_FRAMES, frames_in(self.hold_s, rate_hz))
         return replace(self, frames=frames)
+
+    def half_window(self, rate_hz: float) -> int:
+        """Frames on each side of the centre of the slope window at ``rate_hz`` (at least 1)."""
+        return max(1, frames_in(self.change_window_s / 2, rate_hz))
 
     @property
     def n(self) -> int:

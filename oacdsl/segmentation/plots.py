@@ -18,8 +18,10 @@ import numpy as np
 from oacdsl.atomic import atomic_path
 from oacdsl.errors import InputError
 from oacdsl.segmentation.geometry import closest_distances
+from oacdsl.segmentation.params import frames_in
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import Keyframe, Segmentation
+from oacdsl.segmentation.slope import windowed_slope
 from oacdsl.world import WorldState
 
 __all__ = [
@@ -52,8 +54,9 @@ def plot_distances(recording: Recording, segmentation: Segmentation, fig: Any, *
     Top: per instance pair that ever comes near (closest marker distance below
     1.5 d; relations found first, at most ``max_pairs``), the closest marker
     distance over time, the threshold ``d`` dotted. Bottom: the change of that
-    distance per second with ``v`` dotted. Keyframes: vertical dotted lines,
-    labelled with the relations they add (+) and remove (−).
+    distance per second with ``v`` dotted — the one-frame difference in mode ``paper``,
+    else the slope over the change window that the detector compares with ``v``.
+    Keyframes: vertical dotted lines, labelled with the relations they add (+) and remove (−).
     """
     params = segmentation.parameters
     d_mm = 1000.0 * float(params.get("distance_m", 0.15))
@@ -70,11 +73,17 @@ def plot_distances(recording: Recording, segmentation: Segmentation, fig: Any, *
 
     ax_d, ax_v = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [2, 1]})
     t_plot, step = _bins(times)
+    half = None
+    if params.get("mode", "paper") != "paper" and "change_window_s" in params:
+        half = max(1, frames_in(float(params["change_window_s"]) / 2, recording.rate_hz))
     for q in shown:
         a, b = table.relation(q)
         mm = dist[q].astype(np.float64) * 1000.0
         change = np.full_like(mm, np.nan)
-        change[1:] = np.abs(np.diff(mm)) / np.diff(times)
+        if half is None:
+            change[1:] = np.abs(np.diff(mm)) / np.diff(times)
+        else:
+            change = np.abs(windowed_slope(dist[q][None, :], times, half)[0]).astype(np.float64) * 1000.0
         line = ax_d.plot(t_plot, _reduce(mm, step, np.fmin), lw=1.2, label=f"{a} – {b}")[0]
         ax_v.plot(t_plot, _reduce(change, step, np.fmax), lw=0.8, color=line.get_color())
     ax_d.axhline(d_mm, color="k", ls=":", lw=1.2, label=f"d = {d_mm:g} mm")

@@ -1,9 +1,17 @@
 """A straightforward per-frame Python implementation of the AAS, for tests and benchmarks.
 
-It follows the paper literally, one frame and one marker pair at a time, with
+It follows the rules literally, one frame and one marker pair at a time, with
 run counters: slow (pure Python, float64) but easy to check by eye. The fast
 :func:`oacdsl.segmentation.segment` must give the same keyframes; the benchmark
 ``benchmarks/segmentation.py`` measures how much faster that one is.
+
+Modes: ``paper`` (Eq. 1 / Eq. 2 as printed), ``robust`` (the distance change as the
+least-squares slope over the frames within ``±half`` of each frame, summed frame by
+frame), and ``adaptive``: the robust rule per marker pair at each instance pair's own
+distance, OR the co-motion and tool intervals, AND NOT the cross-hand vetoes; co-motion
+frame by frame in :func:`~oacdsl.segmentation.reference_comotion.comotion_reference`, the
+tool rule (:func:`~oacdsl.segmentation.tooluse.tool_contacts`, interval logic over those
+per-frame signals) shared with the detector.
 """
 
 from __future__ import annotations
@@ -27,6 +35,8 @@ def segment_reference(recording: Recording, params: AasParams | None = None) -> 
     Same conventions as :class:`~oacdsl.segmentation.detectors.PaperDetector`.
     """
     params = (params or AasParams()).resolved(recording.rate_hz)
+    if params.mode != "paper":
+        return _robust_reference(recording, params)
     d, v, n = params.distance_m, params.speed_m_s, params.n
     names = sorted(recording.groups)
     pairs: list[tuple[int, int, tuple[str, str]]] = []
@@ -89,6 +99,100 @@ def segment_reference(recording: Recording, params: AasParams | None = None) -> 
     merged = merge_keyframes(keyframes, params.merge_s)
     return Segmentation(recording.source, float(recording.rate_hz), n_frames, recording.instances,
                         tuple(merged), params.to_dict())
+
+
+def _robust_reference(recording: Recording, params: AasParams) -> Segmentation:
+    """Modes ``robust`` and ``adaptive``, frame by frame (see the module docstring)."""
+    from oacdsl.segmentation.comotion import AdaptiveSettings
+    from oacdsl.segmentation.pairs import PairTable
+    from oacdsl.segmentation.reference_comotion import comotion_reference
+    from oacdsl.segmentation.tooluse import agents_of, tool_contacts
+
+    v, n, half = params.speed_m_s, params.n, params.half_window(recording.rate_hz)
+    table = PairTable.of(recording)
+    n_frames = recording.n_frames
+    distance = [params.distance_m] * table.n_instance_pairs
+    # per instance pair: intervals that add touching (co-motion, tools) and that veto it (cross-hand)
+    spans: dict[int, list[tuple[int, int]]] = {}
+    vetoes: dict[int, list[tuple[int, int]]] = {}
+    if params.mode == "adaptive":
+        settings = AdaptiveSettings()
+        distance = [settings.static_distance_m] * table.n_instance_pairs
+        delay = n - 1 + half
+        found = comotion_reference(recording, table, params, settings)
+        held = {q: intervals for q, (intervals, _) in found.learned.items()}
+        tools = tool_contacts(table, n_frames, recording.rate_hz, held, found.closest,
+                              agents_of(table.instances, settings.agent_pattern), params.distance_m,
+                              settings.tool_dwell_s, settings.tool_bridge_s)
+        for q, (_, threshold) in found.learned.items():
+            distance[q] = round(threshold, 4)
+        for target, per_pair in ((spans, held), (spans, tools.added), (vetoes, tools.removed)):
+            for q, intervals in per_pair.items():
+                for a, b in intervals:  # as the detector reports them: clamped to the last decidable frame
+                    on, off = min(a, n_frames - 1 - delay), min(b, n_frames - 1 - delay)
+                    if b >= n_frames:
+                        target.setdefault(q, []).append((on, n_frames))
+                    elif off > on:
+                        target.setdefault(q, []).append((on, off))
+    pos = recording.positions_m.tolist()
+    times = [float(t) for t in recording.times_s]
+    touching = [[False] * n_frames for _ in range(table.n_instance_pairs)]
+    for p in range(table.n_pairs):
+        q = int(table.block[p])
+        ma, mb = int(table.first[p]), int(table.second[p])
+        dist = [math.dist(pos[i][ma], pos[i][mb]) for i in range(n_frames)]
+        state, close_run, far_run, d = False, 0, 0, distance[q]
+        changes: list[tuple[int, bool]] = []
+        for i in range(n_frames - half):  # the last `half` frames have no full window
+            if math.isnan(dist[i]):
+                close = far = False
+            elif dist[i] > d:  # far whatever the slope: no need to fit it
+                close, far = False, True
+            else:
+                slope = _slope(dist, times, i, half)
+                close = not math.isnan(slope) and dist[i] < d and abs(slope) < v
+                far = not math.isnan(slope) and abs(slope) > v
+            close_run = close_run + 1 if close else 0
+            far_run = far_run + 1 if far else 0
+            if not state and close_run >= n or state and far_run >= n:
+                state = not state
+                changes.append((i - n + 1, state))
+        for k, (frame, value) in enumerate(changes):
+            end = changes[k + 1][0] if k + 1 < len(changes) else n_frames
+            if value:
+                for i in range(frame, end):
+                    touching[q][i] = True
+    for q in range(table.n_instance_pairs):
+        for a, b in spans.get(q, []):
+            for i in range(a, b):
+                touching[q][i] = True
+        for a, b in vetoes.get(q, []):
+            for i in range(a, b):
+                touching[q][i] = False
+    instances = frozenset(table.instances)
+    keyframes: list[Keyframe] = []
+    for i in range(n_frames):
+        rels = frozenset(table.relation(q) for q in range(table.n_instance_pairs) if touching[q][i])
+        state_i = WorldState(instances, rels)
+        if not keyframes or state_i != keyframes[-1].state:
+            keyframes.append(Keyframe(i, times[i], state_i))
+    merged = merge_keyframes(keyframes, params.merge_s)
+    return Segmentation(recording.source, float(recording.rate_hz), n_frames, recording.instances,
+                        tuple(merged), params.to_dict())
+
+
+def _slope(dist: list[float], times: list[float], i: int, half: int) -> float:
+    """Least-squares slope (m/s) of the visible distances of frames ``i - half .. i + half``."""
+    lo, hi = max(0, i - half), min(len(dist), i + half + 1)
+    ts = [times[j] - times[i] for j in range(lo, hi) if not math.isnan(dist[j])]
+    xs = [dist[j] for j in range(lo, hi) if not math.isnan(dist[j])]
+    if len(xs) < half + 1:
+        return math.nan
+    t_mean, x_mean = sum(ts) / len(ts), sum(xs) / len(xs)
+    var = sum((t - t_mean) ** 2 for t in ts)
+    if var <= 0:
+        return math.nan
+    return sum((t - t_mean) * (x - x_mean) for t, x in zip(ts, xs, strict=True)) / var
 
 
 def pair_frames(recording: Recording) -> int:

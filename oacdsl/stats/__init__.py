@@ -14,6 +14,7 @@ from oacdsl.stats.store import (
     Outcome,
     RunStore,
 )
+from oacdsl.stats.writable import ensure_writable
 
 __all__ = [
     "APPLICATION_ID",
@@ -23,6 +24,7 @@ __all__ = [
     "Reliability",
     "RunStore",
     "default_db_path",
+    "ensure_writable",
     "resolve_db_path",
     "summarise",
     "wilson_interval",

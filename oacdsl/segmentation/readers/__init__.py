@@ -13,6 +13,7 @@ from pathlib import Path
 
 from oacdsl.errors import RecordingError, did_you_mean
 from oacdsl.segmentation.readers.c3d import read_c3d, write_c3d
+from oacdsl.segmentation.readers.limits import check_regular
 from oacdsl.segmentation.recording import Recording
 
 __all__ = ["FORMATS", "read_recording", "read_c3d", "write_c3d", "format_of"]
@@ -53,11 +54,18 @@ def _reader(fmt: str) -> Callable[..., Recording]:
     return read_csv
 
 
-def read_recording(path: str | Path, fmt: str | None = None, *, units: str | None = None) -> Recording:
+def read_recording(
+    path: str | Path, fmt: str | None = None, *, units: str | None = None, allow_truncated: bool = False
+) -> Recording:
     """Read a recording; ``fmt`` (c3d, mmm, tsv, csv) overrides the extension.
 
     ``units`` overrides the length unit of a TSV or CSV file (mm, cm, m); C3D and
-    MMM files declare their own.
+    MMM files declare their own. A C3D file that ends before its declared frames is
+    a :class:`~oacdsl.errors.TruncatedRecording` unless ``allow_truncated`` (then a
+    :class:`~oacdsl.errors.RecordingWarning` and its complete frames). Every reader
+    checks the limits of :mod:`~oacdsl.segmentation.readers.limits`: a bad file is an
+    :class:`~oacdsl.errors.InvalidRecording` (exit 1), a missing or special file
+    (``/dev/zero``, a FIFO) a :class:`~oacdsl.errors.RecordingError` (exit 2).
     """
     path = Path(path)
     if fmt is None:
@@ -65,13 +73,10 @@ def read_recording(path: str | Path, fmt: str | None = None, *, units: str | Non
     elif fmt not in FORMATS:
         raise RecordingError(f"unknown recording format {fmt!r}{did_you_mean(fmt, FORMATS)}",
                              location=str(path))
-    if not path.exists():
-        raise RecordingError("no such file", location=str(path))
-    if path.is_dir():
-        raise RecordingError("is a folder, not a recording", location=str(path))
-    if units is not None:
-        if fmt not in ("tsv", "csv"):
-            raise RecordingError(f"{fmt} files declare their own units; drop the units option",
-                                 location=str(path))
-        return _reader(fmt)(path, units=units)
-    return _reader(fmt)(path)
+    check_regular(path)  # before anything opens it: /dev/zero or a FIFO would be read for ever
+    if units is not None and fmt not in ("tsv", "csv"):
+        raise RecordingError(f"{fmt} files declare their own units; drop the units option",
+                             location=str(path))
+    if fmt == "c3d":
+        return read_c3d(path, allow_truncated=allow_truncated)
+    return _reader(fmt)(path, units=units) if units is not None else _reader(fmt)(path)

@@ -6,7 +6,8 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from oacdsl.errors import RecordingError, did_you_mean
+from oacdsl.errors import InvalidRecording, did_you_mean
+from oacdsl.segmentation.readers.limits import Label, check_rate, check_times
 
 __all__ = ["UNIT_TO_M", "metres_per_unit", "unique_names", "rate_from_times"]
 
@@ -15,10 +16,10 @@ UNIT_TO_M: dict[str, float] = {"mm": 1e-3, "cm": 1e-2, "dm": 1e-1, "m": 1.0}
 
 
 def metres_per_unit(unit: str, location: str, what: str = "unit") -> float:
-    """Size of ``unit`` in metres; an unknown unit is a :class:`RecordingError`."""
+    """Size of ``unit`` in metres; an unknown unit is an :class:`InvalidRecording`."""
     key = unit.strip().lower()
     if key not in UNIT_TO_M:
-        raise RecordingError(f"unknown {what} {unit!r}{did_you_mean(key, UNIT_TO_M)}", location=location)
+        raise InvalidRecording(f"unknown {what} {unit!r}{did_you_mean(key, UNIT_TO_M)}", location=location)
     return UNIT_TO_M[key]
 
 
@@ -36,11 +37,17 @@ def unique_names(names: Iterable[str], placeholder: str = "point") -> tuple[str,
     return tuple(out)
 
 
-def rate_from_times(times_s: np.ndarray, location: str) -> float:
-    """Frame rate (Hz) from frame times (s): the inverse of the median step."""
+def _frame_label(i: int) -> str:
+    return f"frame {i}"
+
+
+def rate_from_times(times_s: np.ndarray, location: str, label: Label = _frame_label) -> float:
+    """Frame rate (Hz) from frame times (s): the inverse of the median step, checked (limits.py).
+
+    ``label(i)`` names frame ``i`` in messages (``line 12``; default ``frame i``).
+    """
+    check_times(times_s, location, label)
     if times_s.size < 2:
-        raise RecordingError("cannot tell the frame rate from a single frame", location=location)
-    steps = np.diff(times_s)
-    if not np.all(np.isfinite(steps)) or np.any(steps <= 0):
-        raise RecordingError("frame times are not strictly increasing", location=location)
-    return float(f"{1.0 / np.median(steps):.9g}")  # 10 Hz, not 9.999999999999996 Hz
+        raise InvalidRecording("cannot tell the frame rate from a single frame", location=location)
+    rate = float(f"{1.0 / np.median(np.diff(times_s)):.9g}")  # 10 Hz, not 9.999999999999996 Hz
+    return check_rate(rate, location, "the frame rate from the frame times")

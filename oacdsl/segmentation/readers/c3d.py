@@ -23,15 +23,14 @@ from typing import Any
 import numpy as np
 
 from oacdsl.atomic import atomic_path
-from oacdsl.errors import RecordingError
+from oacdsl.errors import InvalidRecording, RecordingError
 from oacdsl.segmentation.grouping import prefix_groups
 from oacdsl.segmentation.readers._common import metres_per_unit, unique_names
 from oacdsl.segmentation.readers.c3d_check import check_c3d_data_size, check_c3d_structure
+from oacdsl.segmentation.readers.limits import check_coordinates, check_rate, read_regular
 from oacdsl.segmentation.recording import Recording
 
 __all__ = ["read_c3d", "write_c3d"]
-
-_IMPLAUSIBLE_M = 1e4  # metres; a coordinate beyond 10 km means garbled data
 
 
 def _param(params: Any, group: str, name: str) -> Any:
@@ -75,33 +74,35 @@ def _subject_groups(params: Any, names: Sequence[str]) -> dict[str, list[str]] |
     return groups or None
 
 
-def read_c3d(path: str | Path) -> Recording:
-    """Read a C3D file into a :class:`Recording` (metres, NaN gaps)."""
+def read_c3d(path: str | Path, *, allow_truncated: bool = False) -> Recording:
+    """Read a C3D file into a :class:`Recording` (metres, NaN gaps).
+
+    A file that ends before its declared frames is a
+    :class:`~oacdsl.errors.TruncatedRecording`; ``allow_truncated`` reads its complete
+    frames with a :class:`~oacdsl.errors.RecordingWarning` instead.
+    """
     import ezc3d
 
     path = Path(path)
     location = str(path)
-    try:
-        raw = path.read_bytes()
-    except OSError as err:
-        raise RecordingError(f"cannot read: {err.strerror or err}", location=location) from None
+    raw = read_regular(path)
     layout = check_c3d_structure(path, raw)
-    held = check_c3d_data_size(path, len(raw), layout)
+    held = check_c3d_data_size(path, len(raw), layout, allow_truncated=allow_truncated)
     try:
         c3d = ezc3d.c3d(str(path))
     except (OSError, RuntimeError, ValueError) as err:
         reason = str(err).splitlines()[0] if str(err) else type(err).__name__
-        raise RecordingError(f"not a valid C3D file: {reason}", location=location) from None
+        raise InvalidRecording(f"not a valid C3D file: {reason}", location=location) from None
     params = c3d["parameters"]
 
     points = np.asarray(c3d["data"]["points"], dtype=np.float64)  # (4, M, F), file units
     n_markers, n_frames = points.shape[1], points.shape[2]
     if n_frames != held:
-        raise RecordingError(f"ezc3d read {n_frames} frames where the file holds {held}", location=location)
+        raise InvalidRecording(f"ezc3d read {n_frames} frames where the file holds {held}", location=location)
     if n_frames == 0:
-        raise RecordingError("the recording has no frames", location=location)
+        raise InvalidRecording("the recording has no frames", location=location)
     if n_markers == 0:
-        raise RecordingError("the file holds no 3D points (markers)", location=location)
+        raise InvalidRecording("the file holds no 3D points (markers)", location=location)
     units = _strings(_param(params, "POINT", "UNITS"))
     unit = next((u for u in units if u.strip()), "mm")
     to_m = metres_per_unit(unit, location, "POINT:UNITS")
@@ -113,20 +114,21 @@ def read_c3d(path: str | Path) -> Recording:
     if residuals is not None and np.shape(residuals)[1:] == (n_markers, n_frames):
         gap |= (np.asarray(residuals)[0] < 0).T
     xyz[gap] = np.nan
-    finite = xyz[np.isfinite(xyz)]
-    if np.isinf(xyz).any() or (finite.size and np.abs(finite).max() * to_m > _IMPLAUSIBLE_M):
-        raise RecordingError("corrupt point data (infinite or implausibly large coordinates)",
-                             location=location)
     xyz *= to_m
+    frame_bytes = (4 * layout.points + layout.analog_per_frame) * (4 if layout.float_storage else 2)
+    data_start = (layout.data_start_block - 1) * 512  # bytes
+
+    def frame_label(i: int) -> str:
+        return f"frame {i + 1} of {n_frames} (byte {data_start + i * frame_bytes})"
 
     labels = _labels(params)[:n_markers]
     names = unique_names(labels + [""] * (n_markers - len(labels)))
-    rate = float(c3d["header"]["points"]["frame_rate"])
-    if not rate > 0:
+    check_coordinates(xyz, names, location, frame_label)
+    rate = float(c3d["header"]["points"]["frame_rate"])  # ezc3d: POINT:RATE when set, else the header's
+    if rate == 0:
         rate_param = _param(params, "POINT", "RATE")
-        rate = float(np.ravel(rate_param)[0]) if rate_param is not None else 0.0
-    if not rate > 0:
-        raise RecordingError(f"frame rate is {rate} Hz", location=location)
+        rate = float(np.ravel(rate_param)[0]) if rate_param is not None and np.size(rate_param) else 0.0
+    check_rate(rate, location, "the frame rate (POINT:RATE)")
     first = int(c3d["header"]["points"]["first_frame"])  # ezc3d: the header's number, 0-based
     by_name = _subject_groups(params, names) or prefix_groups(names)
     index = {n: i for i, n in enumerate(names)}

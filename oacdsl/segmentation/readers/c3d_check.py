@@ -4,7 +4,7 @@ ezc3d reads a truncated data section without complaint (it returns the frames
 that are there) and can crash the interpreter on a garbled parameter section
 (for example a parameter with 217 dimensions). These checks walk the header and
 the parameter records with plain ``struct`` reads, so a corrupt file becomes a
-one-line :class:`~oacdsl.errors.RecordingError` instead.
+one-line :class:`~oacdsl.errors.InvalidRecording` instead.
 
 The layout follows the C3D specification (c3d.org): 512-byte blocks; block 1 is
 the header (16-bit words); the parameter section starts at the block named by
@@ -19,7 +19,8 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
-from oacdsl.errors import RecordingError, RecordingWarning
+from oacdsl.errors import InvalidRecording, RecordingWarning, TruncatedRecording
+from oacdsl.segmentation.readers.limits import check_size
 
 __all__ = ["C3dLayout", "RecordingWarning", "check_c3d_structure", "check_c3d_data_size"]
 
@@ -35,7 +36,7 @@ _MAX_RECORDS = 100_000  # far more parameters than any writer produces
 class C3dLayout:
     """What the raw header says (before any library interprets it)."""
 
-    points: int  # 3D points per frame
+    points: int  # 3D points per frame: POINT:USED when present (what ezc3d reads), else the header
     analog_per_frame: int  # analog samples per 3D frame (all channels)
     first_frame: int  # 1-based, as stored
     last_frame: int  # 1-based, as stored
@@ -52,8 +53,8 @@ class C3dLayout:
         return self.last_frame - self.first_frame + 1
 
 
-def _fail(path: Path, what: str) -> RecordingError:
-    return RecordingError(f"not a valid C3D file: {what}", location=str(path))
+def _fail(path: Path, what: str) -> InvalidRecording:
+    return InvalidRecording(f"not a valid C3D file: {what}", location=str(path))
 
 
 def check_c3d_structure(path: Path, data: bytes) -> C3dLayout:
@@ -83,10 +84,12 @@ def check_c3d_structure(path: Path, data: bytes) -> C3dLayout:
     scale_raw = scale.raw if scale is not None and scale.element == 4 and len(scale.raw) >= 4 else data[12:16]
     frames = params.get(("POINT", "FRAMES"))
     point_frames = _frames_value(frames.raw, frames.element, endian) if frames and not frames.dims else None
+    used = params.get(("POINT", "USED"))
+    point_used = _int_value(used, endian) if used is not None and not used.dims else None
 
     words = struct.unpack(endian + "12H", data[:24])
     layout = C3dLayout(
-        points=words[1],
+        points=words[1] if point_used is None else point_used,  # ezc3d reads POINT:USED points
         analog_per_frame=words[2],
         first_frame=words[3],
         last_frame=words[4],
@@ -198,32 +201,44 @@ def _frames_value(raw: bytes, element: int, endian: str) -> int | None:
     return None
 
 
-def check_c3d_data_size(path: Path, size: int, layout: C3dLayout) -> int:
-    """Frames the data section holds; raise when it ends inside a frame or holds none.
+def check_c3d_data_size(path: Path, size: int, layout: C3dLayout, *, allow_truncated: bool = False) -> int:
+    """Frames the data section holds (all declared ones unless ``allow_truncated``); checked sizes.
 
-    A file that stops at a frame boundary before its declared frame count (the
-    ``Optotrak.c3d`` sample declares 1149 frames and holds 29) is read as far as it
-    goes, with a :class:`RecordingWarning`; ezc3d reads the same frames.
+    A file that ends before its declared frames are complete (inside a frame or at a
+    frame boundary: the ``Optotrak.c3d`` sample declares 1149 frames and holds 29) is a
+    :class:`~oacdsl.errors.TruncatedRecording` naming the frames lost; with
+    ``allow_truncated`` a :class:`RecordingWarning` and the number of complete frames
+    (ezc3d reads those). The positions (and analog samples) those frames need are
+    bounded (:func:`~oacdsl.segmentation.readers.limits.check_size`) before anything
+    allocates them.
     """
     word = 4 if layout.float_storage else 2  # bytes per stored value
     frame_bytes = (4 * layout.points + layout.analog_per_frame) * word
     start = (layout.data_start_block - 1) * _BLOCK
     declared = layout.n_frames
+    location = str(path)
     if declared <= 0:
-        raise RecordingError(
+        raise InvalidRecording(
             f"the recording has no frames (header frames {layout.first_frame}..{layout.last_frame})",
-            location=str(path),
+            location=location,
         )
     if not frame_bytes or start + declared * frame_bytes <= size:
+        check_size(declared, layout.points, location, extra_values=declared * layout.analog_per_frame)
         return declared
     present, rest = divmod(max(0, size - start), frame_bytes)
-    if rest or present == 0:
-        raise RecordingError(
-            f"truncated C3D file: it ends inside frame {present + 1} of {declared}", location=str(path)
+    where = f"it ends at byte {size}, inside frame {present + 1}" if rest else f"it holds {present}"
+    lost = f"frame {declared}" if present + 1 == declared else f"frames {present + 1}..{declared}"
+    if present == 0 or not allow_truncated:
+        plural = "s" * (present > 1)
+        hint = f"; --allow-truncated reads the {present} complete frame{plural}" if present else ""
+        raise TruncatedRecording(
+            f"truncated C3D file: {where} of {declared} frames; {lost} lost{hint}",
+            location=location, declared=declared, complete=present,
         )
+    check_size(present, layout.points, location, extra_values=present * layout.analog_per_frame)
     warnings.warn(
-        f"{path}: the file declares {declared} frames but holds {present}; reading those",
+        f"{path}: truncated C3D file: {lost} of {declared} lost; reading the {present} complete frames",
         RecordingWarning,
         stacklevel=3,
     )
-    return present
+    return int(present)

@@ -3,7 +3,9 @@
 Layout read: ``MMM/Motion[@name]/Sensors/Sensor[@type="MoCapMarker"]/Data/
 Measurement[@timestep]/MarkerPosition[@name]`` with text ``"x y z"`` in
 millimetres (world frame, z up). Other sensors (``ModelPose``, ``Kinematic``) are
-skipped. The file is read with a streaming parser, element by element.
+skipped. The file is read with a streaming parser (expat, in chunks), element by
+element; a document type declaration is refused, so no entity is ever expanded
+(billion laughs, external entities).
 
 Groups: one per motion that carries markers, named after the motion without its
 ``true_`` prefix (``true_cup_small`` → ``cup_small``). The subject (a motion with
@@ -15,19 +17,23 @@ a measurement is a gap. The rate is the inverse of the median timestep.
 
 from __future__ import annotations
 
-import xml.etree.ElementTree as ET
+import math
+import xml.parsers.expat as expat
 from pathlib import Path
 
 import numpy as np
 
-from oacdsl.errors import RecordingError
+from oacdsl.errors import InvalidRecording
 from oacdsl.segmentation.readers._common import rate_from_times
+from oacdsl.segmentation.readers.limits import MAX_COORDINATE_M, MAX_POSITION_BYTES, check_size, open_regular
 from oacdsl.segmentation.recording import Recording
 
 __all__ = ["read_mmm"]
 
 _MM_TO_M = 1e-3
 _TIME_DECIMALS = 6  # timesteps equal to a microsecond are the same frame
+_CHUNK_BYTES = 1 << 16  # bytes fed to the parser at a time
+_MAX_POINTS = MAX_POSITION_BYTES // 24  # marker positions (3 float64 each) the file may hold
 
 
 class _Motion:
@@ -45,90 +51,125 @@ class _Motion:
         return base
 
 
+class _Parser:
+    """Expat callbacks that collect the motions' marker positions, element by element.
+
+    A document type declaration is refused (an MMM file has none): no entity can be
+    declared, so neither an entity bomb nor an external entity can be expanded.
+    """
+
+    def __init__(self, location: str) -> None:
+        self.location = location
+        self.motions: list[_Motion] = []
+        self.motion: _Motion | None = None
+        self.sensor: str | None = None
+        self.timestep: float | None = None
+        self.marker: str | None = None
+        self.text: list[str] = []
+        self.depth = 0
+        self.points = 0
+        self.expat = expat.ParserCreate()
+        self.expat.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
+        self.expat.StartDoctypeDeclHandler = self.refuse_dtd
+        self.expat.EntityDeclHandler = self.refuse_dtd
+        self.expat.StartElementHandler = self.start
+        self.expat.EndElementHandler = self.end
+        self.expat.CharacterDataHandler = self.characters
+
+    def fail(self, message: str) -> InvalidRecording:
+        return InvalidRecording(f"line {self.expat.CurrentLineNumber}: {message}", location=self.location)
+
+    def refuse_dtd(self, *_: object) -> None:
+        raise self.fail("a document type declaration (DTD, entities) is not allowed in an MMM file")
+
+    def start(self, tag: str, attrs: dict[str, str]) -> None:
+        self.depth += 1
+        if self.depth == 1 and tag != "MMM":
+            raise InvalidRecording(f"not an MMM motion file: the root element is <{tag}>, not <MMM>",
+                                   location=self.location)
+        if tag == "Motion" and self.depth == 2:
+            self.motion = _Motion(attrs.get("name") or f"motion{len(self.motions) + 1}")
+            self.motions.append(self.motion)
+        elif tag == "Sensor" and self.motion is not None:
+            self.sensor = attrs.get("type")
+            if self.sensor == "Kinematic":
+                self.motion.subject = True
+        elif tag == "ModelProcessorConfig" and self.motion is not None:
+            self.motion.subject = True
+        elif tag == "Measurement" and self.sensor == "MoCapMarker":
+            self.timestep = self.parse_timestep(attrs.get("timestep"))
+        elif tag == "MarkerPosition" and self.timestep is not None and self.motion is not None:
+            self.marker = attrs.get("name") or ""
+            self.text = []
+
+    def characters(self, data: str) -> None:
+        if self.marker is not None:
+            self.text.append(data)
+
+    def end(self, tag: str) -> None:
+        self.depth -= 1
+        if tag == "MarkerPosition" and self.marker is not None and self.motion is not None:
+            name, motion, t = self.marker, self.motion, self.timestep or 0.0
+            motion.markers.setdefault(name)
+            motion.frames.setdefault(t, {})[name] = self.parse_xyz("".join(self.text), name, t, motion)
+            self.marker = None
+            self.points += 1
+            if self.points > _MAX_POINTS:
+                check_size(self.points, 1, self.location)  # raises: more positions than the limit
+        elif tag == "Measurement":
+            self.timestep = None
+        elif tag == "Sensor":
+            self.sensor = None
+        elif tag == "Motion":
+            self.motion = None
+
+    def parse_timestep(self, text: str | None) -> float:
+        try:
+            value = float(text or "")
+        except ValueError:
+            value = float("nan")
+        if not math.isfinite(value):
+            where = f"motion {self.motion.name!r}: " if self.motion else ""
+            raise self.fail(f"{where}Measurement timestep {text!r} is not a number")
+        return round(value, _TIME_DECIMALS)
+
+    def parse_xyz(self, text: str, name: str, t: float, motion: _Motion) -> tuple[float, float, float]:
+        where = f"motion {motion.name!r}, timestep {t:g}: MarkerPosition {name!r}"
+        parts = text.split()
+        try:
+            x, y, z = (float(v) for v in parts)
+        except ValueError:
+            raise self.fail(f"{where} is {text!r}, expected three numbers (mm)") from None
+        for axis, v in zip("xyz", (x, y, z), strict=True):
+            if not (abs(v) * _MM_TO_M <= MAX_COORDINATE_M or math.isnan(v)):
+                raise self.fail(f"{where} has {axis} = {v:g} mm; a coordinate must be finite and within"
+                                f" ±{MAX_COORDINATE_M:g} m (NaN is a gap)")
+        return (x, y, z)
+
+
 def _parse(path: Path) -> list[_Motion]:
-    location = str(path)
-    motions: list[_Motion] = []
-    motion: _Motion | None = None
-    sensor: str | None = None
-    timestep: float | None = None
-    depth = 0
+    """The motions of the MMM file ``path``, read in chunks (bounded memory per chunk)."""
+    parser = _Parser(str(path))
     try:
-        for event, elem in ET.iterparse(str(path), events=("start", "end")):
-            tag = elem.tag
-            if event == "start":
-                depth += 1
-                if depth == 1 and tag != "MMM":
-                    raise RecordingError(f"not an MMM motion file: the root element is <{tag}>, not <MMM>",
-                                         location=location)
-                if tag == "Motion" and depth == 2:
-                    motion = _Motion(elem.get("name") or f"motion{len(motions) + 1}")
-                    motions.append(motion)
-                elif tag == "Sensor" and motion is not None:
-                    sensor = elem.get("type")
-                    if sensor == "Kinematic":
-                        motion.subject = True
-                elif tag == "ModelProcessorConfig" and motion is not None:
-                    motion.subject = True
-                elif tag == "Measurement" and sensor == "MoCapMarker":
-                    timestep = _timestep(elem.get("timestep"), motion, location)
-                continue
-            depth -= 1
-            if tag == "MarkerPosition" and timestep is not None and motion is not None:
-                name = elem.get("name") or ""
-                motion.markers.setdefault(name)
-                xyz = _xyz(elem.text, name, timestep, motion, location)
-                motion.frames.setdefault(timestep, {})[name] = xyz
-            elif tag == "Measurement":
-                timestep = None
-                elem.clear()
-            elif tag == "Sensor":
-                sensor = None
-                elem.clear()
-            elif tag == "Motion":
-                motion = None
-                elem.clear()
-    except ET.ParseError as err:
-        line, column = err.position
-        raise RecordingError(f"not well-formed XML at line {line}, column {column + 1}",
-                             location=location) from None
-    except OSError as err:
-        raise RecordingError(f"cannot read: {err.strerror or err}", location=location) from None
-    return motions
-
-
-def _timestep(text: str | None, motion: _Motion | None, location: str) -> float:
-    try:
-        value = float(text or "")
-    except ValueError:
-        value = float("nan")
-    if not np.isfinite(value):
-        where = f"motion {motion.name!r}: " if motion else ""
-        raise RecordingError(f"{where}Measurement timestep {text!r} is not a number", location=location)
-    return round(value, _TIME_DECIMALS)
-
-
-def _xyz(text: str | None, name: str, t: float, motion: _Motion, location: str) -> tuple[float, float, float]:
-    parts = (text or "").split()
-    try:
-        if len(parts) == 3:
-            return (float(parts[0]), float(parts[1]), float(parts[2]))
-    except ValueError:
-        pass
-    raise RecordingError(
-        f"motion {motion.name!r}, timestep {t:g}: MarkerPosition {name!r} is {text!r},"
-        " expected three numbers (mm)",
-        location=location,
-    )
+        with open_regular(path) as fh:
+            while chunk := fh.read(_CHUNK_BYTES):
+                parser.expat.Parse(chunk, False)
+            parser.expat.Parse(b"", True)
+    except expat.ExpatError as err:
+        raise InvalidRecording(f"not well-formed XML at line {err.lineno}, column {err.offset + 1}"
+                               f" ({expat.ErrorString(err.code)})", location=str(path)) from None
+    return parser.motions
 
 
 def read_mmm(path: str | Path) -> Recording:
-    """Read the marker trajectories of an MMM XML file into a :class:`Recording`."""
+    """Read the marker trajectories of an MMM XML file into a :class:`Recording` (limits.py checked)."""
     path = Path(path)
     location = str(path)
     motions = [m for m in _parse(path) if m.frames]
     if not motions:
-        raise RecordingError("the MMM file has no MoCapMarker measurements (no frames)", location=location)
+        raise InvalidRecording("the MMM file has no MoCapMarker measurements (no frames)", location=location)
     times = np.array(sorted({t for m in motions for t in m.frames}), dtype=np.float64)
+    check_size(len(times), sum(len(m.markers) for m in motions), location)
     row = {t: i for i, t in enumerate(times.tolist())}
     seen: dict[str, int] = {}
     for m in motions:
@@ -148,5 +189,5 @@ def read_mmm(path: str | Path) -> Recording:
         while group in groups:
             group += "_"
         groups[group] = tuple(range(start, len(names)))
-    rate = rate_from_times(times, location)
+    rate = rate_from_times(times, location, lambda i: f"timestep {times[i]:g}")
     return Recording(location, rate, times - times[0], tuple(names), positions * _MM_TO_M, groups, 0)

@@ -18,12 +18,13 @@ import numpy as np
 from oacdsl.errors import SegmentationError
 from oacdsl.segmentation.points import recording_from_points
 from oacdsl.segmentation.recording import Recording
-from oacdsl.segmentation.synth.dough import Script, dough_script
+from oacdsl.segmentation.synth.dough import FLIGHT_S, Script, dough_script
 from oacdsl.segmentation.synth.realism import Gap, NoiseModel, add_noise, apply_gaps, random_gaps
 from oacdsl.segmentation.synth.reference import PaperRule, world_states
 from oacdsl.segmentation.synth.truth import pass_by_facts, time_script, truth_document
 
-__all__ = ["DEFAULT_SEED", "SCENES", "Demonstration", "PaperRule", "default_rule", "dough_demonstration"]
+__all__ = ["DEFAULT_SEED", "FLIGHT_S", "SCENES", "Demonstration", "PaperRule", "default_rule",
+           "dough_demonstration"]
 
 #: The seed of the bundled demonstration ``data/dough.c3d``.
 DEFAULT_SEED = 2013
@@ -72,8 +73,12 @@ def _scripted_gaps(script: Script, timing_raw: list[int], source: str) -> list[G
 
 
 def dough_demonstration(seed: int = DEFAULT_SEED, rate_hz: float = 100.0, rule: PaperRule | None = None,
-                        noise: NoiseModel | None = None, source: str = "synth:dough") -> Demonstration:
-    """The paper's dough demonstration for ``seed``.
+                        noise: NoiseModel | None = None, source: str = "synth:dough",
+                        flight_s: float = FLIGHT_S) -> Demonstration:
+    """The paper's dough demonstration for ``seed`` at ``rate_hz`` (Hz).
+
+    ``noise`` defaults to :class:`NoiseModel` (white jitter 0.05 mm); ``flight_s`` is the
+    liquids' time in the air, seconds (see :func:`~oacdsl.segmentation.synth.dough.dough_script`).
 
     ``rule`` (default: :func:`default_rule`, the project's AAS defaults: d = 150 mm,
     v = 100 mm/s, n = 0.1 s, merge 0.3 s) times the ground-truth keyframes on the
@@ -84,7 +89,7 @@ def dough_demonstration(seed: int = DEFAULT_SEED, rate_hz: float = 100.0, rule: 
     rule = rule or default_rule(rate_hz)
     noise = noise or NoiseModel()
     rng = np.random.default_rng(seed)
-    script = dough_script(rng, rate_hz)
+    script = dough_script(rng, rate_hz, flight_s)
     pairs, touching = world_states(script.markers_m, rate_hz, rule)
     timing = time_script(script, touching, pairs, rule, seed)
     gaps = _scripted_gaps(script, timing.raw, source)
@@ -99,6 +104,7 @@ def dough_demonstration(seed: int = DEFAULT_SEED, rate_hz: float = 100.0, rule: 
     bounce = [f for f in timing.raw if f_bounce - 10 <= f <= f_bounce + 0.5 * rate_hz]
     realism = {
         "noise": noise.to_json(),
+        "flight_s": flight_s,
         "gaps": [{"instance": g.instance, "marker": f"{g.instance}:{g.label}", "first_frame": g.first,
                   "last_frame": g.last, "reason": g.reason,
                   "during": [list(p) for p in timing.relations(g.first)

@@ -29,7 +29,7 @@ from oacdsl.segmentation.synth.scene import (
     TABLE_Z_M,
 )
 
-__all__ = ["GRAVITY_M_S2", "Script", "Step", "dough_script"]
+__all__ = ["FLIGHT_S", "GRAVITY_M_S2", "Script", "Step", "dough_script"]
 
 #: Gravitational acceleration, m/s².
 GRAVITY_M_S2 = 9.81
@@ -52,7 +52,10 @@ _R_MIXER_HAND = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
 _LANDING_M = {"liquid_one": np.array([-0.0846, 0.0308, 0.025]),
               "liquid_two": np.array([0.0846, -0.0308, 0.025])}
 _POUR_TILT_RAD = np.deg2rad(110.0)
-_FLIGHT_S = 0.16      # release to landing of the liquid marker, seconds
+#: Release to landing of the liquid marker, seconds: a thrown-down parabola.
+FLIGHT_S = 0.16
+#: Flights longer than this are a slow stream (straight, steady speed), not a parabola, seconds.
+_BALLISTIC_MAX_S = 0.3
 _SETTLE_S = 0.015     # time constant of the short roll after landing, seconds
 _SETTLE_ROLL_M = 0.005
 #: Motions that end in a contact (or leave one) are cut minimum-jerk profiles: they stop
@@ -117,8 +120,14 @@ def _grip_ramp(times_s: np.ndarray, events: list[tuple[float, float, float]]) ->
     return out
 
 
-def dough_script(rng: np.random.Generator, rate_hz: float = 100.0) -> Script:
-    """Script the dough demonstration; ``rng`` varies durations by ±10 %."""
+def dough_script(rng: np.random.Generator, rate_hz: float = 100.0, flight_s: float = FLIGHT_S) -> Script:
+    """Script the dough demonstration; ``rng`` varies durations by ±10 %.
+
+    ``flight_s``: seconds from the liquid leaving its cup to reaching the bowl. Up to
+    0.3 s the liquid marker follows a parabola under gravity (the default 0.16 s: thrown
+    slightly downwards); longer, it moves from the lip to the bowl on a straight line at a
+    steady speed (about 0.2 m / ``flight_s``: a slow stream that lands later).
+    """
 
     def dur(seconds: float) -> float:
         return float(seconds * rng.uniform(0.9, 1.1))
@@ -170,11 +179,15 @@ def dough_script(rng: np.random.Generator, rate_hz: float = 100.0) -> Script:
         liq.follow(cup, t_release)
         p0 = liq.position_m[liq.cursor - 1].copy()
         landing = _BOWL_AT_M + _LANDING_M[liquid]
-        t_land = liq.now_s + _FLIGHT_S
-        g = np.array([0.0, 0.0, -GRAVITY_M_S2])
-        v0 = (landing - p0 - 0.5 * g * _FLIGHT_S**2) / _FLIGHT_S
+        t_land = liq.now_s + flight_s
         t_rel0 = liq.now_s
-        liq.path(t_land, lambda ts: p0 + np.outer(ts - t_rel0, v0) + 0.5 * np.outer((ts - t_rel0) ** 2, g))
+        if flight_s <= _BALLISTIC_MAX_S:
+            g = np.array([0.0, 0.0, -GRAVITY_M_S2])
+            v0 = (landing - p0 - 0.5 * g * flight_s**2) / flight_s
+            liq.path(t_land,
+                     lambda ts: p0 + np.outer(ts - t_rel0, v0) + 0.5 * np.outer((ts - t_rel0) ** 2, g))
+        else:
+            liq.path(t_land, lambda ts: p0 + np.outer((ts - t_rel0) / flight_s, landing - p0))
         roll = np.array([_LANDING_M[liquid][0], _LANDING_M[liquid][1], 0.0])
         roll = _SETTLE_ROLL_M * roll / float(np.linalg.norm(roll))  # rolls a little towards the wall
         t_land0 = liq.now_s

@@ -39,7 +39,25 @@ class Timing:
         self.rule = rule
         diff = np.flatnonzero((touching[1:] != touching[:-1]).any(axis=1)) + 1
         self.raw = [0] + [int(f) for f in diff]
-        self.keyframes = merge_keyframes(self.raw, script.rate_hz, rule.merge_s)
+        merged = merge_keyframes(self.raw, script.rate_hz, rule.merge_s)
+        #: (frame, objects in flight) of merged keyframes that are transient states (a liquid in
+        #: flight longer than the merge window): no sub-action starts or ends there
+        self.transient = self._transient(merged)
+        skip = {f for f, _ in self.transient}
+        self.keyframes = [f for f in merged if f not in skip]
+
+    def _transient(self, frames: list[int]) -> list[tuple[int, tuple[str, ...]]]:
+        """The transient keyframes among ``frames`` by the matching's rule (hands are the agents)."""
+        from oacdsl.matching.transient import stable_segmentation
+        from oacdsl.segmentation.result import Keyframe, Segmentation
+        from oacdsl.world import WorldState
+
+        names = sorted(self.script.labels)
+        rate = self.script.rate_hz
+        kfs = tuple(Keyframe(f, f / rate, WorldState.of(names, self.relations(f))) for f in frames)
+        seg = Segmentation("synth", self.script.rate_hz, int(self.script.times_s.shape[0]), tuple(names), kfs)
+        _, dropped = stable_segmentation(seg, lambda name: name.endswith("_hand"))
+        return [(t.keyframe.frame, t.objects) for t in dropped]
 
     def relations(self, frame: int) -> list[tuple[str, str]]:
         """Sorted relations at ``frame``."""
@@ -148,5 +166,7 @@ def truth_document(script: Script, timing: Timing, seed: int, labels: Mapping[st
         "ended": _pair_json(first - last),
         "raw_changes": [{"frame": f, "time_s": round(f / rate, 4),
                          "relations": _pair_json(timing.relations(f))} for f in timing.raw],
+        "transient": [{"frame": f, "time_s": round(f / rate, 4), "in_flight": list(objects),
+                       "relations": _pair_json(timing.relations(f))} for f, objects in timing.transient],
         "realism": realism,
     }

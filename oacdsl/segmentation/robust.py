@@ -1,0 +1,101 @@
+"""The robust touch detector (mode ``robust``, and step 4 of ``adaptive``): Eq. 1 / Eq. 2 in
+physical time.
+
+The same rule as the paper's (:mod:`~oacdsl.segmentation.paper`) with one change: the
+distance change of frame ``i`` is the least-squares slope of the distance over a centred
+window of ``change_window_s`` seconds (:mod:`~oacdsl.segmentation.slope`), not the
+one-frame difference. ``n`` is ``hold_s`` seconds of frames (``AasParams.frames`` when
+given). Per marker pair and frame ``i``:
+
+- *close*: ``dist[i] < d`` and ``|slope[i]| < v``;
+- *far*: ``dist[i] > d`` or ``|slope[i]| > v``;
+- *unknown*: ``dist[i]`` missing (a gap), or the slope unknown (fewer than half the window's
+  samples visible) and ``dist[i] <= d``, or a value exactly at its threshold.
+
+Runs of ``n`` close (far) frames start (end) touching at the run's first frame, as in
+Eq. 1 / Eq. 2; an unknown frame belongs to no run. The slope of frame ``i`` needs the
+frames up to ``i + half``, so a change is known ``n - 1 + half`` frames after the frame it
+is labelled at (``delay_frames``); the last ``half`` frames of a recording are never
+decided (their window is incomplete).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from oacdsl.segmentation.detectors import DistanceChunk, PairChanges
+from oacdsl.segmentation.pairs import PairTable
+from oacdsl.segmentation.params import AasParams
+from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.runs import flips, windows
+from oacdsl.segmentation.slope import windowed_slope
+
+__all__ = ["RobustDetector"]
+
+
+class RobustDetector:
+    """Eq. 1 / Eq. 2 per marker pair with a windowed least-squares distance change.
+
+    ``params`` must be resolved for the recording's rate (``frames`` set); the half
+    window is taken from ``params.change_window_s`` at ``rate_hz`` (default: from
+    :meth:`begin`'s recording).
+    """
+
+    def __init__(self, params: AasParams, rate_hz: float | None = None) -> None:
+        self.params = params
+        self.d = np.float32(params.distance_m)
+        self.v = float(params.speed_m_s)
+        self.n = params.n
+        self.reach_m: float | None = float(params.distance_m)
+        self._state = np.zeros(0, dtype=bool)
+        self._set_rate(rate_hz)
+
+    def _set_rate(self, rate_hz: float | None) -> None:
+        self.half = self.params.half_window(rate_hz) if rate_hz else 1
+        # the slope of the first frame of a run needs `half` frames before it
+        self.history_frames = self.n - 1 + 2 * self.half
+        self.delay_frames = self.n - 1 + self.half
+
+    def begin(self, recording: Recording, table: PairTable) -> None:
+        self._set_rate(recording.rate_hz)
+        self._state = np.zeros(table.n_pairs, dtype=bool)
+
+    def step(self, chunk: DistanceChunk) -> PairChanges:
+        n, h, half = self.n, chunk.history, self.half
+        n_out = chunk.stop - chunk.start
+        state0 = self._state[chunk.pairs]
+        first_col = max(0, h - n + 1 - 2 * half)  # columns that feed a run ending at an output frame
+        near = (chunk.dist_m[:, first_col:] < self.d).any(axis=1) | state0
+        sel = np.flatnonzero(near)
+        if sel.size == 0:
+            return PairChanges.none()
+        dist = chunk.dist_m[sel] if sel.size < near.size else chunk.dist_m
+        close, far = self._conditions(dist, chunk.times_s)
+        s0, pairs = state0[sel], chunk.pairs[sel]
+        close_n = windows(close, h, n_out, n)
+        busy = s0 | close_n.any(axis=1)  # neither touching nor ever close for n frames: no flip
+        if not busy.all():
+            close_n, far, s0, pairs = close_n[busy], far[busy], s0[busy], pairs[busy]
+        far_n = windows(far, h, n_out, n)
+        rows, cols, value = flips(close_n, far_n, s0)
+        if rows.size:
+            last = np.flatnonzero(np.r_[rows[1:] != rows[:-1], True])
+            self._state[pairs[rows[last]]] = value[last]
+        return PairChanges(pairs[rows], cols + chunk.start, value)
+
+    def _conditions(self, dist: np.ndarray, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(close, far), (A, R) bool, by *causal* column: column ``c`` describes frame ``c - half``.
+
+        Columns whose frame lies before the chunk's first column are False (not part of any run).
+        """
+        half = self.half
+        rate = np.abs(windowed_slope(dist, times, half))
+        close = np.zeros(dist.shape, dtype=bool)
+        far = np.zeros(dist.shape, dtype=bool)
+        body = slice(0, max(0, dist.shape[1] - half))  # frames whose window ends inside the chunk
+        with np.errstate(invalid="ignore"):
+            cur, ch = dist[:, body], rate[:, body]
+            close[:, half:] = (cur < self.d) & (ch < self.v)
+            # a missing distance is unknown, even where the neighbours give a slope
+            far[:, half:] = ((cur > self.d) | (ch > self.v)) & ~np.isnan(cur)
+        return close, far
