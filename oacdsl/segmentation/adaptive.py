@@ -43,8 +43,6 @@ paper's state of all its marker pairs itself and reports only the combined state
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 
 from oacdsl.errors import SegmentationError
@@ -70,7 +68,7 @@ class AdaptiveDetector:
         self.delay_frames = template.delay_frames
         self.reach_m: float | None = max(params.distance_m, self.settings.static_distance_m)
         self._table: PairTable | None = None
-        self._inner: list[tuple[RobustDetector, np.ndarray]] = []  # (detector, (Q,) bool: its blocks)
+        self._inner: RobustDetector | None = None  # the paper's rule, each pair at its own distance
         # block → (E, 3) [causal frame, kind (1 episode, 2 tool, 3 veto), on?], sorted
         self._events: dict[int, np.ndarray] = {}
         self._heads = np.zeros(0, dtype=np.intp)
@@ -100,11 +98,12 @@ class AdaptiveDetector:
             default[q] = False
         by_distance.setdefault(self.settings.static_distance_m, np.zeros(n_q, dtype=bool))
         by_distance[self.settings.static_distance_m] |= default
-        self._inner = []
-        for distance, blocks in sorted(by_distance.items()):
-            detector = RobustDetector(replace(self.params, distance_m=distance), recording.rate_hz)
-            detector.begin(recording, table)
-            self._inner.append((detector, blocks))
+        # one detector, each marker pair at its instance pair's distance (float32, as a detector's own d)
+        block_d = np.zeros(n_q, dtype=np.float32)
+        for distance, blocks in by_distance.items():
+            block_d[blocks] = np.float32(distance)
+        self._inner = RobustDetector(self.params, recording.rate_hz, pair_distance_m=block_d[table.block])
+        self._inner.begin(recording, table)
         self.reach_m = max(by_distance)
         tools = tool_contacts(
             table, recording.n_frames, recording.rate_hz, {q: spans for q, (spans, _) in learned.items()},
@@ -128,20 +127,9 @@ class AdaptiveDetector:
                         for q, e in collected.items() if e}
 
     def step(self, chunk: DistanceChunk) -> PairChanges:
-        if self._table is None:
+        if self._table is None or self._inner is None:
             raise SegmentationError("adaptive detector: step() before begin()")
-        block = self._table.block[chunk.pairs]
-        parts = []
-        for detector, blocks in self._inner:
-            rows = blocks[block]
-            if rows.any():  # a detector without pairs in the chunk has nothing that can change
-                sub = replace(chunk, pairs=chunk.pairs[rows], dist_m=chunk.dist_m[rows])
-                parts.append(detector.step(sub))
-        inner = PairChanges(
-            np.concatenate([p.pairs for p in parts]) if parts else np.zeros(0, dtype=np.intp),
-            np.concatenate([p.frames for p in parts]) if parts else np.zeros(0, dtype=np.intp),
-            np.concatenate([p.touching for p in parts]) if parts else np.zeros(0, dtype=bool),
-        )
+        inner = self._inner.step(chunk)
         if not self._events:
             return inner
         managed = np.isin(self._table.block[inner.pairs], list(self._events))
