@@ -248,15 +248,15 @@ def _extend(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int = 0)
     """
     with np.errstate(invalid="ignore"):
         beyond = dmin > threshold  # NaN: unknown, not beyond
-    if bridge > 0 and beyond.any():
-        padded = np.concatenate([[False], beyond, [False]])
-        edges = np.flatnonzero(padded[1:] != padded[:-1])
-        for s, e in zip(edges[::2], edges[1::2], strict=True):
-            if e - s <= bridge and s > 0 and e < beyond.size:
-                beyond[s:e] = False
-    before = np.flatnonzero(beyond[:a])
-    after = np.flatnonzero(beyond[b:])
-    return (int(before[-1]) + 1 if before.size else 0, b + int(after[0]) if after.size else dmin.size)
+    padded = np.concatenate([[False], beyond, [False]])
+    edges = np.flatnonzero(padded[1:] != padded[:-1])
+    starts, ends = edges[::2], edges[1::2]  # runs [s, e) beyond the threshold
+    if bridge > 0:  # short excursions between two frames within the threshold do not count
+        keep = ~((ends - starts <= bridge) & (starts > 0) & (ends < beyond.size))
+        starts, ends = starts[keep], ends[keep]
+    i = int(np.searchsorted(starts, a, side="left")) - 1  # the last run that starts before a
+    j = int(np.searchsorted(ends, b, side="right"))  # the first run that ends after b
+    return (min(int(ends[i]), a) if i >= 0 else 0, max(int(starts[j]), b) if j < ends.size else dmin.size)
 
 
 def _union(spans: list[tuple[int, int]]) -> list[tuple[int, int]]:
