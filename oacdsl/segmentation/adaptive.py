@@ -71,6 +71,7 @@ class AdaptiveDetector:
         self._inner: RobustDetector | None = None  # the paper's rule, each pair at its own distance
         # block → (E, 3) [causal frame, kind (1 episode, 2 tool, 3 veto), on?], sorted
         self._events: dict[int, np.ndarray] = {}
+        self._event_rows = np.zeros((0, 4), dtype=np.intp)
         self._heads = np.zeros(0, dtype=np.intp)
         self._paper_count = np.zeros(0, dtype=np.int64)  # managed blocks: touching marker pairs
         self._pair_state = np.zeros(0, dtype=bool)  # managed blocks: paper state per marker pair
@@ -125,6 +126,10 @@ class AdaptiveDetector:
                 collected.setdefault(q, []).extend(events)
         self._events = {q: np.asarray(sorted(e), dtype=np.intp).reshape(-1, 3)
                         for q, e in collected.items() if e}
+        # all events as (E, 4) [causal frame, kind, on?, block], sorted by frame: a chunk slices its own
+        rows = [np.column_stack([e, np.full(len(e), q, dtype=np.intp)]) for q, e in self._events.items()]
+        merged = np.concatenate(rows) if rows else np.zeros((0, 4), dtype=np.intp)
+        self._event_rows = merged[np.argsort(merged[:, 0], kind="stable")]
 
     def step(self, chunk: DistanceChunk) -> PairChanges:
         if self._table is None or self._inner is None:
@@ -141,10 +146,9 @@ class AdaptiveDetector:
         ours = zip(inner.pairs[managed], inner.frames[managed], inner.touching[managed], strict=True)
         for p, f, v in ours:
             changes.setdefault(int(self._table.block[p]), []).append((int(f), 0, bool(v), int(p)))
-        for q, events in self._events.items():
-            inside = (events[:, 0] >= chunk.start) & (events[:, 0] < chunk.stop)
-            for f, kind, v in events[inside]:
-                changes.setdefault(q, []).append((int(f), int(kind), bool(v), -1))
+        first, last = np.searchsorted(self._event_rows[:, 0], [chunk.start, chunk.stop], side="left")
+        for f, kind, v, q in self._event_rows[first:last].tolist():
+            changes.setdefault(q, []).append((f, kind, bool(v), -1))
         for q, block_changes in changes.items():
             block_changes.sort()
             for k, (f, kind, v, p) in enumerate(block_changes):
