@@ -22,7 +22,7 @@ from oacdsl.world import NOTHING
 _TRIVIA = frozenset({"span", "comments", "note", "parts"})
 
 #: Hand shapes a ``grasp`` declaration may name (``type``).
-GRASP_TYPES: tuple[str, ...] = ("handle", "power", "precision", "rim")
+GRASP_TYPES: tuple[str, ...] = ("handle", "pinch", "power", "precision", "rim")
 #: Directions a hand may approach an object from (``approach``), in the object frame.
 APPROACHES: tuple[str, ...] = ("front", "side", "top")
 
@@ -205,7 +205,7 @@ class Grasp(Node):
 
     ``offset`` is the grasp point in the object frame, metres; ``approach`` is the
     direction the hand comes from (``side``, ``top``, ``front``); ``type`` is the
-    hand shape (``power``, ``precision``, ``rim``, ``handle``).
+    hand shape (``power``, ``precision``, ``pinch``, ``rim``, ``handle``).
     """
 
     kind: Literal["grasp"] = "grasp"

@@ -69,10 +69,10 @@ def test_the_jug_is_grasped_poured_from_and_placed(seed):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("seed", [None, 2, 3])
+@pytest.mark.parametrize("seed", [None, 1, 2, 3])
 def test_the_plate_is_wiped(seed):
-    # seeds 0, 1, 4, 6 and 7 fail before the plate: the sponge's top grasp does not hold
-    # there, with the standard library's tray as well (grasps are issue 10's effects-motion part)
+    # seed 1 failed before the plate while the sponge's top grasp could stop on the thumb
+    # alone (the hand then lost the sponge); seeds 0-7 pass since it stops on palm or fingers
     result = execute(library(), "wipe_plate", seed=seed)
     assert result.success, result.error
     assert ["plate", "sponge"] in result.steps[-1].observed

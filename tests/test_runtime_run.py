@@ -131,9 +131,11 @@ def test_oacc_run_json_document_and_clean_failure(tmp_path):
         env={**os.environ, "OACDSL_DB": str(db)},
     )
     assert out.returncode == 1 and "Traceback" not in out.stderr
-    assert out.stderr.strip().splitlines()[-1].startswith("oacc: error: precondition of place not met")
+    last = out.stderr.strip().splitlines()[-1]
+    assert last.startswith("oacc: error: step 1 place(left_hand, red_cup): precondition of place not met")
     doc = json.loads(out.stdout)
-    assert set(doc) == {"oac", "success", "steps", "metrics"} and doc["success"] is False
+    assert set(doc) == {"oac", "success", "failed_step", "steps", "composed", "metrics"}
+    assert doc["success"] is False and doc["failed_step"] == "step 1 place(left_hand, red_cup)"
     assert set(doc["metrics"]) == {"balls_total", "balls_in_bowl", "sim_time_s", "wall_time_s"}
     step = doc["steps"][0]
     assert set(step) == {"oac", "binding", "success", "duration_s", "predicted", "observed", "error"}
@@ -227,3 +229,37 @@ def test_oacc_run_usage_errors(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["clip.mp4", "file"]
     out = oacc_run(tmp_path, "grsap", "--scene", "kitchen")
     assert out.returncode == 1 and "did you mean 'grasp'" in out.stderr
+
+
+def test_a_composed_step_whose_effect_is_not_observed_fails_the_run_and_is_named(tmp_path):
+    # grasp_into_bowl (composed of one grasp) predicts `green_cup <-> orange_bowl`, which no
+    # grasp makes true: the run stops after it (the place never runs), exit 1, step named
+    named = "composed step grasp_into_bowl(right_hand, green_cup, orange_bowl) (steps 1-1)"
+    out = oacc_run(tmp_path, "grasp_into_bowl_and_place", "--scene", "pouring")
+    assert out.returncode == 1 and "Traceback" not in out.stderr
+    last = out.stderr.strip().splitlines()[-1]
+    assert last.startswith(f"oacc: error: {named}: grasp_into_bowl: predicted effect not observed")
+    assert f"failed at {named}" in out.stdout  # the one-line summary
+    assert "composed grasp_into_bowl(right_hand, green_cup, orange_bowl) of steps 1-1: FAILED" in out.stdout
+    # the JSON document (the same run in-process)
+    doc = execute(task_library(), "grasp_into_bowl_and_place", scene="pouring").to_json()
+    assert doc["success"] is False and doc["failed_step"] == named
+    assert [(s["oac"], s["success"]) for s in doc["steps"]] == [("grasp", True)]
+    (inner,) = doc["composed"]
+    assert inner["oac"] == "grasp_into_bowl" and inner["steps"] == [1, 1] and inner["success"] is False
+    assert inner["predicted"] == [["green_cup", "orange_bowl"], ["green_cup", "right_hand"]]
+
+
+def test_oacc_run_pinches_the_flat_tray_of_the_wiping_scene():
+    # the command of issue 10, on the standard library alone
+    cmd = [sys.executable, "-m", "oacdsl", "run", "grasp", "--library", "library", "--scene", "wiping"]
+    out = subprocess.run(
+        [*cmd, "--bind", "h=right_hand", "--bind", "o=tray", "--json"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=ROOT,
+    )
+    assert out.returncode == 0, out.stderr
+    (step,) = json.loads(out.stdout)["steps"]
+    assert step["success"] and ["right_hand", "tray"] in step["observed"]

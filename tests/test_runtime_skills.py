@@ -13,6 +13,7 @@ from runtime_lib import task_library  # noqa: E402
 from oacdsl.runtime.control import FORCE_LIMIT_N  # noqa: E402
 from oacdsl.runtime.executor import execute, prepare, run_prepared  # noqa: E402
 from oacdsl.runtime.layout import BALLS_PER_LIQUID  # noqa: E402
+from oacdsl.runtime.objects import TABLE_TOP  # noqa: E402
 from oacdsl.runtime.skills.place import CONTACT_FORCE_N  # noqa: E402
 
 
@@ -150,3 +151,117 @@ def test_a_bowl_is_held_by_its_rim_lifted_and_put_back():
     assert abs(t[2, 3] - table_z) < 0.005 and t[2, 2] > 0.99
     assert run.world.held["r"] is None
     assert run.world.warnings() == {}
+
+
+def test_place_sets_the_sponge_down_on_the_tray_the_composed_effect_names():
+    # grasp, wipe, place as a demonstration composes it: `place` itself predicts only
+    # `h <-> nothing`; the composed effect `sponge <-> tray` decides where the sponge goes
+    run, result = run_task("wipe_and_leave", "wiping")
+    assert result.success, result.error
+    assert [s.oac for s in result.steps] == ["grasp", "wipe", "place"]
+    place = result.steps[-1]
+    assert ["sponge", "tray"] in place.observed and ["right_hand", "nothing"] in place.observed
+    world = run.world
+    sponge, tray = world.body_pose("sponge"), world.body_pose("tray")
+    local = np.linalg.inv(tray) @ sponge
+    assert abs(local[0, 3]) < 0.15 and abs(local[1, 3]) < 0.11  # on the plate (30 × 22 cm)
+    assert sponge[2, 2] > 0.99 and world.held["r"] is None
+    assert [(c.oac, c.success) for c in result.composed] == [("wipe_and_leave", True)]
+
+
+def test_a_hand_over_keeps_the_cup_still_and_ends_in_the_other_hand():
+    # the right hand takes the cup the left hand holds (no lift: both hold it), then the
+    # left hand lets go (no set-down: the right hand holds it)
+    log = ForceLog()
+    run, result = run_task("hand_over", "handing", [log])
+    assert result.success, result.error
+    grasp_l, grasp_r, release = result.steps
+    assert ["cup", "left_hand"] in grasp_r.observed and ["cup", "right_hand"] in grasp_r.observed
+    assert ["cup", "right_hand"] in release.observed and ["left_hand", "nothing"] in release.observed
+    world = run.world
+    assert world.held == {"r": "cup", "l": None}
+    assert world.body_pose("cup")[2, 3] > TABLE_TOP + 0.05  # still up in the air, in the right hand
+    assert max(log.peak.values()) < 0.5 * FORCE_LIMIT_N
+    assert world.warnings() == {}
+
+
+class PartsLog(HeldLog):
+    """HeldLog, plus which parts of the right hand touch the object while it holds it."""
+
+    def __init__(self, obj):
+        super().__init__(obj)
+        self.parts = []
+
+    def __call__(self, world):
+        super().__call__(world)
+        if world.held["r"] == self.obj:
+            self.parts.append(world.hand_parts_touching("r", self.obj))
+
+
+def test_a_flat_tray_is_pinched_at_its_edge_lifted_and_put_back():
+    # `grasp Tray { type pinch approach top … }`: the finger plate beside the edge, the thumb on top
+    log = PartsLog("tray")
+    run, result = run_task("carry_tray", "wiping", [log])
+    assert result.success, result.error
+    assert ["right_hand", "tray"] in result.steps[0].observed
+    assert log.parts and {"fingers", "thumb"} <= log.parts[0]  # pinched, not held by the palm
+    body = np.array(log.body)
+    assert body[:, 2].max() > TABLE_TOP + 0.06  # lifted
+    t = run.world.body_pose("tray")
+    start = run.world.layout.placement("tray")
+    assert math.dist(t[:2, 3], (start.x, start.y)) < 0.03 and t[2, 2] > 0.99
+    assert run.world.held["r"] is None and run.world.warnings() == {}
+
+
+def test_a_stick_is_taken_by_its_handle_lifted_and_put_back():
+    # `grasp Whisk { type handle approach side … }`: a handle on the object's axis, taken
+    # from the hand's own side, the fingers wrapped around the grip
+    log = PartsLog("whisk")
+    run, result = run_task("carry_whisk", "whisking", [log])
+    assert result.success, result.error
+    assert log.parts and "fingers" in log.parts[0]
+    assert np.array(log.body)[:, 2].max() > TABLE_TOP + 0.06
+    t = run.world.body_pose("whisk")
+    start = run.world.layout.placement("whisk")
+    assert math.dist(t[:2, 3], (start.x, start.y)) < 0.03 and t[2, 2] > 0.99
+
+
+def test_place_carries_the_sponge_onto_the_tray_when_the_composed_effect_says_so():
+    # seed 1: the sponge stands elsewhere; a grasp from above must not stop on the thumb alone
+    run = prepare(task_library(), "put_on_tray", scene="wiping", seed=1)
+    start = run.world.body_pose("sponge")
+    result = run_prepared(run)
+    assert result.success, result.error
+    assert ["sponge", "tray"] in result.steps[-1].observed
+    sponge, tray = run.world.body_pose("sponge"), run.world.body_pose("tray")
+    local = np.linalg.inv(tray) @ sponge
+    assert abs(local[0, 3]) < 0.15 and abs(local[1, 3]) < 0.11 and sponge[2, 2] > 0.99
+    assert math.dist(sponge[:2, 3], start[:2, 3]) > 0.15  # not back where it came from
+
+
+def test_a_jug_is_taken_by_its_handle_poured_from_and_put_back():
+    # the jug written only in tests/data/new_objects/jug_plate.oac (a shell and a box handle
+    # 6 cm out along +x); tests/data/jug_handle.oac grasps it `type handle` at the handle
+    from runtime_lib import ROOT, STANDARD
+
+    from oacdsl.compiler import load_library
+
+    data = ROOT / "tests" / "data"
+    lib = load_library([*STANDARD, data / "new_objects" / "jug_plate.oac", data / "jug_handle.oac"])
+    run = prepare(lib, "pour_from_jug", scene="jug_by_handle")
+    held = {}
+
+    def on_step(index, step, world):
+        if step.oac == "grasp":
+            t_jug, t_grasp = world.body_pose("jug"), world.frame_pose("grasp_l")
+            held["centre"] = (np.linalg.inv(t_jug) @ t_grasp[:, 3])[:3]
+            held["palm"] = t_jug[:3, :3].T @ -t_grasp[:3, 0]
+            held["parts"] = world.hand_parts_touching("l", "jug")
+
+    result = run_prepared(run, on_step=on_step)
+    assert result.success, result.error
+    assert held["centre"][0] > 0.03  # the hand is at the handle, outside the body (radius 4.5 cm)
+    assert held["palm"] @ np.array([-1.0, 0.0, 0.0]) > 0.9  # palm facing the jug's axis
+    assert "fingers" in held["parts"]
+    assert run.world.balls_inside("basin", "water") >= 9
+    assert run.world.held["l"] is None and run.world.body_pose("jug")[2, 2] > 0.99

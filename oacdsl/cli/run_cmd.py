@@ -1,7 +1,8 @@
 """``oacc run``: execute an OAC on the simulated ARMAR-III (MuJoCo + placo).
 
-Exit status 0 when every step succeeded and its predicted effects were observed,
-1 when the run failed (the reason is printed on one line), 2 for usage or I/O errors.
+Exit status 0 when every step — primitive or composed — succeeded and its predicted
+effects were observed, 1 when the run failed (the reason is printed on one line, naming
+the failed step), 2 for usage or I/O errors.
 """
 
 from __future__ import annotations
@@ -26,9 +27,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         "run",
         help="execute an OAC on the simulated robot",
         description="Execute a primitive or composed OAC on ARMAR-III in MuJoCo: bind its parameters,"
-        " check its preconditions in the simulated world, run each step's skill and compare the"
-        " observed touching relations with the predicted effects. The outcome of every run (also a"
-        " failed one) goes into the run store (oacc stats).",
+        " check its preconditions in the simulated world, run each step's skill and judge every step,"
+        " primitive or composed, by its predicted effects: the observed touching relations after it."
+        " Exit 1 names the first step that failed. The outcome of every run (also a failed one) goes"
+        " into the run store (oacc stats).",
     )
     p.add_argument("name", metavar="NAME", help="the OAC to execute")
     p.add_argument(
@@ -238,7 +240,12 @@ def run(args: argparse.Namespace) -> int:
                     Path(args.frames) / f"step_{index + 1:02d}_{step.oac}.png", frames.render(world.data)
                 )
 
-        result = run_prepared(run_, on_step=on_step)
+        def on_call(call: Any) -> None:
+            status = "ok" if call.success else "FAILED"
+            args_text = ", ".join(call.binding.values())
+            print(f"composed {call.oac}({args_text}) of steps {call.first}-{call.last}: {status}", file=out)
+
+        result = run_prepared(run_, on_step=on_step, on_call=on_call)
     except OSError as error:  # a picture could not be written after all (disk full, folder removed)
         from oacdsl.errors import InputError
 
@@ -251,7 +258,7 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(result.to_json(), indent=2))
     else:
-        verdict = "success" if result.success else "failed"
+        verdict = "success" if result.success else f"failed at {result.failed_step or 'the start'}"
         print(
             f"{result.oac}: {verdict} — {m['balls_in_bowl']}/{m['balls_total']} balls in a bowl,"
             f" {m['sim_time_s']:.1f} s simulated in {m['wall_time_s']:.1f} s"

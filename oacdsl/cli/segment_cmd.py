@@ -24,6 +24,12 @@ Values carry units: --distance 150mm (or 15cm, 0.15m), --speed 100mm/s,
 --merge 0.3s (or 300ms); --frames is a whole number of frames. --frames and
 --merge must fit in the recording. A recording that breaks a reader's limits
 (rate 1 Hz..10 kHz, finite coordinates, size; docs/readers.md) is an error (exit 1).
+
+--motion adds the demonstrated motion of every sub-action: which object a hand
+moved, what it works on (the other side of the relation it makes, breaks or keeps),
+and that object's path in the target's frame from a rigid fit of each instance's
+markers (>= 3): path length, extent, the period of an oscillation (stirring,
+wiping), the tilt reached (pouring). See docs/motion.md.
 """
 
 EPILOG = """\
@@ -31,6 +37,7 @@ examples:
   oacc segment demo.c3d
   oacc segment Pour.mmm.xml --json            # KIT/MMM: hands recognised (note on stderr)
   oacc segment demo.c3d --scene library/ --scene-name kitchen --plot aas.png --graphs graphs/
+  oacc segment Stir.mmm.xml --motion --plot-motion stir.png   # what moved, relative to what
 """
 
 
@@ -58,6 +65,11 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
                      help="draw distances, thresholds and keyframes over time (the paper's Fig. 3)")
     out.add_argument("--graphs", metavar="DIR",
                      help="write the world state of every keyframe as a graph picture (the paper's Fig. 4)")
+    out.add_argument("--motion", action="store_true",
+                     help="also the demonstrated motion of every sub-action: moved object, target,"
+                          " path features (with --json: the records, T_target_object per frame)")
+    out.add_argument("--plot-motion", metavar="OUT.png",
+                     help="draw each sub-action's object path in its target's frame, one panel each")
     p.set_defaults(func=run)
 
 
@@ -165,10 +177,28 @@ def run(args: argparse.Namespace) -> int:
     params = params_from_args(args)  # bad units fail before any reading
     recording = load(args)
     seg = segment(recording, params, progress=_progress_printer(recording.n_frames))
+    motions = None
+    if args.motion or args.plot_motion:
+        from oacdsl.segmentation.motion import sub_action_motions
+
+        motions = sub_action_motions(recording, seg)
     if args.json:
-        print(json.dumps(seg.to_json(), indent=2))
+        doc = seg.to_json()
+        if args.motion and motions is not None:
+            doc["motions"] = [m.to_json() for m in motions]
+        print(json.dumps(doc, indent=2))
     else:
         print(format_table(seg))
+        if args.motion and motions is not None:
+            from oacdsl.cli.motion_table import format_motion_table
+
+            print()
+            print(format_motion_table(motions))
+    if args.plot_motion and motions is not None:
+        from oacdsl.segmentation.motionplot import save_motion_plot
+
+        written = save_motion_plot(motions, args.plot_motion, title=str(recording.source))
+        print(f"wrote {written}", file=sys.stderr)
     if args.plot:
         from oacdsl.segmentation.plots import save_distance_plot
 

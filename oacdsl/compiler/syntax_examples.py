@@ -161,8 +161,8 @@ EXAMPLES: list[tuple[str, list[str]]] = [
     ),
     ("the class to grasp", ["grasp", "grasp {"]),
     ("'{' after the class to grasp", ["grasp G", "grasp G type"]),
-    ("'type' and a grasp type (power, precision, rim, handle)", ["grasp G {", "grasp G { approach"]),
-    ("a grasp type (power, precision, rim, handle)", ["grasp G { type", "grasp G { type }"]),
+    ("'type' and a grasp type (power, precision, pinch, rim, handle)", ["grasp G {", "grasp G { approach"]),
+    ("a grasp type (power, precision, pinch, rim, handle)", ["grasp G { type", "grasp G { type }"]),
     ("'approach' and a direction (side, top, front)", ["grasp G { type a", "grasp G { type a }"]),
     (
         "an approach direction (side, top, front)",

@@ -2,7 +2,7 @@
 
 ``from oacdsl.runtime import execute, MarkerRecorder`` loads MuJoCo and placo on first
 use; importing this package alone does not (the light modules — :mod:`.armar3`,
-:mod:`.binding` — work without them).
+:mod:`.binding`, :mod:`.intent`, :mod:`.results` — work without them).
 """
 
 from __future__ import annotations
@@ -10,13 +10,14 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-__all__ = ["execute", "prepare", "RunResult", "StepResult", "MarkerRecorder", "render_png"]
+__all__ = ["execute", "prepare", "RunResult", "StepResult", "CallResult", "MarkerRecorder", "render_png"]
 
 _LAZY = {
     "execute": "oacdsl.runtime.executor",
     "prepare": "oacdsl.runtime.executor",
-    "RunResult": "oacdsl.runtime.executor",
-    "StepResult": "oacdsl.runtime.executor",
+    "RunResult": "oacdsl.runtime.results",
+    "StepResult": "oacdsl.runtime.results",
+    "CallResult": "oacdsl.runtime.results",
     "MarkerRecorder": "oacdsl.runtime.recorder",
     "render_png": "oacdsl.runtime.render",
 }

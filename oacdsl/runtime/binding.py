@@ -15,7 +15,18 @@ from oacdsl.library import Library
 from oacdsl.model import Atom, Oac, Scene
 from oacdsl.world import NOTHING, WorldState
 
-__all__ = ["Step", "bind", "flatten", "bound_atoms", "holds", "explain", "choose_scene", "liquid_contents"]
+__all__ = [
+    "Step",
+    "Call",
+    "bind",
+    "flatten",
+    "expand",
+    "bound_atoms",
+    "holds",
+    "explain",
+    "choose_scene",
+    "liquid_contents",
+]
 
 _MAX_DEPTH = 16
 
@@ -30,6 +41,18 @@ class Step:
     @property
     def args(self) -> tuple[str, ...]:
         return tuple(self.binding[p.name] for p in self.oac.params)
+
+
+@dataclass(frozen=True)
+class Call:
+    """A composed OAC called with a binding: it spans the primitive steps ``first`` to
+    ``last`` (0-based, inclusive) and is nested ``depth`` calls deep (the OAC run is 0)."""
+
+    oac: Oac
+    binding: dict[str, str]
+    first: int
+    last: int
+    depth: int
 
 
 def choose_scene(
@@ -88,13 +111,30 @@ def bind(library: Library, oac: Oac, scene: Scene, given: Mapping[str, str] | No
     return binding
 
 
-def flatten(library: Library, oac: Oac, binding: Mapping[str, str], depth: int = 0) -> list[Step]:
+def flatten(library: Library, oac: Oac, binding: Mapping[str, str]) -> list[Step]:
     """The primitive steps of ``oac`` under ``binding`` (a primitive OAC is one step)."""
+    return expand(library, oac, binding)[0]
+
+
+def expand(library: Library, oac: Oac, binding: Mapping[str, str]) -> tuple[list[Step], list[Call]]:
+    """The primitive steps of ``oac`` under ``binding``, and every composed OAC on the way
+    (``oac`` itself first when it is composed, then its composed steps, outer before inner)."""
+    steps: list[Step] = []
+    calls: list[Call] = []
+    _expand(library, oac, dict(binding), 0, steps, calls)
+    return steps, calls
+
+
+def _expand(
+    library: Library, oac: Oac, binding: dict[str, str], depth: int, steps: list[Step], calls: list[Call]
+) -> None:
     if depth > _MAX_DEPTH:
         raise RuntimeFailure(f"oac {oac.name}: steps nest deeper than {_MAX_DEPTH} (a cycle?)")
     if not oac.composed:
-        return [Step(oac, dict(binding))]
-    steps: list[Step] = []
+        steps.append(Step(oac, binding))
+        return
+    index, first = len(calls), len(steps)
+    calls.append(Call(oac, binding, first, first, depth))  # its last step is known below
     for call in oac.steps or ():
         callee = library.oacs.get(call.oac)
         if callee is None:
@@ -106,8 +146,10 @@ def flatten(library: Library, oac: Oac, binding: Mapping[str, str], depth: int =
                 f"oac {oac.name}: {call.oac} takes {len(callee.params)} arguments, {len(call.args)} given"
             )
         inner = {p.name: binding.get(a, a) for p, a in zip(callee.params, call.args, strict=True)}
-        steps.extend(flatten(library, callee, inner, depth + 1))
-    return steps
+        _expand(library, callee, inner, depth + 1, steps, calls)
+    if len(steps) == first:
+        raise RuntimeFailure(f"oac {oac.name} has no steps to execute")
+    calls[index] = Call(oac, binding, first, len(steps) - 1, depth)
 
 
 def bound_atoms(atoms: tuple[Atom, ...], binding: Mapping[str, str]) -> list[tuple[str, str, bool]]:

@@ -143,10 +143,16 @@ class Controller:
         self.world.set_targets({names[k]: v for k, v in targets.items()})
         self.ik.set_state({names[k]: v for k, v in targets.items()})
 
-    def close_hand(self, side: str, duration_s: float = 0.6, until: Callable[[], bool] | None = None) -> bool:
-        """Close the fingers (force-limited actuators stop them on the object); True when
-        ``until`` became true before ``duration_s`` was over."""
-        self.set_fingers(side, CLOSED)
+    def close_hand(
+        self,
+        side: str,
+        duration_s: float = 0.6,
+        until: Callable[[], bool] | None = None,
+        targets: dict[str, float] | None = None,
+    ) -> bool:
+        """Close the fingers towards ``targets`` (default: all closed; force-limited actuators
+        stop them on the object); True when ``until`` became true before ``duration_s`` was over."""
+        self.set_fingers(side, CLOSED if targets is None else targets)
         return self.wait(duration_s, until=until)
 
     def open_hand(self, side: str, duration_s: float = 0.4) -> None:

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import mujoco
@@ -22,75 +22,29 @@ from oacdsl.errors import RuntimeFailure, did_you_mean
 from oacdsl.library import Library
 from oacdsl.model import Oac, Scene
 from oacdsl.runtime.binding import (
+    Call,
     Step,
     bind,
     bound_atoms,
     choose_scene,
+    expand,
     explain,
-    flatten,
     holds,
     liquid_contents,
 )
 from oacdsl.runtime.build import build_model
 from oacdsl.runtime.control import Controller, Observer
 from oacdsl.runtime.ik import WholeBodyIK
+from oacdsl.runtime.intent import predicted_states
 from oacdsl.runtime.layout import plan_layout
+from oacdsl.runtime.results import CallResult, RunResult, StepResult
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.skills import IMPLEMENTATIONS, SkillContext
 from oacdsl.world import NOTHING, WorldState
 
-__all__ = ["execute", "RunResult", "StepResult", "Run", "prepare", "run_prepared"]
+__all__ = ["execute", "RunResult", "StepResult", "CallResult", "Run", "prepare", "run_prepared"]
 
 _UNSTABLE = ("mjWARN_BADQACC", "mjWARN_BADQPOS", "mjWARN_BADQVEL", "mjWARN_BADCTRL")
-
-
-@dataclass
-class StepResult:
-    """One executed primitive step (one entry of the JSON ``steps`` list)."""
-
-    oac: str
-    binding: dict[str, str]
-    success: bool
-    duration_s: float
-    predicted: list[list[str]]
-    observed: list[list[str]]
-    error: str | None = None
-
-    def to_json(self) -> dict[str, Any]:
-        return {
-            "oac": self.oac,
-            "binding": dict(self.binding),
-            "success": self.success,
-            "duration_s": round(self.duration_s, 4),
-            "predicted": self.predicted,
-            "observed": self.observed,
-            "error": self.error,
-        }
-
-
-@dataclass
-class RunResult:
-    """The outcome of :func:`execute`; ``to_json()`` is the ``oacc run --json`` document."""
-
-    oac: str
-    success: bool
-    steps: list[StepResult]
-    metrics: dict[str, float | int]
-    seed: int | None = None
-    states: list[WorldState] = field(default_factory=list)
-
-    @property
-    def error(self) -> str | None:
-        """The first step's error, if any step failed."""
-        return next((s.error for s in self.steps if s.error), None)
-
-    def to_json(self) -> dict[str, Any]:
-        return {
-            "oac": self.oac,
-            "success": self.success,
-            "steps": [s.to_json() for s in self.steps],
-            "metrics": dict(self.metrics),
-        }
 
 
 @dataclass
@@ -101,6 +55,7 @@ class Run:
     scene: Scene
     binding: dict[str, str]
     steps: list[Step]
+    calls: list[Call]
     world: SimWorld
     controller: Controller
     context: SkillContext
@@ -126,7 +81,7 @@ def prepare(
         oac = library.oacs[oac]
     sc = scene if isinstance(scene, Scene) else choose_scene(library, oac, scene, binding)
     bound = bind(library, oac, sc, binding)
-    steps = flatten(library, oac, bound)
+    steps, calls = expand(library, oac, bound)
     for step in steps:
         if step.oac.skill not in IMPLEMENTATIONS:
             raise RuntimeFailure(
@@ -139,7 +94,7 @@ def prepare(
     world = SimWorld(build_model(layout, seed))
     controller = Controller(world, WholeBodyIK(self_collision=self_collision), list(observers))
     context = SkillContext(controller, library, library.instance_classes(sc))
-    return Run(oac, sc, bound, steps, world, controller, context, seed)
+    return Run(oac, sc, bound, steps, calls, world, controller, context, seed)
 
 
 def _pair(a: str, b: str) -> list[str]:
@@ -195,12 +150,25 @@ def execute(
     return run_prepared(run, on_step=on_step, wall0=wall0)
 
 
-def run_prepared(run: Run, *, on_step: Any = None, wall0: float | None = None) -> RunResult:
-    """Execute a :func:`prepare`-d run (observers may be added to ``run.controller`` first)."""
+def _label(name: str, binding: Mapping[str, str]) -> str:
+    return f"{name}({', '.join(binding.values())})"
+
+
+def run_prepared(
+    run: Run, *, on_step: Any = None, on_call: Any = None, wall0: float | None = None
+) -> RunResult:
+    """Execute a :func:`prepare`-d run (observers may be added to ``run.controller`` first).
+
+    ``on_step(index, step_result, world)`` is called after every primitive step,
+    ``on_call(call_result)`` after every composed step was judged."""
     wall0 = time.perf_counter() if wall0 is None else wall0
     world, ctx, seed = run.world, run.context, run.seed
     results: list[StepResult] = []
+    judged: list[CallResult] = []
+    failed: str | None = None
     states = [world.relations()]
+    goal = bound_atoms(run.oac.effect, run.binding) if run.oac.composed else []
+    expected = predicted_states(states[0], run.steps, goal)
     top_pre = _check(
         states[0], bound_atoms(run.oac.pre, run.binding), f"precondition of {run.oac.name} not met"
     )
@@ -213,7 +181,9 @@ def run_prepared(run: Run, *, on_step: Any = None, wall0: float | None = None) -
         error = top_pre if index == 0 else None
         error = error or _check(world.relations(), atoms_pre, f"precondition of {step.oac.name} not met")
         if error is None:
+            ctx.expected = expected[index]
             error = _run_skill(ctx, step)
+            ctx.expected = None
         state = world.relations()
         states.append(state)
         if error is None:
@@ -228,17 +198,26 @@ def run_prepared(run: Run, *, on_step: Any = None, wall0: float | None = None) -
             error,
         )
         results.append(result)
+        if error is not None:
+            failed = f"step {index + 1} {_label(step.oac.name, step.binding)}"
         if on_step is not None:
             on_step(index, result, world)
         if error is not None:
             break
-    success = bool(results) and all(r.success for r in results) and len(results) == len(run.steps)
-    if success and run.oac.composed:
-        final = _check(
-            states[-1], bound_atoms(run.oac.effect, run.binding), f"effect of {run.oac.name} not observed"
-        )
-        if final is not None:
-            results[-1].success, results[-1].error, success = False, final, False
+        # composed steps that end here, inner before outer
+        for call in sorted((c for c in run.calls if c.last == index), key=lambda c: -c.depth):
+            verdict = _judge_call(call, state)
+            judged.append(verdict)
+            if on_call is not None:
+                on_call(verdict)
+            if verdict.error is not None:
+                what = "the composed OAC" if call.depth == 0 else "composed step"
+                span = f"steps {call.first + 1}-{call.last + 1}"
+                failed = f"{what} {_label(call.oac.name, call.binding)} ({span})"
+                break
+        if failed is not None:
+            break
+    success = bool(results) and failed is None and len(results) == len(run.steps)
     # containers that start empty: where liquids are poured to
     filled = set(world.layout.liquids.values())
     targets = [p.name for p in world.layout.placements if p.body.container and p.name not in filled]
@@ -248,7 +227,23 @@ def run_prepared(run: Run, *, on_step: Any = None, wall0: float | None = None) -
         "sim_time_s": round(world.time_s, 4),
         "wall_time_s": round(time.perf_counter() - wall0, 4),
     }
-    return RunResult(run.oac.name, success, results, metrics, seed, states)
+    return RunResult(run.oac.name, success, results, metrics, seed, states, judged, failed)
+
+
+def _judge_call(call: Call, state: WorldState) -> CallResult:
+    """A composed step judged by its own predicted effects in ``state``."""
+    effects = bound_atoms(call.oac.effect, call.binding)
+    error = _check(state, effects, f"{call.oac.name}: predicted effect not observed")
+    return CallResult(
+        call.oac.name,
+        dict(call.binding),
+        call.first + 1,
+        call.last + 1,
+        error is None,
+        sorted(_pair(a, b) for a, b, n in effects if not n),
+        _pairs(state, set(call.binding.values())),
+        error,
+    )
 
 
 def _run_skill(ctx: SkillContext, step: Step) -> str | None:

@@ -10,6 +10,12 @@ front of the palm) on that point, and orients the hand:
 * ``top``: the hand comes down, palm facing down, fingers pointing away from the
   robot (or along the offset's horizontal direction, e.g. outward over a bowl's rim);
 * ``front``: the hand comes from the robot towards the object, palm facing it, fingers up.
+* ``type handle`` with ``side``: a vertical handle (a bar along the object's z) centred
+  at ``offset``; the hand comes at it from outside, towards the object's axis, and wraps
+  it (see :func:`_handle_plans`). Its direction is the object's, never turned.
+* ``type pinch`` with ``top``: the edge of a flat object (a tray, a plate) is pinched
+  between the fingertips, beside the edge, and the folded thumb, on the top
+  (see :func:`_pinch_plans`); ``offset`` is a point of the top edge.
 * ``type rim`` with ``top`` on a round container: the hand comes down with its fingers
   pointing down and its palm facing the centre, the wall of the rim between the finger
   plate (outside) and the folded thumb (inside); ``offset`` gives the rim's radius and
@@ -59,6 +65,18 @@ FINGERS_BELOW_CENTRE_M = 0.078
 #: :data:`CLEARANCE_M`, because when a bowl held by its rim is set down, the hand sinks
 #: by the arm's tracking lag (~1 cm) after the weld lets go.
 RIM_CLEARANCE_M = 0.025
+#: Pinch of a flat object's edge (``type pinch approach top``): the fingers point down past
+#: the edge, splayed outwards by this angle (rad), so that the palm faces the object's top
+#: and the folded thumb comes down on it while the finger plate's tip is beside the edge.
+PINCH_TILT_RAD = np.radians(18.0)
+#: The finger plate's palm-side face at its tip, relative to the grasp centre, in the hand
+#: frame H: this far behind it along the palm normal and this far ahead along the fingers, m.
+FINGERTIP_BEHIND_M = 0.0364
+FINGERTIP_AHEAD_M = 0.0786
+#: Height of the fingertips above the support in a pinch, m (below a plate's top).
+PINCH_TIP_ABOVE_SUPPORT_M = 0.004
+#: Gap between the fingertips and the edge, outwards, m.
+PINCH_TIP_OUTSIDE_M = 0.004
 
 
 @dataclass(frozen=True)
@@ -115,7 +133,9 @@ def plan_grasps(
     offset = np.array(grasp.offset, dtype=float)
     radius = float(np.hypot(offset[0], offset[1]))
     plans: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []  # (point, rotation, approach)
-    if grasp.approach == "side":
+    if grasp.approach == "side" and grasp.type == "handle":
+        plans = _handle_plans(offset, r_obj, p_obj, fwd, side)
+    elif grasp.approach == "side":
         base = np.cross(up, fwd) if side == "r" else -np.cross(up, fwd)  # the right hand comes from the right
         turns = (0.0, -30.0, 30.0, -60.0, 60.0) if symmetric else (0.0,)
         for deg in turns:
@@ -130,6 +150,8 @@ def plan_grasps(
             )
     elif grasp.approach == "top" and grasp.type == "rim" and symmetric:
         return _rim_plans(offset, p_obj, fwd, side, support_z)
+    elif grasp.approach == "top" and grasp.type == "pinch":
+        return _pinch_plans(offset, r_obj, p_obj, fwd, side, support_z, symmetric)
     elif grasp.approach == "top":
         if symmetric:
             headings = [rot_axis(up, np.radians(a)) @ fwd for a in (0.0, -45.0, 45.0, -90.0, 90.0)]
@@ -192,3 +214,83 @@ def _rim_plans(
             )
         )
     return out
+
+
+def _pinch_plans(
+    offset: np.ndarray,
+    r_obj: np.ndarray,
+    p_obj: np.ndarray,
+    fwd: np.ndarray,
+    side: str,
+    support_z: float | None,
+    symmetric: bool,
+) -> list[GraspPlan]:
+    """A pinch of a flat object's edge from above (``type pinch approach top``).
+
+    ``offset`` is a point of the object's top edge (object frame); the edge faces away
+    from the object's axis. The hand comes down with its fingers pointing down just
+    outside the edge, splayed outwards by :data:`PINCH_TILT_RAD`, the palm facing the
+    object's top: the finger plate's tip ends beside the edge, below the top, and the
+    folded thumb on the top, some 7 cm in from the edge; closing squeezes the edge
+    between them. Edges tried: the offset's and the opposite one (turned to face the
+    hand when the object is round), the one on the hand's side first."""
+    up = np.array([0.0, 0.0, 1.0])
+    radius = float(np.hypot(offset[0], offset[1]))
+    if radius < 1e-6:
+        raise RuntimeFailure("a pinch grasp needs an offset on the object's edge, away from its axis")
+    toward_hand = -np.cross(up, fwd) if side == "r" else np.cross(up, fwd)
+    if symmetric:
+        outs = [rot_axis(up, np.radians(a)) @ toward_hand for a in (0.0, 30.0, -30.0, 60.0, -60.0)]
+    else:
+        out = r_obj @ np.array([offset[0], offset[1], 0.0])
+        out = _unit(np.array([out[0], out[1], 0.0]))
+        outs = sorted([out, -out], key=lambda u: -float(u @ toward_hand))
+    top = p_obj[2] + offset[2]
+    base = support_z if support_z is not None else p_obj[2]
+    c, s = float(np.cos(PINCH_TILT_RAD)), float(np.sin(PINCH_TILT_RAD))
+    plans = []
+    for u in outs:
+        fingers = s * u - c * up  # down, splayed outwards
+        palm = -c * u - s * up  # towards the object's middle and down
+        rot = hand_rotation_for(palm, fingers)
+        across = RIM_PLATE_ACROSS_M if side == "r" else -RIM_PLATE_ACROSS_M
+        edge = p_obj + radius * u
+        tip = np.array([edge[0], edge[1], min(top, base + PINCH_TIP_ABOVE_SUPPORT_M)])
+        tip += PINCH_TIP_OUTSIDE_M * u
+        point = tip + FINGERTIP_BEHIND_M * palm - FINGERTIP_AHEAD_M * fingers - across * rot[:, 1]
+        plans.append(
+            GraspPlan(
+                make_T(rot, point),
+                make_T(rot, point + PRE_GRASP_M * up),
+                -up,
+                make_T(rot, point - 0.003 * up),
+            )
+        )
+    return plans
+
+
+def _handle_plans(
+    offset: np.ndarray, r_obj: np.ndarray, p_obj: np.ndarray, fwd: np.ndarray, side: str
+) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """(point, R_world_hand, approach) of a vertical handle at ``offset`` (object frame).
+
+    A handle off the object's axis (a jug's) sticks out horizontally along the offset: the
+    hand comes at it from outside, towards the axis, palm facing the axis, the grasp
+    centre on the bar and the fingers across it, pointing away from the robot when
+    they can. A handle on the axis (a stick) is taken from the hand's own side. The bar is
+    round: the approach may also be turned by ±30° about it."""
+    up = np.array([0.0, 0.0, 1.0])
+    point = p_obj + r_obj @ offset
+    out = r_obj @ np.array([offset[0], offset[1], 0.0])
+    out[2] = 0.0
+    if float(np.linalg.norm(out)) < 1e-6:  # on the axis: come from the hand's own side
+        base = np.cross(up, fwd) if side == "r" else -np.cross(up, fwd)
+    else:
+        base = -_unit(out)
+    plans = []
+    for deg in (0.0, -30.0, 30.0):
+        d = rot_axis(up, np.radians(deg)) @ base
+        across = _unit(np.cross(d, up))
+        for fingers in sorted((across, -across), key=lambda f: -float(f @ fwd)):
+            plans.append((point, hand_rotation_for(d, fingers), d))
+    return plans

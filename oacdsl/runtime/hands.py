@@ -33,6 +33,7 @@ __all__ = [
     "OPEN",
     "CLOSED",
     "TOP_PRESHAPE",
+    "PINCH_CLOSED",
     "finger_joint_names",
 ]
 
@@ -67,6 +68,9 @@ CLOSED: dict[str, float] = {"fingers_j0": 1.5, "fingers_j1": 1.5, "thumb_j0": 1.
 #: Hand shape before a grasp from above: the thumb folded along the palm, so that it does
 #: not reach down past the object (an open thumb sticks 12 cm out of the palm).
 TOP_PRESHAPE: dict[str, float] = {"fingers_j0": 0.0, "fingers_j1": 0.0, "thumb_j0": 1.3, "thumb_j1": 0.0}
+#: Closing a pinch: the finger plate stays straight beside the edge, the folded thumb turns
+#: down onto the top (its lowest reach is at 1.57 rad).
+PINCH_CLOSED: dict[str, float] = {"fingers_j0": 0.0, "fingers_j1": 0.0, "thumb_j0": 1.57, "thumb_j1": 0.0}
 
 
 def _m(v: tuple[float, float, float], side: str) -> tuple[float, float, float]:

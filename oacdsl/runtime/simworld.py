@@ -161,15 +161,26 @@ class SimWorld:
 
     def fingers_touch(self, side: str, obj: str) -> bool:
         """True when the finger plate or the thumb (not just the palm) touches ``obj``."""
+        return bool(self.hand_parts_touching(side, obj) - {"palm"})
+
+    def hand_parts_touching(self, side: str, obj: str) -> set[str]:
+        """Which parts of hand ``side`` touch ``obj`` now: ``palm``, ``fingers`` (the finger
+        plate), ``thumb``."""
         target = self.instances.index(obj)
-        fingers = {b for b in self.hand_bodies[side] if self.model.body(b).name != f"hand_{side}"}
+        parts: set[str] = set()
         for g1, g2 in self.contact_geoms():
             b1, b2 = int(self.model.geom_bodyid[g1]), int(self.model.geom_bodyid[g2])
-            if (b1 in fingers and self._body_instance[b2] == target) or (
-                b2 in fingers and self._body_instance[b1] == target
-            ):
-                return True
-        return False
+            for mine, other in ((b1, b2), (b2, b1)):
+                if mine in self.hand_bodies[side] and self._body_instance[other] == target:
+                    name = self.model.body(mine).name
+                    parts.add(
+                        "thumb"
+                        if name.startswith("thumb_")
+                        else "fingers"
+                        if name.startswith("fingers_")
+                        else "palm"
+                    )
+        return parts
 
     # --- liquids -----------------------------------------------------------------------------
     def ball_positions(self, liquid: str) -> np.ndarray:

@@ -23,8 +23,9 @@ from oacdsl.runtime.bodies import Body
 from oacdsl.runtime.control import Controller
 from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M
 from oacdsl.runtime.simworld import SimWorld
+from oacdsl.world import WorldState
 
-__all__ = ["SkillContext", "Skill", "fmt_xyz"]
+__all__ = ["SkillContext", "Skill", "Pick", "fmt_xyz"]
 
 
 T = TypeVar("T")
@@ -49,15 +50,29 @@ REACH_TOLERANCE_M = 0.02
 REACH_TOLERANCE_RAD = 0.25
 
 
+@dataclass(frozen=True)
+class Pick:
+    """How a hand took what it holds: the object's pose when it was picked up
+    (T_world_object), the grasp's approach direction (world, unit) and the objects it
+    stood on or touched then (its supports)."""
+
+    obj: str
+    origin: np.ndarray
+    approach: np.ndarray
+    supports: frozenset[str]
+
+
 @dataclass
 class SkillContext:
-    """Everything a skill may use. ``picked`` remembers, per held object, where it was
-    picked up (T_world_object) and the approach direction of its grasp."""
+    """Everything a skill may use. ``picked`` remembers, per hand side, how it took what
+    it holds; ``expected`` is the world state the running step is predicted to leave
+    (set by the executor around each skill; None outside a run)."""
 
     ctl: Controller
     library: Library
     classes: Mapping[str, frozenset[str]]
-    picked: dict[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
+    picked: dict[str, Pick] = field(default_factory=dict)
+    expected: WorldState | None = None
 
     @property
     def world(self) -> SimWorld:
@@ -81,6 +96,15 @@ class SkillContext:
                 " declare one, e.g. `grasp Cup { type power approach side offset (0, 0, 0.05) }`"
             )
         return grasp
+
+    def other_holder(self, side: str, obj: str) -> str | None:
+        """The other hand's side when it holds ``obj`` too, else None."""
+        other = "l" if side == "r" else "r"
+        return other if self.world.held.get(other) == obj else None
+
+    def objects(self) -> frozenset[str]:
+        """The free objects of the scene (what stands on the table; no hands, no liquids)."""
+        return frozenset(p.name for p in self.world.layout.placements)
 
     def require_held(self, hand: str, obj: str) -> str:
         side = self.side(hand)

@@ -1,9 +1,15 @@
-"""``place``: put the held object down where it was picked up, feeling for the support.
+"""``place``: set the held object down where the step's predicted effect says, feeling for
+the support; or, in a hand-over, let go of what the other hand holds too.
 
-The hand carries the object above its pick-up spot, lowers it slowly and stops when
-the wrist force/torque sensor feels the support (a change of more than
-:data:`CONTACT_FORCE_N` since the descent began), opens the hand, releases the weld
-and withdraws along the grasp's approach direction.
+Where it goes is read from the world state the step is predicted to leave
+(``SkillContext.expected``): when the object is to touch another free object (the
+sponge stays on the tray it wiped), it is set down on that object — where it is, when it
+touches it already, else above its middle; otherwise (or when it was picked up from that
+very object) it goes back to where it was picked up. The hand carries it above that spot,
+lowers it slowly and stops when the wrist force/torque sensor feels the support (a change
+of more than :data:`CONTACT_FORCE_N` since the descent began), releases the weld, opens
+the hand and withdraws along the grasp's approach direction. When the other hand holds the
+object as well, nothing is carried: the hand only opens and withdraws.
 """
 
 from __future__ import annotations
@@ -11,15 +17,19 @@ from __future__ import annotations
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.skills.base import SkillContext
+from oacdsl.runtime.skills.base import Pick, SkillContext
 from oacdsl.runtime.transforms import make_T
 
-__all__ = ["place", "CONTACT_FORCE_N", "lower_until_contact"]
+__all__ = ["place", "CONTACT_FORCE_N", "lower_until_contact", "target_support"]
 
 #: Force change (N) at the wrist that counts as "the object touches the support".
 CONTACT_FORCE_N = 3.0
 HOVER_M = 0.04
 DESCENT_SPEED_M_S = 0.05
+#: Peak over mean speed of a min-jerk motion: the descent is timed so that its *peak* speed
+#: is :data:`DESCENT_SPEED_M_S` (a heavy object meeting the support at twice that speed made
+#: the arm's tracking lag a 66 N spike at the wrist within one control tick).
+MIN_JERK_PEAK = 1.875
 
 
 def lower_until_contact(
@@ -34,7 +44,7 @@ def lower_until_contact(
     felt = ctl.move(
         side,
         goal,
-        depth_m / DESCENT_SPEED_M_S,
+        MIN_JERK_PEAK * depth_m / DESCENT_SPEED_M_S,
         guard=lambda: float(np.linalg.norm(ctl.force_change(side))) > CONTACT_FORCE_N,
     )
     if not felt:
@@ -45,25 +55,49 @@ def lower_until_contact(
 def place(ctx: SkillContext, hand: str, obj: str) -> None:
     world, ctl = ctx.world, ctx.ctl
     side = ctx.require_held(hand, obj)
-    t_obj, t_obj_in_hand = ctx.held_pose(side, obj)
-    origin, approach = ctx.picked.get(obj, (t_obj, np.array([0.0, 0.0, -1.0])))
-    xy = origin[:2, 3]
-    support = ctx.support_height(xy, exclude=obj)
-    target_obj = make_T(origin[:3, :3], (xy[0], xy[1], support + HOVER_M))
-    hover = target_obj @ np.linalg.inv(t_obj_in_hand)
-    ctl.activity = f"carrying {obj} to its place"
-    ctx.check_reachable(side, hover, f"the place of {obj}")
-    ctx.carry(side, hover, {obj})
-    ctl.wait(0.2)
-    ctl.activity = f"setting {obj} down"
-    lower_until_contact(ctx, side, hover, HOVER_M + 0.03, f"placing {obj}")
+    pick = ctx.picked.get(side)
+    approach = pick.approach if pick is not None else np.array([0.0, 0.0, -1.0])
+    if ctx.other_holder(side, obj) is None:
+        _set_down(ctx, side, obj, pick)
     ctl.activity = f"releasing {obj}"
     world.release(side)
     ctl.open_hand(side, 0.4)
-    ctx.picked.pop(obj, None)
+    ctx.picked.pop(side, None)
     ctl.activity = "withdrawing"
     now = ctl.ik.frame(f"grasp_{side}")
     back = make_T(now[:3, :3], now[:3, 3] - 0.12 * approach + np.array([0.0, 0.0, 0.03]))
     ctl.move(side, back, 0.8)
     up = make_T(now[:3, :3], back[:3, 3] + np.array([0.0, 0.0, 0.08]))
     ctl.move(side, up, 0.6)
+
+
+def target_support(ctx: SkillContext, obj: str) -> str | None:
+    """The object ``obj`` is predicted to stand on after the step (another free object it
+    touches in the step's predicted world state), or None for "back where it was"."""
+    if ctx.expected is None:
+        return None
+    partners = sorted(ctx.expected.partners(obj) & ctx.objects())
+    return partners[0] if partners else None
+
+
+def _set_down(ctx: SkillContext, side: str, obj: str, pick: Pick | None) -> None:
+    """Carry ``obj`` above where it goes and lower it until the wrist feels the support."""
+    world, ctl = ctx.world, ctx.ctl
+    t_obj, t_obj_in_hand = ctx.held_pose(side, obj)
+    origin = pick.origin if pick is not None else t_obj
+    support = target_support(ctx, obj)
+    if support is None or (pick is not None and support in pick.supports):
+        xy, where = origin[:2, 3], "its place"  # back where it was picked up (it stood there)
+    elif world.touching(obj, support):
+        xy, where = t_obj[:2, 3], support  # it is on the support already (a wipe): set it down here
+    else:
+        xy, where = world.body_pose(support)[:2, 3], support
+    height = ctx.support_height(xy, exclude=obj)
+    target_obj = make_T(origin[:3, :3], (xy[0], xy[1], height + HOVER_M))
+    hover = target_obj @ np.linalg.inv(t_obj_in_hand)
+    ctl.activity = f"carrying {obj} to {where}"
+    ctx.check_reachable(side, hover, f"the place of {obj} on {where}")
+    ctx.carry(side, hover, {obj} if support is None else {obj, support})
+    ctl.wait(0.2)
+    ctl.activity = f"setting {obj} down"
+    lower_until_contact(ctx, side, hover, HOVER_M + 0.03, f"placing {obj}")

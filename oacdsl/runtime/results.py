@@ -1,0 +1,96 @@
+"""The result records of a run: one per primitive step, one per composed step, the run.
+
+``RunResult.to_json()`` is the ``oacc run --json`` document (docs/runtime.md).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from oacdsl.world import WorldState
+
+__all__ = ["StepResult", "CallResult", "RunResult"]
+
+
+@dataclass
+class StepResult:
+    """One executed primitive step (one entry of the JSON ``steps`` list)."""
+
+    oac: str
+    binding: dict[str, str]
+    success: bool
+    duration_s: float
+    predicted: list[list[str]]
+    observed: list[list[str]]
+    error: str | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "oac": self.oac,
+            "binding": dict(self.binding),
+            "success": self.success,
+            "duration_s": round(self.duration_s, 4),
+            "predicted": self.predicted,
+            "observed": self.observed,
+            "error": self.error,
+        }
+
+
+@dataclass
+class CallResult:
+    """A composed step judged after its last primitive step (one entry of the JSON
+    ``composed`` list); ``first``/``last`` are 1-based numbers of its primitive steps."""
+
+    oac: str
+    binding: dict[str, str]
+    first: int
+    last: int
+    success: bool
+    predicted: list[list[str]]
+    observed: list[list[str]]
+    error: str | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "oac": self.oac,
+            "binding": dict(self.binding),
+            "steps": [self.first, self.last],
+            "success": self.success,
+            "predicted": self.predicted,
+            "observed": self.observed,
+            "error": self.error,
+        }
+
+
+@dataclass
+class RunResult:
+    """The outcome of :func:`execute`; ``to_json()`` is the ``oacc run --json`` document."""
+
+    oac: str
+    success: bool
+    steps: list[StepResult]
+    metrics: dict[str, float | int]
+    seed: int | None = None
+    states: list[WorldState] = field(default_factory=list)
+    composed: list[CallResult] = field(default_factory=list)
+    failed_step: str | None = None
+
+    @property
+    def error(self) -> str | None:
+        """Why the run failed, naming the failed step (``step 3 place(right_hand, cup): …``)."""
+        reasons = [s.error for s in self.steps] + [c.error for c in self.composed]
+        reason = next((r for r in reasons if r), None)
+        if reason is None:
+            return None
+        return f"{self.failed_step}: {reason}" if self.failed_step else reason
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "oac": self.oac,
+            "success": self.success,
+            "failed_step": self.failed_step,
+            "steps": [s.to_json() for s in self.steps],
+            "composed": [c.to_json() for c in self.composed],
+            "metrics": dict(self.metrics),
+        }

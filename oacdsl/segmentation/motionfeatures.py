@@ -1,0 +1,215 @@
+"""Summary features of an object's path relative to another: what a skill needs to follow it.
+
+Given ``T_target_object`` over a sub-action (metres, seconds), :func:`motion_features`
+reports the path length, the extent along the path's principal axes, the dominant
+period of an oscillation (stirring circles, wiping strokes) with its number of
+cycles and radius, and the tilt the object reaches relative to the target (a pour)
+with how long it stays tilted. Frames without a pose (NaN) are left out of lengths
+and bridged linearly for the period. numpy only.
+
+Definitions (all in the target's frame):
+
+- **path length**: the summed distance between consecutive posed frames of the
+  object frame's origin, after a centred moving average over :data:`SMOOTH_S`
+  (none at 10 Hz), metres.
+- **extent**: peak-to-peak of the origin's path along its three principal axes
+  (PCA of the positions), largest first, metres.
+- **core**: the frames where the object dwells: the longest run of posed frames
+  within :data:`CORE_FACTOR` × the median distance of the path's points from their
+  median point (the object entering and leaving the target is cut off; a stir is the
+  circles, not the spoon's way into the cup). Period, cycles and radius describe the core.
+- **period**: the lag of the first peak (at least :data:`MIN_PERIODICITY`) of the
+  path's autocorrelation (principal plane, centred, linear trend removed) after it
+  first turns negative, refined by a
+  parabola through the peak; reported only when the peak lies 3–5.5 times as far as the first zero
+  crossing (4 for a sinusoid; white noise crosses anywhere), the core holds
+  :data:`MIN_CYCLES` periods or more and its radius is :data:`MIN_RADIUS_M` or more.
+  ``cycles`` = the core's duration / period.
+- **radius**: the median distance of the path from its centre in the principal plane
+  (a circle's radius; half a stroke's length, roughly, for strokes), metres.
+- **tilt**: the angle between the object's z axis and the target's z axis, radians
+  (0 while both stand as they stood at their reference frame); ``tilt_max_rad`` its
+  largest value, ``tilt_time_s`` the time it stays at or above half of that (0 when
+  the largest tilt is below :data:`MIN_TILT_RAD`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "CORE_FACTOR",
+    "MIN_CYCLES",
+    "MIN_PERIODICITY",
+    "MIN_RADIUS_M",
+    "MIN_TILT_RAD",
+    "SMOOTH_S",
+    "MotionFeatures",
+    "core_frames",
+    "dominant_period",
+    "motion_features",
+]
+
+#: Smallest autocorrelation (0..1) at the period's lag for an oscillation to count.
+MIN_PERIODICITY = 0.3
+#: Fewest periods the span must hold for a period to be reported.
+MIN_CYCLES = 1.5
+#: The core holds the points within this many median distances of the path's median point.
+CORE_FACTOR = 2.5
+#: Smallest radius of a reported oscillation, metres: below it the path is jitter of the fit.
+MIN_RADIUS_M = 0.005
+#: The period's lag over the first zero crossing's lag (4 for a sinusoid).
+_ZERO_RATIO = (3.0, 5.5)
+#: Window of the moving average a path length is measured on, seconds (marker jitter
+#: would add length at high frame rates; a 0.6 s stirring circle loses ~1 %).
+SMOOTH_S = 0.05
+#: Smallest tilt whose duration is measured, radians (5°: below it the object was not tilted).
+MIN_TILT_RAD = math.radians(5.0)
+#: Fewest posed frames for a period estimate.
+_MIN_SAMPLES = 8
+
+
+@dataclass(frozen=True)
+class MotionFeatures:
+    """Features of one object-relative path (SI units; ``None`` where not defined)."""
+
+    duration_s: float
+    path_length_m: float
+    extent_m: tuple[float, float, float]
+    core_s: tuple[float, float]
+    period_s: float | None
+    cycles: float | None
+    radius_m: float
+    tilt_max_rad: float
+    tilt_time_s: float
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "duration_s": round(self.duration_s, 6),
+            "path_length_m": round(self.path_length_m, 6),
+            "extent_m": [round(e, 6) for e in self.extent_m],
+            "core_s": [round(c, 6) for c in self.core_s],
+            "period_s": None if self.period_s is None else round(self.period_s, 6),
+            "cycles": None if self.cycles is None else round(self.cycles, 3),
+            "radius_m": round(self.radius_m, 6),
+            "tilt_max_rad": round(self.tilt_max_rad, 6),
+            "tilt_time_s": round(self.tilt_time_s, 6),
+        }
+
+
+def _principal(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Centred points (N, 3) → (coordinates along the principal axes (N, 3), axes (3, 3) as rows)."""
+    centred = points - points.mean(axis=0)
+    _, _, vt = np.linalg.svd(centred, full_matrices=False)
+    axes = np.zeros((3, 3))
+    axes[: vt.shape[0]] = vt
+    return centred @ axes.T, axes
+
+
+def dominant_period(times_s: np.ndarray, signal: np.ndarray) -> tuple[float | None, float]:
+    """The dominant period (seconds) of a (N,) or (N, d) signal and its autocorrelation there.
+
+    Gaps (NaN rows) are bridged linearly; samples are taken as evenly spaced at the
+    median step. Returns ``(None, 0.0)`` when no peak passes the module's rules.
+    """
+    t = np.asarray(times_s, dtype=np.float64)
+    x = np.asarray(signal, dtype=np.float64).reshape(len(t), -1)
+    ok = np.isfinite(x).all(axis=1)
+    if ok.sum() < _MIN_SAMPLES:
+        return None, 0.0
+    x = np.stack([np.interp(t, t[ok], col[ok]) for col in x.T], axis=1)
+    n = len(t)
+    dt = float(np.median(np.diff(t)))
+    design = np.stack([np.ones(n), t - t.mean()], axis=1)
+    x = x - design @ np.linalg.lstsq(design, x, rcond=None)[0]  # centre, remove a linear drift
+    spectrum = np.fft.rfft(x, n=2 * n, axis=0)
+    acf = np.fft.irfft((spectrum * spectrum.conj()).real, axis=0)[:n].sum(axis=1)
+    if acf[0] <= 0:
+        return None, 0.0
+    acf = acf / acf[0] * n / (n - np.arange(n))  # unbiased, normalised: acf[0] = 1
+    max_lag = int(n / MIN_CYCLES)
+    negative = np.flatnonzero(acf[1 : max_lag + 1] < 0)
+    if negative.size == 0:
+        return None, 0.0
+    lo = int(negative[0]) + 1
+    if lo + 1 > max_lag:
+        return None, 0.0
+    zero = lo - 1 + acf[lo - 1] / (acf[lo - 1] - acf[lo])  # lag of the first zero crossing
+    lags = np.arange(lo, min(max_lag, n - 2) + 1)
+    peaks = lags[(acf[lags] >= acf[lags - 1]) & (acf[lags] >= acf[lags + 1]) & (acf[lags] >= MIN_PERIODICITY)]
+    if peaks.size == 0:
+        return None, float(acf[lo : max_lag + 1].max())
+    k = int(peaks[0])  # the first clear peak: the period, not a multiple of it
+    peak = float(acf[k])
+    if not _ZERO_RATIO[0] <= k / zero <= _ZERO_RATIO[1]:
+        return None, peak  # an oscillation crosses zero a quarter period in; noise anywhere
+    a, b, c = acf[k - 1], acf[k], acf[k + 1]
+    denom = a - 2 * b + c
+    shift = 0.5 * (a - c) / denom if denom < 0 else 0.0
+    return (k + float(np.clip(shift, -0.5, 0.5))) * dt, peak
+
+
+def _smooth(times_s: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Centred moving average of (N, 3) ``points`` over :data:`SMOOTH_S` (edges: the mean of what fits)."""
+    dt = float(np.median(np.diff(times_s))) if len(times_s) > 1 else 1.0
+    w = int(round(SMOOTH_S / dt)) if dt > 0 else 1
+    if w <= 1:
+        return points
+    kernel = np.ones(w)
+    count = np.convolve(np.ones(len(points)), kernel, mode="same")
+    return np.stack([np.convolve(col, kernel, mode="same") / count for col in points.T], axis=1)
+
+
+def core_frames(points: np.ndarray) -> tuple[int, int]:
+    """``[a, b)``: the longest run of rows of (N, 3) ``points`` near their median point (module doc)."""
+    ok = np.isfinite(points).all(axis=1)
+    if not ok.any():
+        return 0, 0
+    dist = np.linalg.norm(points - np.median(points[ok], axis=0), axis=1)
+    scale = float(np.median(dist[ok]))
+    far = np.zeros(len(points), dtype=bool)
+    far[ok] = dist[ok] > CORE_FACTOR * scale
+    near = (~far).astype(np.int8)  # a gap does not cut the core
+    edges = np.diff(np.r_[0, near, 0])
+    starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    posed = np.r_[0, np.cumsum(ok)]
+    k = int(np.argmax(posed[stops] - posed[starts]))  # the run with the most posed frames
+    inside = np.flatnonzero(ok[starts[k] : stops[k]]) + starts[k]
+    return (int(inside[0]), int(inside[-1]) + 1) if inside.size else (0, 0)
+
+
+def motion_features(times_s: np.ndarray, T_target_object: np.ndarray) -> MotionFeatures:
+    """The features of one path (module doc); ``T_target_object`` (N, 4, 4), metres, NaN in gaps."""
+    t = np.asarray(times_s, dtype=np.float64)
+    T = np.asarray(T_target_object, dtype=np.float64)
+    ok = np.isfinite(T[:, 0, 0])
+    duration = float(t[-1] - t[0]) if len(t) else 0.0
+    if ok.sum() < 2:
+        return MotionFeatures(duration, 0.0, (0.0, 0.0, 0.0), (0.0, 0.0), None, None, 0.0, 0.0, 0.0)
+    pos = T[ok, :3, 3]
+    path = float(np.linalg.norm(np.diff(_smooth(t[ok], pos), axis=0), axis=1).sum())
+    extent = np.ptp(_principal(pos)[0], axis=0)
+    a, b = core_frames(T[:, :3, 3])
+    core = T[a:b, :3, 3]
+    core_ok = np.isfinite(core).all(axis=1)
+    plane = np.full((b - a, 2), np.nan)
+    radius = 0.0
+    if core_ok.sum() >= 2:
+        plane[core_ok] = _principal(core[core_ok])[0][:, :2]
+        radius = float(np.median(np.linalg.norm(plane[core_ok], axis=1)))
+    period, _ = dominant_period(t[a:b], plane) if b - a >= _MIN_SAMPLES else (None, 0.0)
+    core_s = (float(t[a]), float(t[b - 1])) if b > a else (0.0, 0.0)
+    cycles = (core_s[1] - core_s[0]) / period if period else None
+    if cycles is not None and (cycles < MIN_CYCLES or radius < MIN_RADIUS_M):
+        period = cycles = None
+    tilt = np.arccos(np.clip(T[ok, 2, 2], -1.0, 1.0))  # z axis of the object in the target's frame
+    tilt_max = float(tilt.max())
+    dt = np.diff(t)
+    step = np.r_[dt, dt[-1:]] if len(dt) else np.zeros(1)
+    tilt_time = float(step[ok][tilt >= 0.5 * tilt_max].sum()) if tilt_max >= MIN_TILT_RAD else 0.0
+    return MotionFeatures(duration, path, (float(extent[0]), float(extent[1]), float(extent[2])),
+                          core_s, period, cycles, radius, tilt_max, tilt_time)
