@@ -35,7 +35,7 @@ Two instances touch when (1–3), (4) or the tool rule says so, and the cross-ha
 rule does not forbid it. The episodes need the whole
 recording, so :meth:`AdaptiveDetector.begin` scans it once (chunked, memory
 O(frames) per instance pair that ever comes within reach, float32); step 4 runs
-chunk by chunk with one robust detector per distinct distance. Results do not
+chunk by chunk, one robust detector with each marker pair at its own distance. Results do not
 depend on the chunk size. The instance-level decision of (1–3) is reported on the
 first marker pair of the instance pair; for such a pair the detector follows the
 paper's state of all its marker pairs itself and reports only the combined state.
