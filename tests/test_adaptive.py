@@ -130,3 +130,41 @@ def test_invariant_to_marker_order_and_a_rigid_motion_of_the_scene():
     names = tuple(rec.marker_names[i] for i in perm)
     other = Recording("moved", rec.rate_hz, rec.times_s, names, moved, groups)
     assert segment(other, AasParams(mode="adaptive")).keyframes == base
+
+
+def _extend_per_frame(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int) -> tuple[int, int]:
+    """Step 3 frame by frame: walk outwards from [a, b) while within threshold, unknown, or bridged."""
+    n = dmin.size
+
+    def beyond(i: int) -> bool:
+        if not dmin[i] > threshold:  # NaN: unknown, not beyond
+            return False
+        s = i
+        while s > 0 and dmin[s - 1] > threshold:
+            s -= 1
+        e = i + 1
+        while e < n and dmin[e] > threshold:
+            e += 1
+        return not (e - s <= bridge and s > 0 and e < n)
+
+    start = a
+    while start > 0 and not beyond(start - 1):
+        start -= 1
+    end = b
+    while end < n and not beyond(end):
+        end += 1
+    return start, end
+
+
+def test_episode_extension_matches_a_per_frame_walk():
+    from oacdsl.segmentation.comotion import _extend
+
+    rng = np.random.default_rng(7)
+    for _ in range(3000):
+        n = int(rng.integers(1, 30))
+        dmin = rng.random(n).astype(np.float32)
+        dmin[rng.random(n) < 0.2] = np.nan
+        a = int(rng.integers(0, n))
+        b = int(rng.integers(a + 1, n + 1))
+        threshold, bridge = float(rng.random()), int(rng.integers(0, 4))
+        assert _extend(dmin, a, b, threshold, bridge) == _extend_per_frame(dmin, a, b, threshold, bridge)

@@ -35,15 +35,13 @@ Two instances touch when (1–3), (4) or the tool rule says so, and the cross-ha
 rule does not forbid it. The episodes need the whole
 recording, so :meth:`AdaptiveDetector.begin` scans it once (chunked, memory
 O(frames) per instance pair that ever comes within reach, float32); step 4 runs
-chunk by chunk with one robust detector per distinct distance. Results do not
+chunk by chunk, one robust detector with each marker pair at its own distance. Results do not
 depend on the chunk size. The instance-level decision of (1–3) is reported on the
 first marker pair of the instance pair; for such a pair the detector follows the
 paper's state of all its marker pairs itself and reports only the combined state.
 """
 
 from __future__ import annotations
-
-from dataclasses import replace
 
 import numpy as np
 
@@ -70,9 +68,10 @@ class AdaptiveDetector:
         self.delay_frames = template.delay_frames
         self.reach_m: float | None = max(params.distance_m, self.settings.static_distance_m)
         self._table: PairTable | None = None
-        self._inner: list[tuple[RobustDetector, np.ndarray]] = []  # (detector, (Q,) bool: its blocks)
+        self._inner: RobustDetector | None = None  # the paper's rule, each pair at its own distance
         # block → (E, 3) [causal frame, kind (1 episode, 2 tool, 3 veto), on?], sorted
         self._events: dict[int, np.ndarray] = {}
+        self._event_rows = np.zeros((0, 4), dtype=np.intp)
         self._heads = np.zeros(0, dtype=np.intp)
         self._paper_count = np.zeros(0, dtype=np.int64)  # managed blocks: touching marker pairs
         self._pair_state = np.zeros(0, dtype=bool)  # managed blocks: paper state per marker pair
@@ -100,11 +99,12 @@ class AdaptiveDetector:
             default[q] = False
         by_distance.setdefault(self.settings.static_distance_m, np.zeros(n_q, dtype=bool))
         by_distance[self.settings.static_distance_m] |= default
-        self._inner = []
-        for distance, blocks in sorted(by_distance.items()):
-            detector = RobustDetector(replace(self.params, distance_m=distance), recording.rate_hz)
-            detector.begin(recording, table)
-            self._inner.append((detector, blocks))
+        # one detector, each marker pair at its instance pair's distance (float32, as a detector's own d)
+        block_d = np.zeros(n_q, dtype=np.float32)
+        for distance, blocks in by_distance.items():
+            block_d[blocks] = np.float32(distance)
+        self._inner = RobustDetector(self.params, recording.rate_hz, pair_distance_m=block_d[table.block])
+        self._inner.begin(recording, table)
         self.reach_m = max(by_distance)
         tools = tool_contacts(
             table, recording.n_frames, recording.rate_hz, {q: spans for q, (spans, _) in learned.items()},
@@ -126,22 +126,15 @@ class AdaptiveDetector:
                 collected.setdefault(q, []).extend(events)
         self._events = {q: np.asarray(sorted(e), dtype=np.intp).reshape(-1, 3)
                         for q, e in collected.items() if e}
+        # all events as (E, 4) [causal frame, kind, on?, block], sorted by frame: a chunk slices its own
+        rows = [np.column_stack([e, np.full(len(e), q, dtype=np.intp)]) for q, e in self._events.items()]
+        merged = np.concatenate(rows) if rows else np.zeros((0, 4), dtype=np.intp)
+        self._event_rows = merged[np.argsort(merged[:, 0], kind="stable")]
 
     def step(self, chunk: DistanceChunk) -> PairChanges:
-        if self._table is None:
+        if self._table is None or self._inner is None:
             raise SegmentationError("adaptive detector: step() before begin()")
-        block = self._table.block[chunk.pairs]
-        parts = []
-        for detector, blocks in self._inner:
-            rows = blocks[block]
-            if rows.any():  # a detector without pairs in the chunk has nothing that can change
-                sub = replace(chunk, pairs=chunk.pairs[rows], dist_m=chunk.dist_m[rows])
-                parts.append(detector.step(sub))
-        inner = PairChanges(
-            np.concatenate([p.pairs for p in parts]) if parts else np.zeros(0, dtype=np.intp),
-            np.concatenate([p.frames for p in parts]) if parts else np.zeros(0, dtype=np.intp),
-            np.concatenate([p.touching for p in parts]) if parts else np.zeros(0, dtype=bool),
-        )
+        inner = self._inner.step(chunk)
         if not self._events:
             return inner
         managed = np.isin(self._table.block[inner.pairs], list(self._events))
@@ -153,10 +146,9 @@ class AdaptiveDetector:
         ours = zip(inner.pairs[managed], inner.frames[managed], inner.touching[managed], strict=True)
         for p, f, v in ours:
             changes.setdefault(int(self._table.block[p]), []).append((int(f), 0, bool(v), int(p)))
-        for q, events in self._events.items():
-            inside = (events[:, 0] >= chunk.start) & (events[:, 0] < chunk.stop)
-            for f, kind, v in events[inside]:
-                changes.setdefault(q, []).append((int(f), int(kind), bool(v), -1))
+        first, last = np.searchsorted(self._event_rows[:, 0], [chunk.start, chunk.stop], side="left")
+        for f, kind, v, q in self._event_rows[first:last].tolist():
+            changes.setdefault(q, []).append((f, kind, bool(v), -1))
         for q, block_changes in changes.items():
             block_changes.sort()
             for k, (f, kind, v, p) in enumerate(block_changes):

@@ -154,14 +154,16 @@ def _scan(recording: Recording, table: PairTable, params: AasParams,
         out = slice(start - lo, stop - lo)
         for k, q in enumerate(blocks):
             d = dist[offsets[k]:offsets[k] + sizes[k]]  # (P_q, R), frames lo..stop-1
-            d_prev = d[:, local_prev]
             with np.errstate(invalid="ignore"):
                 closest = np.fmin.reduce(d, axis=0)
-                change = _nanmedian0(np.abs(d - d_prev)) / dt
                 a, b = table.instance_pairs[q]
                 slower = np.fmin(speeds[a], speeds[b])
                 moving = (closest < params.distance_m) & (slower > settings.move_speed_m_s)
-                is_carry = moving & (change < settings.rigid_ratio * slower)
+                is_carry = moving.copy()
+                cols = np.flatnonzero(moving)  # the distance change matters only where both move
+                if cols.size:
+                    change = _nanmedian0(np.abs(d[:, cols] - d[:, local_prev[cols]])) / dt[cols]
+                    is_carry[cols] = change < settings.rigid_ratio * slower[cols]
             if int(q) not in dmin:
                 dmin[int(q)] = np.full(n_frames, np.inf, dtype=np.float32)
                 carry[int(q)] = np.zeros(n_frames, dtype=bool)
@@ -195,8 +197,10 @@ def _prune_indirect(signals: dict[int, tuple[np.ndarray, np.ndarray]], table: Pa
 def _instance_speeds(recording: Recording, groups: list[np.ndarray], rows: np.ndarray, prev: np.ndarray,
                      dt: np.ndarray) -> list[np.ndarray]:
     """Per instance (table order), the median marker speed at ``rows`` (m/s; NaN in gaps)."""
-    now, before = recording.positions_m[rows], recording.positions_m[prev]  # (R, M, 3) each
-    return [_nanmedian0(np.linalg.norm(now[:, m] - before[:, m], axis=-1).T) / dt for m in groups]
+    diff = recording.positions_m[rows[0]:rows[-1] + 1] - recording.positions_m[prev]  # (R, M, 3)
+    step = np.sqrt(diff[..., 0] * diff[..., 0] + diff[..., 1] * diff[..., 1]
+                   + diff[..., 2] * diff[..., 2])  # (R, M) metres, as np.linalg.norm(diff, axis=-1)
+    return [_nanmedian_last(step[:, m]) / dt for m in groups]
 
 
 def _nanmedian0(x: np.ndarray) -> np.ndarray:
@@ -209,6 +213,22 @@ def _nanmedian0(x: np.ndarray) -> np.ndarray:
     lo = np.maximum(count - 1, 0) // 2
     hi = np.minimum(count // 2, x.shape[0] - 1)
     median = (ordered[lo, cols] + ordered[hi, cols]) / 2
+    return np.where(count > 0, median, np.nan)
+
+
+def _nanmedian_last(x: np.ndarray) -> np.ndarray:
+    """Median over the last axis of (R, K) ignoring NaN (NaN where a row has no value).
+
+    The same values as ``_nanmedian0(x.T)``; sorting along contiguous rows is faster.
+    """
+    if x.shape[1] == 0:
+        return np.full(x.shape[0], np.nan)
+    ordered = np.sort(x, axis=1)  # NaN sort last
+    count = np.count_nonzero(~np.isnan(x), axis=1)
+    rows = np.arange(x.shape[0])
+    lo = np.maximum(count - 1, 0) // 2
+    hi = np.minimum(count // 2, x.shape[1] - 1)
+    median = (ordered[rows, lo] + ordered[rows, hi]) / 2
     return np.where(count > 0, median, np.nan)
 
 
@@ -228,15 +248,15 @@ def _extend(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int = 0)
     """
     with np.errstate(invalid="ignore"):
         beyond = dmin > threshold  # NaN: unknown, not beyond
-    if bridge > 0 and beyond.any():
-        padded = np.concatenate([[False], beyond, [False]])
-        edges = np.flatnonzero(padded[1:] != padded[:-1])
-        for s, e in zip(edges[::2], edges[1::2], strict=True):
-            if e - s <= bridge and s > 0 and e < beyond.size:
-                beyond[s:e] = False
-    before = np.flatnonzero(beyond[:a])
-    after = np.flatnonzero(beyond[b:])
-    return (int(before[-1]) + 1 if before.size else 0, b + int(after[0]) if after.size else dmin.size)
+    padded = np.concatenate([[False], beyond, [False]])
+    edges = np.flatnonzero(padded[1:] != padded[:-1])
+    starts, ends = edges[::2], edges[1::2]  # runs [s, e) beyond the threshold
+    if bridge > 0:  # short excursions between two frames within the threshold do not count
+        keep = ~((ends - starts <= bridge) & (starts > 0) & (ends < beyond.size))
+        starts, ends = starts[keep], ends[keep]
+    i = int(np.searchsorted(starts, a, side="left")) - 1  # the last run that starts before a
+    j = int(np.searchsorted(ends, b, side="right"))  # the first run that ends after b
+    return (min(int(ends[i]), a) if i >= 0 else 0, max(int(starts[j]), b) if j < ends.size else dmin.size)
 
 
 def _union(spans: list[tuple[int, int]]) -> list[tuple[int, int]]:

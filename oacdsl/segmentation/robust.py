@@ -41,9 +41,12 @@ class RobustDetector:
     :meth:`begin`'s recording).
     """
 
-    def __init__(self, params: AasParams, rate_hz: float | None = None) -> None:
+    def __init__(self, params: AasParams, rate_hz: float | None = None,
+                 pair_distance_m: np.ndarray | None = None) -> None:
         self.params = params
         self.d = np.float32(params.distance_m)
+        # (P,) float32 metres: each marker pair's own ``d`` (the adaptive detector's), else ``d``
+        self._pair_d = None if pair_distance_m is None else np.asarray(pair_distance_m, dtype=np.float32)
         self.v = float(params.speed_m_s)
         self.n = params.n
         self.reach_m: float | None = float(params.distance_m)
@@ -65,12 +68,16 @@ class RobustDetector:
         n_out = chunk.stop - chunk.start
         state0 = self._state[chunk.pairs]
         first_col = max(0, h - n + 1 - 2 * half)  # columns that feed a run ending at an output frame
-        near = (chunk.dist_m[:, first_col:] < self.d).any(axis=1) | state0
+        row_d = None if self._pair_d is None else self._pair_d[chunk.pairs][:, None]  # (A, 1)
+        d = self.d if row_d is None else row_d
+        near = (chunk.dist_m[:, first_col:] < d).any(axis=1) | state0
         sel = np.flatnonzero(near)
         if sel.size == 0:
             return PairChanges.none()
         dist = chunk.dist_m[sel] if sel.size < near.size else chunk.dist_m
-        close, far = self._conditions(dist, chunk.times_s)
+        if row_d is not None:
+            d = row_d[sel]
+        close, far = self._conditions(dist, chunk.times_s, d)
         s0, pairs = state0[sel], chunk.pairs[sel]
         close_n = windows(close, h, n_out, n)
         busy = s0 | close_n.any(axis=1)  # neither touching nor ever close for n frames: no flip
@@ -83,8 +90,11 @@ class RobustDetector:
             self._state[pairs[rows[last]]] = value[last]
         return PairChanges(pairs[rows], cols + chunk.start, value)
 
-    def _conditions(self, dist: np.ndarray, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _conditions(self, dist: np.ndarray, times: np.ndarray,
+                    d: np.floating | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(close, far), (A, R) bool, by *causal* column: column ``c`` describes frame ``c - half``.
+
+        ``d``: metres, the distance threshold (scalar, or (A, 1) one per row).
 
         Columns whose frame lies before the chunk's first column are False (not part of any run).
         """
@@ -95,7 +105,7 @@ class RobustDetector:
         body = slice(0, max(0, dist.shape[1] - half))  # frames whose window ends inside the chunk
         with np.errstate(invalid="ignore"):
             cur, ch = dist[:, body], rate[:, body]
-            close[:, half:] = (cur < self.d) & (ch < self.v)
+            close[:, half:] = (cur < d) & (ch < self.v)
             # a missing distance is unknown, even where the neighbours give a slope
-            far[:, half:] = ((cur > self.d) | (ch > self.v)) & ~np.isnan(cur)
+            far[:, half:] = ((cur > d) | (ch > self.v)) & ~np.isnan(cur)
         return close, far

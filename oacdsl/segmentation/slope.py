@@ -53,13 +53,15 @@ def windowed_slope(dist: np.ndarray, times_s: np.ndarray, half: int,
     valid = ~np.isnan(dist)
     x = np.where(valid, dist, 0.0).astype(np.float64)
     sx, stx = _window_sum(x, lo, hi), _window_sum(x * t, lo, hi)
-    if valid.all():
-        ones = np.ones((1, r))
-        s0, s1, s2 = (_window_sum(ones, lo, hi), _window_sum(ones * t, lo, hi),
-                      _window_sum(ones * t * t, lo, hi))
-    else:
-        w = valid.astype(np.float64)
-        s0, s1, s2 = _window_sum(w, lo, hi), _window_sum(w * t, lo, hi), _window_sum(w * t * t, lo, hi)
+    ones = np.ones((1, r))
+    s0, s1, s2 = (_window_sum(ones, lo, hi), _window_sum(ones * t, lo, hi),
+                  _window_sum(ones * t * t, lo, hi))
+    gappy = np.flatnonzero(~valid.all(axis=1))  # rows with a gap: their own sums (the same where valid)
+    if gappy.size:
+        s0, s1, s2 = (np.repeat(s, a, axis=0) for s in (s0, s1, s2))
+        w = valid[gappy].astype(np.float64)
+        s0[gappy], s1[gappy], s2[gappy] = (_window_sum(w, lo, hi), _window_sum(w * t, lo, hi),
+                                           _window_sum(w * t * t, lo, hi))
     den = s0 * s2 - s1 * s1
     with np.errstate(invalid="ignore", divide="ignore"):
         slope = (s0 * stx - s1 * sx) / den
