@@ -1,6 +1,8 @@
 """Benchmark: parse + validate a generated OAC library vs. the ``pddl`` package on the same content.
 
-Generates a library of N OACs over 200 classes (N = 1,000 and 10,000 by default)
+Generates a library of N OACs over 200 classes (plus Hand and Graspable, the classes
+of the skills they execute with explicit arguments, ``execute place(h, o)``, checked
+against the skill's signature; N = 1,000 and 10,000 by default)
 and an equivalent PDDL domain: one type per class (single parent: PDDL types
 have one), one action per OAC with the same parameters and the same number of
 precondition and effect atoms (``a <-> b`` → ``(touching ?a ?b)``,
@@ -29,7 +31,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from oacdsl.compiler import compile_sources  # noqa: E402
 from oacdsl.compiler.grammar import lark_parser  # noqa: E402
-from oacdsl.skills import SKILLS  # noqa: E402
+from oacdsl.skills import SIGNATURES  # noqa: E402
 
 N_CLASSES = 200
 OACS_PER_FILE = 1000
@@ -41,13 +43,20 @@ class Spec:
     def __init__(self, n_oacs: int, seed: int = 1) -> None:
         rng = random.Random(seed)
         self.classes = [f"C{i:03d}" for i in range(N_CLASSES)]
-        self.parent = {c: (self.classes[rng.randrange(i)] if i else None) for i, c in enumerate(self.classes)}
-        skills = sorted(SKILLS)
+        # the skills' classes: h is a Hand, every generated class a Graspable (C000's parent)
+        self.parent = {
+            c: (self.classes[rng.randrange(i)] if i else "Graspable") for i, c in enumerate(self.classes)
+        }
+        self.parent = {"Hand": None, "Graspable": None, **self.parent}
+        self.classes = ["Hand", "Graspable", *self.classes]
+        generated = self.classes[2:]
+        skills = sorted(n for n, s in SIGNATURES.items() if [a.cls for a in s.args] == ["Hand", "Graspable"])
         self.oacs = []
         for i in range(n_oacs):
-            h, o, t = (rng.choice(self.classes) for _ in range(3))
-            self.oacs.append((f"act{i}", (("h", h), ("o", o), ("t", t)), skills[i % len(skills)]))
-        # every OAC: pre h <-> nothing, not o <-> t; effect h <-> o, o <-> t (2 + 2 atoms)
+            o, t = (rng.choice(generated) for _ in range(2))
+            self.oacs.append((f"act{i}", (("h", "Hand"), ("o", o), ("t", t)), skills[i % len(skills)]))
+        # every OAC: pre h <-> nothing, not o <-> t; effect h <-> o, o <-> t (2 + 2 atoms);
+        # execute reach_and_grasp(h, o) or place(h, o), checked against the skill's signature
 
 
 def oac_texts(spec: Spec) -> dict[str, str]:
@@ -64,7 +73,7 @@ def oac_texts(spec: Spec) -> dict[str, str]:
                 f"oac {name}({plist}) {{\n"
                 f"    pre     h <-> nothing, not o <-> t\n"
                 f"    effect  h <-> o, o <-> t\n"
-                f"    execute {skill}\n}}\n"
+                f"    execute {skill}(h, o)\n}}\n"
             )
         files[f"gen/actions{start // OACS_PER_FILE:02d}.oac"] = "\n".join(chunk)
     return files
@@ -118,7 +127,7 @@ def main(argv: list[str] | None = None) -> int:
         if not result.ok:
             raise SystemExit("generated library has errors: " + result.errors[0].header())
         domain = pddl_parser(pddl)
-        if len(domain.actions) != n or sum(len(m.decls) for m in result.modules) != n + N_CLASSES:
+        if len(domain.actions) != n or sum(len(m.decls) for m in result.modules) != n + len(spec.classes):
             raise SystemExit("the two renderings differ in size")
         ours = median_time(lambda t=texts: compile_sources(t), args.repeat, clock)
         theirs = median_time(lambda p=pddl: pddl_parser(p), args.repeat, clock)

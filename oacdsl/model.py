@@ -7,8 +7,9 @@ meaning, not layout. Collections whose order carries no meaning (parents,
 preconditions, effects) are normalised to sorted, de-duplicated tuples when a
 node is built, so two models that mean the same compare equal.
 
-Units: grasp offsets are metres in the object's frame; geometry keeps each
-quantity with the unit it was written in (:class:`Quantity`).
+Units: grasp offsets are metres in the object's frame; geometry, placements and
+skill parameters keep each quantity with the unit it was written in
+(:class:`Quantity`; :func:`oacdsl.units.language_si` converts to SI).
 """
 
 from __future__ import annotations
@@ -25,6 +26,10 @@ _TRIVIA = frozenset({"span", "comments", "note", "parts"})
 GRASP_TYPES: tuple[str, ...] = ("handle", "pinch", "power", "precision", "rim")
 #: Directions a hand may approach an object from (``approach``), in the object frame.
 APPROACHES: tuple[str, ...] = ("front", "side", "top")
+#: Where a scene's objects start when no ``at`` says (``layout …``).
+LAYOUTS: tuple[str, ...] = ("auto", "demonstrated")
+#: Most balls one liquid may have (``balls N``; each ball is a free body in the simulation).
+MAX_BALLS = 40
 
 
 class Span(BaseModel):
@@ -160,7 +165,8 @@ class Instance(Node):
 
     ``markers`` optionally lists the motion-capture marker names of the group
     (an explicit mapping); ``environment`` marks geometry that is not tracked
-    (the table in the paper's scene): it takes no part in touching relations.
+    (the table in the paper's scene): it takes no part in touching relations;
+    ``ignored`` marks a marker group of the recording that is neither tracked nor built.
     ``geometry`` overrides its class's geometry property by property.
     """
 
@@ -168,6 +174,8 @@ class Instance(Node):
     classes: tuple[str, ...]
     markers: tuple[str, ...] = ()
     environment: bool = False
+    #: A marker group nobody uses (``rack : Rack ignored``): not tracked, not built.
+    ignored: bool = False
     geometry: Geometry | None = None
 
     @field_validator("classes")
@@ -176,17 +184,57 @@ class Instance(Node):
         return tuple(sorted(set(v)))
 
 
+class ScenePlace(Node):
+    """``red_cup at (56cm, 28cm)`` — where an object starts on the robot's table.
+
+    ``x`` is forward from the robot's platform centre, ``y`` to its left (metres).
+    """
+
+    instance: str
+    x: Quantity
+    y: Quantity
+
+
+class SceneFill(Node):
+    """``liquid_one in red_cup balls 12`` — a liquid that starts inside a container.
+
+    ``balls`` is the number of simulated balls (None: the runtime's default).
+    """
+
+    liquid: str
+    container: str
+    balls: int | None = None
+
+
 class Scene(Node):
-    """``scene kitchen { … }`` — the instances of one demonstration setting."""
+    """``scene kitchen { … }`` — the instances of one demonstration setting.
+
+    ``layout`` says where objects without an ``at`` start (``auto`` or
+    ``demonstrated``; None: ``auto``); ``places`` and ``fills`` are the scene's
+    initial state, sorted by instance name.
+    """
 
     kind: Literal["scene"] = "scene"
     name: str
     instances: tuple[Instance, ...]
+    layout: str | None = None
+    places: tuple[ScenePlace, ...] = ()
+    fills: tuple[SceneFill, ...] = ()
 
     @field_validator("instances")
     @classmethod
     def _sort_instances(cls, v: tuple[Instance, ...]) -> tuple[Instance, ...]:
         return tuple(sorted(v, key=lambda i: i.name))
+
+    @field_validator("places")
+    @classmethod
+    def _sort_places(cls, v: tuple[ScenePlace, ...]) -> tuple[ScenePlace, ...]:
+        return tuple(sorted(v, key=place_key))
+
+    @field_validator("fills")
+    @classmethod
+    def _sort_fills(cls, v: tuple[SceneFill, ...]) -> tuple[SceneFill, ...]:
+        return tuple(sorted(v, key=fill_key))
 
     def instance(self, name: str) -> Instance | None:
         """The instance called ``name``, or None."""
@@ -196,8 +244,26 @@ class Scene(Node):
         return None
 
     def tracked(self) -> tuple[Instance, ...]:
-        """Instances that take part in touching relations."""
-        return tuple(i for i in self.instances if not i.environment)
+        """Instances that take part in touching relations (neither environment nor ignored)."""
+        return tuple(i for i in self.instances if not i.environment and not i.ignored)
+
+    def ignored(self) -> tuple[Instance, ...]:
+        """Instances marked ``ignored``: marker groups that are neither tracked nor built."""
+        return tuple(i for i in self.instances if i.ignored)
+
+    def place(self, name: str) -> ScenePlace | None:
+        """The ``at`` statement of instance ``name``, or None."""
+        return next((p for p in self.places if p.instance == name), None)
+
+
+def place_key(p: ScenePlace) -> tuple[str, float, str, float, str]:
+    """Sort key of scene placements (by instance, then position as written)."""
+    return (p.instance, p.x.value, p.x.unit, p.y.value, p.y.unit)
+
+
+def fill_key(f: SceneFill) -> tuple[str, str, int]:
+    """Sort key of scene contents (by liquid, then container)."""
+    return (f.liquid, f.container, -1 if f.balls is None else f.balls)
 
 
 class Grasp(Node):
@@ -285,11 +351,21 @@ class Call(Node):
     args: tuple[str, ...]
 
 
+class SkillParam(Node):
+    """A named parameter of a skill call: ``tilt 110deg`` (the value in SI units)."""
+
+    name: str
+    value: Quantity
+
+
 class Oac(Node):
     """An Object-Action Complex: typed parameters, preconditions, effects, execution.
 
     Exactly one of ``skill`` (a runtime skill by name) and ``steps`` (an ordered
-    list of OAC calls, for a composed OAC) is set.
+    list of OAC calls, for a composed OAC) is set. ``skill_args`` are the skill's
+    arguments when written (``execute pour(h, c, l, b)``; None: the OAC's
+    parameters in order) and ``skill_params`` its named parameters
+    (``{ tilt 110deg }``), sorted by name.
     """
 
     kind: Literal["oac"] = "oac"
@@ -299,11 +375,22 @@ class Oac(Node):
     effect: tuple[Atom, ...] = ()
     skill: str | None = None
     steps: tuple[Call, ...] | None = None
+    skill_args: tuple[str, ...] | None = None
+    skill_params: tuple[SkillParam, ...] = ()
 
     @field_validator("pre", "effect")
     @classmethod
     def _normalise_atoms(cls, v: tuple[Atom, ...]) -> tuple[Atom, ...]:
         return _atoms(v)
+
+    @field_validator("skill_params")
+    @classmethod
+    def _sort_skill_params(cls, v: tuple[SkillParam, ...]) -> tuple[SkillParam, ...]:
+        return tuple(sorted(v, key=lambda s: (s.name, s.value.value, s.value.unit)))
+
+    def skill_arguments(self) -> tuple[str, ...]:
+        """The names passed to the skill: ``skill_args`` when written, else the parameters."""
+        return self.skill_args if self.skill_args is not None else tuple(p.name for p in self.params)
 
     @property
     def composed(self) -> bool:

@@ -1,17 +1,164 @@
-"""Names of the skills the robot runtime provides.
+"""The signatures of the skills the robot runtime provides.
 
-This list is light on purpose: ``oacc compile`` checks ``execute SKILL`` against
-it without importing MuJoCo or placo. The runtime registers one implementation
-per name (:mod:`oacdsl.runtime.skills`), and a test checks the two agree.
+This table is light on purpose: ``oacc compile`` checks every ``execute SKILL``
+against it (arity, the classes of the arguments, the names, units and ranges of
+the named parameters) without importing MuJoCo or placo, and ``oacc skills``
+prints it. The runtime registers one implementation per name
+(:mod:`oacdsl.runtime.skills`) taking the arguments in this order and the
+parameters by name, in SI units; a test checks the two agree.
+
+Units: every default, lower and upper bound is SI (metres, radians, seconds,
+newtons); a count has unit ``""``.
 """
 
 from __future__ import annotations
 
-#: skill name → one-line description (shown by ``oacc compile`` hints).
-SKILLS: dict[str, str] = {
-    "reach_and_grasp": "approach an object along its grasp's approach direction and close the hand",
-    "place": "lower the held object until the wrist force sensor feels the support, then open the hand",
-    "pour": "tilt the held container over a target container until its content has left",
-    "mix": "put the held tool into a container and stir",
-    "wipe": "press the held tool onto a surface and move it to and fro",
+import math
+from dataclasses import dataclass
+
+from oacdsl.units import unit_kind
+
+__all__ = ["SIGNATURES", "SKILLS", "SkillArg", "SkillParamSpec", "SkillSignature", "format_value"]
+
+
+@dataclass(frozen=True)
+class SkillArg:
+    """One argument of a skill: its name and the class the instance must have."""
+
+    name: str
+    cls: str
+
+
+@dataclass(frozen=True)
+class SkillParamSpec:
+    """A named parameter: SI unit (``m``, ``rad``, ``s``, ``N``; ``""`` a whole count), default, range."""
+
+    name: str
+    unit: str
+    default: float
+    low: float
+    high: float
+    doc: str
+
+    @property
+    def whole(self) -> bool:
+        """A count: written without unit, a whole number."""
+        return self.unit == ""
+
+    def describe(self) -> str:
+        """``tilt: angle, default 125deg (30deg to 180deg) — final tilt of the container``."""
+        kind = unit_kind(self.unit).split(" (")[0].removeprefix("a ").removeprefix("an ")
+        return (
+            f"{self.name}: {kind}, default {format_value(self.default, self.unit)}"
+            f" ({format_value(self.low, self.unit)} to {format_value(self.high, self.unit)}) — {self.doc}"
+        )
+
+
+@dataclass(frozen=True)
+class SkillSignature:
+    """What a skill takes: its arguments in order and its named parameters."""
+
+    name: str
+    doc: str
+    args: tuple[SkillArg, ...]
+    params: tuple[SkillParamSpec, ...] = ()
+
+    def param(self, name: str) -> SkillParamSpec | None:
+        return next((p for p in self.params if p.name == name), None)
+
+    def defaults(self) -> dict[str, float]:
+        """Every parameter's default (SI)."""
+        return {p.name: p.default for p in self.params}
+
+    def text(self) -> str:
+        """``pour(h: Hand, c: Container, l: Liquid, b: Container) { tilt duration height }``."""
+        head = f"{self.name}(" + ", ".join(f"{a.name}: {a.cls}" for a in self.args) + ")"
+        if self.params:
+            head += " { " + "  ".join(p.name for p in self.params) + " }"
+        return head
+
+
+def format_value(value: float, unit: str) -> str:
+    """A parameter value as an author would write it: 0.03 m → ``3cm``, 2.18 rad → ``125deg``."""
+    if unit == "m":
+        return f"{value * 100:g}cm" if abs(value) >= 0.01 or value == 0 else f"{value * 1000:g}mm"
+    if unit == "rad":
+        return f"{math.degrees(value):g}deg"
+    if unit == "m/s":
+        return f"{value * 100:g}cm/s"
+    if unit == "":
+        return f"{value:g}"
+    return f"{value:g}{unit}"
+
+
+def _deg(x: float) -> float:
+    return math.radians(x)
+
+
+#: skill name → signature. The classes are those of the standard library (library/classes.oac).
+SIGNATURES: dict[str, SkillSignature] = {
+    s.name: s
+    for s in (
+        SkillSignature(
+            "reach_and_grasp",
+            "approach an object along its grasp's approach direction and close the hand",
+            (SkillArg("h", "Hand"), SkillArg("o", "Graspable")),
+            (SkillParamSpec("lift", "m", 0.10, 0.0, 0.30, "how high the object is lifted after closing"),),
+        ),
+        SkillSignature(
+            "place",
+            "lower the held object until the wrist force sensor feels the support, then open the hand",
+            (SkillArg("h", "Hand"), SkillArg("o", "Graspable")),
+            (
+                SkillParamSpec(
+                    "force", "N", 3.0, 1.0, 20.0, "wrist force change that means the support took the object"
+                ),
+            ),
+        ),
+        SkillSignature(
+            "pour",
+            "tilt the held container over a target container until its content has left",
+            (
+                SkillArg("h", "Hand"),
+                SkillArg("c", "Container"),
+                SkillArg("l", "Liquid"),
+                SkillArg("b", "Container"),
+            ),
+            (
+                SkillParamSpec(
+                    "tilt", "rad", _deg(125.0), _deg(30.0), _deg(180.0), "final tilt of the container"
+                ),
+                SkillParamSpec("duration", "s", 1.8, 0.3, 10.0, "time to tilt it that far"),
+                SkillParamSpec("height", "m", 0.045, 0.01, 0.20, "the lip's height above the target's rim"),
+            ),
+        ),
+        SkillSignature(
+            "mix",
+            "put the held tool into a container and stir",
+            (SkillArg("h", "Hand"), SkillArg("m", "Graspable"), SkillArg("b", "Container")),
+            (
+                SkillParamSpec("radius", "m", 0.03, 0.0, 0.08, "radius of the stirring circles"),
+                SkillParamSpec("turns", "", 2.0, 1.0, 10.0, "number of circles"),
+                SkillParamSpec("period", "s", 1.2, 0.3, 5.0, "time for one circle"),
+                SkillParamSpec(
+                    "force", "N", 15.0, 3.0, 40.0, "wrist force that stops the descent into the container"
+                ),
+            ),
+        ),
+        SkillSignature(
+            "wipe",
+            "press the held tool onto a surface and move it to and fro",
+            (SkillArg("h", "Hand"), SkillArg("s", "Graspable"), SkillArg("t", "Surface")),
+            (
+                SkillParamSpec("strokes", "", 3.0, 1.0, 20.0, "number of to-and-fro strokes"),
+                SkillParamSpec("length", "m", 0.06, 0.01, 0.20, "how far each stroke goes to either side"),
+                SkillParamSpec(
+                    "press", "m", 0.004, 0.0, 0.02, "how far the tool is pressed into the surface"
+                ),
+            ),
+        ),
+    )
 }
+
+#: skill name → one-line description (what ``oacc compile`` hints show).
+SKILLS: dict[str, str] = {name: s.doc for name, s in SIGNATURES.items()}

@@ -15,7 +15,7 @@ import re
 
 from oacdsl.errors import UsageError
 
-__all__ = ["UNITS", "parse_quantity", "format_quantity"]
+__all__ = ["LANGUAGE_UNITS", "UNITS", "format_quantity", "language_si", "parse_quantity", "unit_kind"]
 
 #: For each SI unit the accepted spellings and their factor to SI.
 UNITS: dict[str, dict[str, float]] = {
@@ -83,3 +83,49 @@ def format_quantity(value: float, unit: str) -> str:
     if unit == "frames":
         return f"{int(value)}"
     raise ValueError(f"unknown unit kind {unit!r}")
+
+
+#: Units a ``.oac`` file may write after a number (``56cm``, ``110deg``): spelling → (SI unit, factor).
+LANGUAGE_UNITS: dict[str, tuple[str, float]] = {
+    "m": ("m", 1.0),
+    "cm": ("m", 0.01),
+    "mm": ("m", 0.001),
+    "rad": ("rad", 1.0),
+    "deg": ("rad", math.pi / 180.0),
+    "s": ("s", 1.0),
+    "ms": ("s", 0.001),
+    "N": ("N", 1.0),
+    "m/s": ("m/s", 1.0),
+    "cm/s": ("m/s", 0.01),
+    "mm/s": ("m/s", 0.001),
+}
+
+_KIND_WORDS = {
+    "m": "a length (m, cm, mm)",
+    "rad": "an angle (deg, rad)",
+    "s": "a duration (s, ms)",
+    "N": "a force (N)",
+    "m/s": "a speed (m/s, cm/s, mm/s)",
+    "": "a count (a whole number without unit)",
+}
+
+
+def language_si(number: float, unit: str) -> tuple[float, str]:
+    """``(3.0, "cm")`` → ``(0.03, "m")``: the SI value and SI unit of a number written with
+    ``unit`` in a ``.oac`` file, rounded to 12 significant digits so that ``56cm`` and
+    ``0.56m`` are equal; a bare number stays as it is (unit ``""``); an unknown unit is
+    returned unchanged for the checks to report."""
+    if not unit:
+        return float(number), ""
+    known = LANGUAGE_UNITS.get(unit)
+    if known is None:
+        return float(number), unit
+    si, factor = known
+    if factor == 1.0:
+        return float(number), si
+    return float(f"{float(number) * factor:.12g}"), si  # 56cm == 0.56m exactly
+
+
+def unit_kind(si_unit: str) -> str:
+    """Words for an SI unit of the language: ``"rad"`` → ``"an angle (deg, rad)"``."""
+    return _KIND_WORDS.get(si_unit, f"'{si_unit}'")

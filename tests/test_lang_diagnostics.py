@@ -27,7 +27,8 @@ BAD = [
         " or a declaration",
         "1:11",
     ),
-    ("scene s {\n  a b\n}", "E001", "unexpected 'b', expected ':' and the instance's classes", "2:5"),
+    ("scene s {\n  a = b\n}", "E001", "unexpected '=', expected ':' and the instance's classes", "2:5"),
+    ("scene s {\n  c : Cup\n  layuot auto\n}", "E045", "unknown scene statement 'layuot auto'", "3:3"),
     ('scene s { a : Cup markers ("m1" }', "E001", "expected ',' or ')' in the marker list", "1:33"),
     ("grasp Cup { approach side }", "E001", "expected 'type' and a grasp type", "1:13"),
     (
@@ -39,7 +40,7 @@ BAD = [
     (G + "  pre h <-> }", "E001", "unexpected '}', expected an object or 'nothing' after '<->'", "2:13"),
     (G + "  execute\n}", "E001", "unexpected '}', expected the name of a skill", "3:1"),
     ("oac g(h Hand) { }", "E001", "unexpected 'Hand', expected ':' and the parameter's class", "1:9"),
-    (G + "  effect h <-> o execute place steps { }", "E001", "expected '}' to close the OAC", "2:32"),
+    (G + "  effect h <-> o execute place steps { }", "E001", "or '}' to close the OAC", "2:32"),
     (G + "  pre h <- o", "E002", "unexpected character '<', expected '<->' between the two objects", "2:9"),
     (G + "  pre h <-> o;", "E002", "unexpected character ';'", "2:14"),
     ('scene s { a : Cup markers ("m1) }', "E002", "unterminated string", "1:28"),
@@ -235,7 +236,8 @@ BAD = [
         "1:38",
     ),
     (
-        G + "  pre h <-> nothing\n  effect not h <-> nothing\n  execute reach_and_grasp\n}",
+        "oac g(h: Hand, o: Graspable, c: Cup) {\n  pre h <-> nothing\n  effect h <-> c\n"
+        "  steps { grasp(h, c) }\n}",
         "W001",
         "parameter 'o' of 'g' is never used",
         "1:16",
@@ -261,6 +263,118 @@ BAD = [
         "2:11",
     ),
     ("grasp Bowl { type power approach side offset (0.0, 0.0, 60.0) }", "W005", "offsets are metres", "1:39"),
+    # scene state and skill calls
+    (
+        "oac pour3(h: Hand, c: Container, b: Container) {\n  pre h <-> c\n  effect h <-> b\n"
+        "  execute pour\n}",
+        "E040",
+        "skill 'pour' takes 4 arguments, but 'pour3' passes its 3 parameters; write the arguments:"
+        " 'execute pour(h, c, l, b)'",
+        "4:11",
+    ),
+    (
+        G + "  pre h <-> nothing\n  effect h <-> o\n  execute reach_and_grasp(h)\n}",
+        "E040",
+        "skill 'reach_and_grasp' takes 2 arguments, 1 given",
+        "4:11",
+    ),
+    (
+        "oac pour3(h: Hand, c: Container, b: Container) {\n  pre h <-> c\n  effect h <-> b\n"
+        "  execute pour(h, c, b, b)\n}",
+        "E041",
+        "argument 'b' is a Container, but skill 'pour' expects a Liquid for 'l'",
+        "4:22",
+    ),
+    (
+        G + "  pre h <-> nothing\n  effect h <-> o\n  execute reach_and_grasp(h, table)\n}",
+        "E021",
+        "'table' is environment in scene 'kitchen'",
+        "4:30",
+    ),
+    (
+        "oac p(h: Hand, c: Cup, l: Liquid, b: Bowl) {\n  pre h <-> c\n  effect l <-> b\n"
+        "  execute pour { tlt 110deg }\n}",
+        "E042",
+        "skill 'pour' has no parameter 'tlt' (did you mean 'tilt'?)",
+        "4:18",
+    ),
+    (
+        "oac p(h: Hand, c: Cup, l: Liquid, b: Bowl) {\n  pre h <-> c\n  effect l <-> b\n"
+        "  execute pour { tilt 110deg  tilt 90deg }\n}",
+        "E006",
+        "skill parameter 'tilt' is given twice",
+        "4:31",
+    ),
+    (
+        "oac p(h: Hand, c: Cup, l: Liquid, b: Bowl) {\n  pre h <-> c\n  effect l <-> b\n"
+        "  execute pour { tilt 3cm }\n}",
+        "E043",
+        "'tilt' of skill 'pour' is an angle (deg, rad), but '3cm' has a unit of length",
+        "4:23",
+    ),
+    (
+        "oac p(h: Hand, c: Cup, l: Liquid, b: Bowl) {\n  pre h <-> c\n  effect l <-> b\n"
+        "  execute pour { height 3furlongs }\n}",
+        "E043",
+        "but '3furlongs' has an unknown unit 'furlongs'",
+        "4:25",
+    ),
+    (
+        "oac p(h: Hand, c: Cup, l: Liquid, b: Bowl) {\n  pre h <-> c\n  effect l <-> b\n"
+        "  execute pour { tilt 270deg }\n}",
+        "E044",
+        "'tilt' of skill 'pour' must lie between 30deg and 180deg, not 270deg",
+        "4:23",
+    ),
+    (
+        "oac w(h: Hand, s: Sponge, t: Tray) {\n  pre h <-> s\n  effect s <-> t\n"
+        "  execute wipe { strokes 2.5 }\n}",
+        "E044",
+        "'strokes' of skill 'wipe' is a count: '2.5' is not a whole number",
+        "4:26",
+    ),
+    ("scene s {\n  a : Liquid\n  c : Cup\n  a in c balls 99\n}", "E044", "'a' has 99 balls", "4:16"),
+    (
+        "oac p(h: Hand, c: Cup, l: Liquid, b: Bowl) {\n  pre h <-> c\n  effect l <-> b\n"
+        "  execute pour { tilt 110 }\n}",
+        "W040",
+        "'tilt' of skill 'pour' '110' has no unit and is read as 110 rad (radians); write the unit",
+        "4:23",
+    ),
+    ("scene s {\n  c : Cup\n  c at (56, 0)\n}", "W040", "read as 56 m (metres)", "3:9"),
+    ("scene s {\n  c : Cup\n  layout demonstratd\n}", "E045",
+     "unknown layout 'demonstratd' (did you mean 'demonstrated'?)", "3:10"),
+    (
+        "scene s {\n  c : Cup\n  layout auto\n  layout auto\n}",
+        "E006",
+        "the layout of scene 's' is given twice",
+        "4:10",
+    ),
+    (
+        "scene s {\n  c : Cup\n  cp at (56cm, 0)\n}",
+        "E004",
+        "unknown instance 'cp' in scene 's' (did you mean 'c'?)",
+        "3:3",
+    ),
+    ("scene s {\n  c : Cup\n  c at (56cm, 0)\n  c at (60cm, 0)\n}", "E006", "the place of 'c' is given twice",
+     "4:3"),
+    ("scene s {\n  c : Cup\n  c at (5s, 0)\n}", "E043", "the position of 'c' is a length (m, cm, mm)", "3:9"),
+    ("scene s {\n  h : Hand\n  h at (56cm, 0)\n}", "E046", "'h' is a Hand of the robot: it has no", "3:3"),
+    ("scene s {\n  l : Liquid\n  m : Mixer\n  l in m\n}", "E046", "'m' is a Mixer, not a Container", "4:8"),
+    ("scene s {\n  c : Cup\n  m : Mixer\n  m in c\n}", "E046", "'m' is a Mixer, not a Liquid", "4:3"),
+    (
+        "scene s {\n  l : Liquid\n  c, d : Cup\n  l in c\n  l in d\n}",
+        "E006",
+        "the container of 'l' is given twice",
+        "5:3",
+    ),
+    (
+        "scene s {\n  h : Hand\n  rack : Cup ignored\n}\n"
+        "oac g(a: Hand) {\n  pre a <-> nothing\n  effect a <-> rack\n  execute place(a, rack)\n}",
+        "E021",
+        "'rack' is ignored in scene 's': it takes part in no relation",
+        "7:16",
+    ),
     ("grasp Bowl { type power approach side offset (0.0, 1e400, 0.0) }", "E025", "too large to be", "1:39"),
     ("grasp Bowl { type power approach side offset (-1e309, 0, 0) }", "E025", "too large to be", "1:39"),
     (

@@ -9,7 +9,21 @@ from hypothesis import strategies as st
 from oacdsl.compiler import compile_sources, parse_text, print_module
 from oacdsl.compiler.grammar import keywords
 from oacdsl.errors import LanguageError
-from oacdsl.model import Atom, Call, Grasp, Instance, Module, Oac, ObjectClass, Param, Scene
+from oacdsl.model import (
+    Atom,
+    Call,
+    Grasp,
+    Instance,
+    Module,
+    Oac,
+    ObjectClass,
+    Param,
+    Quantity,
+    Scene,
+    SceneFill,
+    ScenePlace,
+    SkillParam,
+)
 from oacdsl.world import NOTHING
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -37,7 +51,16 @@ oac_fields = dict(
     effect=st.lists(atoms, max_size=4).map(tuple),
     **trivia,
 )
-oacs = st.builds(Oac, skill=lower, **oac_fields) | st.builds(
+finite = st.floats(allow_nan=False, allow_infinity=False, width=64)
+quantities = st.builds(Quantity, value=finite, unit=st.sampled_from(["", "m", "rad", "s", "N", "m/s"]))
+skill_params = st.builds(SkillParam, name=lower, value=quantities, **trivia)
+oacs = st.builds(
+    Oac,
+    skill=lower,
+    skill_args=st.none() | st.lists(lower, max_size=3).map(tuple),
+    skill_params=st.lists(skill_params, max_size=3).map(tuple),
+    **oac_fields,
+) | st.builds(
     Oac, steps=st.lists(calls, max_size=3).map(tuple), **oac_fields
 )
 instances = st.builds(
@@ -47,10 +70,22 @@ instances = st.builds(
     markers=st.lists(st.text(st.characters(blacklist_categories=("Cs",)), max_size=6), max_size=3).map(tuple),
     environment=st.booleans(),
     **trivia,
+).flatmap(lambda i: st.sampled_from([i, i.model_copy(update={"environment": False, "ignored": True})]))
+places = st.builds(ScenePlace, instance=lower, x=quantities, y=quantities, **trivia)
+fills = st.builds(
+    SceneFill, liquid=lower, container=lower, balls=st.none() | st.integers(-5, 100), **trivia
 )
 decls = st.one_of(
     st.builds(ObjectClass, name=upper, parents=st.lists(upper, max_size=3).map(tuple), **trivia),
-    st.builds(Scene, name=lower, instances=st.lists(instances, max_size=4).map(tuple), **trivia),
+    st.builds(
+        Scene,
+        name=lower,
+        instances=st.lists(instances, max_size=4).map(tuple),
+        layout=st.none() | lower,
+        places=st.lists(places, max_size=3).map(tuple),
+        fills=st.lists(fills, max_size=2).map(tuple),
+        **trivia,
+    ),
     st.builds(
         Grasp,
         cls=upper,
@@ -134,6 +169,13 @@ EDITS = [
     "steps",
     "markers",
     "environment",
+    "ignored",
+    "layout",
+    "at",
+    "in",
+    "balls",
+    "56cm",
+    "110deg",
     "offset",
     "h",
     "Cup",

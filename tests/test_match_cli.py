@@ -192,8 +192,8 @@ def test_compose_from_a_recording(capsys, lib_dir, tmp_path):
 def test_compose_writes_nothing_when_the_target_conflicts(capsys, lib_dir, tmp_path):
     drafts = lib_dir / "drafts"
     drafts.mkdir()
-    (drafts / "dough.oac").write_text("oac dough(h: Hand) {\n    effect  h <-> nothing\n"
-                                      "    execute place\n}\n")
+    (drafts / "dough.oac").write_text("oac dough(h: Hand, o: Graspable) {\n    pre     h <-> o\n"
+                                      "    effect  h <-> nothing\n    execute place\n}\n")
     code, _, err = run(capsys, "compose", str(with_stack(tmp_path)), "--library", str(lib_dir),
                        "--name", "dough", "--propose")
     assert code == 1 and "already holds a different 'dough'" in err and "--force" in err

@@ -9,10 +9,9 @@ from oacdsl.compiler import load_library
 
 ROOT = Path(__file__).resolve().parents[1]
 SCANNED = ("oacdsl/runtime", "oacdsl/pipeline")
-#: Instance names still written in Python, each in one table of runtime/layout.py: the
-#: nominal places and contents of the paper's kitchen. Initial placement and contents in
-#: the language are issue 10's scene-state part; when they land these go, and so does this.
-PENDING = {"oacdsl/runtime/layout.py": ("NOMINAL", "NOMINAL_CONTENTS")}
+#: Tables of names still written in Python, by file (none: the kitchen's places and
+#: contents are the scene's 'at' and 'in' statements in library/kitchen.oac).
+PENDING: dict[str, tuple[str, ...]] = {}
 #: Words that are the robot's own (ARMAR-III's links hand_r, hand_l), not the library's.
 ROBOT = {"oacdsl/runtime/urdf.py": {"hand"}}
 

@@ -286,7 +286,7 @@ def test_a_closed_loop_that_differs_fails_the_run(short_demo: Path, library: Pat
     from oacdsl.pipeline import robot
     from oacdsl.verify import verify
 
-    def fake_execute(library_, oac, scene, seed, frames_dir, *, note=None):  # noqa: ANN001, ANN202
+    def fake_execute(library_, oac, scene, seed, frames_dir, *, note=None, **_):  # noqa: ANN001, ANN003, ANN202
         steps = [{"oac": c.oac, "binding": dict(zip([p.name for p in library_.oacs[c.oac].params], c.args,
                                                     strict=True)),
                   "success": True, "duration_s": 4.5, "predicted": [], "observed": [], "error": None}
@@ -330,3 +330,23 @@ def test_a_closed_loop_that_differs_fails_the_run(short_demo: Path, library: Pat
         out / "current"
     ).resolve()
     assert len(list((out / "runs").iterdir())) == 2
+
+
+@pytest.mark.slow
+def test_reproduce_takes_the_scene_overrides_and_the_demonstrated_layout(
+    short_demo: Path, library: Path, tmp_path: Path
+) -> None:
+    out = tmp_path / "out"
+    code = run(short_demo, "--library", library, "--out", out, "--no-record", "--quiet", "--no-render",
+               "--mode", "paper", "--layout", "demonstrated", "--fill", "liquid_one=red_cup:8")
+    doc = json.loads((out / "result.json").read_text())
+    assert code == 0, doc["verdict"]
+    assert doc["demonstration"]["scene_overrides"] == {"fill": {"liquid_one": "red_cup"},
+                                                       "balls": {"liquid_one": 8}, "layout": "demonstrated"}
+    places = doc["run"]["layout"]["places"]
+    assert {p["from"] for p in places.values()} == {"demonstrated"}
+    # the demonstrator had the red cup on its left and the green one on its right
+    assert places["red_cup"]["y_m"] > places["orange_bowl"]["y_m"] > places["green_cup"]["y_m"]
+    assert (places["red_cup"]["x_m"], places["red_cup"]["y_m"]) != (0.56, 0.28)  # not the scene's 'at'
+    assert doc["run"]["layout"]["contents"]["liquid_one"] == {"in": "red_cup", "balls": 8}
+    assert doc["run"]["metrics"]["balls_total"] == 8 + 10

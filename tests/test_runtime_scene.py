@@ -13,7 +13,7 @@ from runtime_lib import inst, task_library  # noqa: E402
 from oacdsl.errors import RuntimeFailure  # noqa: E402
 from oacdsl.model import Scene  # noqa: E402
 from oacdsl.runtime.build import build_model, home_posture  # noqa: E402
-from oacdsl.runtime.layout import MAX_SHIFT_M, MIN_GAP_M, NOMINAL, plan_layout  # noqa: E402
+from oacdsl.runtime.layout import MAX_SHIFT_M, MIN_GAP_M, plan_layout  # noqa: E402
 from oacdsl.runtime.simworld import SimWorld  # noqa: E402
 from oacdsl.runtime.skills import IMPLEMENTATIONS  # noqa: E402
 from oacdsl.skills import SKILLS  # noqa: E402
@@ -39,7 +39,7 @@ def test_every_scene_steps_quietly_and_rests_as_laid_out(scene, seed):
     # at rest: each liquid touches its cup, nothing else touches anything
     assert set(world.relations().relations) == {tuple(sorted(kv)) for kv in layout.liquids.items()}
     for liquid, cup in layout.liquids.items():
-        assert world.balls_inside(cup, liquid) == layout.balls_per_liquid
+        assert world.balls_inside(cup, liquid) == layout.ball_count(liquid)
     for p in layout.placements:
         t = world.body_pose(p.name)
         assert math.dist(t[:2, 3], (p.x, p.y)) < 0.005, p.name
@@ -49,11 +49,12 @@ def test_every_scene_steps_quietly_and_rests_as_laid_out(scene, seed):
 def test_seeded_layouts_move_objects_up_to_10_cm_and_keep_them_apart():
     lib = task_library()
     moved = []
+    nominal = {p.name: (p.x, p.y) for p in plan_layout(lib, KITCHEN).placements}
     for seed in range(12):
         layout = plan_layout(lib, KITCHEN, seed=seed)
         assert layout == plan_layout(lib, KITCHEN, seed=seed)  # deterministic
         for p in layout.placements:
-            shift = math.dist((p.x, p.y), NOMINAL[p.name])
+            shift = math.dist((p.x, p.y), nominal[p.name])
             assert shift <= MAX_SHIFT_M + 1e-9
             moved.append(shift)
         ps = layout.placements
@@ -64,13 +65,18 @@ def test_seeded_layouts_move_objects_up_to_10_cm_and_keep_them_apart():
     assert np.median(moved) > 0.03
 
 
-def test_liquids_start_where_asked_or_in_the_papers_cups():
+def test_liquids_start_where_the_scene_or_the_caller_says():
     lib = task_library()
+    # library/kitchen.oac: liquid_one in red_cup, liquid_two in green_cup
     assert plan_layout(lib, KITCHEN).liquids == {"liquid_one": "red_cup", "liquid_two": "green_cup"}
+    # a liquid moved into the other's cup: the other takes its place (a swap)
     swapped = plan_layout(lib, KITCHEN, {"liquid_one": "green_cup"})
     assert swapped.liquids == {"liquid_one": "green_cup", "liquid_two": "red_cup"}
     with pytest.raises(RuntimeFailure, match="not a container"):
         plan_layout(lib, KITCHEN, {"liquid_one": "mixer"})
+    bare = KITCHEN.model_copy(update={"fills": ()})
+    with pytest.raises(RuntimeFailure, match="liquid 'liquid_one' has no container.*liquid_one in CONTAINER"):
+        plan_layout(lib, bare)
 
 
 def test_layout_errors_name_the_problem():

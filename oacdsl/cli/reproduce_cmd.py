@@ -9,6 +9,7 @@ from pathlib import Path
 
 from oacdsl.cli import seed_arg
 from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
+from oacdsl.cli.scene_options import add_scene_options, scene_overrides
 from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
 
 DESCRIPTION = """\
@@ -34,6 +35,8 @@ examples:
   oacc reproduce                                   # the bundled dough demonstration
   oacc reproduce demo.c3d --scene kitchen --name make_dough --out results/
   oacc reproduce demo.c3d --seed 3                 # objects moved by up to 10 cm
+  oacc reproduce demo.c3d --layout demonstrated    # objects where the demonstrator had them
+  oacc reproduce --place orange_bowl=66cm,2cm --fill liquid_one=red_cup:12
 """
 
 
@@ -70,8 +73,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         "--seed",
         type=seed_arg,
         metavar="N",
-        help="move every object of the robot's scene by up to 10 cm at random (default: nominal)",
+        help="move every object of the robot's scene by up to 10 cm at random"
+        " (default: where the scene puts them)",
     )
+    add_scene_options(p)
     p.add_argument("--out", metavar="DIR", default="out", help="folder for the report (default: out/)")
     p.add_argument(
         "--db",
@@ -107,6 +112,7 @@ def run(args: argparse.Namespace) -> int:
             f"--name {args.name!r}: a name is letters, digits and '_', not starting with a digit"
         )
     params = params_from_args(args)  # bad units fail before any reading
+    overrides = scene_overrides(args)
     db = None
     if not args.no_record:
         from oacdsl.stats import ensure_writable, resolve_db_path
@@ -154,6 +160,7 @@ def run(args: argparse.Namespace) -> int:
         quiet=args.quiet,
         command=command,
         warn=warn,
+        overrides=overrides,
     )
     verdict = outcome.result["verdict"]
     mark = "verified" if verdict["success"] else "FAILED"

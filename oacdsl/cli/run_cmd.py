@@ -16,6 +16,7 @@ from typing import Any
 
 from oacdsl.cli import seed_arg
 from oacdsl.cli.backend import NONE_FOUND, prepare_backend
+from oacdsl.cli.scene_options import add_scene_options, scene_overrides
 from oacdsl.errors import RuntimeFailure, UsageError
 from oacdsl.model import Scene
 
@@ -47,7 +48,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         "--seed",
         type=seed_arg,
         metavar="N",
-        help="move every object by up to 10 cm at random (default: nominal places)",
+        help="move every object by up to 10 cm at random (default: where the scene puts them)",
     )
     p.add_argument(
         "--bind",
@@ -57,18 +58,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         help="bind a parameter to an instance (repeatable; default: the OAC's defaults)",
     )
     p.add_argument(
-        "--fill",
-        action="append",
-        default=[],
-        metavar="LIQUID=CONTAINER",
-        help="start a liquid in a container (default: as the OAC's preconditions say)",
-    )
-    p.add_argument(
-        "--place",
-        action="append",
-        default=[],
-        metavar="OBJECT=X,Y",
-        help="put an object at (X, Y) metres on the table (repeatable)",
+        "--demonstration",
+        metavar="RECORDING",
+        help="a recording whose first frame lays out a scene with 'layout demonstrated'"
+        " (marker groups named after the scene's instances)",
     )
     p.add_argument(
         "--db",
@@ -87,6 +80,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         action="store_true",
         help="leave self-collision avoidance out of the IK (faster)",
     )
+    add_scene_options(p)
     p.set_defaults(func=run)
 
 
@@ -100,15 +94,28 @@ def _pairs(items: list[str], flag: str) -> dict[str, str]:
     return out
 
 
-def _places(items: list[str]) -> dict[str, tuple[float, float]]:
-    out: dict[str, tuple[float, float]] = {}
-    for name, value in _pairs(items, "--place").items():
-        try:
-            x, y = (float(v) for v in value.split(","))
-        except ValueError:
-            raise UsageError(f"--place {name}={value}: expected OBJECT=X,Y in metres") from None
-        out[name] = (x, y)
-    return out
+def _demonstrated(args: argparse.Namespace, library: Any, scene: str | None, bindings: dict[str, str],
+                  layout: str | None) -> dict[str, Any] | None:
+    """First-frame positions of --demonstration for a 'layout demonstrated', else None (a warning
+    when the scene wants them but no recording is given)."""
+    from oacdsl.runtime.binding import choose_scene
+
+    oac = library.oacs.get(args.name)
+    if oac is None:
+        return None  # prepare() names the problem
+    sc = choose_scene(library, oac, scene, bindings)
+    wanted = (layout or sc.layout) == "demonstrated"
+    if args.demonstration is None:
+        if wanted:
+            print(f"oacc: warning: scene {sc.name} is laid out as demonstrated, but no --demonstration"
+                  " was given: objects without a place take free slots", file=sys.stderr)
+        return None
+    from oacdsl.runtime.demo_layout import demonstrated_positions
+    from oacdsl.segmentation.readers import read_recording
+
+    if not Path(args.demonstration).is_file():
+        raise UsageError(f"{args.demonstration}: no such recording file")
+    return demonstrated_positions(read_recording(args.demonstration), sc)
 
 
 def load_inputs(paths: list[str], scene: str | None) -> tuple[Any, str | None]:
@@ -171,8 +178,7 @@ def _check_outputs(args: argparse.Namespace) -> None:
 
 def run(args: argparse.Namespace) -> int:
     bindings = _pairs(args.bind, "--bind")
-    fill = _pairs(args.fill, "--fill")
-    places = _places(args.place)
+    overrides = scene_overrides(args)
     library, scene = load_inputs(args.library or ["library"], args.scene)
     db = None
     if not args.no_record:  # an unusable store fails now, before the simulation
@@ -180,6 +186,7 @@ def run(args: argparse.Namespace) -> int:
 
         db = ensure_writable(resolve_db_path(args.db))
     _check_outputs(args)
+    demonstrated = _demonstrated(args, library, scene, bindings, overrides.layout)
     note = prepare_backend(bool(args.video or args.frames))  # before MuJoCo is imported
     if note:
         then = "running without rendering" if note != NONE_FOUND else "trying MuJoCo's default (GLFW)"
@@ -201,9 +208,9 @@ def run(args: argparse.Namespace) -> int:
         bindings,
         scene,
         args.seed,
-        fill=fill,
         self_collision=not args.no_self_collision,
-        places=places,
+        demonstrated=demonstrated,
+        **overrides.kwargs(),
     )
     out = sys.stderr if args.json else sys.stdout
     closers: list[Any] = []

@@ -156,9 +156,10 @@ def _geometry(ctx: Context, geometry: Geometry, owner: str) -> None:
 
 
 def _shapeless(ctx: Context, scene: Scene) -> None:
-    """W007 for every instance that neither it nor its classes give a shape."""
+    """W007 for every instance that neither it nor its classes give a shape (``ignored`` ones
+    are not built: they need none)."""
     for inst in scene.instances:
-        if inst.geometry is not None and inst.geometry.shapes:
+        if inst.ignored or (inst.geometry is not None and inst.geometry.shapes):
             continue
         if not all(c in ctx.library.classes for c in inst.classes):
             continue  # E003 already

@@ -8,6 +8,7 @@ relation and may not be named.
 
 from __future__ import annotations
 
+from oacdsl.compiler.check_skills import check_skill_call
 from oacdsl.compiler.context import Context
 from oacdsl.compiler.diagnostics import Note
 from oacdsl.compiler.grammar import keywords
@@ -35,11 +36,12 @@ class _OacChecker:
             return [self.ctx.library.ancestors(param.cls)]
         entries = self.ctx.instances.get(name)
         if entries:
-            env = [scene.name for scene, inst in entries if inst.environment]
+            env = [(scene.name, inst) for scene, inst in entries if inst.environment or inst.ignored]
             if env and len(env) == len(entries):
+                what = "environment" if env[0][1].environment else "ignored"
                 self.ctx.add(
                     "E021",
-                    f"'{name}' is environment in scene '{env[0]}': it takes part in no "
+                    f"'{name}' is {what} in scene '{env[0][0]}': it takes part in no "
                     "relation and cannot be named in an OAC",
                     node.part(key),
                     Note("declared here", entries[0][1].part("name")),
@@ -48,7 +50,7 @@ class _OacChecker:
             return self.ctx.instance_classes(name)
         valid = [
             *self.params,
-            *(n for n, e in self.ctx.instances.items() if not all(i.environment for _, i in e)),
+            *(n for n, e in self.ctx.instances.items() if not all(i.environment or i.ignored for _, i in e)),
         ]
         self.ctx.add(
             "E005",
@@ -174,6 +176,17 @@ class _OacChecker:
                 self.oac.part("skill"),
                 Note("the runtime provides " + ", ".join(sorted(SKILLS)) + " (see 'oacc skills')"),
             )
+            for i, arg in enumerate(self.oac.skill_args or ()):
+                self.resolve(arg, self.oac, f"skill_args.{i}")
+            return
+        if skill is not None:
+            check_skill_call(self.ctx, self.oac, self.resolve, self.declared)
+
+    def declared(self, name: str) -> str:
+        """The class ``name`` is declared with (a parameter's, else an instance's), for messages."""
+        if name in self.params:
+            return self.params[name].cls
+        return "/".join(sorted(self.ctx.instances[name][0][1].classes))
 
     def check_call(self, call: Call) -> None:
         callee = self.ctx.library.oacs.get(call.oac)
@@ -201,11 +214,7 @@ class _OacChecker:
             if kinds is None or param.cls not in self.ctx.library.classes:
                 continue
             if not any(param.cls in classes for classes in kinds):
-                declared = (
-                    self.params[arg].cls
-                    if arg in self.params
-                    else "/".join(sorted(self.ctx.instances[arg][0][1].classes))
-                )
+                declared = self.declared(arg)
                 self.ctx.add(
                     "E015",
                     f"argument '{arg}' is a {declared}, but '{call.oac}' expects a "

@@ -14,6 +14,7 @@ import networkx as nx
 
 from oacdsl.compiler.check_geometry import check_geometry
 from oacdsl.compiler.check_oacs import check_oacs
+from oacdsl.compiler.check_state import check_scene_state
 from oacdsl.compiler.context import Context
 from oacdsl.compiler.diagnostics import Diagnostic, Note
 from oacdsl.compiler.grammar import keywords
@@ -184,6 +185,8 @@ def check_modules(modules: Sequence[Module]) -> list[Diagnostic]:
     ctx = Context(modules)
     check_classes(ctx)
     check_scenes(ctx)
+    for scene in (d for d in _decls(ctx) if isinstance(d, Scene)):
+        check_scene_state(ctx, scene)
     check_grasps(ctx)
     check_geometry(ctx)
     check_oacs(ctx)

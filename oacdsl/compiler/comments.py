@@ -65,7 +65,7 @@ def _end(node: Node) -> tuple[int, int]:
 def _children(decl: Decl) -> list[Node]:
     nodes: list[Node] = []
     if isinstance(decl, Scene):
-        nodes = list(decl.instances)
+        nodes = [*decl.instances, *decl.places, *decl.fills]
     elif isinstance(decl, Oac):
         nodes = [*decl.params, *decl.pre, *decl.effect, *(decl.steps or ())]
     return sorted((n for n in nodes if n.span is not None), key=_start)
@@ -88,6 +88,8 @@ def _rebuild(decl: Decl, slots: dict[int, _Slot]) -> Decl:
     update = _trivia_update(decl, slots.get(id(decl)))
     if isinstance(decl, Scene):
         update["instances"] = tuple(fix(i) for i in decl.instances)
+        update["places"] = tuple(fix(p) for p in decl.places)
+        update["fills"] = tuple(fix(f) for f in decl.fills)
     elif isinstance(decl, Oac):
         update["params"] = tuple(fix(p) for p in decl.params)
         update["pre"] = tuple(fix(a) for a in decl.pre)

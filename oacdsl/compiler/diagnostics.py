@@ -56,7 +56,7 @@ CODES: dict[str, str] = {
     "E018": "reserved word used as a name",
     "E019": "composed OAC calls itself (directly or through other OACs)",
     "E020": "unknown grasp type or approach direction",
-    "E021": "environment instance in a relation",
+    "E021": "environment or ignored instance in a relation",
     "E022": "marker assigned to two instances",
     "E023": "composed OAC without steps",
     "E024": "file is not UTF-8 text",
@@ -69,6 +69,13 @@ CODES: dict[str, str] = {
     "E035": "geometry property given twice",
     "E036": "hand, table or balls combined with other shapes",
     "E037": "unknown colour",
+    "E040": "skill called with the wrong number of arguments",
+    "E041": "skill argument of the wrong class",
+    "E042": "unknown skill parameter",
+    "E043": "quantity with the wrong or an unknown unit",
+    "E044": "value out of range or not a whole number (skill parameter, ball count)",
+    "E045": "unknown layout or scene statement",
+    "E046": "scene state that does not fit the instance (a place for a hand, contents of a non-container, …)",
     "W001": "unused variable",
     "W002": "name or relation listed twice",
     "W003": "effect already holds before (it is also a precondition)",
@@ -76,6 +83,7 @@ CODES: dict[str, str] = {
     "W005": "grasp offset longer than 0.5 m (offsets are metres)",
     "W006": "size over 5 m written without a unit (sizes without a unit are metres)",
     "W007": "instance without a shape (the robot's simulation cannot build it)",
+    "W040": "number without unit that is implausible in SI units (radians, metres)",
 }
 
 

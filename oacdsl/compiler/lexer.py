@@ -13,7 +13,8 @@ reads ``classh`` as the keyword ``class`` followed by ``h``; this one reads
 the word ``classh`` and reports it.
 
 The terminals come from the grammar: keywords and punctuation by their text;
-``NAME``, ``NUMBER``, ``STRING``, ``COMMENT`` and ``WS`` must keep the
+``NAME``, ``NUMBER``, ``QUANTITY`` (a number with its unit, ``56cm``), ``STRING``,
+``COMMENT`` and ``WS`` must keep the
 patterns written below (a test checks they agree with ``grammar/oac.lark``).
 """
 
@@ -34,6 +35,9 @@ PATTERNS = {
     "NAME": r"[A-Za-z_][A-Za-z0-9_]*",
     "STRING": r'"(\\.|[^"\\\n])*"',
     "NUMBER": r"[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?",
+    "QUANTITY": (
+        r"[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?(?![eE][+-]?\d)[A-Za-z]+(\/[A-Za-z]+)?(?![A-Za-z0-9_])"
+    ),
     "COMMENT": r"#[^\n]*",
     "WS": r"[ \t\f\r\n]+",
 }
@@ -44,6 +48,7 @@ _MASTER = re.compile(
             f"(?P<WS>{PATTERNS['WS']})",
             f"(?P<COMMENT>{PATTERNS['COMMENT']})",
             f"(?P<NAME>{PATTERNS['NAME']})",
+            f"(?P<QUANTITY>{PATTERNS['QUANTITY']})",
             f"(?P<NUMBER>{PATTERNS['NUMBER']})",
             f"(?P<STRING>{PATTERNS['STRING']})",
             r"(?P<PUNCT><->|[{}(),:=])",

@@ -42,7 +42,7 @@ from oacdsl.model import (
 )
 from oacdsl.world import NOTHING
 
-__all__ = ["format_atom", "format_decl", "format_oac", "print_module"]
+__all__ = ["format_atom", "format_decl", "format_oac", "format_quantity", "print_module"]
 
 _WIDTH = 100
 _IND = "    "
@@ -96,7 +96,17 @@ def _quantity(q: Quantity) -> str:
     if not math.isfinite(q.value):
         raise LanguageError(f"cannot print the number {q.value!r}: sizes must be finite")
     number = str(int(q.value)) if q.value.is_integer() and abs(q.value) < 1e15 else repr(q.value)
-    return number + (_name(q.unit) if q.unit else "")
+    if not q.unit:
+        return number
+    if "/" in q.unit:  # a speed: 5cm/s
+        num, _, den = q.unit.partition("/")
+        return number + f"{_name(num)}/{_name(den)}"
+    return number + _name(q.unit)
+
+
+def format_quantity(q: Quantity) -> str:
+    """A quantity as written: ``56cm``, ``110deg``, ``0.3``."""
+    return _quantity(q)
 
 
 def _point(p: Point) -> str:
@@ -147,6 +157,8 @@ def _instance_line(names: list[str], inst: Instance, width: int) -> str:
         text += " markers (" + ", ".join(_string(m) for m in inst.markers) + ")"
     if inst.environment:
         text += " environment"
+    if inst.ignored:
+        text += " ignored"
     if inst.geometry is not None:
         inside = _geometry(inst.geometry, _IND * 2)
         if not inside:
@@ -161,12 +173,12 @@ def _groups(instances: tuple[Instance, ...]) -> list[list[Instance]]:
     An instance with markers or comments gets a line of its own.
     """
     groups: list[list[Instance]] = []
-    by_kind: dict[tuple[tuple[str, ...], bool], list[Instance]] = {}
+    by_kind: dict[tuple[tuple[str, ...], bool, bool], list[Instance]] = {}
     for inst in instances:
         if inst.markers or inst.geometry is not None or inst.comments or inst.note is not None:
             groups.append([inst])
             continue
-        key = (inst.classes, inst.environment)
+        key = (inst.classes, inst.environment, inst.ignored)
         if key in by_kind:
             by_kind[key].append(inst)
         else:
@@ -182,7 +194,28 @@ def _scene(decl: Scene) -> list[str]:
     for group in groups:
         lines += _comment_lines(group[0].comments, _IND)
         lines.append(_IND + _instance_line([i.name for i in group], group[0], width))
+    lines += _scene_state(decl)
     lines.append(_with_note("}", decl))
+    return lines
+
+
+def _scene_state(decl: Scene) -> list[str]:
+    """``layout …``, then the ``at`` and ``in`` statements, names aligned, after the instances."""
+    rows: list[tuple[Node, str, str]] = []
+    for place in decl.places:
+        rows.append((place, place.instance, f"at ({format_quantity(place.x)}, {format_quantity(place.y)})"))
+    for fill in decl.fills:
+        text = f"in {_name(fill.container)}" + (f" balls {fill.balls}" if fill.balls is not None else "")
+        rows.append((fill, fill.liquid, text))
+    lines = [f"{_IND}layout {_name(decl.layout)}"] if decl.layout is not None else []
+    if not rows and not lines:
+        return lines
+    if decl.instances:
+        lines.insert(0, "")
+    width = max((len(name) for _, name, _ in rows), default=0)
+    for node, name, text in rows:
+        lines += _comment_lines(node.comments, _IND)
+        lines.append(_IND + _with_note(f"{_name(name):<{width}} {text}", node))
     return lines
 
 
@@ -280,7 +313,14 @@ def _oac(decl: Oac) -> list[str]:
             lines.append(_IND * 2 + _call(call))
         lines.append(f"{_IND}}}")
     elif decl.skill is not None:
-        lines.append(f"{_IND}{'execute':<8}{_name(decl.skill)}")
+        text = f"{_IND}{'execute':<8}{_name(decl.skill)}"
+        if decl.skill_args is not None:
+            text += "(" + ", ".join(_name(a) for a in decl.skill_args) + ")"
+        if decl.skill_params:
+            text += " { " + "  ".join(
+                f"{_name(s.name)} {format_quantity(s.value)}" for s in decl.skill_params
+            ) + " }"
+        lines.append(text)
     else:
         raise LanguageError(f"cannot print OAC '{decl.name}': it has neither a skill nor steps")
     lines.append(_with_note("}", decl))

@@ -27,6 +27,7 @@ _NAMED = {
     "NAME": "a name",
     "STRING": 'a quoted name such as "m1"',
     "NUMBER": "a number",
+    "QUANTITY": "a number with a unit such as 56cm",
     "ENVIRONMENT": "'environment'",
     "NOT": "'not'",
     "NOTHING": "'nothing'",

@@ -63,8 +63,23 @@ EXAMPLES: list[tuple[str, list[str]]] = [
     ("an instance name or '}'", ["scene s {"]),
     ("an instance name", ["scene s { a,", "scene s { a, }", "scene s { a, b,"]),
     (
-        "':' and the instance's classes",
-        ["scene s { a", "scene s { a b", "scene s { a, b", "scene s { a, b, c"],
+        "':' and the instance's classes, 'at (x, y)' or 'in CONTAINER'"
+        " (after 'layout': auto or demonstrated)",
+        ["scene s { a", "scene s { a = b", "scene s { layout", "scene s { layout }"],
+    ),
+    ("':' and the instances' classes", ["scene s { a, b", "scene s { a, b, c"]),
+    ("'(' and the position on the table (x, y)", ["scene s { a at", "scene s { a at x"]),
+    (
+        "a length such as 56cm (bare numbers are metres)",
+        ["scene s { a at (", "scene s { a at (1,", "scene s { a at ( )", "scene s { a at (1, )"],
+    ),
+    ("',' between x and y", ["scene s { a at (1", "scene s { a at (1 2"]),
+    ("')' after x and y", ["scene s { a at (1, 2", "scene s { a at (1, 2, 3"]),
+    ("the container the liquid starts in", ["scene s { a in", "scene s { a in }"]),
+    ("the number of balls", ["scene s { a in b balls", "scene s { a in b balls }"]),
+    (
+        "'balls N', the next instance or statement, or '}'",
+        ["scene s { a in b", "scene s { a in b :"],
     ),
     (
         "',' and more classes, 'markers (…)', 'environment', '{' and the instance's geometry,"
@@ -85,11 +100,20 @@ EXAMPLES: list[tuple[str, list[str]]] = [
         ],
     ),
     (
-        "'{' and the instance's geometry, the next instance or '}'",
+        "'{' and the instance's geometry, the next instance, 'layout', a statement such as"
+        " 'x at (…)' or 'x in c', or '}'",
         [
             "scene s { a : B environment",
             'scene s { a : B markers ("x") environment',
             "scene s { a : B environment :",
+            "scene s { a : B ignored",
+            'scene s { a : B markers ("x") ignored',
+            "scene s { a : B ignored :",
+            "scene s { a in b balls 3",
+            "scene s { a at (1, 2)",
+            "scene s { layout x",
+            "scene s { a in b balls 3 :",
+            "scene s { layout x :",
         ],
     ),
     (
@@ -287,10 +311,26 @@ EXAMPLES: list[tuple[str, list[str]]] = [
     ),
     ("the name of a skill", ["oac f() { execute", "oac f() { execute }"]),
     (
+        "the skill's arguments '(a, b)', its parameters '{ name value }' or '}' to close the OAC",
+        ["oac f() { execute s", "oac f() { execute s pre"],
+    ),
+    (
+        "the skill's parameters '{ name value }' or '}' to close the OAC",
+        ["oac f() { execute s()", "oac f() { execute s(a)", "oac f() { execute s(a) pre"],
+    ),
+    (
+        "a skill parameter such as 'tilt 110deg' or '}'",
+        ["oac f() { execute s {", "oac f() { execute s { t 1", "oac f() { execute s { )"],
+    ),
+    (
+        "the parameter's value, a number with its unit such as 110deg",
+        ["oac f() { execute s { t", "oac f() { execute s { t }"],
+    ),
+    (
         "'}' to close the OAC",
         [
-            "oac f() { execute s",
-            "oac f() { execute s pre",
+            "oac f() { execute s { }",
+            "oac f() { execute s { t 1 }",
             "oac f() { steps { }",
             "oac f() { steps { g() }",
         ],
@@ -309,11 +349,22 @@ EXAMPLES: list[tuple[str, list[str]]] = [
         "'(' and the step's arguments",
         ["oac f() { steps { g", "oac f() { steps { g }", "oac f() { steps { g() h"],
     ),
-    ("an argument or ')'", ["oac f() { steps { g(", "oac f() { steps { g( }"]),
-    ("an argument", ["oac f() { steps { g(a,", "oac f() { steps { g(a, )", "oac f() { steps { g(a, b,"]),
+    ("an argument or ')'", ["oac f() { steps { g(", "oac f() { steps { g( }", "oac f() { execute s(",
+                            "oac f() { execute s( }"]),
+    (
+        "an argument",
+        [
+            "oac f() { execute s(a,",
+            "oac f() { steps { g(a,",
+            "oac f() { steps { g(a, )",
+            "oac f() { steps { g(a, b,",
+        ],
+    ),
     (
         "',' or ')' after the argument",
         [
+            "oac f() { execute s(a",
+            "oac f() { execute s(a b",
             "oac f() { steps { g(a",
             "oac f() { steps { g(a b",
             "oac f() { steps { g(a, b",

@@ -24,7 +24,9 @@ from oacdsl.compiler.diagnostics import Diagnostic, Note
 from oacdsl.compiler.fastmodel import make, unquote
 from oacdsl.compiler.transform_geometry import GeometryBuilder
 from oacdsl.compiler.transform_geometry import token_part as _part
+from oacdsl.errors import did_you_mean
 from oacdsl.model import (
+    MAX_BALLS,
     Atom,
     Call,
     Decl,
@@ -33,10 +35,16 @@ from oacdsl.model import (
     Oac,
     ObjectClass,
     Param,
+    Quantity,
     Scene,
+    SceneFill,
+    ScenePlace,
+    SkillParam,
     Span,
     atom_text,
+    fill_key,
     pair_order,
+    place_key,
 )
 
 __all__ = ["ModelBuilder"]
@@ -127,8 +135,8 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
         return strings or [], rpar
 
     def instance_group(self, children: list[Any]) -> list[Instance]:
-        names, classes, markers, environment, geometry = children
-        last = environment or (markers[1] if markers else classes[-1])
+        names, classes, markers, flag, geometry = children
+        last = flag or (markers[1] if markers else classes[-1])
         if geometry is not None:
             last = geometry.span
         shared: _Parts = []
@@ -144,7 +152,8 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
                     "name": str(name),
                     "classes": cls,
                     "markers": tuple(marks),
-                    "environment": environment is not None,
+                    "environment": flag is not None and flag.type == "ENVIRONMENT",
+                    "ignored": flag is not None and flag.type == "IGNORED",
                     "geometry": geometry,
                     "span": self._between(name, last),
                     "parts": (_part("name", name), *shared),
@@ -154,17 +163,87 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
         ]
 
     def scene_decl(self, children: list[Any]) -> Scene:
-        kw, name, *groups, rbrace = children
-        instances = sorted((i for group in groups for i in group), key=lambda i: i.name)
+        kw, name, *items, rbrace = children
+        instances: list[Instance] = []
+        places: list[ScenePlace] = []
+        fills: list[SceneFill] = []
+        values: dict[str, Any] = {}
+        parts: _Parts = [_part("name", name)]
+        for item in items:
+            if isinstance(item, list):
+                instances += item
+            elif isinstance(item, ScenePlace):
+                places.append(item)
+            elif isinstance(item, SceneFill):
+                fills.append(item)
+            elif str(item[0]) != "layout":  # (NAME, NAME): only 'layout auto|demonstrated' exists
+                self.diagnostics.append(
+                    Diagnostic(
+                        "E045",
+                        f"unknown scene statement '{item[0]} {item[1]}'"
+                        f"{did_you_mean(str(item[0]), ['layout'])}:"
+                        " a scene holds instances ('a : Class'), 'layout auto|demonstrated',"
+                        " 'x at (x, y)' and 'l in c'",
+                        self._between(item[0], item[1]),
+                    )
+                )
+            elif "layout" not in values:  # a second one is reported by the checks
+                values["layout"] = str(item[1])
+                parts.append(_part("layout", item[1]))
+            else:
+                parts.append(_part(f"layout.{len(parts)}", item[1]))
+        values.update(
+            name=str(name),
+            instances=tuple(sorted(instances, key=lambda i: i.name)),
+            places=tuple(sorted(places, key=place_key)),
+            fills=tuple(sorted(fills, key=fill_key)),
+            span=self._between(kw, rbrace),
+            parts=tuple(parts),
+        )
+        return make(Scene, values)
+
+    def layout_stmt(self, children: list[Token]) -> tuple[Token, Token]:
+        return children[0], children[1]
+
+    def measure(self, children: list[Token]) -> Quantity:
+        """``56cm`` (one QUANTITY token) or ``0.56`` (NUMBER): a placement or a skill parameter."""
+        return self.quantity([children[0]])
+
+    def place_stmt(self, children: list[Any]) -> ScenePlace:
+        name, _at, x, y, rpar = children
         return make(
-            Scene,
+            ScenePlace,
             {
-                "name": str(name),
-                "instances": tuple(instances),
-                "span": self._between(kw, rbrace),
-                "parts": (_part("name", name),),
+                "instance": str(name),
+                "x": x,
+                "y": y,
+                "span": self._between(name, rpar),
+                "parts": (_part("instance", name), ("at", x.span.line, x.span.column, rpar.end_line,
+                                                       rpar.end_column)),
             },
         )
+
+    def fill_stmt(self, children: list[Any]) -> SceneFill:
+        liquid, _in, container, _balls, count = children
+        parts: _Parts = [_part("liquid", liquid), _part("container", container)]
+        values: dict[str, Any] = {"liquid": str(liquid), "container": str(container)}
+        last = container
+        if count is not None:
+            parts.append(_part("balls", count))
+            number = float(str(count))
+            if number.is_integer():
+                values["balls"] = int(number)
+            else:
+                self.diagnostics.append(
+                    Diagnostic(
+                        "E044",
+                        f"'{count}' balls: the number of balls is a whole number (1 to {MAX_BALLS})",
+                        self._between(count, count),
+                    )
+                )
+            last = count
+        values.update(span=self._between(liquid, last), parts=tuple(parts))
+        return make(SceneFill, values)
 
     def offset(self, children: list[Token]) -> tuple[tuple[float, float, float], _PartT]:
         kw, x, y, z, rpar = children
@@ -250,8 +329,28 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
     def effect(self, children: list[Any]) -> tuple[str, tuple[Atom, ...], _PartT]:
         return self._section(children, "effect", "effect")
 
-    def execute(self, children: list[Token]) -> tuple[str, Token]:
-        return "execute", children[0]
+    def execute(self, children: list[Any]) -> tuple[str, Token, Any, Any]:
+        name, args, params = children
+        return "execute", name, args, params
+
+    def skill_args(self, children: list[Any]) -> tuple[list[Token], Token]:
+        args, rpar = children
+        return args or [], rpar
+
+    def skill_params(self, children: list[Any]) -> list[SkillParam]:
+        return [c for c in children[:-1] if c is not None]
+
+    def skill_param(self, children: list[Any]) -> SkillParam:
+        name, value = children
+        return make(
+            SkillParam,
+            {
+                "name": str(name),
+                "value": value,
+                "span": self._between(name, value.span),
+                "parts": (_part("name", name),),
+            },
+        )
 
     def steps(self, children: list[Any]) -> tuple[str, tuple[Call, ...], _PartT]:
         kw, *calls, rbrace = children
@@ -288,6 +387,16 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
         if body[0] == "execute":
             values["skill"] = str(body[1])
             parts.append(_part("skill", body[1]))
+            _, _, skill_args, skill_params = body
+            if skill_args is not None:
+                toks, rpar = skill_args
+                values["skill_args"] = tuple(str(t) for t in toks)
+                parts += [_part(f"skill_args.{i}", t) for i, t in enumerate(toks)]
+                parts.append(("skill_call", body[1].line, body[1].column, rpar.end_line, rpar.end_column))
+            if skill_params:
+                values["skill_params"] = tuple(
+                    sorted(skill_params, key=lambda s: (s.name, s.value.value, s.value.unit))
+                )
         else:
             values["steps"] = body[1]
             parts.append(body[2])

@@ -35,7 +35,20 @@ class GeometryBuilder:
     _between: Callable[[Token | Span, Token | Span], Span]
 
     def quantity(self, children: list[Token | None]) -> Quantity:
-        number, unit = children
+        if len(children) == 1 and children[0] is not None and children[0].type == "QUANTITY":
+            tok = children[0]  # ``56cm`` written as one word: the number, then its unit
+            text = str(tok)
+            cut = len(text.rstrip("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ/"))
+            return make(
+                Quantity,
+                {
+                    "value": float(text[:cut]),
+                    "unit": text[cut:],
+                    "span": self._between(tok, tok),
+                    "parts": (("unit", tok.line, (tok.column or 0) + cut, tok.end_line, tok.end_column),),
+                },
+            )
+        number, unit = (*children, None)[:2]
         last = unit if unit is not None else number
         return make(
             Quantity,

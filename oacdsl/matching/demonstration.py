@@ -19,7 +19,7 @@ from oacdsl.matching.drafts import propose_draft
 from oacdsl.matching.matcher import Matcher
 from oacdsl.matching.results import MatchResult, Mode
 from oacdsl.matching.transient import TRANSIENT_S, Transient, agents_of, stable_segmentation
-from oacdsl.model import Oac, Scene
+from oacdsl.model import Instance, Oac, Scene
 from oacdsl.segmentation.result import Segmentation, SubAction
 from oacdsl.world import Relation
 
@@ -66,13 +66,21 @@ class SubActionMatch:
 
 
 def find_scene(library: Library, instances: Sequence[str], name: str | None = None) -> Scene:
-    """The scene called ``name``, or the one whose tracked instances are exactly ``instances``."""
+    """The scene called ``name``, or the one whose tracked instances are exactly ``instances``
+    (leaving out the groups the scene marks ``ignored``)."""
     if name is not None:
         if name not in library.scenes:
             raise MatchingError(f"no scene {name!r} in the library{did_you_mean(name, library.scenes)}")
         return library.scenes[name]
     wanted = set(instances)
-    fits = [s for s in library.scenes.values() if {i.name for i in s.tracked()} == wanted]
+    def called(instances: Sequence[Instance]) -> set[str]:
+        return {i.name for i in instances}
+
+    scenes = library.scenes.values()
+    # every group accounted for (tracked or ignored) first; else the ignored groups may be absent
+    fits = [s for s in scenes if called(s.tracked()) | called(s.ignored()) == wanted] or [
+        s for s in scenes if called(s.tracked()) == wanted - called(s.ignored())
+    ]
     if len(fits) == 1:
         return fits[0]
     if len(fits) > 1:

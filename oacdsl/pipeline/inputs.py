@@ -255,7 +255,7 @@ def load_inputs(
             note(recognised_note(rec, recognised))
     instances = tuple(rec.instances if rec is not None else seg.instances if seg is not None else ())
     lib, sc, outside = resolve_scene(lib, instances, scene)
-    if rec is not None and any(i.markers for i in sc.instances):
+    if rec is not None and any(i.markers or i.ignored for i in sc.instances):  # ignored: dropped
         from oacdsl.segmentation.grouping import apply_scene_groups
 
         rec = apply_scene_groups(rec, sc)

@@ -20,6 +20,7 @@ from oacdsl.library import Library
 from oacdsl.model import Oac, Scene
 from oacdsl.pipeline.camera import StepCamera
 from oacdsl.pipeline.markers import VirtualMarkers, robot_params
+from oacdsl.runtime.overrides import SceneOverrides
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import Segmentation
@@ -46,13 +47,22 @@ def execute_stage(
     frames_dir: Path | None,
     *,
     note: Callable[[str], None] | None = None,
+    overrides: SceneOverrides | None = None,
+    recording: Recording | None = None,
 ) -> ExecuteStage:
     """Execute ``oac``; with ``frames_dir``, render the robot there (:class:`StepCamera`).
+    The scene's initial state comes from the scene, under ``overrides``; with ``layout
+    demonstrated`` the objects stand as at the first frame of ``recording``.
     Raises RuntimeFailure for a call that cannot run (bad binding)."""
     from oacdsl.report import bound_conditions
+    from oacdsl.runtime.demo_layout import first_frame_positions
     from oacdsl.runtime.executor import prepare, run_prepared
 
-    run = prepare(library, oac, scene=scene, seed=seed)
+    demonstrated = (
+        first_frame_positions(recording, [i.name for i in scene.tracked()]) if recording is not None else None
+    )
+    given = (overrides or SceneOverrides()).kwargs()
+    run = prepare(library, oac, scene=scene, seed=seed, demonstrated=demonstrated, **given)
     markers = VirtualMarkers(run.world)
     run.controller.add_observer(markers)
     camera = StepCamera(run.world.model, run.steps, frames_dir) if frames_dir is not None else None
@@ -92,6 +102,15 @@ def execute_stage(
         before = step_doc["observed"]
     doc["binding"] = dict(run.binding)
     doc["grasp"] = "weld"
+    layout = run.world.layout
+    doc["layout"] = {
+        "places": {
+            p.name: {"x_m": round(p.x, 4), "y_m": round(p.y, 4), "from": layout.sources.get(p.name, "auto")}
+            for p in layout.placements
+        },
+        "contents": {liquid: {"in": c, "balls": layout.ball_count(liquid)}
+                     for liquid, c in sorted(layout.liquids.items())},
+    }
     if result.error:
         doc["error"] = result.error
     if camera is None:

@@ -23,6 +23,7 @@ from oacdsl.errors import InputError, OacError
 from oacdsl.pipeline.inputs import Inputs
 from oacdsl.pipeline.result import ResultRecord
 from oacdsl.progress import Progress
+from oacdsl.runtime.overrides import SceneOverrides
 
 __all__ = ["STAGES", "Outcome", "reproduce"]
 
@@ -84,9 +85,11 @@ def reproduce(
     quiet: bool = False,
     command: str | None = None,
     warn: Callable[[str], None] | None = None,
+    overrides: SceneOverrides | None = None,
 ) -> Outcome:
     """Run every stage on checked ``inputs`` and write the report into ``out`` (see the module
-    docstring). ``db``: the run store (None: do not record)."""
+    docstring). ``db``: the run store (None: do not record); ``overrides``: the command line's
+    --place/--fill/--layout over the scene's initial state."""
     from oacdsl import __version__
 
     progress = Progress(list(STAGES), quiet=quiet)
@@ -121,6 +124,7 @@ def reproduce(
                 "library": [str(inputs.library_path)],
                 "seed": seed,
                 "command": command,
+                **({"scene_overrides": overrides.to_json()} if overrides and overrides.to_json() else {}),
             },
         )
         failure = _stages(
@@ -134,6 +138,7 @@ def reproduce(
             force=force,
             db=db,
             warn=note_warning,
+            overrides=overrides,
         )
         verdict = _verdict(record, failure, name)
         result = record.to_json(verdict, progress.records(), warnings)
@@ -166,6 +171,7 @@ def _stages(
     force: bool,
     db: Path | None,
     warn: Callable[[str], None],
+    overrides: SceneOverrides | None = None,
 ) -> tuple[str, OacError] | None:
     """Fill ``result`` stage by stage, each part checked as it is set; the first failed stage and
     its error, or None."""
@@ -216,7 +222,14 @@ def _stages(
 
     def execute() -> Any:
         done = robot.execute_stage(
-            inputs.library, composed.oac, inputs.scene, seed, figs if render else None, note=progress.note
+            inputs.library,
+            composed.oac,
+            inputs.scene,
+            seed,
+            figs if render else None,
+            note=progress.note,
+            overrides=overrides,
+            recording=inputs.recording,
         )
         figures.attach_frames(done.doc, done.frames, staging)
         return done

@@ -13,6 +13,8 @@ from oacdsl.errors import RuntimeFailure, did_you_mean
 from oacdsl.geometry import ROLE_LIQUID, resolve_scene
 from oacdsl.library import Library
 from oacdsl.model import Atom, Oac, Scene
+from oacdsl.skills import SIGNATURES
+from oacdsl.units import language_si
 from oacdsl.world import NOTHING, WorldState
 
 __all__ = [
@@ -40,7 +42,17 @@ class Step:
 
     @property
     def args(self) -> tuple[str, ...]:
-        return tuple(self.binding[p.name] for p in self.oac.params)
+        """The instances the skill gets, in the order of its signature (``execute pour(h, c, l, b)``;
+        without an argument list, the OAC's parameters in order)."""
+        return tuple(self.binding.get(a, a) for a in self.oac.skill_arguments())
+
+    @property
+    def params(self) -> dict[str, float]:
+        """The skill's named parameters (SI): the signature's defaults, then the OAC's values."""
+        sig = SIGNATURES.get(str(self.oac.skill))
+        values = sig.defaults() if sig is not None else {}
+        values.update({p.name: language_si(p.value.value, p.value.unit)[0] for p in self.oac.skill_params})
+        return values
 
 
 @dataclass(frozen=True)

@@ -188,7 +188,7 @@ def build_model(layout: Layout, seed: int | None = None) -> BuiltModel:
         body = replace(body, rgba=_LIQUID_RGBA.get(i, body.rgba))
         balls[liquid] = tuple(
             add_balls(
-                spec, liquid, layout.balls_per_liquid, np.array([p.x, p.y, TABLE_TOP]), p.body, body, rng
+                spec, liquid, layout.ball_count(liquid), np.array([p.x, p.y, TABLE_TOP]), p.body, body, rng
             )
         )
     welds: dict[tuple[str, str], str] = {}

@@ -40,6 +40,7 @@ from oacdsl.runtime.layout import plan_layout
 from oacdsl.runtime.results import CallResult, RunResult, StepResult
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.skills import IMPLEMENTATIONS, SkillContext
+from oacdsl.skills import SIGNATURES
 from oacdsl.world import NOTHING, WorldState
 
 __all__ = ["execute", "RunResult", "StepResult", "CallResult", "Run", "prepare", "run_prepared"]
@@ -73,8 +74,17 @@ def prepare(
     observers: Sequence[Observer] = (),
     self_collision: bool = True,
     places: Mapping[str, tuple[float, float]] | None = None,
+    balls: Mapping[str, int] | None = None,
+    layout: str | None = None,
+    demonstrated: Mapping[str, Any] | None = None,
 ) -> Run:
-    """Bind, lay out and build everything :func:`execute` needs (raises RuntimeFailure)."""
+    """Bind, lay out and build everything :func:`execute` needs (raises RuntimeFailure).
+
+    The scene's initial state (``at``, ``in``, ``layout``) is the default; ``places``,
+    ``fill``, ``balls`` and ``layout`` override it (the command line's ``--place``, …);
+    ``demonstrated`` holds the recording's first-frame positions for ``layout demonstrated``
+    (:func:`oacdsl.runtime.layout.plan_layout`). A liquid the OAC's own preconditions put
+    in a container (``l <-> c``) starts there unless ``fill`` says otherwise."""
     if isinstance(oac, str):
         if oac not in library.oacs:
             raise RuntimeFailure(f"no oac {oac!r} in the library{did_you_mean(oac, library.oacs)}")
@@ -88,10 +98,18 @@ def prepare(
                 f"oac {step.oac.name} executes skill {step.oac.skill!r}, which the runtime"
                 f" lacks{did_you_mean(str(step.oac.skill), IMPLEMENTATIONS)}"
             )
+        sig = SIGNATURES[str(step.oac.skill)]
+        if len(step.args) != len(sig.args):
+            raise RuntimeFailure(
+                f"oac {step.oac.name} calls skill {sig.text()} with {len(step.args)} arguments"
+                " (oacc compile reports this as E040)"
+            )
     contents = liquid_contents(library, sc, oac, bound)
     contents.update(fill or {})
-    layout = plan_layout(library, sc, contents, seed, places)
-    world = SimWorld(build_model(layout, seed))
+    plan = plan_layout(
+        library, sc, contents, seed, places, balls=balls, layout=layout, demonstrated=demonstrated
+    )
+    world = SimWorld(build_model(plan, seed))
     controller = Controller(world, WholeBodyIK(self_collision=self_collision), list(observers))
     context = SkillContext(controller, library, library.instance_classes(sc))
     return Run(oac, sc, bound, steps, calls, world, controller, context, seed)
@@ -127,13 +145,16 @@ def execute(
     self_collision: bool = True,
     places: Mapping[str, tuple[float, float]] | None = None,
     on_step: Any = None,
+    balls: Mapping[str, int] | None = None,
+    layout: str | None = None,
+    demonstrated: Mapping[str, Any] | None = None,
 ) -> RunResult:
     """Run ``oac`` in simulation and report per step (see the module docstring).
 
     ``recorder`` is called with the world at its ``rate_hz`` (e.g. a
     :class:`~oacdsl.runtime.recorder.MarkerRecorder`); ``observers`` likewise (video);
     ``on_step(index, step_result, world)`` is called after every step (frame snapshots);
-    ``places`` puts named objects at given (x, y) on the table instead of their nominal places.
+    ``places`` puts named objects at given (x, y) on the table over the scene's ``at`` (metres).
     """
     wall0 = time.perf_counter()
     run = prepare(
@@ -146,6 +167,9 @@ def execute(
         observers=[*([recorder] if recorder is not None else []), *observers],
         self_collision=self_collision,
         places=places,
+        balls=balls,
+        layout=layout,
+        demonstrated=demonstrated,
     )
     return run_prepared(run, on_step=on_step, wall0=wall0)
 
@@ -249,7 +273,7 @@ def _judge_call(call: Call, state: WorldState) -> CallResult:
 def _run_skill(ctx: SkillContext, step: Step) -> str | None:
     skill = IMPLEMENTATIONS[str(step.oac.skill)]
     try:
-        skill(ctx, *step.args)
+        skill(ctx, *step.args, **step.params)
     except RuntimeFailure as failure:
         return f"{step.oac.name}: {failure}"
     except mujoco.FatalError as failure:

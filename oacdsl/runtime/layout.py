@@ -1,12 +1,22 @@
-"""Where the scene's instances go on the table, and which liquid starts in which cup.
+"""Where the scene's instances go on the table, and which liquid starts in which container.
 
 A :class:`Layout` is computed from a DSL scene: every instance gets its
 :class:`~oacdsl.runtime.bodies.Body` from the language's geometry (its own, else its
-most specific class's), hands are mapped to the robot's right/left hand by their names, liquids start inside a
-container, and the other objects stand on the table at nominal places (the paper's
-kitchen: cups left and right, the bowl in the middle, the mixer to the right). With a
-seed, every object is moved by up to :data:`MAX_SHIFT_M` in a random direction, keeping
-a gap between objects, so the same OAC is executed on a new arrangement.
+most specific class's), hands are mapped to the robot's right/left hand by their names,
+``ignored`` instances are left out (not built). Each object's place comes, first match wins, from
+
+1. the caller's ``places`` (``--place OBJECT=X,Y``),
+2. the scene's ``OBJECT at (x, y)``, unless the caller gives a layout (``--layout``),
+3. the demonstration's first frame mapped into reach (``layout demonstrated`` of the
+   caller or the scene, when the caller gives the recording's positions;
+   :mod:`oacdsl.runtime.demo_layout`),
+4. the first free slot of a fixed list (``layout auto``), in the order of the objects' names.
+
+A liquid starts in the container given by the caller's ``contents`` (``--fill``, or the
+OAC's own preconditions), else by the scene's ``LIQUID in CONTAINER``; a liquid that has
+neither is an error. With a seed, every object is moved by up to :data:`MAX_SHIFT_M` in a
+random direction, keeping a gap between objects, so the same OAC is executed on a new
+arrangement.
 """
 
 from __future__ import annotations
@@ -22,28 +32,21 @@ from oacdsl.geometry import ROLE_HAND, ROLE_LIQUID, ROLE_OBJECT, ROLE_TABLE
 from oacdsl.library import Library
 from oacdsl.model import Scene
 from oacdsl.runtime.bodies import Body, bodies_for_scene
+from oacdsl.runtime.demo_layout import map_into_reach
 from oacdsl.runtime.objects import TABLE_DEPTH, TABLE_FRONT
+from oacdsl.units import language_si
 
-__all__ = ["Placement", "Layout", "plan_layout", "MAX_SHIFT_M", "NOMINAL", "hand_side"]
+__all__ = ["Placement", "Layout", "plan_layout", "MAX_SHIFT_M", "MIN_GAP_M", "BALLS_PER_LIQUID", "hand_side"]
 
-#: How far a seed may move an object from its nominal place, metres.
+#: How far a seed may move an object from its planned place, metres.
 MAX_SHIFT_M = 0.10
 #: Free space kept between two objects' footprints, metres (room for the fingers).
 MIN_GAP_M = 0.05
-#: Number of balls of one liquid.
+#: Number of balls of one liquid when the scene does not say (``balls N``).
 BALLS_PER_LIQUID = 10
 
-#: Nominal (x, y) of the paper's kitchen instances, metres, robot at the origin facing +x.
-NOMINAL: dict[str, tuple[float, float]] = {
-    "red_cup": (0.56, 0.28),
-    "green_cup": (0.56, -0.28),
-    "orange_bowl": (0.64, 0.0),
-    "mixer": (0.72, -0.40),
-    "sponge": (0.56, -0.28),
-    "tray": (0.68, 0.02),
-}
-#: Where the paper's liquids start when nothing else says (red cup: liquid one).
-NOMINAL_CONTENTS: dict[str, str] = {"liquid_one": "red_cup", "liquid_two": "green_cup"}
+#: Places tried, in order, for objects the scene does not place (x, y metres, robot at the
+#: origin facing +x): the middle, then left and right, then further out.
 _SLOTS: tuple[tuple[float, float], ...] = (
     (0.64, 0.0),
     (0.56, 0.28),
@@ -80,8 +83,16 @@ class Layout:
     table: str
     seed: int | None = None
     balls_per_liquid: int = BALLS_PER_LIQUID
-    #: Every instance's body (hands, liquids and the table included).
+    #: Every instance's body (hands, liquids and the table included; not the ignored ones).
     bodies: Mapping[str, Body] = field(default_factory=dict)
+    #: Balls of each liquid (``balls N`` of the scene or --fill); others have ``balls_per_liquid``.
+    balls: Mapping[str, int] = field(default_factory=dict)
+    #: Where each object's place came from: "given", "scene", "demonstrated" or "auto".
+    sources: Mapping[str, str] = field(default_factory=dict)
+
+    def ball_count(self, liquid: str) -> int:
+        """How many balls ``liquid`` has."""
+        return self.balls.get(liquid, self.balls_per_liquid)
 
     def placement(self, name: str) -> Placement:
         for p in self.placements:
@@ -106,12 +117,24 @@ def plan_layout(
     contents: Mapping[str, str] | None = None,
     seed: int | None = None,
     places: Mapping[str, tuple[float, float]] | None = None,
+    *,
+    balls: Mapping[str, int] | None = None,
+    layout: str | None = None,
+    demonstrated: Mapping[str, np.ndarray] | None = None,
 ) -> Layout:
-    """The layout of ``scene``; ``contents`` maps liquids to their starting containers;
-    ``places`` puts named objects at given (x, y) positions on the table (metres)."""
-    bodies = bodies_for_scene(library, scene)
+    """The layout of ``scene`` (see the module docstring).
+
+    ``contents`` maps liquids to their starting containers over the scene's ``in``;
+    ``places`` puts named objects at given (x, y) positions on the table (metres) over the
+    scene's ``at``; ``balls`` sets liquids' ball counts; ``layout`` (``auto`` or
+    ``demonstrated``) replaces the scene's layout and its ``at``s; ``demonstrated`` holds
+    the first-frame position (m, motion capture frame) of each marker group, hands
+    included, for ``demonstrated``.
+    """
+    built = scene.model_copy(update={"instances": tuple(i for i in scene.instances if not i.ignored)})
+    bodies = bodies_for_scene(library, built)
     table = None
-    for inst in scene.instances:
+    for inst in built.instances:
         role = bodies[inst.name].role
         if inst.environment and role != ROLE_TABLE:
             raise RuntimeFailure(
@@ -122,23 +145,62 @@ def plan_layout(
             table = inst.name
     kinds = {n: b.role for n, b in bodies.items() if n != table}
     hands = _hands(kinds)
-    liquids = _liquids(bodies, dict(contents or {}))
+    liquids, counts = _liquids(scene, bodies, dict(contents or {}), dict(balls or {}))
     names = sorted(n for n, k in kinds.items() if k == ROLE_OBJECT)
-    nominal = _nominal(names, bodies)
+    wanted, sources = _wanted(scene, names, bodies, hands, places or {}, layout, demonstrated)
+    nominal = _nominal(names, bodies, wanted)
     placed = nominal if seed is None else _shuffle(nominal, bodies, np.random.default_rng(seed))
-    for name, xy in (places or {}).items():
-        if name not in placed:
-            raise RuntimeFailure(
-                f"cannot place {name!r}: not an object on the table{did_you_mean(name, placed)}"
-            )
-        r = bodies[name].radius
-        if not (
-            TABLE_FRONT <= xy[0] - r and xy[0] + r <= TABLE_FRONT + TABLE_DEPTH and abs(xy[1]) + r <= 0.8
-        ):
-            raise RuntimeFailure(f"cannot place {name!r} at ({xy[0]:.2f}, {xy[1]:.2f}) m: off the table")
-        placed[name] = (float(xy[0]), float(xy[1]))
+    for name, source in sources.items():
+        if source == "given":  # exactly where the caller said, even with a seed
+            placed[name] = wanted[name]
+    for name in names:
+        sources.setdefault(name, "auto")
     placements = tuple(Placement(n, bodies[n], placed[n][0], placed[n][1]) for n in names)
-    return Layout(scene.name, placements, liquids, hands, table or ROLE_TABLE, seed, bodies=bodies)
+    return Layout(
+        scene.name, placements, liquids, hands, table or ROLE_TABLE, seed, bodies=bodies, balls=counts,
+        sources=sources,
+    )
+
+
+def _wanted(
+    scene: Scene,
+    names: list[str],
+    bodies: Mapping[str, Body],
+    hands: Mapping[str, str],
+    places: Mapping[str, tuple[float, float]],
+    layout: str | None,
+    demonstrated: Mapping[str, np.ndarray] | None,
+) -> tuple[dict[str, tuple[float, float]], dict[str, str]]:
+    """The place each object asks for, and where that came from (given, scene, demonstrated).
+
+    ``layout`` is the caller's: it replaces the scene's ``layout`` and its ``at`` statements."""
+    wanted: dict[str, tuple[float, float]] = {}
+    sources: dict[str, str] = {}
+    for name, xy in places.items():
+        if name not in names:
+            raise RuntimeFailure(
+                f"cannot place {name!r}: not an object on the table{did_you_mean(name, names)}"
+            )
+        wanted[name], sources[name] = _on_table(name, bodies, xy), "given"
+    for place in scene.places if layout is None else ():  # a layout given by the caller replaces them
+        if place.instance in names and place.instance not in wanted:
+            xy = (language_si(place.x.value, place.x.unit)[0], language_si(place.y.value, place.y.unit)[0])
+            wanted[place.instance] = _on_table(place.instance, bodies, xy)
+            sources[place.instance] = "scene"
+    if (layout or scene.layout) == "demonstrated" and demonstrated:
+        free = {n: demonstrated[n] for n in names if n not in wanted and n in demonstrated}
+        demo_hands = {side: demonstrated[h] for h, side in hands.items() if h in demonstrated}
+        radii = {n: bodies[n].radius for n in free}
+        for name, xy in map_into_reach(free, demo_hands, radii, MIN_GAP_M).items():
+            wanted[name], sources[name] = xy, "demonstrated"
+    return wanted, sources
+
+
+def _on_table(name: str, bodies: Mapping[str, Body], xy: tuple[float, float]) -> tuple[float, float]:
+    r = bodies[name].radius
+    if not (TABLE_FRONT <= xy[0] - r and xy[0] + r <= TABLE_FRONT + TABLE_DEPTH and abs(xy[1]) + r <= 0.8):
+        raise RuntimeFailure(f"cannot place {name!r} at ({xy[0]:.2f}, {xy[1]:.2f}) m: off the table")
+    return (float(xy[0]), float(xy[1]))
 
 
 def _hands(kinds: Mapping[str, str]) -> dict[str, str]:
@@ -159,36 +221,50 @@ def _hands(kinds: Mapping[str, str]) -> dict[str, str]:
     return hands
 
 
-def _liquids(bodies: Mapping[str, Body], contents: dict[str, str]) -> dict[str, str]:
-    containers = sorted(n for n, b in bodies.items() if b.container)
+def _liquids(
+    scene: Scene, bodies: Mapping[str, Body], given: dict[str, str], balls: dict[str, int]
+) -> tuple[dict[str, str], dict[str, int]]:
+    """Liquid → container (``given`` over the scene's ``in``) and the liquids' ball counts.
+
+    When ``given`` moves a liquid into a container the scene fills with another liquid,
+    that other liquid takes the moved one's place in the scene, if it is free (a swap).
+    """
     liquid_names = sorted(n for n, b in bodies.items() if b.role == ROLE_LIQUID)
-    for liquid, container in contents.items():
+    containers = sorted(n for n, b in bodies.items() if b.container)
+    for liquid, container in given.items():
         if liquid not in liquid_names:
-            valid = liquid_names
             raise RuntimeFailure(
-                f"cannot fill {liquid!r}: not a liquid of the scene{did_you_mean(liquid, valid)}"
+                f"cannot fill {liquid!r}: not a liquid of the scene{did_you_mean(liquid, liquid_names)}"
             )
         if container not in containers:
             raise RuntimeFailure(
                 f"cannot put {liquid!r} into {container!r}: not a container of the scene"
                 f"{did_you_mean(container, containers)}"
             )
-    taken = set(contents.values())
-    # a liquid starts in a container the robot can pour from: one it can grasp
-    free_cups = [c for c in containers if bodies[c].graspable and c not in taken]
-    for liquid in liquid_names:
+    declared = {f.liquid: f.container for f in scene.fills if f.liquid in liquid_names}
+    counts = {f.liquid: f.balls for f in scene.fills if f.balls is not None}
+    counts.update(balls)
+    contents = dict(given)
+    for liquid, container in declared.items():
         if liquid in contents:
             continue
-        if NOMINAL_CONTENTS.get(liquid) in free_cups:
-            contents[liquid] = NOMINAL_CONTENTS[liquid]
-            free_cups.remove(contents[liquid])
-            continue
-        if not free_cups:
+        movers = [lq for lq, c in given.items() if c == container and declared.get(lq) != container]
+        mover = movers[0] if movers else None
+        if mover is not None and mover in declared and declared[mover] not in contents.values():
+            container = declared[mover]
+        contents[liquid] = container
+    for liquid in liquid_names:
+        if liquid not in contents:
             raise RuntimeFailure(
-                f"liquid {liquid!r} has no cup to start in (give one with --fill {liquid}=CUP)"
+                f"liquid {liquid!r} has no container to start in: say '{liquid} in CONTAINER' in scene"
+                f" {scene.name!r} or give --fill {liquid}=CONTAINER"
+                f" (containers: {', '.join(containers) or 'none'})"
             )
-        contents[liquid] = free_cups.pop(0)
-    return contents
+    unknown = sorted(set(counts) - set(liquid_names))
+    if unknown:
+        raise RuntimeFailure(f"cannot give balls to {unknown[0]!r}: not a liquid of the scene"
+                             f"{did_you_mean(unknown[0], liquid_names)}")
+    return contents, counts
 
 
 def _fits(
@@ -203,13 +279,20 @@ def _fits(
     return True
 
 
-def _nominal(names: list[str], bodies: Mapping[str, Body]) -> dict[str, tuple[float, float]]:
-    placed: dict[str, tuple[float, float]] = {}
-    for name in sorted(names, key=lambda n: (n not in NOMINAL, n)):
-        wanted = ([NOMINAL[name]] if name in NOMINAL else []) + list(_SLOTS)
-        slot = next((s for s in wanted if _fits(name, s, placed, bodies)), None)
+def _nominal(
+    names: list[str], bodies: Mapping[str, Body], wanted: Mapping[str, tuple[float, float]]
+) -> dict[str, tuple[float, float]]:
+    """Objects that ask for a place get it; the others take the first free slot."""
+    placed: dict[str, tuple[float, float]] = {n: wanted[n] for n in names if n in wanted}
+    for name in names:
+        if name in placed:
+            continue
+        slot = next((s for s in _SLOTS if _fits(name, s, placed, bodies)), None)
         if slot is None:
-            raise RuntimeFailure(f"no room on the table for {name!r} ({len(names)} objects)")
+            raise RuntimeFailure(
+                f"no room on the table for {name!r} ({len(names)} objects);"
+                f" give it a place: '{name} at (x, y)'"
+            )
         placed[name] = slot
     return placed
 

@@ -1,9 +1,12 @@
 """What a skill gets: the controller, the library's knowledge, and the bound instances.
 
-A skill is a function ``skill(ctx, *instances)`` whose instances are the OAC's
-arguments in parameter order (for ``pour(h, c, l, b)``: hand, source container,
-liquid, target container). It reads object poses from the simulation when it runs,
-moves the robot through :class:`~oacdsl.runtime.control.Controller`, and raises
+A skill is a function ``skill(ctx, *instances, **params)`` whose instances are the
+arguments of the OAC's ``execute`` line in the order of the skill's signature
+(:data:`oacdsl.skills.SIGNATURES`; for ``pour(h, c, l, b)``: hand, source container,
+liquid, target container) and whose keyword parameters are the named skill
+parameters in SI units (``tilt=1.92``), the signature's defaults filling the rest.
+It reads object poses from the simulation when it runs, moves the robot through
+:class:`~oacdsl.runtime.control.Controller`, and raises
 :class:`~oacdsl.errors.RuntimeFailure` with a reason when it cannot do its job.
 """
 

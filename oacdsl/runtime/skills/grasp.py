@@ -32,7 +32,8 @@ EASE_OFF_M = 0.004
 SQUEEZE_RAD = 0.08
 
 
-def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
+def reach_and_grasp(ctx: SkillContext, hand: str, obj: str, *, lift: float = LIFT_M) -> None:
+    """Grasp ``obj`` with ``hand`` as its grasp declaration says and lift it by ``lift`` (m)."""
     world, ctl = ctx.world, ctx.ctl
     side = ctx.side(hand)
     if world.held[side] is not None:
@@ -121,5 +122,5 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str) -> None:
     if handover:  # the other hand holds it up: lifting would pull against that hand
         return
     ctl.activity = f"lifting {obj}"
-    lift = make_T(ctl.ik.target(side)[:3, :3], ctl.ik.target(side)[:3, 3] + np.array([0.0, 0.0, LIFT_M]))
-    ctl.move(side, lift, 1.0)
+    lifted = make_T(ctl.ik.target(side)[:3, :3], ctl.ik.target(side)[:3, 3] + np.array([0.0, 0.0, lift]))
+    ctl.move(side, lifted, 1.0)

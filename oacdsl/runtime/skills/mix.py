@@ -31,7 +31,19 @@ PUSH_LIMIT_N = 15.0
 STIR_PRESS_M = 0.002
 
 
-def mix(ctx: SkillContext, hand: str, tool: str, container: str) -> None:
+def mix(
+    ctx: SkillContext,
+    hand: str,
+    tool: str,
+    container: str,
+    *,
+    radius: float = STIR_RADIUS_M,
+    turns: float = STIR_TURNS,
+    period: float = STIR_PERIOD_S,
+    force: float = PUSH_LIMIT_N,
+) -> None:
+    """Stir ``container`` with the held ``tool``: ``turns`` circles of ``radius`` (m), ``period``
+    (s) each; the descent stops when it touches the container or the wrist feels ``force`` (N)."""
     world, ctl = ctx.world, ctx.ctl
     side = ctx.require_held(hand, tool)
     t_tool, tool_in_hand = ctx.held_pose(side, tool)
@@ -59,7 +71,7 @@ def mix(ctx: SkillContext, hand: str, tool: str, container: str) -> None:
         hand_for(bottom),
         depth / DESCENT_SPEED_M_S,
         guard=lambda: (
-            world.touching(tool, container) or float(np.linalg.norm(ctl.force_change(side))) > PUSH_LIMIT_N
+            world.touching(tool, container) or float(np.linalg.norm(ctl.force_change(side))) > force
         ),
     )
     if not touched and not ctl.wait(0.5, until=lambda: world.touching(tool, container)):
@@ -67,11 +79,11 @@ def mix(ctx: SkillContext, hand: str, tool: str, container: str) -> None:
     level = min(float(world.body_pose(tool)[2, 3]), floor) - STIR_PRESS_M
     ctl.activity = f"stirring {container} with {tool}"
     n = 24
-    for k in range(1, STIR_TURNS * n + 1):
+    for k in range(1, int(round(turns)) * n + 1):
         a = 2 * math.pi * k / n
-        r = STIR_RADIUS_M * min(1.0, k / n)
+        r = radius * min(1.0, k / n)
         p = np.array([centre[0] + r * math.sin(a), centre[1] + r * (1 - math.cos(a)) * 0.5, level])
-        ctl.move(side, hand_for(p), STIR_PERIOD_S / n)
+        ctl.move(side, hand_for(p), period / n)
     ctl.move(side, hand_for(np.array([centre[0], centre[1], level])), 0.4)
     ctl.wait(0.6, until=lambda: world.touching(tool, container))
 

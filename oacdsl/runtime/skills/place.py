@@ -33,11 +33,16 @@ MIN_JERK_PEAK = 1.875
 
 
 def lower_until_contact(
-    ctx: SkillContext, side: str, t_hand: np.ndarray, depth_m: float, what: str
+    ctx: SkillContext,
+    side: str,
+    t_hand: np.ndarray,
+    depth_m: float,
+    what: str,
+    force_n: float = CONTACT_FORCE_N,
 ) -> np.ndarray:
-    """Lower hand ``side`` from ``t_hand`` by up to ``depth_m`` until the wrist feels contact.
-
-    Returns the hand pose where contact was felt; raises when nothing was felt.
+    """Lower hand ``side`` from ``t_hand`` by up to ``depth_m`` until the wrist's force changed
+    by more than ``force_n`` (N). Returns the hand pose where contact was felt; raises when
+    nothing was felt.
     """
     ctl = ctx.ctl
     goal = make_T(t_hand[:3, :3], t_hand[:3, 3] - np.array([0.0, 0.0, depth_m]))
@@ -45,20 +50,21 @@ def lower_until_contact(
         side,
         goal,
         MIN_JERK_PEAK * depth_m / DESCENT_SPEED_M_S,
-        guard=lambda: float(np.linalg.norm(ctl.force_change(side))) > CONTACT_FORCE_N,
+        guard=lambda: float(np.linalg.norm(ctl.force_change(side))) > force_n,
     )
     if not felt:
         raise RuntimeFailure(f"{what}: the wrist felt no contact after lowering {depth_m * 100:.0f} cm")
     return ctl.ik.frame(f"grasp_{side}")
 
 
-def place(ctx: SkillContext, hand: str, obj: str) -> None:
+def place(ctx: SkillContext, hand: str, obj: str, *, force: float = CONTACT_FORCE_N) -> None:
+    """Set the held ``obj`` down; the descent stops when the wrist feels ``force`` (N)."""
     world, ctl = ctx.world, ctx.ctl
     side = ctx.require_held(hand, obj)
     pick = ctx.picked.get(side)
     approach = pick.approach if pick is not None else np.array([0.0, 0.0, -1.0])
     if ctx.other_holder(side, obj) is None:
-        _set_down(ctx, side, obj, pick)
+        _set_down(ctx, side, obj, pick, force)
     ctl.activity = f"releasing {obj}"
     world.release(side)
     ctl.open_hand(side, 0.4)
@@ -80,7 +86,9 @@ def target_support(ctx: SkillContext, obj: str) -> str | None:
     return partners[0] if partners else None
 
 
-def _set_down(ctx: SkillContext, side: str, obj: str, pick: Pick | None) -> None:
+def _set_down(
+    ctx: SkillContext, side: str, obj: str, pick: Pick | None, force: float = CONTACT_FORCE_N
+) -> None:
     """Carry ``obj`` above where it goes and lower it until the wrist feels the support."""
     world, ctl = ctx.world, ctx.ctl
     t_obj, t_obj_in_hand = ctx.held_pose(side, obj)
@@ -100,4 +108,4 @@ def _set_down(ctx: SkillContext, side: str, obj: str, pick: Pick | None) -> None
     ctx.carry(side, hover, {obj} if support is None else {obj, support})
     ctl.wait(0.2)
     ctl.activity = f"setting {obj} down"
-    lower_until_contact(ctx, side, hover, HOVER_M + 0.03, f"placing {obj}")
+    lower_until_contact(ctx, side, hover, HOVER_M + 0.03, f"placing {obj}", force)

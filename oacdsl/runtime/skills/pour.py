@@ -19,11 +19,11 @@ from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
 from oacdsl.runtime.transforms import make_T, rot_axis
 
-__all__ = ["pour", "SUCCESS_FRACTION", "TILT_RAD"]
+__all__ = ["pour", "SUCCESS_FRACTION", "TILT_RAD", "TILT_DURATION_S", "LIP_ABOVE_RIM_M"]
 
 #: Share of the balls that must land in the target container.
 SUCCESS_FRACTION = 0.9
-#: Final tilt of the cup (rad): 125°, past upside-down enough to empty it.
+#: Default final tilt of the cup (rad): 125°, past upside-down enough to empty it.
 TILT_RAD = math.radians(125.0)
 #: Lip height above the target's rim (m) while tilted, and its extra height before tilting.
 LIP_ABOVE_RIM_M = 0.045
@@ -39,7 +39,23 @@ def _cup_pose(
     return make_T(r, lip_world - r @ lip_local)
 
 
-def pour(ctx: SkillContext, hand: str, source: str, liquid: str, target: str) -> None:
+#: Time to tilt the container to its final tilt, seconds.
+TILT_DURATION_S = 1.8
+
+
+def pour(
+    ctx: SkillContext,
+    hand: str,
+    source: str,
+    liquid: str,
+    target: str,
+    *,
+    tilt: float = TILT_RAD,
+    duration: float = TILT_DURATION_S,
+    height: float = LIP_ABOVE_RIM_M,
+) -> None:
+    """Pour ``liquid`` from the held ``source`` into ``target``: the lip ``height`` (m) above the
+    target's rim, turned to ``tilt`` (rad) over ``duration`` (s)."""
     world, ctl = ctx.world, ctx.ctl
     side = ctx.require_held(hand, source)
     if liquid not in world.built.balls:
@@ -57,7 +73,7 @@ def pour(ctx: SkillContext, hand: str, source: str, liquid: str, target: str) ->
 
     def plan(u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         lip_local = base_r.T @ (-u * cup.rim_radius) + np.array([0.0, 0.0, cup.rim_height])
-        lip = np.array([*(centre[:2] + u[:2] * LIP_FROM_CENTRE_M), rim_z + LIP_ABOVE_RIM_M])
+        lip = np.array([*(centre[:2] + u[:2] * LIP_FROM_CENTRE_M), rim_z + height])
         return lip_local, lip, np.cross(u, (0.0, 0.0, 1.0))
 
     def hand_at(u: np.ndarray, angle: float, lift: float) -> np.ndarray:
@@ -74,7 +90,7 @@ def pour(ctx: SkillContext, hand: str, source: str, liquid: str, target: str) ->
     for a in candidates:
         u = np.array([math.cos(a), math.sin(a), 0.0])
         err = max(
-            ctx.reach_error(side, hand_at(u, TILT_RAD, 0.0)), ctx.reach_error(side, hand_at(u, 0.0, 0.07))
+            ctx.reach_error(side, hand_at(u, tilt, 0.0)), ctx.reach_error(side, hand_at(u, 0.0, 0.07))
         )
         if best is None or err < best[0]:
             best = (err, u)
@@ -93,12 +109,12 @@ def pour(ctx: SkillContext, hand: str, source: str, liquid: str, target: str) ->
     steps = 40
     for k in range(1, steps + 1):
         s = k / steps
-        ctl.move(side, hand_at(u, TILT_RAD * s, LIP_START_EXTRA_M * max(0.0, 1.0 - 2.0 * s)), 1.8 / steps)
+        ctl.move(side, hand_at(u, tilt * s, LIP_START_EXTRA_M * max(0.0, 1.0 - 2.0 * s)), duration / steps)
     ctl.wait(2.0, until=lambda: world.balls_inside(source, liquid) == 0)
     ctl.wait(0.6)
     for k in range(1, steps // 2 + 1):
         s = 1.0 - k / (steps // 2)
-        ctl.move(side, hand_at(u, TILT_RAD * s, LIP_START_EXTRA_M * (1.0 - s)), 1.0 / (steps // 2))
+        ctl.move(side, hand_at(u, tilt * s, LIP_START_EXTRA_M * (1.0 - s)), 1.0 / (steps // 2))
     inside = world.balls_inside(target, liquid)
     if inside < SUCCESS_FRACTION * total:
         left = world.balls_inside(source, liquid)

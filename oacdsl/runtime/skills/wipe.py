@@ -21,7 +21,18 @@ STROKES = 3
 PRESS_M = 0.004
 
 
-def wipe(ctx: SkillContext, hand: str, tool: str, surface: str) -> None:
+def wipe(
+    ctx: SkillContext,
+    hand: str,
+    tool: str,
+    surface: str,
+    *,
+    strokes: float = STROKES,
+    length: float = STROKE_M,
+    press: float = PRESS_M,
+) -> None:
+    """Wipe ``surface`` with the held ``tool``: ``strokes`` times ``length`` (m) to either side of
+    its middle, pressed ``press`` (m) into it."""
     world, ctl = ctx.world, ctx.ctl
     side = ctx.require_held(hand, tool)
     t_tool, tool_in_hand = ctx.held_pose(side, tool)
@@ -37,14 +48,14 @@ def wipe(ctx: SkillContext, hand: str, tool: str, surface: str) -> None:
     ctx.carry(side, hand_for(above), {tool, surface}, 1.8)
     ctl.activity = f"pressing {tool} onto {surface}"
     contact = lower_until_contact(ctx, side, hand_for(above), 0.08, f"wiping {surface}")
-    press = contact.copy()
-    press[2, 3] -= PRESS_M
-    ctl.move(side, press, 0.3)
+    pressed = contact.copy()
+    pressed[2, 3] -= press
+    ctl.move(side, pressed, 0.3)
     ctl.activity = f"wiping {surface} with {tool}"
-    sideways = t_surface[:3, 1] * STROKE_M
-    for sign in (1.0, -1.0) * STROKES:
-        goal = press.copy()
+    sideways = t_surface[:3, 1] * length
+    for sign in (1.0, -1.0) * int(round(strokes)):
+        goal = pressed.copy()
         goal[:3, 3] += sign * sideways
-        ctl.move(side, goal, 0.7)
-    ctl.move(side, press, 0.4)
+        ctl.move(side, goal, 0.7 * max(1.0, length / STROKE_M))
+    ctl.move(side, pressed, 0.4)
     ctl.wait(0.3)

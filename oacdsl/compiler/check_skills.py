@@ -1,0 +1,157 @@
+"""Checks of a skill call, ``execute pour(h, c, l, b) { tilt 110deg }``, against its signature.
+
+The signatures are :data:`oacdsl.skills.SIGNATURES` (light: no runtime import).
+Without an argument list the skill gets the OAC's parameters in order. Every
+argument must have the class the signature names (inherited classes count), when
+the library defines that class;
+every named parameter must exist, carry a unit of its kind (a bare number is
+SI; a count is bare and whole) and lie in its range.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+from oacdsl.compiler.context import Context
+from oacdsl.compiler.diagnostics import Note
+from oacdsl.errors import did_you_mean
+from oacdsl.model import Node, Oac, Quantity, SkillParam
+from oacdsl.skills import SIGNATURES, SkillParamSpec, SkillSignature, format_value
+from oacdsl.units import language_si, unit_kind
+
+__all__ = ["check_quantity_unit", "check_skill_call"]
+
+#: Bare numbers beyond these are probably written in another unit (W040): radians, metres.
+PLAUSIBLE_BARE = {"rad": 2 * math.pi, "m": 2.0}
+
+Resolve = Callable[[str, Node, str], "list[frozenset[str]] | None"]
+
+
+def written(q: Quantity) -> str:
+    """``56cm`` — the quantity as written."""
+    return f"{q.value:g}{q.unit}"
+
+
+def check_quantity_unit(ctx: Context, q: Quantity, unit: str, what: str) -> bool:
+    """E043 when ``q`` is not of SI ``unit`` (a bare number is); W040 for an implausible
+    bare number. True when the unit fits."""
+    value, si = language_si(q.value, q.unit)
+    if q.unit and si != unit:
+        known = si in ("m", "rad", "s", "N", "m/s")
+        kind = unit_kind(si).split(" (")[0].removeprefix("a ").removeprefix("an ")
+        why = f"a unit of {kind}" if known else f"an unknown unit '{q.unit}'"
+        ctx.add("E043", f"{what} is {unit_kind(unit)}, but '{written(q)}' has {why}", q.span)
+        return False
+    if not q.unit and unit in PLAUSIBLE_BARE and abs(q.value) > PLAUSIBLE_BARE[unit]:
+        example = format_value(q.value * (math.pi / 180 if unit == "rad" else 0.001), unit)
+        ctx.add(
+            "W040",
+            f"{what} '{written(q)}' has no unit and is read as {q.value:g} {unit}"
+            f" ({'radians' if unit == 'rad' else 'metres'}); write the unit, e.g. {example}",
+            q.span,
+        )
+    return True
+
+
+def _check_param(ctx: Context, sig: SkillSignature, given: SkillParam) -> None:
+    spec = sig.param(given.name)
+    if spec is None:
+        names = [p.name for p in sig.params]
+        valid = ", ".join(names) if names else "none"
+        ctx.add(
+            "E042",
+            f"skill '{sig.name}' has no parameter '{given.name}'{did_you_mean(given.name, names)}",
+            given.part("name"),
+            Note(f"the parameters of '{sig.name}': {valid} (see 'oacc skills')"),
+        )
+        return
+    _check_value(ctx, sig, spec, given.value)
+
+
+def _check_value(ctx: Context, sig: SkillSignature, spec: SkillParamSpec, q: Quantity) -> None:
+    what = f"'{spec.name}' of skill '{sig.name}'"
+    if spec.whole:
+        if q.unit:
+            ctx.add("E043", f"{what} is a count (a whole number without unit), not '{written(q)}'", q.span)
+            return
+        if not float(q.value).is_integer():
+            ctx.add("E044", f"{what} is a count: '{written(q)}' is not a whole number", q.span)
+            return
+    elif not check_quantity_unit(ctx, q, spec.unit, what):
+        return
+    value = language_si(q.value, q.unit)[0]
+    if not spec.low <= value <= spec.high:
+        ctx.add(
+            "E044",
+            f"{what} must lie between {format_value(spec.low, spec.unit)} and"
+            f" {format_value(spec.high, spec.unit)}, not {written(q)}",
+            q.span,
+        )
+
+
+def check_skill_call(ctx: Context, oac: Oac, resolve: Resolve, declared: Callable[[str], str]) -> None:
+    """Arity, argument classes and named parameters of ``oac``'s ``execute`` (a known skill).
+
+    ``resolve(name, node, key)`` gives the class sets a name may have (reporting unknown
+    names); ``declared(name)`` the class a name is declared with, for messages.
+    """
+    sig = SIGNATURES[str(oac.skill)]
+    signature = ", ".join(f"{a.name}: {a.cls}" for a in sig.args)
+    note = Note(f"skill '{sig.name}({signature})' (see 'oacc skills')")
+    explicit = oac.skill_args is not None
+    args = oac.skill_arguments()
+    if len(args) != len(sig.args):
+        n = len(sig.args)
+        takes = f"skill '{sig.name}' takes {n} argument{'s' if n != 1 else ''}"
+        if explicit:
+            ctx.add("E040", f"{takes}, {len(args)} given", oac.part("skill_call"), note)
+        else:
+            ctx.add(
+                "E040",
+                f"{takes}, but '{oac.name}' passes its {len(args)} parameter{'s' if len(args) != 1 else ''};"
+                f" write the arguments: 'execute {sig.name}({', '.join(a.name for a in sig.args)})'"
+                " with names of this OAC",
+                oac.part("skill"),
+                note,
+            )
+    for i, name in enumerate(args):
+        key = f"skill_args.{i}" if explicit else "skill"
+        kinds = resolve(name, oac, key) if explicit else _param_kinds(ctx, oac, name)
+        if kinds is None or len(args) != len(sig.args):  # classes by position only when the count fits
+            continue
+        wanted = sig.args[i]
+        if wanted.cls not in ctx.library.classes:  # a library of its own classes: not checked
+            continue
+        if not any(wanted.cls in k for k in kinds):
+            where = oac.part(key) if explicit else (oac.param(name) or oac).part("cls")
+            ctx.add(
+                "E041",
+                f"argument '{name}' is a {declared(name)}, but skill '{sig.name}' expects a"
+                f" {wanted.cls} for '{wanted.name}'",
+                where,
+                note,
+            )
+    seen: dict[str, SkillParam] = {}
+    for given in sorted(oac.skill_params, key=_position):
+        if given.name in seen:
+            ctx.add(
+                "E006",
+                f"skill parameter '{given.name}' is given twice",
+                given.part("name"),
+                Note("first given here", seen[given.name].part("name")),
+            )
+            continue
+        seen[given.name] = given
+        _check_param(ctx, sig, given)
+
+
+def _param_kinds(ctx: Context, oac: Oac, name: str) -> list[frozenset[str]] | None:
+    param = oac.param(name)
+    if param is None or param.cls not in ctx.library.classes:
+        return None
+    return [ctx.library.ancestors(param.cls)]
+
+
+def _position(node: Node) -> tuple[int, int]:
+    return (node.span.line, node.span.column) if node.span is not None else (0, 0)

@@ -1,0 +1,143 @@
+"""``layout demonstrated``: the recording's first-frame layout mapped into the robot's reach.
+
+The demonstrator's frame comes from the two hands at the first frame: *left* is the
+horizontal direction from the right hand to the left hand, *up* is +z of the motion
+capture, *forward* = left × up, and the origin is between the hands. Each object's
+position in that frame (forward ``u``, left ``v``) is mapped onto the robot's table with
+one uniform scale ``s ≤ 1`` (the arrangement shrinks to fit, never grows):
+``y = s·v`` and ``x = X_CENTRE + s·(u − ū)``, so the objects keep the demonstration's
+sides (left of the demonstrator → left of the robot) and their order along both axes.
+Objects closer than their footprints plus a gap are then pushed apart along the line
+joining them. Light: numpy only (the recording's reading is the caller's).
+
+Units: metres throughout; the motion capture's z axis is up.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+import numpy as np
+
+from oacdsl.errors import RuntimeFailure
+from oacdsl.model import Scene
+from oacdsl.segmentation.recording import Recording
+
+__all__ = ["X_CENTRE_M", "demonstrated_positions", "first_frame_positions", "map_into_reach"]
+
+#: Where the middle of the demonstrated arrangement goes (robot frame, metres, x forward).
+X_CENTRE_M = 0.64
+#: The region object centres are mapped into: x range and |y| limit (metres), inside the
+#: table and within reach of the arms.
+X_RANGE_M = (0.50, 0.80)
+Y_LIMIT_M = 0.42
+
+
+def first_frame_positions(recording: Recording, names: list[str]) -> dict[str, np.ndarray]:
+    """Each named marker group's mean position (m) at the first frame where it is seen."""
+    out: dict[str, np.ndarray] = {}
+    for name in names:
+        if name not in recording.groups:
+            continue
+        pos = recording.group_positions(name)  # (frames, markers, 3)
+        seen = np.isfinite(pos).all(axis=2)
+        frames = np.flatnonzero(seen.any(axis=1))
+        if frames.size:
+            f = int(frames[0])
+            out[name] = pos[f][seen[f]].mean(axis=0)
+    return out
+
+
+def demonstrated_positions(recording: Recording, scene: Scene) -> dict[str, np.ndarray]:
+    """First-frame positions (m) of the scene's tracked instances in ``recording``, whose
+    marker groups are named after the instances or listed by their ``markers``."""
+    if any(i.markers for i in scene.instances):
+        from oacdsl.segmentation.grouping import apply_scene_groups
+
+        recording = apply_scene_groups(recording, scene)
+    return first_frame_positions(recording, [i.name for i in scene.tracked()])
+
+
+def _frame(hands: Mapping[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(origin, forward, left) of the demonstrator, horizontal unit vectors."""
+    up = np.array([0.0, 0.0, 1.0])
+    if "r" in hands and "l" in hands:
+        left = np.asarray(hands["l"], float) - np.asarray(hands["r"], float)
+        left[2] = 0.0
+        if np.linalg.norm(left) > 1e-3:
+            left /= np.linalg.norm(left)
+            origin = 0.5 * (np.asarray(hands["l"], float) + np.asarray(hands["r"], float))
+            return origin, np.cross(left, up), left
+    origin = np.mean([np.asarray(h, float) for h in hands.values()], axis=0) if hands else np.zeros(3)
+    return origin, np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
+
+
+def map_into_reach(
+    objects: Mapping[str, np.ndarray],
+    hands: Mapping[str, np.ndarray],
+    radii: Mapping[str, float],
+    gap_m: float,
+) -> dict[str, tuple[float, float]]:
+    """Robot-table (x, y) for each object of ``objects`` (first-frame positions, m); ``hands``
+    maps ``"r"``/``"l"`` to the demonstrator's hands; ``radii`` are footprints (m)."""
+    if not objects:
+        return {}
+    origin, forward, left = _frame(hands)
+    names = sorted(objects)
+    rel = np.array([np.asarray(objects[n], float) - origin for n in names])
+    u, v = rel @ forward, rel @ left
+    if hands and float(np.mean(u)) < 0.0:  # the objects are behind: the hands were crossed
+        u, v = -u, -v
+    du = u - float(np.mean(u))
+    r = np.array([radii[n] for n in names])
+    half_x = 0.5 * (X_RANGE_M[1] - X_RANGE_M[0])
+    scale = 1.0
+    for spread, room in ((np.abs(du) + r, half_x), (np.abs(v) + r, Y_LIMIT_M)):
+        widest = float(np.max(spread))
+        if widest > room:
+            scale = min(scale, room / widest)
+    xy = np.column_stack([X_CENTRE_M + scale * du, scale * v])
+    xy = _separate(xy, r, gap_m)
+    out = {n: (float(x), float(y)) for n, (x, y) in zip(names, xy, strict=True)}
+    for n, (x, y), rad in zip(names, xy, r, strict=True):
+        if not (X_RANGE_M[0] - 0.05 <= x <= X_RANGE_M[1] + 0.05 and abs(y) + rad <= Y_LIMIT_M + 0.1):
+            raise RuntimeFailure(
+                f"the demonstrated layout does not fit on the robot's table: {n} would stand at"
+                f" ({x:.2f}, {y:.2f}) m; give its place in the scene ('{n} at (x, y)') or with --place"
+            )
+    return out
+
+
+def _separate(xy: np.ndarray, r: np.ndarray, gap_m: float, rounds: int = 200) -> np.ndarray:
+    """Push overlapping footprints apart along the line joining their centres (the one
+    further left moves left on a tie), keeping them inside the mapping region."""
+    xy = xy.copy()
+    n = len(xy)
+    for _ in range(rounds):
+        moved = False
+        for i in range(n):
+            for j in range(i + 1, n):
+                d = xy[j] - xy[i]
+                dist = float(np.linalg.norm(d))
+                need = r[i] + r[j] + gap_m
+                if dist >= need - 1e-9:
+                    continue
+                if dist > 1e-9:
+                    direction = d / dist
+                else:
+                    direction = np.array([0.0, 1.0 if xy[j, 1] >= xy[i, 1] else -1.0])
+                push = 0.5 * (need - dist) + 1e-4
+                xy[i] -= push * direction
+                xy[j] += push * direction
+                moved = True
+        xy[:, 0] = np.clip(xy[:, 0], X_RANGE_M[0], X_RANGE_M[1])
+        xy[:, 1] = np.clip(xy[:, 1], -(Y_LIMIT_M - r), Y_LIMIT_M - r)
+        if not moved:
+            break
+    return xy
+
+
+def describe(xy: Mapping[str, tuple[float, float]]) -> str:
+    """``red_cup (0.56, 0.28), …`` for messages, metres."""
+    return ", ".join(f"{n} ({x:.2f}, {y:.2f})" for n, (x, y) in sorted(xy.items()) if math.isfinite(x))
