@@ -112,3 +112,15 @@ def test_unprintable_models_are_language_errors():
         format_oac(Oac(name="f", params=()))
     with pytest.raises(LanguageError, match="both a skill and steps"):
         format_oac(Oac(name="f", params=(), skill="place", steps=()))
+
+
+def test_control_characters_in_a_marker_name_survive_printing():
+    # A CR inside a quoted name was printed raw; CR line ends are normalised before
+    # parsing, so the string came back unterminated (found by the property test).
+
+    text = 'scene s {\n    a : A markers ("x\\ry", "t\\tn\\n")\n}\n'
+    module = parse_text(text, "ctl.oac")
+    assert module.decls[0].instances[0].markers == ("x\ry", "t\tn\n")
+    printed = print_module(module)
+    assert "\r" not in printed
+    assert parse_text(printed, "ctl.oac") == module

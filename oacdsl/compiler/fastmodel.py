@@ -42,7 +42,7 @@ def make(cls: type[M], values: dict[str, Any]) -> M:
 
 
 def unquote(raw: str) -> str:
-    """The text of a quoted STRING token: ``"a\\"b"`` → ``a"b`` (``\\n``, ``\\t`` escapes)."""
+    """The text of a quoted STRING token: ``"a\\"b"`` → ``a"b`` (``\\n``, ``\\r``, ``\\t`` escapes)."""
     body = raw[1:-1]
     if "\\" not in body:
         return body
@@ -52,7 +52,7 @@ def unquote(raw: str) -> str:
         ch = body[i]
         if ch == "\\" and i + 1 < len(body):
             nxt = body[i + 1]
-            out.append({"n": "\n", "t": "\t"}.get(nxt, nxt))
+            out.append({"n": "\n", "r": "\r", "t": "\t"}.get(nxt, nxt))
             i += 2
         else:
             out.append(ch)
