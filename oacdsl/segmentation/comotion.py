@@ -197,7 +197,12 @@ def _prune_indirect(signals: dict[int, tuple[np.ndarray, np.ndarray]], table: Pa
 def _instance_speeds(recording: Recording, groups: list[np.ndarray], rows: np.ndarray, prev: np.ndarray,
                      dt: np.ndarray) -> list[np.ndarray]:
     """Per instance (table order), the median marker speed at ``rows`` (m/s; NaN in gaps)."""
-    diff = recording.positions_m[rows[0]:rows[-1] + 1] - recording.positions_m[prev]  # (R, M, 3)
+    lag = int(rows[0] - prev[0])
+    if rows[0] >= lag > 0 and np.array_equal(prev, rows - lag):  # a plain slice, no gather
+        before = recording.positions_m[rows[0] - lag:rows[-1] + 1 - lag]
+    else:
+        before = recording.positions_m[prev]
+    diff = recording.positions_m[rows[0]:rows[-1] + 1] - before  # (R, M, 3)
     step = np.sqrt(diff[..., 0] * diff[..., 0] + diff[..., 1] * diff[..., 1]
                    + diff[..., 2] * diff[..., 2])  # (R, M) metres, as np.linalg.norm(diff, axis=-1)
     return [_nanmedian_last(step[:, m]) / dt for m in groups]

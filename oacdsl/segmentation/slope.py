@@ -77,7 +77,7 @@ def _window_sum(x: np.ndarray, half: int) -> np.ndarray:
     width = 2 * half + 1
     if r >= width:
         np.subtract(prefix[:, width:], prefix[:, :r - width + 1], out=out[:, half:r - half])
-        edge = np.r_[0:half, r - half:r]
+        edge = np.concatenate([np.arange(half), np.arange(r - half, r)])
     else:
         edge = np.arange(r)
     out[:, edge] = prefix[:, np.minimum(edge + half + 1, r)] - prefix[:, np.maximum(edge - half, 0)]
