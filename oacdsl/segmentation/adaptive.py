@@ -80,6 +80,7 @@ class AdaptiveDetector:
         self._pair_state = np.zeros(0, dtype=bool)  # managed blocks: paper state per marker pair
         self._flags = np.zeros((0, 4), dtype=bool)  # per block: [unused, episode, tool, veto]
         self._combined = np.zeros(0, dtype=bool)
+        self._managed = np.zeros(0, dtype=bool)
         self._near_bins: np.ndarray | None = None  # (Q, bins) bool: some frame of the bin within reach
 
     def begin(self, recording: Recording, table: PairTable) -> None:
@@ -135,6 +136,8 @@ class AdaptiveDetector:
         rows = [np.column_stack([e, np.full(len(e), q, dtype=np.intp)]) for q, e in self._events.items()]
         merged = np.concatenate(rows) if rows else np.zeros((0, 4), dtype=np.intp)
         self._event_rows = merged[np.argsort(merged[:, 0], kind="stable")]
+        self._managed = np.zeros(n_q, dtype=bool)  # blocks with events: the detector combines their state
+        self._managed[list(self._events)] = True
 
     def _index_near(self, closest: dict[int, np.ndarray], n_q: int, n_frames: int) -> np.ndarray | None:
         """Per instance pair and bin of ``_NEAR_BIN`` frames: is its closest marker distance within
@@ -173,7 +176,7 @@ class AdaptiveDetector:
         inner = self._inner.step(chunk)
         if not self._events:
             return inner
-        managed = np.isin(self._table.block[inner.pairs], list(self._events))
+        managed = self._managed[self._table.block[inner.pairs]]
         out_pairs = [inner.pairs[~managed]]
         out_frames = [inner.frames[~managed]]
         out_values = [inner.touching[~managed]]
