@@ -117,13 +117,17 @@ def _changes(
     tracker = InstanceTouch(table)
     n_frames, n_q = recording.n_frames, table.n_instance_pairs
     all_blocks = np.arange(n_q, dtype=np.intp)
+    near_blocks = getattr(det, "near_blocks", None)  # optional: (lo, stop, touching) → blocks or None
     found: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
     # the first chunk holds two frames at least: frame 0 borrows frame 1's distance change
     borders = [0, *range(max(2, chunk_frames), n_frames, chunk_frames), n_frames]
     for start, stop in pairwise(borders):
         lo = max(0, start - det.history_frames)
         x = geometry.coordinates(lo, stop)
-        if det.reach_m is None or n_q == 0:
+        known = near_blocks(lo, stop, tracker.touching) if near_blocks is not None else None
+        if known is not None:  # the detector already knows which pairs come within reach
+            blocks = known
+        elif det.reach_m is None or n_q == 0:
             blocks = all_blocks
         else:
             with np.errstate(invalid="ignore"):

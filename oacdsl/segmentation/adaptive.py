@@ -48,6 +48,7 @@ import numpy as np
 from oacdsl.errors import SegmentationError
 from oacdsl.segmentation.comotion import AdaptiveSettings, comotion
 from oacdsl.segmentation.detectors import DistanceChunk, PairChanges
+from oacdsl.segmentation.geometry import BOUND_MARGIN_M
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
@@ -55,6 +56,8 @@ from oacdsl.segmentation.robust import RobustDetector
 from oacdsl.segmentation.tooluse import agents_of, tool_contacts
 
 __all__ = ["AdaptiveDetector", "AdaptiveSettings", "comotion"]
+
+_NEAR_BIN = 64  # frames per bin of the near-frame index built from the co-motion scan
 
 
 class AdaptiveDetector:
@@ -77,6 +80,8 @@ class AdaptiveDetector:
         self._pair_state = np.zeros(0, dtype=bool)  # managed blocks: paper state per marker pair
         self._flags = np.zeros((0, 4), dtype=bool)  # per block: [unused, episode, tool, veto]
         self._combined = np.zeros(0, dtype=bool)
+        self._managed = np.zeros(0, dtype=bool)
+        self._near_bins: np.ndarray | None = None  # (Q, bins) bool: some frame of the bin within reach
 
     def begin(self, recording: Recording, table: PairTable) -> None:
         template = RobustDetector(self.params, recording.rate_hz)
@@ -106,6 +111,7 @@ class AdaptiveDetector:
         self._inner = RobustDetector(self.params, recording.rate_hz, pair_distance_m=block_d[table.block])
         self._inner.begin(recording, table)
         self.reach_m = max(by_distance)
+        self._near_bins = self._index_near(found.closest, n_q, recording.n_frames)
         tools = tool_contacts(
             table, recording.n_frames, recording.rate_hz, {q: spans for q, (spans, _) in learned.items()},
             found.closest, agents_of(table.instances, self.settings.agent_pattern), self.params.distance_m,
@@ -130,6 +136,39 @@ class AdaptiveDetector:
         rows = [np.column_stack([e, np.full(len(e), q, dtype=np.intp)]) for q, e in self._events.items()]
         merged = np.concatenate(rows) if rows else np.zeros((0, 4), dtype=np.intp)
         self._event_rows = merged[np.argsort(merged[:, 0], kind="stable")]
+        self._managed = np.zeros(n_q, dtype=bool)  # blocks with events: the detector combines their state
+        self._managed[list(self._events)] = True
+
+    def _index_near(self, closest: dict[int, np.ndarray], n_q: int, n_frames: int) -> np.ndarray | None:
+        """Per instance pair and bin of ``_NEAR_BIN`` frames: is its closest marker distance within
+        ``reach_m`` somewhere in the bin? ``None`` when the scan's reach is shorter than ``reach_m``.
+
+        The scan knows every pair's closest distance at every frame up to its own reach (inf
+        beyond it), so a pair whose bins are all False in a chunk has every marker distance
+        beyond ``reach_m`` there: the broad phase of the main pass need not be run again.
+        """
+        scan_reach = self.params.distance_m * (1 + self.settings.margin)  # metres, as in comotion._scan
+        if self.reach_m is None or self.reach_m > scan_reach:
+            return None
+        n_bins = -(-n_frames // _NEAR_BIN)
+        bins = np.zeros((n_q, n_bins), dtype=bool)
+        padded = np.full(n_bins * _NEAR_BIN, np.inf, dtype=np.float32)
+        for q, dmin in closest.items():
+            padded[:n_frames] = dmin
+            with np.errstate(invalid="ignore"):  # NaN: no marker visible, not near
+                near = padded <= self.reach_m + BOUND_MARGIN_M
+            bins[q] = near.reshape(n_bins, _NEAR_BIN).any(axis=1)
+        return bins
+
+    def near_blocks(self, lo: int, stop: int, touching: np.ndarray) -> np.ndarray | None:
+        """Instance pairs whose distances frames ``lo:stop`` need: within ``reach_m`` in some
+        frame, touching (``touching``, (Q,) bool), or with a marker pair the paper's rule holds
+        touching. ``None``: not known, use the broad phase."""
+        if self._near_bins is None or self._table is None or self._inner is None:
+            return None
+        near = self._near_bins[:, lo // _NEAR_BIN:(stop - 1) // _NEAR_BIN + 1].any(axis=1) | touching
+        near[self._table.block[np.flatnonzero(self._inner.state)]] = True
+        return np.flatnonzero(near)
 
     def step(self, chunk: DistanceChunk) -> PairChanges:
         if self._table is None or self._inner is None:
@@ -137,7 +176,7 @@ class AdaptiveDetector:
         inner = self._inner.step(chunk)
         if not self._events:
             return inner
-        managed = np.isin(self._table.block[inner.pairs], list(self._events))
+        managed = self._managed[self._table.block[inner.pairs]]
         out_pairs = [inner.pairs[~managed]]
         out_frames = [inner.frames[~managed]]
         out_values = [inner.touching[~managed]]

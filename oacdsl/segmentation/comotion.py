@@ -197,7 +197,12 @@ def _prune_indirect(signals: dict[int, tuple[np.ndarray, np.ndarray]], table: Pa
 def _instance_speeds(recording: Recording, groups: list[np.ndarray], rows: np.ndarray, prev: np.ndarray,
                      dt: np.ndarray) -> list[np.ndarray]:
     """Per instance (table order), the median marker speed at ``rows`` (m/s; NaN in gaps)."""
-    diff = recording.positions_m[rows[0]:rows[-1] + 1] - recording.positions_m[prev]  # (R, M, 3)
+    lag = int(rows[0] - prev[0])
+    if rows[0] >= lag > 0 and np.array_equal(prev, rows - lag):  # a plain slice, no gather
+        before = recording.positions_m[rows[0] - lag:rows[-1] + 1 - lag]
+    else:
+        before = recording.positions_m[prev]
+    diff = recording.positions_m[rows[0]:rows[-1] + 1] - before  # (R, M, 3)
     step = np.sqrt(diff[..., 0] * diff[..., 0] + diff[..., 1] * diff[..., 1]
                    + diff[..., 2] * diff[..., 2])  # (R, M) metres, as np.linalg.norm(diff, axis=-1)
     return [_nanmedian_last(step[:, m]) / dt for m in groups]
@@ -239,7 +244,35 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))
 
 
+_EXTEND_WINDOW = 2048  # frames either side of an episode looked at first by _extend
+
+
 def _extend(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int = 0) -> tuple[int, int]:
+    """:func:`_extend_in` on ``_EXTEND_WINDOW`` frames either side of ``[a, b)`` when that decides
+    both ends (a run beyond ``threshold`` that stops the growth on each side, whose length is
+    known), else on the whole recording: the same result, without a pass over all of it."""
+    lo, hi = max(0, a - _EXTEND_WINDOW), min(dmin.size, b + _EXTEND_WINDOW)
+    if lo == 0 and hi == dmin.size:
+        return _extend_in(dmin, a, b, threshold, bridge)
+    with np.errstate(invalid="ignore"):
+        beyond = dmin[lo:hi] > threshold  # NaN: unknown, not beyond
+    padded = np.concatenate([[False], beyond, [False]])
+    edges = np.flatnonzero(padded[1:] != padded[:-1])
+    starts, ends = edges[::2] + lo, edges[1::2] + lo  # runs [s, e) beyond, cut at the window
+    cut = ((starts == lo) & (lo > 0)) | ((ends == hi) & (hi < dmin.size))  # true length unknown
+    long = ends - starts > bridge
+    if (cut & ~long).any():  # a short run at a window edge: bridged or not depends on the outside
+        return _extend_in(dmin, a, b, threshold, bridge)
+    keep = long | (starts == 0) | (ends == dmin.size)
+    starts, ends = starts[keep], ends[keep]
+    i = int(np.searchsorted(starts, a, side="left")) - 1
+    j = int(np.searchsorted(ends, b, side="right"))
+    if (i < 0 and lo > 0) or (j >= ends.size and hi < dmin.size):  # an end not decided in the window
+        return _extend_in(dmin, a, b, threshold, bridge)
+    return (min(int(ends[i]), a) if i >= 0 else 0, max(int(starts[j]), b) if j < ends.size else dmin.size)
+
+
+def _extend_in(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int = 0) -> tuple[int, int]:
     """Grow ``[a, b)`` both ways while the closest distance is within ``threshold`` or unknown.
 
     Excursions beyond ``threshold`` of at most ``bridge`` frames between two frames within

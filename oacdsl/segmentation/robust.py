@@ -63,6 +63,11 @@ class RobustDetector:
         self._set_rate(recording.rate_hz)
         self._state = np.zeros(table.n_pairs, dtype=bool)
 
+    @property
+    def state(self) -> np.ndarray:
+        """(P,) bool: each marker pair's touching state after the chunks stepped so far."""
+        return self._state
+
     def step(self, chunk: DistanceChunk) -> PairChanges:
         n, h, half = self.n, chunk.history, self.half
         n_out = chunk.stop - chunk.start

@@ -48,20 +48,18 @@ def windowed_slope(dist: np.ndarray, times_s: np.ndarray, half: int,
         return np.full((a, r), np.nan, dtype=np.float32)
     t = np.asarray(times_s, dtype=np.float64)
     t = t - t[r // 2]  # centred: smaller numbers, less cancellation
-    cols = np.arange(r)
-    lo, hi = np.maximum(cols - half, 0), np.minimum(cols + half + 1, r)
     valid = ~np.isnan(dist)
     x = np.where(valid, dist, 0.0).astype(np.float64)
-    sx, stx = _window_sum(x, lo, hi), _window_sum(x * t, lo, hi)
+    sx, stx = _window_sum(x, half), _window_sum(x * t, half)
     ones = np.ones((1, r))
-    s0, s1, s2 = (_window_sum(ones, lo, hi), _window_sum(ones * t, lo, hi),
-                  _window_sum(ones * t * t, lo, hi))
+    s0, s1, s2 = (_window_sum(ones, half), _window_sum(ones * t, half),
+                  _window_sum(ones * t * t, half))
     gappy = np.flatnonzero(~valid.all(axis=1))  # rows with a gap: their own sums (the same where valid)
     if gappy.size:
         s0, s1, s2 = (np.repeat(s, a, axis=0) for s in (s0, s1, s2))
         w = valid[gappy].astype(np.float64)
-        s0[gappy], s1[gappy], s2[gappy] = (_window_sum(w, lo, hi), _window_sum(w * t, lo, hi),
-                                           _window_sum(w * t * t, lo, hi))
+        s0[gappy], s1[gappy], s2[gappy] = (_window_sum(w, half), _window_sum(w * t, half),
+                                           _window_sum(w * t * t, half))
     den = s0 * s2 - s1 * s1
     with np.errstate(invalid="ignore", divide="ignore"):
         slope = (s0 * stx - s1 * sx) / den
@@ -69,9 +67,18 @@ def windowed_slope(dist: np.ndarray, times_s: np.ndarray, half: int,
     return slope.astype(np.float32)
 
 
-def _window_sum(x: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """Row sums of ``x`` (K, R) over columns ``lo[c] .. hi[c] - 1``, by prefix sums."""
-    prefix = np.zeros((x.shape[0], x.shape[1] + 1))
+def _window_sum(x: np.ndarray, half: int) -> np.ndarray:
+    """Row sums of ``x`` (K, R) over columns ``max(0, c - half) .. min(R, c + half + 1) - 1``, by
+    prefix sums: the full windows by two slices, the cut ones at both ends by index."""
+    r = x.shape[1]
+    prefix = np.zeros((x.shape[0], r + 1))
     np.cumsum(x, axis=1, out=prefix[:, 1:])
-    out: np.ndarray = prefix[:, hi] - prefix[:, lo]
+    out = np.empty((x.shape[0], r))
+    width = 2 * half + 1
+    if r >= width:
+        np.subtract(prefix[:, width:], prefix[:, :r - width + 1], out=out[:, half:r - half])
+        edge = np.concatenate([np.arange(half), np.arange(r - half, r)])
+    else:
+        edge = np.arange(r)
+    out[:, edge] = prefix[:, np.minimum(edge + half + 1, r)] - prefix[:, np.maximum(edge - half, 0)]
     return out
