@@ -18,21 +18,20 @@ a measurement is a gap. The rate is the inverse of the median timestep.
 from __future__ import annotations
 
 import math
-import xml.parsers.expat as expat
 from pathlib import Path
 
 import numpy as np
 
 from oacdsl.errors import InvalidRecording
 from oacdsl.segmentation.readers._common import rate_from_times
-from oacdsl.segmentation.readers.limits import MAX_COORDINATE_M, MAX_POSITION_BYTES, check_size, open_regular
+from oacdsl.segmentation.readers.limits import MAX_COORDINATE_M, MAX_POSITION_BYTES, check_size
+from oacdsl.segmentation.readers.safexml import SafeXmlReader
 from oacdsl.segmentation.recording import Recording
 
 __all__ = ["read_mmm"]
 
 _MM_TO_M = 1e-3
 _TIME_DECIMALS = 6  # timesteps equal to a microsecond are the same frame
-_CHUNK_BYTES = 1 << 16  # bytes fed to the parser at a time
 _MAX_POINTS = MAX_POSITION_BYTES // 24  # marker positions (3 float64 each) the file may hold
 
 
@@ -51,7 +50,7 @@ class _Motion:
         return base
 
 
-class _Parser:
+class _Parser(SafeXmlReader):
     """Expat callbacks that collect the motions' marker positions, element by element.
 
     A document type declaration is refused (an MMM file has none): no entity can be
@@ -59,7 +58,7 @@ class _Parser:
     """
 
     def __init__(self, location: str) -> None:
-        self.location = location
+        super().__init__(location)
         self.motions: list[_Motion] = []
         self.motion: _Motion | None = None
         self.sensor: str | None = None
@@ -68,19 +67,6 @@ class _Parser:
         self.text: list[str] = []
         self.depth = 0
         self.points = 0
-        self.expat = expat.ParserCreate()
-        self.expat.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
-        self.expat.StartDoctypeDeclHandler = self.refuse_dtd
-        self.expat.EntityDeclHandler = self.refuse_dtd
-        self.expat.StartElementHandler = self.start
-        self.expat.EndElementHandler = self.end
-        self.expat.CharacterDataHandler = self.characters
-
-    def fail(self, message: str) -> InvalidRecording:
-        return InvalidRecording(f"line {self.expat.CurrentLineNumber}: {message}", location=self.location)
-
-    def refuse_dtd(self, *_: object) -> None:
-        raise self.fail("a document type declaration (DTD, entities) is not allowed in an MMM file")
 
     def start(self, tag: str, attrs: dict[str, str]) -> None:
         self.depth += 1
@@ -150,14 +136,7 @@ class _Parser:
 def _parse(path: Path) -> list[_Motion]:
     """The motions of the MMM file ``path``, read in chunks (bounded memory per chunk)."""
     parser = _Parser(str(path))
-    try:
-        with open_regular(path) as fh:
-            while chunk := fh.read(_CHUNK_BYTES):
-                parser.expat.Parse(chunk, False)
-            parser.expat.Parse(b"", True)
-    except expat.ExpatError as err:
-        raise InvalidRecording(f"not well-formed XML at line {err.lineno}, column {err.offset + 1}"
-                               f" ({expat.ErrorString(err.code)})", location=str(path)) from None
+    parser.feed_file(path)
     return parser.motions
 
 

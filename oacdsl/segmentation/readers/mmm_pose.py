@@ -16,19 +16,17 @@ values checked (finite; positions within the readers' coordinate limit).
 from __future__ import annotations
 
 import math
-import xml.parsers.expat as expat
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from oacdsl.errors import InvalidRecording
-from oacdsl.segmentation.readers.limits import MAX_COORDINATE_M, open_regular
+from oacdsl.segmentation.readers.limits import MAX_COORDINATE_M
+from oacdsl.segmentation.readers.safexml import SafeXmlReader
 
 __all__ = ["ModelPoses", "read_model_poses", "rpy_matrix"]
 
 _MM_TO_M = 1e-3
-_CHUNK_BYTES = 1 << 16  # bytes fed to the parser at a time
 
 
 @dataclass(frozen=True)
@@ -52,7 +50,7 @@ def rpy_matrix(rpy_rad: np.ndarray) -> np.ndarray:
     ], axis=-2)
 
 
-class _PoseParser:
+class _PoseParser(SafeXmlReader):
     """Expat callbacks that collect each motion's ``ModelPose`` measurements.
 
     As in :mod:`~oacdsl.segmentation.readers.mmm`, a document type declaration is
@@ -60,7 +58,7 @@ class _PoseParser:
     """
 
     def __init__(self, location: str) -> None:
-        self.location = location
+        super().__init__(location)
         self.rows: dict[str, list[tuple[float, list[float], list[float]]]] = {}
         self.subjects: set[str] = set()
         self.motion: str | None = None
@@ -69,19 +67,6 @@ class _PoseParser:
         self.field: str | None = None
         self.values: dict[str, str] = {}
         self.text: list[str] = []
-        self.expat = expat.ParserCreate()
-        self.expat.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
-        self.expat.StartDoctypeDeclHandler = self.refuse_dtd
-        self.expat.EntityDeclHandler = self.refuse_dtd
-        self.expat.StartElementHandler = self.start
-        self.expat.EndElementHandler = self.end
-        self.expat.CharacterDataHandler = self.characters
-
-    def fail(self, message: str) -> InvalidRecording:
-        return InvalidRecording(f"line {self.expat.CurrentLineNumber}: {message}", location=self.location)
-
-    def refuse_dtd(self, *_: object) -> None:
-        raise self.fail("a document type declaration (DTD, entities) is not allowed in an MMM file")
 
     def start(self, tag: str, attrs: dict[str, str]) -> None:
         if tag == "Motion":
@@ -136,14 +121,7 @@ def read_model_poses(path: str | Path) -> dict[str, ModelPoses]:
     """Every motion's ``ModelPose`` in an MMM file, by group name (motions without one are left out)."""
     location = str(path)
     parser = _PoseParser(location)
-    try:
-        with open_regular(Path(path)) as fh:
-            while chunk := fh.read(_CHUNK_BYTES):
-                parser.expat.Parse(chunk, False)
-            parser.expat.Parse(b"", True)
-    except expat.ExpatError as err:
-        raise InvalidRecording(f"not well-formed XML at line {err.lineno}, column {err.offset + 1}"
-                               f" ({expat.ErrorString(err.code)})", location=location) from None
+    parser.feed_file(Path(path))
     rows, subjects = parser.rows, parser.subjects
     if not rows:
         return {}
