@@ -192,6 +192,32 @@ SIGNATURES: dict[str, SkillSignature] = {
                 SkillParamSpec("duration", "s", 1.6, 0.5, 10.0, "time to get there"),
             ),
         ),
+        SkillSignature(
+            "grasp_both",
+            "grasp two objects (or one with both hands) at the same time, then lift them",
+            (
+                SkillArg("h1", "Hand"),
+                SkillArg("o1", "Graspable"),
+                SkillArg("h2", "Hand"),
+                SkillArg("o2", "Graspable"),
+            ),
+            (SkillParamSpec("lift", "m", 0.10, 0.0, 0.30, "how high the objects are lifted after closing"),),
+        ),
+        SkillSignature(
+            "place_both",
+            "set two held objects down at the same time, each where its step's effect says",
+            (
+                SkillArg("h1", "Hand"),
+                SkillArg("o1", "Graspable"),
+                SkillArg("h2", "Hand"),
+                SkillArg("o2", "Graspable"),
+            ),
+            (
+                SkillParamSpec(
+                    "force", "N", 3.0, 1.0, 20.0, "wrist force change that means the support took an object"
+                ),
+            ),
+        ),
     )
 }
 
