@@ -65,7 +65,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 def run(args: argparse.Namespace) -> int:
     from oacdsl.cli.segment_cmd import load, params_from_args
     from oacdsl.draft.scene import draft_scene
-    from oacdsl.errors import InputError, UsageError
+    from oacdsl.errors import InputError, InvalidRecording, UsageError
     from oacdsl.pipeline.inputs import default_name
     from oacdsl.segmentation import segment
     from oacdsl.segmentation.comotion import AdaptiveSettings
@@ -89,9 +89,9 @@ def run(args: argparse.Namespace) -> int:
     hands = [instances[i] for i in agents_of(instances, AdaptiveSettings().agent_pattern)]
     if not [g for g in instances if g not in hands]:
         shown = ", ".join(instances) or "none"
-        raise InputError(f"no object with markers: the marker groups are {shown} (hands only); a scene needs"
-                         " the objects' markers grouped (C3D label prefixes 'cup:m1', or --preset)",
-                         location=recording.source)
+        raise InvalidRecording(f"no object with markers: the marker groups are {shown} (hands only); a scene"
+                               " needs the objects' markers grouped (C3D prefixes 'cup:m1', or --preset)",
+                               location=recording.source)
     seg = segment(recording, params)
     target = str(out) if out is not None else "DRAFT.oac"
     libs = " ".join(f"--library {p}" for p in args.library or [])

@@ -15,8 +15,9 @@ with at least :data:`~oacdsl.segmentation.poses.MIN_MARKERS` markers:
 * a **box** spans the markers' extent along those axes (length along x, width along y)
   and reaches from the table to the highest marker (height); a **cylinder** instead when
   at least 4 markers lie on one circle around a vertical axis (rms off the circle at most
-  :data:`ROUND_TOLERANCE_M` or 5 % of its radius) and cover at least half of it — markers on a
-  rim; its radius is the circle's;
+  :data:`ROUND_TOLERANCE_M` or 5 % of its radius), cover at least half of it and are not
+  a rectangle's corners (which lie on a circle too: two pairs of opposite points) — markers
+  on a rim; its radius is the circle's;
 * the **object frame** (docs/language.md, "Geometry") has its origin at the centre of the
   shape's base, on the table, z up, x along the principal axis; the markers are given in it.
 
@@ -30,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from oacdsl.errors import RecordingError
+from oacdsl.errors import InvalidRecording, RecordingError
 from oacdsl.segmentation.poses import MIN_MARKERS, fit_instance
 from oacdsl.segmentation.recording import Recording
 
@@ -42,6 +43,8 @@ MIN_SIZE_M = 0.01
 ROUND_TOLERANCE_M = 0.003
 #: Fewest markers that make a circle fit meaningful (3 points always lie on one circle).
 ROUND_MIN_MARKERS = 4
+#: Two markers this close to diametrically opposite count as a pair of a box's corners, radians (10°).
+OPPOSITE_TOLERANCE_RAD = np.deg2rad(10.0)
 
 
 @dataclass(frozen=True)
@@ -95,7 +98,7 @@ def table_height(recording: Recording, objects: list[str]) -> tuple[float, str]:
         if best is None or low < best[0]:
             best = (low, name)
     if best is None:
-        raise RecordingError("no object marker is ever seen: the table height cannot be estimated",
+        raise InvalidRecording("no object marker is ever seen: the table height cannot be estimated",
                              location=recording.source)
     return best
 
@@ -126,6 +129,20 @@ def _circle(xy: np.ndarray) -> tuple[np.ndarray, float, float, float]:
     return centre, radius, float(np.sqrt(np.mean(off**2))), float(gaps.max())
 
 
+def _opposite_pairs(xy: np.ndarray, centre: np.ndarray) -> int:
+    """How many disjoint pairs of points lie opposite each other about ``centre`` (within
+    :data:`OPPOSITE_TOLERANCE_RAD`): a box's corners form two such pairs, rim markers rarely do."""
+    angles = np.arctan2(xy[:, 1] - centre[1], xy[:, 0] - centre[0])
+    free, pairs = set(range(len(xy))), 0
+    for i in range(len(xy)):
+        for j in sorted(free - {i}):
+            off = abs((angles[j] - angles[i]) % (2 * np.pi) - np.pi)
+            if i in free and off <= OPPOSITE_TOLERANCE_RAD:
+                free -= {i, j}
+                pairs += 1
+    return pairs
+
+
 def estimate_shape(recording: Recording, instance: str, table_z_m: float) -> ShapeEstimate:
     """The box or cylinder of ``instance`` standing on a table at ``table_z_m`` (module doc)."""
     poses = fit_instance(recording, instance)
@@ -150,7 +167,8 @@ def estimate_shape(recording: Recording, instance: str, table_z_m: float) -> Sha
     shape, radius, rms = "box", 0.0, float("nan")
     if len(pts) >= ROUND_MIN_MARKERS:
         centre, r, rms, gap = _circle(xy)
-        if r < 0.5 and rms <= max(ROUND_TOLERANCE_M, 0.05 * r) and gap <= np.pi + 1e-9:
+        if (r < 0.5 and rms <= max(ROUND_TOLERANCE_M, 0.05 * r) and gap <= np.pi + 1e-9
+                and _opposite_pairs(xy, centre) < 2):
             shape, radius = "cylinder", at_least(r, "radius")
     if shape == "cylinder":
         origin_xy = centre

@@ -212,13 +212,14 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
 
 
 def _wrapped(lines: list[str], width: int = 100) -> list[str]:
-    """Comment lines longer than ``width`` broken into several, continued with an indent."""
+    """Comment lines longer than ``width`` broken into several, continued with an indent (not
+    ``#   …`` lines: a command or a path to copy)."""
     import textwrap
 
     out = []
     for line in lines:
         stripped = line.lstrip()
-        if len(line) <= width or not stripped.startswith("# "):
+        if len(line) <= width or not stripped.startswith("# ") or stripped.startswith("#   "):
             out.append(line)
             continue
         indent = line[: len(line) - len(stripped)]
