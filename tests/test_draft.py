@@ -236,6 +236,8 @@ def test_draft_of_a_kit_clip_compiles_and_reaches_matching(capsys, tmp_path, nam
             assert all(0.01 <= v <= 0.5 for v in size.values()), (inst.name, size)
     library = tmp_path / "library"
     shutil.copytree(LIBRARY, library, ignore=shutil.ignore_patterns("learned", "drafts"))
+    code, _, err = run(capsys, "match", str(clip), "--library", str(library))  # no scene yet: says what to do
+    assert code == 1 and "no scene of the library has exactly" in err and "oacc draft RECORDING" in err
     draft = tmp_path / f"{name.lower()}.oac"
     code, _, err = run(capsys, "draft", str(clip), "--library", str(library), "-o", str(draft))
     assert code == 0, err
