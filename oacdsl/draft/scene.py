@@ -14,6 +14,8 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import dataclass
 
+import numpy as np
+
 from oacdsl.draft.estimate import ShapeEstimate, estimate_shape, table_height
 from oacdsl.draft.names import camel_case, instance_name, unique
 from oacdsl.library import Library
@@ -171,10 +173,13 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
         if cls in known:
             continue  # the library's class of that name is this object
         written.append(cls)
-        if n < MIN_MARKERS:
-            decls.append([f"# {g}: {n} marker(s); a shape needs at least {MIN_MARKERS} (a rigid fit):"
-                          " give it a geometry block ('{ shape box(length …, width …, height …) mass … }')"
-                          " if the robot should build it, or mark the instance 'ignored'.",
+        seen_at_once = int(np.isfinite(recording.group_positions(g)).all(axis=2).sum(axis=1).max())
+        if seen_at_once < MIN_MARKERS:
+            why = (f"{n} marker(s)" if n < MIN_MARKERS
+                   else f"{n} markers, but never more than {seen_at_once} seen at once")
+            decls.append([f"# {g}: {why}; a shape needs at least {MIN_MARKERS} (a rigid fit): give it a"
+                          " geometry block ('{ shape box(length …, width …, height …) mass … }') if the robot"
+                          " should build it, or mark the instance 'ignored'.",
                           f"# {_PARENTS_NOTE}.", f"class {cls} : Graspable"])
             continue
         est = estimate_shape(recording, g, table_z)
