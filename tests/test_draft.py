@@ -60,7 +60,7 @@ def dims(cls: ObjectClass) -> dict[str, float]:
     return {d.name: si(d.value, "length") for d in cls.geometry.shapes[0].dims}
 
 
-def hand_made(path: Path, *, objects: bool = True) -> Path:
+def hand_made(path: Path, *, objects: bool = True, hands: bool = True) -> Path:
     """A still scene on a table at 0.80 m: two hands, a box 24 x 12 x 8 cm turned 30° (three top
     corners and one bottom corner marked), a cylinder r 4 cm h 10 cm (four rim markers), a
     group of two markers, and a group whose label is no name ('my box')."""
@@ -78,6 +78,8 @@ def hand_made(path: Path, *, objects: bool = True) -> Path:
         "left_hand": hand_markers("left") + [-0.5, -0.3, TABLE_M + 0.3],
         "right_hand": hand_markers("right") + [0.5, -0.3, TABLE_M + 0.3],
     }
+    if not hands:
+        groups = {}
     if objects:
         tag = np.array([[0.4, 0.5, TABLE_M + 0.05], [0.42, 0.5, 0.85]])
         flaky = cylinder + [0.0, -0.6, 0.0]
@@ -205,6 +207,13 @@ def test_draft_errors_are_one_line(capsys, tmp_path, monkeypatch, argv, code, me
     assert got == code and out == ""
     assert err.startswith("oacc: error: ") and message in err and "Traceback" not in err
     assert len(err.strip().splitlines()) == 1
+
+
+def test_draft_without_hands_says_so(capsys, tmp_path):
+    code, text, err = run(capsys, "draft", str(hand_made(tmp_path / "objects.c3d", hands=False)))
+    assert code == 0 and "no marker group is a hand" in err
+    _, scene = check_draft(text)
+    assert "Hand" not in {c for i in scene.instances for c in i.classes}
 
 
 def test_draft_help_has_examples(capsys):

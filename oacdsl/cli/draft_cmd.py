@@ -92,6 +92,9 @@ def run(args: argparse.Namespace) -> int:
         raise InvalidRecording(f"no object with markers: the marker groups are {shown} (hands only); a scene"
                                " needs the objects' markers grouped (C3D prefixes 'cup:m1', or --preset)",
                                location=recording.source)
+    if not hands:
+        print(f"oacc: note: {recording.source}: no marker group is a hand (a name with 'hand' in it): every"
+              " group is drafted as an object; rename the hands' groups or give --preset", file=sys.stderr)
     seg = segment(recording, params)
     target = str(out) if out is not None else "DRAFT.oac"
     libs = " ".join(f"--library {p}" for p in args.library or [])
