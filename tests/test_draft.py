@@ -198,6 +198,7 @@ def test_draft_with_a_library_writes_only_the_missing_classes(capsys, tmp_path):
     (["hands.c3d", "--name", "scene"], 2, "--name 'scene': a scene name is letters"),
     (["hands.c3d", "--distance", "5g"], 2, "--distance"),
     (["hands.c3d", "--library", "nolib"], 2, "nolib: no such library folder or file"),
+    (["hands.c3d", "-o", "hands.c3d", "--force"], 2, "--out names the recording itself"),
 ])
 def test_draft_errors_are_one_line(capsys, tmp_path, monkeypatch, argv, code, message):
     monkeypatch.chdir(tmp_path)
@@ -207,6 +208,12 @@ def test_draft_errors_are_one_line(capsys, tmp_path, monkeypatch, argv, code, me
     assert got == code and out == ""
     assert err.startswith("oacc: error: ") and message in err and "Traceback" not in err
     assert len(err.strip().splitlines()) == 1
+
+
+def test_draft_default_name_is_never_a_keyword(capsys, tmp_path):
+    code, text, err = run(capsys, "draft", str(hand_made(tmp_path / "scene.c3d")))
+    assert code == 0, err
+    assert check_draft(text)[1].name == "scene_scene"
 
 
 def test_draft_without_hands_says_so(capsys, tmp_path):

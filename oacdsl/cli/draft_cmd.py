@@ -72,9 +72,11 @@ def run(args: argparse.Namespace) -> int:
     from oacdsl.segmentation.tooluse import agents_of
 
     params = params_from_args(args)  # bad units fail before any reading
-    name = args.name if args.name is not None else default_name(args.recording)
+    name = args.name if args.name is not None else _free(default_name(args.recording))
     _check_name(name)
     out = Path(args.out) if args.out else None
+    if out is not None and out.exists() and out.resolve() == Path(args.recording).resolve():
+        raise UsageError("--out names the recording itself; give the .oac file to write", location=str(out))
     if out is not None and out.exists() and not args.force:
         raise UsageError("the file exists; give --force to replace it", location=str(out))
     if out is not None and out.is_dir():
@@ -116,6 +118,13 @@ def run(args: argparse.Namespace) -> int:
     print(f"wrote {out}: scene {name}, {len(draft.classes)} instances ({len(hands)} hands,"
           f" {objects} objects), {len(draft.written)} classes drafted", file=sys.stderr)
     return 0
+
+
+def _free(name: str) -> str:
+    """A default scene name that is a keyword of the language (``scene.c3d``) gets ``_scene``."""
+    from oacdsl.compiler.grammar import keywords
+
+    return f"{name}_scene" if name in keywords() else name
 
 
 def _check_name(name: str) -> None:
