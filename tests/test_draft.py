@@ -177,6 +177,7 @@ def test_draft_with_a_library_writes_only_the_missing_classes(capsys, tmp_path):
     classes, scene = check_draft(text, LIBRARY)
     assert set(classes) == {"GreenCup", "RedCup", "OrangeBowl", "LiquidOne", "LiquidTwo"}  # Mixer: library's
     assert {i.name: i.classes[0] for i in scene.instances}["mixer"] == "Mixer"
+    assert f"--library {out} --library {LIBRARY} --scene dough2 --name NAME --propose" in text
     # without --force an existing file is kept; with it, replaced
     out.write_text("# mine\n", encoding="utf-8")
     code, _, err = run(capsys, "draft", str(DOUGH), "--library", str(LIBRARY), "-o", str(out), "--name", "d")
@@ -298,3 +299,22 @@ def test_compose_propose_writes_drafts_over_a_drafted_scene(capsys, tmp_path):
     assert "kit_pour.oac" in written and len(written) >= 2  # the OAC and the drafts of what it lacked
     composed = (library / "drafts" / "kit_pour.oac").read_text(encoding="utf-8")
     assert "cup_small: CupSmall = cup_small" in composed
+
+
+def test_an_edited_draft_composes_the_dough_demonstration(capsys, tmp_path):
+    """The workflow the draft is for: draft, choose the parents its comments offer, compose."""
+    draft = tmp_path / "dough_scene.oac"
+    code, _, err = run(capsys, "draft", str(DOUGH), "--library", str(LIBRARY), "-o", str(draft), "--name=d2")
+    assert code == 0, err
+    text = draft.read_text(encoding="utf-8")
+    for cls, parents in (("RedCup", "Container, Graspable"), ("GreenCup", "Container, Graspable"),
+                         ("OrangeBowl", "Container"), ("LiquidOne", "Liquid"), ("LiquidTwo", "Liquid")):
+        text = text.replace(f"class {cls} : Graspable", f"class {cls} : {parents}")
+    draft.write_text(text, encoding="utf-8")
+    assert run(capsys, "compile", str(draft), str(LIBRARY))[0] == 0
+    code, out, err = run(capsys, "compose", str(DOUGH), "--library", str(draft), "--library", str(LIBRARY),
+                         "--scene", "d2", "--name", "dough_again", "--dry-run")
+    assert code == 0, err
+    steps = re.findall(r"^        (\w+)\(", out, re.M)
+    assert steps == ["grasp", "pour", "place", "grasp", "pour", "place", "grasp", "mix"]
+    assert "RedCup = red_cup" in out  # typed with the draft's classes

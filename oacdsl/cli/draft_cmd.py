@@ -100,11 +100,13 @@ def run(args: argparse.Namespace) -> int:
     seg = segment(recording, params)
     target = str(out) if out is not None else "DRAFT.oac"
     libs = " ".join(f"--library {p}" for p in args.library or [])
-    hint = f"oacc compose {args.recording} --library {target} {libs} --name NAME --propose".replace("  ", " ")
-    draft = draft_scene(recording, seg, name, library, hands=hands, compose_hint=hint)
+    same = _same_scenes(library, set(instances), name) if library is not None else ""
+    pick = f" --scene {name}" if same else ""  # else compose finds two scenes that fit
+    hint = f"oacc compose {args.recording} --library {target} {libs}{pick} --name NAME --propose"
+    draft = draft_scene(recording, seg, name, library, hands=hands, compose_hint=hint.replace("  ", " "))
     _check_compiles(draft.text, target, sources)
-    if library is not None:
-        _note_same_scene(library, set(draft.instances.values()), name)
+    if same:
+        print(f"oacc: note: {same}", file=sys.stderr)
     if out is None:
         sys.stdout.write(draft.text)
         return 0
@@ -171,8 +173,10 @@ def _check_compiles(text: str, target: str, sources: dict[str, str]) -> None:
         raise LanguageError(f"{first.header()} (the draft does not compile; nothing was written)")
 
 
-def _note_same_scene(library: Any, instances: set[str], name: str) -> None:
+def _same_scenes(library: Any, instances: set[str], name: str) -> str:
+    """A note when scenes of the library have the recording's instances ('' when none has)."""
     same = sorted(s.name for s in library.scenes.values() if {i.name for i in s.tracked()} == instances)
-    if same:
-        print(f"oacc: note: scene {', '.join(same)} of the library has the same instances; compose with"
-              f" --scene {name} to use the draft's", file=sys.stderr)
+    if not same:
+        return ""
+    return (f"scene {', '.join(same)} of the library has the same instances; compose with --scene {name}"
+            " to use the draft's")
