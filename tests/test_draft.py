@@ -211,6 +211,26 @@ def test_draft_errors_are_one_line(capsys, tmp_path, monkeypatch, argv, code, me
     assert len(err.strip().splitlines()) == 1
 
 
+def test_draft_lists_the_sub_actions_as_match_counts_them(tmp_path):
+    """A liquid briefly in flight (touching nothing for 0.5 s between cup and bowl) splits no sub-action."""
+    from oacdsl.draft import draft_scene
+    from oacdsl.segmentation.readers import read_recording
+    from oacdsl.segmentation.result import Keyframe, Segmentation
+    from oacdsl.world import WorldState
+
+    rec = read_recording(hand_made(tmp_path / "still.c3d"))
+    names = rec.instances
+    states = [(0, [("tag", "tray")]), (100, []), (150, [("can", "tag")]),
+              (500, [("can", "tag"), ("can", "left_hand")])]
+    keyframes = tuple(Keyframe(f, f / 100.0, WorldState.of(names, pairs)) for f, pairs in states)
+    seg = Segmentation("still", 100.0, 600, names, keyframes, {})
+    draft = draft_scene(rec, seg, "still", hands=("left_hand", "right_hand"))
+    assert re.findall(r"^# sub-action .*$", draft.text, re.M) == [
+        "# sub-action 1 (frames 0-150): + can <-> tag, - tag <-> tray",
+        "# sub-action 2 (frames 150-500): + can <-> left_hand",
+    ]
+
+
 def test_draft_default_name_is_never_a_keyword(capsys, tmp_path):
     code, text, err = run(capsys, "draft", str(hand_made(tmp_path / "scene.c3d")))
     assert code == 0, err

@@ -137,13 +137,17 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
                 compose_hint: str = "") -> Draft:
     """The draft of ``recording`` (grouped) as a scene ``name`` (module doc).
 
-    ``hands``: the agents among the groups (class ``Hand``); ``library``: classes defined
+    ``hands``: the agents among the groups (class ``Hand``); the sub-actions are those of
+    :func:`~oacdsl.matching.transient.stable_segmentation` (as ``oacc match`` numbers them: an
+    object briefly in flight splits none); ``library``: classes defined
     there are used, not written again; ``compose_hint``: the command that drafts the OACs.
     """
     from oacdsl.compiler import parse_text, print_module
+    from oacdsl.matching.transient import stable_segmentation
 
     known = set(library.classes) if library is not None else set()
     agents = set(hands)
+    segmentation, _ = stable_segmentation(segmentation, agents.__contains__)  # as oacc match counts them
     groups = list(recording.instances)
     objects = [g for g in groups if g not in agents]
     table_z, lowest = table_height(recording, objects)
@@ -207,8 +211,9 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
               "# how); edit them, then check the file with: oacc compile THIS_FILE [LIBRARY]",
               "", "# base classes" if base else ""]
     body = [*base, "", *[line for d in decls for line in (*d, "")], *grasps, ""]
-    hint = [f"# The sub-actions of the demonstration ({len(segmentation.keyframes)} keyframes):"
-            " each needs an OAC."]
+    hint = [f"# The sub-actions of the demonstration ({len(segmentation.keyframes)} keyframes), numbered as"
+            " oacc match and compose number them (an object briefly in flight splits none): each needs an"
+            " OAC."]
     if compose_hint:
         hint += ["# To draft the OACs a library lacks for them:", f"#   {compose_hint}"]
     text = "\n".join(_wrapped([*header, *body, *hint, *sub, *scene])) + "\n"
