@@ -338,3 +338,16 @@ def test_an_edited_draft_composes_the_dough_demonstration(capsys, tmp_path):
     steps = re.findall(r"^        (\w+)\(", out, re.M)
     assert steps == ["grasp", "pour", "place", "grasp", "pour", "place", "grasp", "mix"]
     assert "RedCup = red_cup" in out  # typed with the draft's classes
+
+
+def test_names_of_instances_and_classes():
+    from oacdsl.draft.names import camel_case, instance_name, unique
+
+    assert instance_name("cup_small", set()) == ("cup_small", False)
+    assert instance_name("table", {"table"}) == ("table2", True)  # the environment is 'table'
+    assert instance_name("in", set()) == ("object_in", True)  # a keyword
+    assert instance_name("3d box:", set()) == ("object_3d_box", True)
+    assert instance_name("Tasse à café", set()) == ("tasse_caf", True)
+    assert [camel_case(n) for n in ("cup_small", "mixing_bowl_green", "box2", "a__b")] == [
+        "CupSmall", "MixingBowlGreen", "Box2", "AB"]
+    assert unique("Cup", {"Cup", "Cup2"}) == "Cup3"

@@ -170,7 +170,7 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
             classes[inst] = "Hand"
             continue
         cls = camel_case(inst)
-        cls = unique(f"{cls}Object", written) if cls in bases else cls  # a group called 'table' or 'hand'
+        cls = unique(f"{cls}Object", written) if cls in bases else cls  # a group called 'tool', 'container' …
         cls = unique(cls, written)
         classes[inst] = cls
         n = len(recording.groups[g])
