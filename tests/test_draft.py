@@ -15,49 +15,17 @@ import numpy as np
 import pytest
 
 from oacdsl.cli import main
-from oacdsl.compiler import compile_sources, parse_text, print_module
-from oacdsl.matching.emit import library_files
-from oacdsl.model import ObjectClass, Scene
 from oacdsl.segmentation.readers.c3d import write_c3d
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.synth.scene import BOWL_RIM_RADIUS_M, TABLE_Z_M, hand_markers
+from tests._draft_helpers import LIBRARY, check_draft, dims, run
 
 ROOT = Path(__file__).resolve().parents[1]
-LIBRARY = ROOT / "library"
 DOUGH = ROOT / "data" / "dough.c3d"
 TABLE_M = 0.80  # table top of the hand-made recording, metres
 BOX_M = (0.24, 0.12, 0.08)  # length, width, height, metres
 BOX_YAW_RAD = np.deg2rad(30.0)
 CYLINDER_M = (0.04, 0.10)  # radius, height, metres
-
-
-def run(capsys, *argv: str) -> tuple[int, str, str]:
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def library_sources(*paths: Path) -> dict[str, str]:
-    return {str(f): f.read_text(encoding="utf-8") for p in paths for f in library_files(p)}
-
-
-def check_draft(text: str, *library: Path) -> tuple[dict[str, ObjectClass], Scene]:
-    """The draft compiles (with ``library``) and is canonical; its classes and its scene."""
-    result = compile_sources({**library_sources(*library), "draft.oac": text})
-    assert result.ok, [d.header() for d in result.errors]
-    module = parse_text(text, "draft.oac")
-    assert print_module(module) == text  # oacc fmt --check accepts it
-    classes = {d.name: d for d in module.decls if isinstance(d, ObjectClass)}
-    (scene,) = [d for d in module.decls if isinstance(d, Scene)]
-    return classes, scene
-
-
-def dims(cls: ObjectClass) -> dict[str, float]:
-    """The first shape's sizes, metres."""
-    from oacdsl.geometry import si
-
-    assert cls.geometry is not None and cls.geometry.shapes
-    return {d.name: si(d.value, "length") for d in cls.geometry.shapes[0].dims}
 
 
 def hand_made(path: Path, *, objects: bool = True, hands: bool = True) -> Path:
@@ -250,75 +218,6 @@ def test_draft_help_has_examples(capsys):
     text = capsys.readouterr().out
     assert "examples:" in text and "oacc draft Stir.mmm.xml --library library -o stir.oac" in text
     assert "--force" in text and "--preset" in text and "--allow-truncated" in text
-
-
-KIT_DEV = ("Pour", "Stir", "Mix", "Wipe", "Scoop", "Cut")  # development clips only (not the evaluation ones)
-
-
-def kit_clip(name: str) -> Path:
-    from tests._mocap import MOCAP, mocap_file
-
-    folder = mocap_file("kit_bimanual")
-    assert MOCAP is not None
-    (clip,) = sorted(folder.glob(f"{name}_files_*.mmm.xml"))
-    return clip
-
-
-@pytest.mark.parametrize("name", KIT_DEV)
-def test_draft_of_a_kit_clip_compiles_and_reaches_matching(capsys, tmp_path, name):
-    import shutil
-
-    from oacdsl.segmentation.grouping import group_recording
-    from oacdsl.segmentation.readers import read_recording
-
-    clip = kit_clip(name)
-    groups = set(group_recording(read_recording(clip), None)[0].instances)
-    alone = tmp_path / "alone.oac"
-    code, _, err = run(capsys, "draft", str(clip), "-o", str(alone))
-    assert code == 0, err
-    assert "marker set 'kit' recognised" in err  # hands found unasked, as oacc segment does
-    classes, scene = check_draft(alone.read_text(encoding="utf-8"))
-    assert {i.name for i in scene.instances} == groups | {"table"}
-    assert {"left_hand", "right_hand"} <= groups
-    for inst in scene.instances:
-        if inst.name not in ("left_hand", "right_hand", "table"):  # 4 markers each: a shape
-            size = dims(classes[inst.classes[0]])
-            assert all(0.01 <= v <= 0.5 for v in size.values()), (inst.name, size)
-    library = tmp_path / "library"
-    shutil.copytree(LIBRARY, library, ignore=shutil.ignore_patterns("learned", "drafts"))
-    code, _, err = run(capsys, "match", str(clip), "--library", str(library))  # no scene yet: says what to do
-    assert code == 1 and "no scene of the library has exactly" in err and "oacc draft RECORDING" in err
-    draft = tmp_path / f"{name.lower()}.oac"
-    code, _, err = run(capsys, "draft", str(clip), "--library", str(library), "-o", str(draft))
-    assert code == 0, err
-    text = draft.read_text(encoding="utf-8")
-    classes, _ = check_draft(text, library)
-    assert not {"Hand", "Table", "Graspable"} & set(classes)  # the library's
-    assert f"oacc compose {clip} --library {draft} --library {library} --name NAME --propose" in text
-    # the draft is the scene compose needs: matching starts, and says what is missing
-    code, out, err = run(capsys, "compose", str(clip), "--library", str(draft), "--library", str(library),
-                         "--name", f"kit_{name.lower()}")
-    assert code == 1 and out == ""
-    assert re.search(r"error: sub-action \d+ \(frames \d+–\d+\) matches no OAC", err), err
-    assert "pass --propose for a draft" in err
-    assert not (library / "learned").exists() and not (library / "drafts").exists()
-
-
-def test_compose_propose_writes_drafts_over_a_drafted_scene(capsys, tmp_path):
-    import shutil
-
-    clip = kit_clip("Pour")
-    library = tmp_path / "library"
-    shutil.copytree(LIBRARY, library, ignore=shutil.ignore_patterns("learned", "drafts"))
-    draft = tmp_path / "pour_scene.oac"
-    assert run(capsys, "draft", str(clip), "--library", str(library), "-o", str(draft))[0] == 0
-    code, out, err = run(capsys, "compose", str(clip), "--library", str(draft), "--library", str(library),
-                         "--name", "kit_pour", "--propose")
-    assert code == 0, err
-    written = sorted(p.name for p in (library / "drafts").iterdir())
-    assert "kit_pour.oac" in written and len(written) >= 2  # the OAC and the drafts of what it lacked
-    composed = (library / "drafts" / "kit_pour.oac").read_text(encoding="utf-8")
-    assert "cup_small: CupSmall = cup_small" in composed
 
 
 def test_an_edited_draft_composes_the_dough_demonstration(capsys, tmp_path):
