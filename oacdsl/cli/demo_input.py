@@ -27,37 +27,23 @@ __all__ = ["add_input_options", "load_inputs", "note", "transient_s"]
 
 def add_input_options(p: argparse.ArgumentParser) -> None:
     """The demonstration, library and scene arguments, and the segmentation options."""
-    p.add_argument(
-        "recording",
-        metavar="RECORDING",
-        help="motion capture (.c3d, .mmm.xml, .tsv, .csv) or a segmentation"
-        " (the .json of oacc segment --json)",
-    )
-    p.add_argument(
-        "--library",
-        metavar="DIR",
-        default="library",
-        help="the OAC library: a folder (drafts/ left out) or a file (default: library/)",
-    )
-    p.add_argument(
-        "--scene",
-        metavar="NAME|FILE",
-        help="the scene of the demonstration (default: the library's scene whose tracked"
-        " instances are the recording's marker groups)",
-    )
-    p.add_argument(
-        "--paper",
-        action="store_true",
-        help="match by the paper's rule alone (pre holds before, effects after); default: strict,"
-        " the effects must also account for every changed relation",
-    )
-    p.add_argument(
-        "--transient",
-        metavar="TIME",
-        help="a state shorter than this in which an object (not a Hand) touches nothing between"
-        " two contacts -- a liquid in flight, a dropped object -- splits no sub-action"
-        " (default: 1.5s; 0s = off; docs/matching.md)",
-    )
+    p.add_argument("recording", metavar="RECORDING",
+                   help="motion capture (.c3d, .mmm.xml, .tsv, .csv) or a segmentation"
+                        " (the .json of oacc segment --json)")
+    p.add_argument("--library", metavar="DIR", action="append",
+                   help="the OAC library: a folder (drafts/ left out) or a file (default: library/);"
+                        " repeatable: several are one library (a scene drafted by oacc draft and library/),"
+                        " the first folder given gets what compose writes")
+    p.add_argument("--scene", metavar="NAME|FILE",
+                   help="the scene of the demonstration (default: the library's scene whose tracked"
+                        " instances are the recording's marker groups)")
+    p.add_argument("--paper", action="store_true",
+                   help="match by the paper's rule alone (pre holds before, effects after); default: strict,"
+                        " the effects must also account for every changed relation")
+    p.add_argument("--transient", metavar="TIME",
+                   help="a state shorter than this in which an object (not a Hand) touches nothing between"
+                        " two contacts -- a liquid in flight, a dropped object -- splits no sub-action"
+                        " (default: 1.5s; 0s = off; docs/matching.md)")
     g = p.add_argument_group("reading and segmenting a recording (as oacc segment; values carry units)")
     g.add_argument(
         "--format",
@@ -86,17 +72,9 @@ def load_inputs(args: argparse.Namespace) -> Inputs:
             )
     params = params_from_args(args)  # bad units fail before any reading
     with printed_warnings():
-        inputs = load(
-            args.recording,
-            args.library,
-            args.scene,
-            params,
-            fmt=args.format,
-            preset=args.preset,
-            allow_truncated=allow_truncated(args),
-            segmentations=True,
-            note=note,
-        )
+        inputs = load(args.recording, args.library or ["library"], args.scene, params, fmt=args.format,
+                      preset=args.preset, allow_truncated=allow_truncated(args), segmentations=True,
+                      note=note)
     if inputs.recording is not None:
         check_windows(args, inputs.recording)
     return inputs
