@@ -293,7 +293,7 @@ SIGNATURES: dict[str, SkillSignature] = {
         ),
         SkillSignature(
             "grasp_both",
-            "grasp two objects (or one with both hands) at the same time, then lift them",
+            "grasp an object with each hand at the same time, then lift both",
             (
                 SkillArg("h1", "Hand"),
                 SkillArg("o1", "Graspable"),
