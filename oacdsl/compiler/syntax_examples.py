@@ -338,7 +338,7 @@ EXAMPLES: list[tuple[str, list[str]]] = [
     ("'{' and the steps", ["oac f() { steps", "oac f() { steps }"]),
     ("a step such as 'grasp(h, o)' or '}'", ["oac f() { steps {", "oac f() { steps { g() )"]),
     (
-        "the next step such as 'place(h, o)' or '}'",
+        "the step's skill parameters '{ tilt 110deg }', the next step such as 'place(h, o)' or '}'",
         [
             "oac f() { steps { g(a)",
             "oac f() { steps { g(a) h(b)",
@@ -346,11 +346,30 @@ EXAMPLES: list[tuple[str, list[str]]] = [
         ],
     ),
     (
+        "the next step such as 'place(h, o)' or '}'",
+        [
+            "oac f() { steps { g(a) { }",
+            "oac f() { steps { g(a) { t 1 }",
+            "oac f() { steps { g(a) { t 1 } )",
+            "oac f() { steps { g(a) { t 1 } h(b) { }",
+        ],
+    ),
+    (
+        "a skill parameter of the step such as 'tilt 110deg' or '}'",
+        ["oac f() { steps { g(a) {", "oac f() { steps { g(a) { )"],
+    ),
+    (
+        "the step parameter's value, a number with its unit such as 110deg",
+        ["oac f() { steps { g(a) { t", "oac f() { steps { g(a) { t }"],
+    ),
+    (
         "'(' and the step's arguments",
         ["oac f() { steps { g", "oac f() { steps { g }", "oac f() { steps { g() h"],
     ),
-    ("an argument or ')'", ["oac f() { steps { g(", "oac f() { steps { g( }", "oac f() { execute s(",
-                            "oac f() { execute s( }"]),
+    (
+        "an argument or ')'",
+        ["oac f() { steps { g(", "oac f() { steps { g( }", "oac f() { execute s(", "oac f() { execute s( }"],
+    ),
     (
         "an argument",
         [

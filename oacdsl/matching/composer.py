@@ -76,6 +76,9 @@ class Composition:
     #: "effect" | "ended", "relation": [a, b], "negated": bool, "step": index into steps,
     #: "keyframe": index into the keyframes, "note": str}`` (instance names).
     provenance: tuple[dict[str, Any], ...] = field(default=())
+    #: Skill parameters set from the demonstrated motion, per step that has any to set
+    #: (:func:`oacdsl.matching.demoparams.with_demo_params`; ``compose.demo_params`` of result.json).
+    demo_params: tuple[dict[str, Any], ...] = field(default=())
 
     def to_json(self, file: str | None) -> dict[str, Any]:
         """The ``oacc compose --json`` document."""
@@ -90,10 +93,18 @@ class Composition:
         negated = [_pair(a) for a in self.pre if a.negated]
         if negated:
             doc["pre_not"] = negated
+        for entry in self.demo_params:
+            given = {r["name"]: r["value"] for r in entry["params"] if r["value"] is not None}
+            if given:
+                doc["steps"][entry["step"]]["params"] = given
+        if self.demo_params:
+            doc["demo_params"] = list(self.demo_params)
         return doc
+
 
 def _pair(atom: Atom) -> list[str]:
     return [atom.left, atom.right]
+
 
 def compose(
     name: str,
@@ -125,19 +136,29 @@ def compose(
     added = tuple(sorted(final.relations - initial.relations))
     ended = tuple(sorted(initial.relations - final.relations))
     warnings = req.warnings
-    paper = tuple(Atom(left=a, right=b, note=(net.added[(a, b)].note(True) if (a, b) in net.added
-                                              else "world-state change")) for a, b in added)
+    paper = tuple(
+        Atom(
+            left=a,
+            right=b,
+            note=(net.added[(a, b)].note(True) if (a, b) in net.added else "world-state change"),
+        )
+        for a, b in added
+    )
     if paper_effects:
         sound = {key(a) for a in effects}
         if sound != {key(a) for a in paper}:
-            warnings.append("the paper's effects differ from the steps' net effects ("
-                            + ", ".join(atom_text(a) for a in effects) + "): the OAC is not sound")
+            warnings.append(
+                "the paper's effects differ from the steps' net effects ("
+                + ", ".join(atom_text(a) for a in effects)
+                + "): the OAC is not sound"
+            )
         effects = paper
         written = [(a, net.added.get((a.left, a.right))) for a in paper]  # type: ignore[misc]
     provenance = [_source("pre", a, req.by[key(a)]) for a in req.atoms.values()]
     provenance += [_source("effect", a, s) for a, s in written]
-    provenance += [_source("ended", Atom(left=a, right=b), (net.remover((a, b)) or (None,))[0])
-                   for a, b in ended]
+    provenance += [
+        _source("ended", Atom(left=a, right=b), (net.remover((a, b)) or (None,))[0]) for a, b in ended
+    ]
     if not effects:
         raise MatchingError(
             "the composed OAC would have no effect: the demonstration ends as it began"
@@ -159,10 +180,17 @@ def _source(kind: str, atom: Atom, step: Step | None) -> dict[str, Any]:
         "note": step.note(end) if step is not None else "world-state change",
     }
 
+
 def _lifted(
-    name: str, steps: Sequence[Step], pre: tuple[Atom, ...], effect: tuple[Atom, ...],
-    added: tuple[Relation, ...], ended: tuple[Relation, ...], classes: Mapping[str, frozenset[str]],
-    library: Library, warnings: list[str],
+    name: str,
+    steps: Sequence[Step],
+    pre: tuple[Atom, ...],
+    effect: tuple[Atom, ...],
+    added: tuple[Relation, ...],
+    ended: tuple[Relation, ...],
+    classes: Mapping[str, frozenset[str]],
+    library: Library,
+    warnings: list[str],
 ) -> Composition:
     order: list[str] = []
     required: dict[str, list[str]] = {}
@@ -184,12 +212,24 @@ def _lifted(
     lifted, names = lift(order, classes, required, library.ancestors)
 
     def up(a: Atom) -> Atom:  # built anew: the pair order is normalised again after renaming
-        return Atom(left=names.get(a.left, a.left), right=names.get(a.right, a.right),
-                    negated=a.negated, note=a.note)
+        return Atom(
+            left=names.get(a.left, a.left), right=names.get(a.right, a.right), negated=a.negated, note=a.note
+        )
 
-    calls = tuple(Call(oac=s.oac.name, args=tuple(names.get(s.mapping[p.name], s.mapping[p.name])
-                                                  for p in s.oac.params)) for s in steps)
+    calls = tuple(
+        Call(
+            oac=s.oac.name, args=tuple(names.get(s.mapping[p.name], s.mapping[p.name]) for p in s.oac.params)
+        )
+        for s in steps
+    )
     oac = Oac(name=name, params=lifted, pre=tuple(map(up, pre)), effect=tuple(map(up, effect)), steps=calls)
-    return Composition(oac=oac, pre=tuple(sorted(pre, key=Atom.sort_key)),
-                       effect=tuple(sorted(effect, key=Atom.sort_key)), added=added, ended=ended,
-                       steps=tuple(steps), names=names, warnings=tuple(warnings))
+    return Composition(
+        oac=oac,
+        pre=tuple(sorted(pre, key=Atom.sort_key)),
+        effect=tuple(sorted(effect, key=Atom.sort_key)),
+        added=added,
+        ended=ended,
+        steps=tuple(steps),
+        names=names,
+        warnings=tuple(warnings),
+    )

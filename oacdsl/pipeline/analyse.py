@@ -87,8 +87,10 @@ def match_doc(matches: Sequence[SubActionMatch], matcher: Any = None) -> dict[st
                 if (x.oac.name, x.binding) in seen:
                     continue
                 entry = {"oac": x.oac.name, "binding": x.mapping, **bound_conditions(x.oac, x.mapping)}
-                entry["note"] = (f"only by the paper's rule: its conditions hold, but it explains"
-                                 f" {x.explained} of {x.changes} changed relations (not strict)")
+                entry["note"] = (
+                    f"only by the paper's rule: its conditions hold, but it explains"
+                    f" {x.explained} of {x.changes} changed relations (not strict)"
+                )
                 entry["rule"] = "paper"
                 doc["matches"].append(entry)
         if m.result.chosen is not None:
@@ -162,13 +164,21 @@ def compose_stage(
     source: str,
     outside_scene: Path | None = None,
     force: bool = False,
+    recording: Recording | None = None,
 ) -> ComposeStage:
     """Compose the matched sub-actions (Algorithm 1) and write the new OAC into
-    ``LIBRARY/learned/NAME.oac`` as ``oacc compose`` does (unchanged when it is already there)."""
+    ``LIBRARY/learned/NAME.oac`` as ``oacc compose`` does (unchanged when it is already there).
+    ``recording``: the steps carry the skill parameters of its demonstrated motion
+    (:mod:`oacdsl.matching.demoparams`; None: the paper's plain steps)."""
     from oacdsl.matching.demonstration import compose_demonstration
     from oacdsl.matching.emit import LEARNED, emit
 
     comp = compose_demonstration(name, matches, library, scene).composition
+    if recording is not None:
+        from oacdsl.matching.demoparams import demonstrated_motions, with_demo_params
+
+        motions = demonstrated_motions(recording, [m.sub_action for m in matches])
+        comp = with_demo_params(comp, motions, library, scene)
     written = comp.oac
     warnings = list(comp.warnings)
     if outside_scene is not None:  # defaults would name instances the library does not know
