@@ -255,6 +255,11 @@ def _stages(
         for w in composed.warnings:
             warn(w)
         executed = attempt("execute", execute)
+        ran = len(executed.doc["steps"])  # a failed run stops early: later sub-actions ran no step
+        for sub in matched.doc["sub_actions"]:
+            if sub.get("step") is not None and sub["step"] >= ran:
+                sub["step"] = None
+        result.put("match", matched.doc)
         result.put("run", executed.doc)
         if executed.render_note:
             warn(f"{executed.render_note}; the report has no pictures of the robot")
