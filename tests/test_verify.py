@@ -188,7 +188,8 @@ def test_one_demonstration_change_made_in_several_robot_changes_is_a_split(robot
     assert (split.demonstration, split.robot, split.robot_last) == (1, 1, len(robot) - 1)
     assert "in several robot changes" in v.verdict()
     doc = json.loads(json.dumps(v.to_json()))
-    assert doc["alignment"][1] == {"op": "split", "demonstration": 1, "robot": 1, "robot_last": len(robot) - 1}
+    last = len(robot) - 1
+    assert doc["alignment"][1] == {"op": "split", "demonstration": 1, "robot": 1, "robot_last": last}
     assert doc["counts"]["split"] == 1
 
 

@@ -160,7 +160,8 @@ def verification_section(r: Result, images: Images) -> str:
     for i, a in enumerate(v.alignment, 1):
         d = v.demonstration[a.demonstration] if a.demonstration is not None else None
         last = a.robot_last if a.robot_last is not None else a.robot
-        parts = [v.robot[k] for k in range(a.robot, last + 1)] if a.robot is not None and last is not None else []
+        parts = [v.robot[k] for k in range(a.robot, last + 1)] if a.robot is not None and last is not None \
+            else []
         robot = "<br>".join(_change(b) for b in parts) if parts else _change(None)
         text, kind = ops[a.op]
         rows.append(f'<tr class="op-{a.op}"><td class=num>{i}</td><td class="side">{_change(d)}</td>'
