@@ -57,14 +57,14 @@ def test_the_scene_is_found_by_its_tracked_instances_alone() -> None:
         ('    foam : Milk markers ("f1") untracked', "'foam' is untracked: it has no marker group"),
     ],
 )
-def test_misused_untracked_is_e047(tmp_path: Path, line: str, message: str) -> None:
+def test_misused_untracked_is_e048(tmp_path: Path, line: str, message: str) -> None:
     (tmp_path / "kit").mkdir()
     for f in KIT.glob("*.oac"):
         (tmp_path / "kit" / f.name).write_text(f.read_text(encoding="utf-8"), encoding="utf-8")
     bad = tmp_path / "kit" / "bad.oac"
     bad.write_text(f"scene bad {{\n    left_hand : Hand\n{line}\n}}\n", encoding="utf-8")
     errors = [d for d in compile_paths([tmp_path / "kit"]).diagnostics if d.severity == "error"]
-    assert [d.code for d in errors] == ["E047"]
+    assert [d.code for d in errors] == ["E048"]
     assert message in errors[0].message and errors[0].span.line == 3
 
 

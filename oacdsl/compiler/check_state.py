@@ -6,7 +6,7 @@
   each instance placed once (E006);
 * ``l in c [balls N]``: ``l`` a Liquid and ``c`` a Container of the scene (E004,
   E046), each liquid in one container (E006), 1 ≤ N ≤ :data:`~oacdsl.model.MAX_BALLS` (E044);
-* an ``untracked`` instance names no markers and is not a hand (E047).
+* an ``untracked`` instance names no markers and is not a hand (E048).
 """
 
 from __future__ import annotations
@@ -139,14 +139,14 @@ def _check_untracked(ctx: Context, scene: Scene) -> None:
     for inst in scene.untracked():
         if inst.markers:
             ctx.add(
-                "E047",
+                "E048",
                 f"'{inst.name}' is untracked: it has no marker group in the recording, so it cannot"
                 " name markers; remove 'markers (…)' or 'untracked'",
                 inst.part("markers.0"),
             )
         elif "Hand" in (_classes(ctx, inst) or set()):
             ctx.add(
-                "E047",
+                "E048",
                 f"'{inst.name}' is a Hand: the demonstrator's hands are always tracked; 'untracked' is"
                 " for an object the recording does not see (a liquid)",
                 inst.part("name"),
