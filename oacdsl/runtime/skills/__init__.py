@@ -9,6 +9,7 @@ from oacdsl.runtime.skills.hold import hold, retreat
 from oacdsl.runtime.skills.mix import mix
 from oacdsl.runtime.skills.place import place
 from oacdsl.runtime.skills.pour import pour
+from oacdsl.runtime.skills.stir import stir
 from oacdsl.runtime.skills.touch import touch
 from oacdsl.runtime.skills.wipe import wipe
 
@@ -26,4 +27,5 @@ IMPLEMENTATIONS: dict[str, Skill] = {
     "retreat": retreat,
     "grasp_both": grasp_both,
     "place_both": place_both,
+    "stir": stir,
 }
