@@ -25,8 +25,9 @@ CLEAR_M = 0.03
 TAKE_OUT_S = 1.0
 
 
-#: How long the object first rests where it is (touching the container), s.
-SETTLE_S = 0.4
+#: How long the object first rests where it is (touching the container), s: longer than the
+#: closed loop's merge window (1 s), so that an observer sees the contact start and end apart.
+SETTLE_S = 1.2
 #: How far the object then moves to the hand's side, m.
 ASIDE_M = 0.10
 
