@@ -20,30 +20,11 @@ from oacdsl.model import Param
 __all__ = ["RESERVED", "lift", "most_specific", "snake"]
 
 #: Words a parameter may not be called (keywords of the language, ``nothing``).
-RESERVED = frozenset(
-    {
-        "class",
-        "scene",
-        "grasp",
-        "oac",
-        "markers",
-        "environment",
-        "type",
-        "approach",
-        "offset",
-        "pre",
-        "effect",
-        "execute",
-        "steps",
-        "not",
-        "nothing",
-        "ignored",
-        "layout",
-        "at",
-        "in",
-        "balls",
-    }
-)
+RESERVED = frozenset({
+    "class", "scene", "grasp", "oac", "markers", "environment", "type", "approach", "offset",
+    "pre", "effect", "execute", "steps", "not", "nothing", "ignored", "untracked", "layout", "at",
+    "in", "balls",
+})
 
 
 def snake(name: str) -> str:
