@@ -19,6 +19,8 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from oacdsl.errors import InputError, OacError
 from oacdsl.pipeline.inputs import Inputs
 from oacdsl.pipeline.result import ResultRecord
@@ -248,6 +250,18 @@ def _stages(
         )
         return done
 
+    def motion() -> dict[str, Any] | None:
+        """Demonstrated against executed motion per sub-action (never fails the run)."""
+        from oacdsl.pipeline.motion_compare import motion_doc
+
+        try:
+            return motion_doc(seg.recording, [m.sub_action for m in matched.matches], checked.recording,
+                              checked.sub_actions, checked.doc, composed.doc.get("steps", []),
+                              figs / "motion.png")
+        except (OacError, ValueError, FloatingPointError, np.linalg.LinAlgError) as error:
+            warn(f"the demonstrated and executed motion could not be compared: {error}")
+            return None
+
     try:
         seg = attempt("segment", segment)
         result.put("segment", analyse.segment_doc(seg, inputs.source))
@@ -264,7 +278,11 @@ def _stages(
         if executed.render_note:
             warn(f"{executed.render_note}; the report has no pictures of the robot")
         # a robot that failed a step is still verified: the report shows how far it got
-        result.put("verification", attempt("verify", verify).doc)
+        checked = attempt("verify", verify)
+        result.put("verification", checked.doc)
+        compared = motion()
+        if compared is not None:
+            result.put("motion", compared)
     except _Failed:
         pass
     done = {r["name"] for r in progress.records()}

@@ -13,6 +13,7 @@ from oacdsl.errors import InputError
 from oacdsl.report.demonstration import composed_section, keyframes_section, segment_section
 from oacdsl.report.execution import execution_section, reliability_section, verification_section
 from oacdsl.report.html import Images, esc
+from oacdsl.report.motion import motion_section
 from oacdsl.report.overview import footer, header, title_of
 from oacdsl.report.schema import SCHEMA_VERSION, validate_result
 from oacdsl.report.style import CSS
@@ -46,6 +47,7 @@ def render_html(
         composed_section(r, images),
         execution_section(r, images),
         verification_section(r, images),
+        motion_section(r, images),
         reliability_section(r),
         footer(r),
     ])
