@@ -52,8 +52,8 @@ def test_a_pour_takes_the_demonstrated_tilt_and_a_scaled_duration(lib):
     found = step_params("pour", m, ("left_hand", "red_cup", "liquid_one", "orange_bowl"), lib,
                         lib.scenes["kitchen"])
     assert values(found) == {"tilt": (104.0, "deg"), "duration": (1.0, "s")}
-    assert found.comment == ("demonstrated (cup relative to world): tilt 104deg as demonstrated;"
-                             " duration 1s from tilt rise 0.80s, x1.25")
+    assert found.comment == ("demonstrated (cup relative to world, frames 10-12): tilt 104deg as"
+                             " demonstrated; duration 1s from tilt rise 0.80s, x1.25")
     assert [r["how"] for r in found.rows] == ["as demonstrated", "scaled x1.25"]
 
 
@@ -112,7 +112,7 @@ def test_compose_writes_the_demonstrated_pours_and_no_demo_params_does_not(capsy
     assert all(p is None for s, p in zip(doc["steps"], params, strict=True) if s["oac"] != "pour")
     text = (lib_dir / "learned" / "dough.oac").read_text()
     assert "pour(hand1, cup1, liquid1, bowl) { duration 0.81s  tilt 110deg }" in text
-    assert "# demonstrated (red_cup relative to world): tilt 110deg as demonstrated;" in text
+    assert "# demonstrated (red_cup relative to world, frames 207-506): tilt 110deg as demonstrated;" in text
     assert "# skill defaults: the motion has no cycles" in text  # the mix: no oscillation before its keyframe
     learned = load_library([lib_dir]).oacs["dough"]
     plain_path = tmp_path / "plain.oac"
@@ -161,3 +161,34 @@ oac outer(h: Hand = left_hand, c: Cup = red_cup, l: Liquid = liquid_one, b: Bowl
     with pytest.raises(RuntimeFailure, match="p2 is composed: a step calling it takes no skill parameters"):
         expand(library, library.oacs["outer"], {"h": "left_hand", "c": "red_cup", "l": "liquid_one",
                                                 "b": "orange_bowl"})
+
+
+def test_a_made_relation_takes_the_motion_while_it_lasts():
+    # a spoon enters the cup (made), circles in it (kept), leaves (broken): the step that
+    # makes the relation executes the stir, so its motion spans all three sub-actions
+    from types import SimpleNamespace
+
+    from oacdsl.matching.demoparams import dwelling
+
+    t = np.arange(0, 6.0, 0.1)
+    T_spoon = np.tile(np.eye(4), (len(t), 1, 1))
+    circling = (t >= 1.0) & (t < 5.0)
+    T_spoon[:, 0, 3] = np.where(circling, 0.016 * np.cos(2 * np.pi * t / 0.5), 0.2)
+    T_spoon[:, 1, 3] = np.where(circling, 0.016 * np.sin(2 * np.pi * t / 0.5), 0.0)
+    # only the frame times and the poses are read
+    cup = SimpleNamespace(T_world_object=np.tile(np.eye(4), (len(t), 1, 1)))
+    spoon = SimpleNamespace(T_world_object=T_spoon)
+    rec = SimpleNamespace(times_s=t)
+
+    def m(a: int, b: int, relation: str) -> SubActionMotion:
+        return SubActionMotion(0, a, b, "right_hand", "spoon", "cup", relation, t[a:b + 1],
+                               T_spoon[a:b + 1], None, 0.0)
+
+    motions = [m(0, 12, "made"), m(12, 48, "kept"), m(48, 55, "broken")]
+    longer = dwelling(rec, motions, 0, {"cup": cup, "spoon": spoon})
+    assert (longer.start_frame, longer.end_frame) == (0, 55)
+    assert longer.features.period_s == pytest.approx(0.5, abs=0.03)
+    assert longer.features.radius_m == pytest.approx(0.016, abs=0.002)
+    assert dwelling(rec, motions, 1, {"cup": cup, "spoon": spoon}) is motions[1]  # kept: unchanged
+    # nothing breaks it: to the recording's end
+    assert dwelling(rec, motions[:2], 0, {"cup": cup, "spoon": spoon}).end_frame == len(t) - 1

@@ -30,10 +30,13 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from oacdsl.library import Library
 from oacdsl.matching.composer import Composition
 from oacdsl.model import Call, Quantity, Scene, SkillParam, sorted_skill_params
 from oacdsl.segmentation.motion import SubActionMotion
+from oacdsl.segmentation.poses import ObjectPoses
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import SubAction
 from oacdsl.skills import SIGNATURES, MotionSource, SkillParamSpec
@@ -189,7 +192,8 @@ def step_params(skill: str | None, motion: SubActionMotion | None, args: Sequenc
             texts.append(text)
     where = ""
     if motion is not None and motion.moved is not None:
-        where = f" ({motion.moved} relative to {motion.frame_name})"
+        where = (f" ({motion.moved} relative to {motion.frame_name},"
+                 f" frames {motion.start_frame}-{motion.end_frame})")
     if texts:
         comment = f"demonstrated{where}: " + "; ".join(texts)
     else:
@@ -199,24 +203,63 @@ def step_params(skill: str | None, motion: SubActionMotion | None, args: Sequenc
 
 
 def demonstrated_motions(recording: Recording, subs: Sequence[SubAction]) -> list[SubActionMotion]:
-    """The motion of each sub-action in ``subs`` (the matcher's: transient keyframes dropped)."""
+    """The motion of each sub-action in ``subs`` (the matcher's: transient keyframes dropped),
+    each one that *makes* a relation extended over the span the relation then lasts
+    (:func:`dwelling`)."""
     from oacdsl.segmentation.motion import sub_action_motion
     from oacdsl.segmentation.poses import fit_poses
 
     posed = fit_poses(recording)
-    return [sub_action_motion(recording, sub, posed) for sub in subs]
+    motions = [sub_action_motion(recording, sub, posed) for sub in subs]
+    return [dwelling(recording, motions, k, posed) for k in range(len(motions))]
+
+
+def dwelling(recording: Recording, motions: Sequence[SubActionMotion], k: int,
+             posed: Mapping[str, ObjectPoses]) -> SubActionMotion:
+    """Motion ``k`` over the whole time its object stays with its target.
+
+    A skill that stirs, wipes or cuts runs in the step whose effect is the tool touching
+    its target (the sub-action that *makes* the relation); the demonstrated circles or
+    strokes come after, while the relation is *kept*, until the sub-action that *breaks*
+    it (or the recording's end, when nothing breaks it: the dough's mixing follows the
+    last keyframe). So the motion of a sub-action that makes a relation is extended over
+    the following sub-actions of the same object and target that keep it, and the one
+    that breaks it; its features are computed on that span (the core still leaves out
+    the way in and out).
+    """
+    m = motions[k]
+    if m.relation != "made" or m.target is None or m.moved is None:
+        return m
+    end = m.end_frame
+    for n in motions[k + 1 :]:
+        if (n.moved, n.target) != (m.moved, m.target) or n.relation not in ("kept", "broken"):
+            break
+        end = n.end_frame
+        if n.relation == "broken":
+            break
+    else:  # the relation still holds at the last keyframe: it lasts to the recording's end
+        end = len(recording.times_s) - 1
+    if end == m.end_frame:
+        return m
+    from oacdsl.segmentation.motionfeatures import motion_features
+    from oacdsl.segmentation.poses import relative
+
+    a = m.start_frame
+    times = np.asarray(recording.times_s[a : end + 1], dtype=np.float64)
+    T = relative(posed[m.target].T_world_object[a : end + 1], posed[m.moved].T_world_object[a : end + 1])
+    return dataclasses.replace(m, end_frame=end, times_s=times, T_target_object=T,
+                               features=motion_features(times, T))
 
 
 def with_demo_params(comp: Composition, found_motions: Sequence[SubActionMotion],
                      library: Library, scene: Scene) -> Composition:
     """``comp`` with each step's parameters from the motion of its sub-action (matched by its
     first and last frame), a comment per step, and ``demo_params`` (module doc)."""
-    motions = {(m.start_frame, m.end_frame): m for m in found_motions}
+    motions = {m.start_frame: m for m in found_motions}
     calls: list[Call] = []
     doc: list[dict[str, Any]] = []
     for k, (call, step) in enumerate(zip(comp.oac.steps or (), comp.steps, strict=True)):
-        a, b = step.start_frame, step.end_frame
-        motion = motions.get((a, b)) if a is not None and b is not None else None
+        motion = motions.get(step.start_frame) if step.start_frame is not None else None
         args = tuple(step.mapping.get(a, a) for a in step.oac.skill_arguments())
         found = step_params(step.oac.skill, motion, args, library, scene)
         if found.comment is None:
