@@ -65,8 +65,8 @@ class MotionSource:
     was found (``needs="period_s"``), a tilt only where the object really tilted
     (``needs="tilt_rise_s"``). Without a value the skill's default applies.
 
-    Example: ``MotionSource("extent_m", scale=0.5, needs="period_s")`` — a wipe's stroke
-    goes half the demonstrated extent to either side of the middle.
+    Example: ``MotionSource("radius_m", scale=1.41, needs="period_s")`` — a wipe's stroke
+    goes √2 × the strokes' median distance from their middle to either side of it.
     """
 
     feature: str
@@ -223,8 +223,10 @@ SIGNATURES: dict[str, SkillSignature] = {
             (
                 SkillParamSpec("strokes", "", 3.0, 1.0, 20.0, "number of to-and-fro strokes",
                                MotionSource("cycles")),
+                # the strokes' median distance from their middle is 1/sqrt(2) of how far they go
+                # (a sinusoid's); the extent would count the way onto and off the surface too
                 SkillParamSpec("length", "m", 0.06, 0.01, 0.20, "how far each stroke goes to either side",
-                               MotionSource("extent_m", scale=0.5, needs="period_s")),
+                               MotionSource("radius_m", scale=1.41, needs="period_s")),
                 SkillParamSpec(
                     "press", "m", 0.004, 0.0, 0.02, "how far the tool is pressed into the surface"
                 ),

@@ -88,10 +88,10 @@ def test_without_an_oscillation_or_a_motion_the_skill_keeps_its_defaults(lib):
     assert step_params("reach_and_grasp", motion(), ("left_hand", "red_cup"), lib, scene).comment is None
 
 
-def test_a_wipe_stroke_is_half_the_demonstrated_extent(lib):
-    m = motion(moved="sponge", target="tray", extent_m=(0.1, 0.02, 0.01), period_s=0.67, cycles=2.5)
+def test_a_wipe_stroke_goes_sqrt2_times_the_median_radius(lib):
+    m = motion(moved="sponge", target="tray", radius_m=0.035, period_s=0.67, cycles=2.6)
     found = step_params("wipe", m, ("left_hand", "sponge", "tray"), lib, lib.scenes["wiping"])
-    assert values(found) == {"strokes": (2.0, ""), "length": (50.0, "mm")}
+    assert values(found) == {"strokes": (3.0, ""), "length": (49.0, "mm")}  # 1.41 x 35mm
 
 
 @pytest.fixture

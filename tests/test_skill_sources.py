@@ -23,7 +23,7 @@ def test_existing_skills_name_their_sources():
     assert src[("mix", "period")].feature == "period_s"
     assert src[("mix", "radius")] == MotionSource("radius_m", needs="period_s")
     assert src[("mix", "turns")].feature == "cycles"
-    assert src[("wipe", "length")] == MotionSource("extent_m", scale=0.5, needs="period_s")
+    assert src[("wipe", "length")] == MotionSource("radius_m", scale=1.41, needs="period_s")
     assert src[("wipe", "strokes")].feature == "cycles"
     assert src[("pour", "height")] is None and src[("place", "force")] is None
 
@@ -42,7 +42,8 @@ def test_bad_source_is_refused(kwargs, message):
 
 def test_describe_names_the_source():
     assert SIGNATURES["wipe"].param("length").describe().endswith(
-        "from the demonstration: 0.5 x extent_m[0] (where period_s is found)")
+        "from the demonstration: 1.41 x radius_m (where period_s is found)")
+    assert MotionSource("extent_m", scale=0.5).describe() == "0.5 x extent_m[0]"
 
 
 def test_skills_json_lists_the_source(capsys):

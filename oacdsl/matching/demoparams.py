@@ -202,16 +202,16 @@ def step_params(skill: str | None, motion: SubActionMotion | None, args: Sequenc
     return StepParams(tuple(params), comment, tuple(rows))
 
 
-def demonstrated_motions(recording: Recording, subs: Sequence[SubAction]) -> list[SubActionMotion]:
+def demonstrated_motions(recording: Recording, subs: Sequence[SubAction]) -> dict[int, SubActionMotion]:
     """The motion of each sub-action in ``subs`` (the matcher's: transient keyframes dropped),
-    each one that *makes* a relation extended over the span the relation then lasts
-    (:func:`dwelling`)."""
+    keyed by the sub-action's first frame; each one that *makes* a relation extended over the
+    span the relation then lasts (:func:`dwelling`)."""
     from oacdsl.segmentation.motion import sub_action_motion
     from oacdsl.segmentation.poses import fit_poses
 
     posed = fit_poses(recording)
     motions = [sub_action_motion(recording, sub, posed) for sub in subs]
-    return [dwelling(recording, motions, k, posed) for k in range(len(motions))]
+    return {sub.start.frame: dwelling(recording, motions, k, posed) for k, sub in enumerate(subs)}
 
 
 def dwelling(recording: Recording, motions: Sequence[SubActionMotion], k: int,
@@ -231,10 +231,12 @@ def dwelling(recording: Recording, motions: Sequence[SubActionMotion], k: int,
     if m.relation != "made" or m.target is None or m.moved is None:
         return m
     end = m.end_frame
+    followers: list[SubActionMotion] = []
     for n in motions[k + 1 :]:
         if (n.moved, n.target) != (m.moved, m.target) or n.relation not in ("kept", "broken"):
             break
         end = n.end_frame
+        followers.append(n)
         if n.relation == "broken":
             break
     else:  # the relation still holds at the last keyframe: it lasts to the recording's end
@@ -247,15 +249,20 @@ def dwelling(recording: Recording, motions: Sequence[SubActionMotion], k: int,
     a = m.start_frame
     times = np.asarray(recording.times_s[a : end + 1], dtype=np.float64)
     T = relative(posed[m.target].T_world_object[a : end + 1], posed[m.moved].T_world_object[a : end + 1])
-    return dataclasses.replace(m, end_frame=end, times_s=times, T_target_object=T,
-                               features=motion_features(times, T))
+    merged = dataclasses.replace(m, end_frame=end, times_s=times, T_target_object=T,
+                                 features=motion_features(times, T))
+    # a period at 10 Hz hangs on a sample or two: when the whole span shows none but a
+    # following sub-action does (KIT Stir: frames 21-48 none, 27-48 0.50 s), that one tells
+    periodic = [n for n in followers if n.features is not None and n.features.period_s is not None]
+    if merged.features is not None and merged.features.period_s is None and periodic:
+        return max(periodic, key=lambda n: n.end_frame - n.start_frame)
+    return merged
 
 
-def with_demo_params(comp: Composition, found_motions: Sequence[SubActionMotion],
+def with_demo_params(comp: Composition, motions: Mapping[int, SubActionMotion],
                      library: Library, scene: Scene) -> Composition:
-    """``comp`` with each step's parameters from the motion of its sub-action (matched by its
-    first and last frame), a comment per step, and ``demo_params`` (module doc)."""
-    motions = {m.start_frame: m for m in found_motions}
+    """``comp`` with each step's parameters from the motion of its sub-action (``motions``: by
+    the sub-action's first frame), a comment per step, and ``demo_params`` (module doc)."""
     calls: list[Call] = []
     doc: list[dict[str, Any]] = []
     for k, (call, step) in enumerate(zip(comp.oac.steps or (), comp.steps, strict=True)):
