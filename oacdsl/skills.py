@@ -63,7 +63,8 @@ class MotionSource:
     length, the target object's size). ``needs`` names another feature that must be defined
     (not None) for the parameter to be taken: a stirring radius only where an oscillation
     was found (``needs="period_s"``), a tilt only where the object really tilted
-    (``needs="tilt_rise_s"``). Without a value the skill's default applies.
+    (``needs="tilt_rise_s"``). ``least`` raises a value below what the robot's skill is known
+    to work with. Without a value the skill's default applies.
 
     Example: ``MotionSource("radius_m", scale=1.41, needs="period_s")`` — a wipe's stroke
     goes √2 × the strokes' median distance from their middle to either side of it.
@@ -73,6 +74,10 @@ class MotionSource:
     scale: float = 1.0
     axis: int = 0
     needs: str | None = None
+    #: The least value the robot's skill is known to work with (SI; None: the range's low end):
+    #: a smaller demonstrated value is raised to it (a pour's balls leave the robot's cup
+    #: reliably only from 125° on; people pour liquids at 90-110°).
+    least: float | None = None
 
     def __post_init__(self) -> None:
         for name in (self.feature, self.needs):
@@ -83,11 +88,14 @@ class MotionSource:
         if not (math.isfinite(self.scale) and self.scale > 0):
             raise ValueError(f"scale {self.scale}: a positive number")
 
-    def describe(self) -> str:
-        """``0.5 x extent_m[0] (where period_s is found)``."""
+    def describe(self, unit: str | None = None) -> str:
+        """``0.5 x extent_m[0] (where period_s is found)``; ``unit``: the parameter's, for ``least``."""
         name = f"{self.feature}[{self.axis}]" if self.feature == "extent_m" else self.feature
         text = name if self.scale == 1.0 else f"{self.scale:g} x {name}"
-        return text + (f" (where {self.needs} is found)" if self.needs else "")
+        text += f" (where {self.needs} is found)" if self.needs else ""
+        if self.least is not None:
+            text += f", at least {format_value(self.least, unit) if unit is not None else f'{self.least:g}'}"
+        return text
 
 
 @dataclass(frozen=True)
@@ -117,7 +125,7 @@ class SkillParamSpec:
         return (
             f"{self.name}: {kind}, default {format_value(self.default, self.unit)}"
             f" ({format_value(self.low, self.unit)} to {format_value(self.high, self.unit)}) — {self.doc}"
-            + (f"; from the demonstration: {self.source.describe()}" if self.source else "")
+            + (f"; from the demonstration: {self.source.describe(self.unit)}" if self.source else "")
         )
 
 
@@ -194,7 +202,7 @@ SIGNATURES: dict[str, SkillSignature] = {
             (
                 SkillParamSpec(
                     "tilt", "rad", _deg(125.0), _deg(30.0), _deg(180.0), "final tilt of the container",
-                    MotionSource("tilt_max_rad", needs="tilt_rise_s"),
+                    MotionSource("tilt_max_rad", needs="tilt_rise_s", least=_deg(125.0)),
                 ),
                 # the skill tilts at a constant rate: its 10-90 % rise takes 0.8 of the duration
                 SkillParamSpec("duration", "s", 1.8, 0.3, 10.0, "time to tilt it that far",

@@ -47,22 +47,32 @@ def values(found) -> dict[str, tuple[float, str]]:
     return {p.name: (p.value.value, p.value.unit) for p in found.params}
 
 
+POUR = ("left_hand", "red_cup", "liquid_one", "orange_bowl")
+
+
 def test_a_pour_takes_the_demonstrated_tilt_and_a_scaled_duration(lib):
-    m = motion(tilt_max_rad=math.radians(104.4), tilt_rise_s=0.8)
-    found = step_params("pour", m, ("left_hand", "red_cup", "liquid_one", "orange_bowl"), lib,
-                        lib.scenes["kitchen"])
-    assert values(found) == {"tilt": (104.0, "deg"), "duration": (1.0, "s")}
-    assert found.comment == ("demonstrated (cup relative to world, frames 10-12): tilt 104deg as"
+    m = motion(tilt_max_rad=math.radians(140.4), tilt_rise_s=0.8)
+    found = step_params("pour", m, POUR, lib, lib.scenes["kitchen"])
+    assert values(found) == {"tilt": (140.0, "deg"), "duration": (1.0, "s")}
+    assert found.comment == ("demonstrated (cup relative to world, frames 10-12): tilt 140deg as"
                              " demonstrated; duration 1s from tilt rise 0.80s, x1.25")
     assert [r["how"] for r in found.rows] == ["as demonstrated", "scaled x1.25"]
 
 
-def test_values_outside_the_skills_range_are_clamped_and_said_so(lib):
-    m = motion(tilt_max_rad=math.radians(20.0), tilt_rise_s=9.0)
-    found = step_params("pour", m, ("left_hand", "red_cup", "liquid_one", "orange_bowl"), lib,
+def test_a_tilt_below_what_empties_the_robots_cup_is_raised(lib):
+    # people pour liquids at 90-110 deg; the robot's balls leave its cup reliably from 125 deg on
+    found = step_params("pour", motion(tilt_max_rad=math.radians(110.2), tilt_rise_s=0.65), POUR, lib,
                         lib.scenes["kitchen"])
-    assert values(found) == {"tilt": (30.0, "deg"), "duration": (10.0, "s")}
-    assert "tilt 30deg from tilt 20deg, clamped to the skill's range" in found.comment
+    assert values(found) == {"tilt": (125.0, "deg"), "duration": (0.81, "s")}
+    assert "tilt 125deg from tilt 110deg, raised to the robot's least (125deg)" in found.comment
+    assert found.rows[0]["how"] == "raised to the robot's least"
+    assert found.rows[0]["demonstrated"] == pytest.approx(math.radians(110.2))
+
+
+def test_values_outside_the_skills_range_are_clamped_and_said_so(lib):
+    m = motion(tilt_max_rad=math.radians(179.9), tilt_rise_s=9.0)
+    found = step_params("pour", m, POUR, lib, lib.scenes["kitchen"])
+    assert values(found) == {"tilt": (180.0, "deg"), "duration": (10.0, "s")}
     assert "duration 10s from tilt rise 9.00s, x1.25, clamped to the skill's range" in found.comment
 
 
@@ -106,13 +116,17 @@ def test_compose_writes_the_demonstrated_pours_and_no_demo_params_does_not(capsy
     doc = json.loads(capsys.readouterr().out)
     params = [s.get("params") for s in doc["steps"]]
     pours = [p for s, p in zip(doc["steps"], params, strict=True) if s["oac"] == "pour"]
-    # the dough's cups tilt 110deg and 109deg, rising (10-90 %) in 0.65 s and 0.60 s
-    assert [round(math.degrees(p["tilt"])) for p in pours] == [110, 109]
+    # the dough's cups tilt 110deg and 109deg (raised to the robot's 125deg), rising (10-90 %)
+    # in 0.65 s and 0.60 s
+    assert [round(math.degrees(p["tilt"])) for p in pours] == [125, 125]
+    tilts = [r["demonstrated"] for d in doc["demo_params"] for r in d["params"] if r["name"] == "tilt"]
+    assert [round(math.degrees(t)) for t in tilts] == [110, 109]
     assert [p["duration"] for p in pours] == [0.81, 0.75]
     assert all(p is None for s, p in zip(doc["steps"], params, strict=True) if s["oac"] != "pour")
     text = (lib_dir / "learned" / "dough.oac").read_text()
-    assert "pour(hand1, cup1, liquid1, bowl) { duration 0.81s  tilt 110deg }" in text
-    assert "# demonstrated (red_cup relative to world, frames 207-506): tilt 110deg as demonstrated;" in text
+    assert "pour(hand1, cup1, liquid1, bowl) { duration 0.81s  tilt 125deg }" in text
+    assert ("# demonstrated (red_cup relative to world, frames 207-506): tilt 125deg from tilt 110deg,"
+            " raised to the robot's least (125deg); duration 0.81s from tilt rise 0.65s, x1.25") in text
     assert "# skill defaults: the motion has no cycles" in text  # the mix: no oscillation before its keyframe
     learned = load_library([lib_dir]).oacs["dough"]
     plain_path = tmp_path / "plain.oac"

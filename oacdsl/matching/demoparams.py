@@ -10,7 +10,9 @@ that names a :class:`~oacdsl.skills.MotionSource` is set from the sub-action's
    default (or the OAC's ``execute … { }`` value) applies;
 2. **scaled**: × the source's ``scale`` (a pour's tilt rise → its duration × 1.25, a
    wipe's extent → its length to either side × 0.5), rounded for a count;
-3. **retargeted**: a length no larger than the *room* the robot has on the skill's target
+3. **retargeted**: raised to the least value the robot's skill is known to work with
+   (``MotionSource.least``: a pour's tilt, 125°, from where the robot's balls leave its cup
+   reliably), a length no larger than the *room* the robot has on the skill's target
    (the object bound to the skill's last argument): a container's inner radius (its
    shell's radius less its wall), a box's half width, less the held tool's own radius
    (the object bound to the skill's second argument) — then into the parameter's range
@@ -128,7 +130,7 @@ def room_m(library: Library, scene: Scene, target: str, tool: str | None) -> flo
 
 def _one(spec: SkillParamSpec, source: MotionSource, motion: SubActionMotion | None, room: float | None
          ) -> tuple[SkillParam | None, str | None, dict[str, Any]]:
-    row: dict[str, Any] = {"name": spec.name, "feature": source.describe(), "unit": spec.unit,
+    row: dict[str, Any] = {"name": spec.name, "feature": source.describe(spec.unit), "unit": spec.unit,
                            "demonstrated": None, "value": None}
     if motion is None or motion.features is None:
         row["how"] = "no demonstrated motion (the moved object has fewer than 3 markers)"
@@ -149,6 +151,10 @@ def _one(spec: SkillParamSpec, source: MotionSource, motion: SubActionMotion | N
         how = [f"scaled x{source.scale:g}"]
     if spec.whole:
         value = float(round(value))
+    if source.least is not None and value < source.least:
+        value = source.least
+        what.append(f"raised to the robot's least ({_show(value, spec.unit)})")
+        how.append("raised to the robot's least")
     if spec.unit == "m" and room is not None and value > room:
         value = room
         what.append(f"clamped to the room on the target ({_show(room, 'm')})")
@@ -161,7 +167,7 @@ def _one(spec: SkillParamSpec, source: MotionSource, motion: SubActionMotion | N
     from oacdsl.units import language_si
 
     row["value"] = language_si(q.value, q.unit)[0]
-    row["how"] = ", ".join(how)
+    row["how"] = ", ".join(h for h in how if h != "as demonstrated" or len(how) == 1)
     label = (source.feature.removesuffix("_s").removesuffix("_m").removesuffix("_rad")
              .replace("_max", "").replace("_", " "))
     text = f"{spec.name} {q.value:g}{q.unit}" + (

@@ -275,6 +275,7 @@ def _stages(
             warn(w)
         executed = attempt("execute", execute)
         result.put("run", executed.doc)
+        _unexecuted_steps(result, len(executed.doc.get("steps", [])))
         if executed.render_note:
             warn(f"{executed.render_note}; the report has no pictures of the robot")
         # a robot that failed a step is still verified: the report shows how far it got
@@ -299,6 +300,18 @@ def _stages(
     else:
         progress.skip("record", "nothing was executed")
     return failed[0] if failed else None
+
+
+def _unexecuted_steps(result: ResultRecord, executed: int) -> None:
+    """A run that stopped at a failed step executed only its first ``executed`` steps: the
+    sub-actions of the steps after it point at no execution (``step`` left out)."""
+    match = result.docs.get("match")
+    if not match or not any((s.get("step") or 0) >= executed for s in match["sub_actions"]):
+        return
+    for sub in match["sub_actions"]:
+        if sub.get("step") is not None and sub["step"] >= executed:
+            del sub["step"]
+    result.put("match", match)
 
 
 def _record(
