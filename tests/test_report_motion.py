@@ -91,3 +91,22 @@ def test_pairs_follow_the_alignment():
                        {"op": "match", "demonstration": 1, "robot": 2},
                        {"op": "missing", "demonstration": 2, "robot": None}]}
     assert _pairs(v) == {0: 0, 1: 2}
+
+
+def test_a_run_stopped_early_leaves_out_the_steps_it_never_executed(base):
+    # the sub-actions of steps after a failed one point at no execution (else result.json
+    # would not validate and the report of a failed run would be lost)
+    from oacdsl.pipeline.result import ResultRecord
+    from oacdsl.pipeline.run import _unexecuted_steps
+
+    _, result = base
+    record = ResultRecord(created_utc="", oacdsl_version="", demonstration=result["demonstration"])
+    match = copy.deepcopy(result["match"])
+    for k, sub in enumerate(match["sub_actions"]):
+        sub["step"] = k
+    record.put("match", match)
+    _unexecuted_steps(record, 2)
+    kept = [s.get("step") for s in record.docs["match"]["sub_actions"]]
+    assert kept[:3] == [0, 1, None] and set(kept[2:]) == {None}
+    _unexecuted_steps(record, 99)  # all executed: nothing changes
+    assert [s.get("step") for s in record.docs["match"]["sub_actions"]] == kept
