@@ -96,7 +96,8 @@ def _written(value: float, spec: SkillParamSpec) -> Quantity:
 
 
 def _size(geometry: Any) -> tuple[float | None, float | None]:
-    """(inner half-width of a target, outer radius of a tool) of a resolved geometry, metres."""
+    """(inner half-width of a target, radius of a tool's cross-section) of a resolved geometry,
+    metres (its first shape: a container's shell, a tool's handle or head)."""
     from oacdsl.geometry import si
 
     if geometry is None or not geometry.shapes:
@@ -107,8 +108,8 @@ def _size(geometry: Any) -> tuple[float | None, float | None]:
         return dim["radius"] - dim["wall"], dim["radius"]
     if shape.primitive in ("cylinder", "capsule", "sphere"):
         return dim["radius"], dim["radius"]
-    if shape.primitive == "box":
-        return min(dim["length"], dim["width"]) / 2, max(dim["length"], dim["width"]) / 2
+    if shape.primitive == "box":  # a tool's narrow side: a spoon or a knife stands on it
+        return min(dim["length"], dim["width"]) / 2, min(dim["length"], dim["width"]) / 2
     return None, None
 
 
