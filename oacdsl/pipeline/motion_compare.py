@@ -15,6 +15,7 @@ the demonstration's path on the left, the robot's on the right.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -25,7 +26,7 @@ from oacdsl.segmentation.poses import ObjectPoses, fit_poses, relative
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import SubAction
 
-__all__ = ["motion_doc", "save_comparison_plot"]
+__all__ = ["PLOT_POINTS", "motion_doc", "save_comparison_plot"]
 
 
 def _as_demonstrated(robot: SubActionMotion, demo: SubActionMotion, posed: Mapping[str, ObjectPoses]
@@ -98,6 +99,19 @@ def motion_doc(demo_recording: Recording, demo_subs: Sequence[SubAction], robot_
     return doc
 
 
+#: Most points a panel draws (the robot's recording has 100 frames a second: a 16-panel
+#: picture with every frame drew thousands of points per panel).
+PLOT_POINTS = 150
+
+
+def _thin(m: SubActionMotion) -> SubActionMotion:
+    """Every k-th frame of ``m``'s path, at most :data:`PLOT_POINTS` (for drawing only)."""
+    step = max(1, -(-len(m.times_s) // PLOT_POINTS))
+    if step == 1:
+        return m
+    return dataclasses.replace(m, times_s=m.times_s[::step], T_target_object=m.T_target_object[::step])
+
+
 def save_comparison_plot(pairs: Sequence[tuple[SubActionMotion, SubActionMotion | None]], out: Path) -> Path:
     """One row per sub-action: the demonstration's path (left), the robot's (right)."""
     from matplotlib.figure import Figure
@@ -105,14 +119,17 @@ def save_comparison_plot(pairs: Sequence[tuple[SubActionMotion, SubActionMotion 
     from oacdsl.segmentation.motionplot import draw_motion
     from oacdsl.segmentation.plots import save_figure
 
-    fig = Figure(figsize=(8.4, 3.6 * len(pairs) + 0.3), layout="constrained")
+    # a fixed layout: constrained layout re-measures the labels of every panel while it saves
+    fig = Figure(figsize=(7.0, 2.9 * len(pairs) + 0.3))
+    fig.subplots_adjust(left=0.1, right=0.98, top=1 - 0.35 / (2.9 * len(pairs) + 0.3),
+                        bottom=0.45 / (2.9 * len(pairs) + 0.3), hspace=0.5, wspace=0.32)
     for k, (demo, robot) in enumerate(pairs):
-        draw_motion(fig.add_subplot(len(pairs), 2, 2 * k + 1), demo,
+        draw_motion(fig.add_subplot(len(pairs), 2, 2 * k + 1), _thin(demo),
                     f"#{demo.index} demonstration: {demo.moved} → {demo.frame_name}")
         ax = fig.add_subplot(len(pairs), 2, 2 * k + 2)
         if robot is None or robot.moved is None:
             ax.text(0.5, 0.5, "no aligned robot sub-action", ha="center", va="center", fontsize=8)
             ax.set_axis_off()
         else:
-            draw_motion(ax, robot, f"#{robot.index} robot: {robot.moved} → {robot.frame_name}")
+            draw_motion(ax, _thin(robot), f"#{robot.index} robot: {robot.moved} → {robot.frame_name}")
     return save_figure(fig, out)

@@ -104,4 +104,4 @@ def draw_motion(ax: Any, m: SubActionMotion, title: str | None = None) -> None:
     ax.tick_params(labelsize=7)
     ax.grid(True, linewidth=0.3)
     ax.set_title(title if title is not None else _caption(m), fontsize=8)
-    ax.legend(fontsize=6, loc="best")
+    ax.legend(fontsize=6, loc="upper right")  # "best" searches every point: seconds per panel
