@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 from oacdsl.units import unit_kind
 
-__all__ = ["SIGNATURES", "SKILLS", "SkillArg", "SkillParamSpec", "SkillSignature", "format_value"]
+__all__ = ["ANY", "SIGNATURES", "SKILLS", "SkillArg", "SkillParamSpec", "SkillSignature", "format_value"]
 
 
 @dataclass(frozen=True)
@@ -91,6 +91,10 @@ def format_value(value: float, unit: str) -> str:
     return f"{value:g}{unit}"
 
 
+#: The class of an argument that may be any object of the scene (``touch``'s target).
+ANY = "any"
+
+
 def _deg(x: float) -> float:
     return math.radians(x)
 
@@ -155,6 +159,37 @@ SIGNATURES: dict[str, SkillSignature] = {
                 SkillParamSpec(
                     "press", "m", 0.004, 0.0, 0.02, "how far the tool is pressed into the surface"
                 ),
+            ),
+        ),
+        SkillSignature(
+            "hold",
+            "keep the held object still while the other hand works on it",
+            (SkillArg("h", "Hand"), SkillArg("o", "Graspable")),
+            (
+                # feature: duration_s (how long the demonstration held it)
+                SkillParamSpec("duration", "s", 0.5, 0.1, 10.0, "how long the hand keeps still"),
+            ),
+        ),
+        SkillSignature(
+            "touch",
+            "bring the held object down onto another object (held or standing) until they touch",
+            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("t", ANY)),
+            (
+                SkillParamSpec(
+                    "hover", "m", 0.04, 0.01, 0.20, "height above the target's top where the descent starts"
+                ),
+                SkillParamSpec(
+                    "force", "N", 8.0, 2.0, 30.0, "wrist force change that means something else is in the way"
+                ),
+            ),
+        ),
+        SkillSignature(
+            "retreat",
+            "take the empty hand back to its home pose, out of the other hand's way",
+            (SkillArg("h", "Hand"),),
+            (
+                # feature: duration_s
+                SkillParamSpec("duration", "s", 1.6, 0.5, 10.0, "time to get there"),
             ),
         ),
     )

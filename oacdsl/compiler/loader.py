@@ -21,13 +21,30 @@ from oacdsl.library import Library
 from oacdsl.model import Module
 
 __all__ = [
+    "LIBRARY_MARK",
     "NEED_EVERY_FILE",
     "CompileResult",
     "collect_files",
     "compile_paths",
     "compile_sources",
     "load_library",
+    "oac_files",
 ]
+
+#: A folder below a library folder that holds a file of this name is a library of its own
+#: (``library/kit/LIBRARY``): searching the folder above leaves it out.
+LIBRARY_MARK = "LIBRARY"
+
+
+def oac_files(folder: Path) -> list[Path]:
+    """The ``.oac`` files under ``folder``, sorted, leaving out every subfolder that is a
+    library of its own (it holds a file called :data:`LIBRARY_MARK`)."""
+    found = []
+    for p in folder.rglob("*.oac"):
+        parents = p.relative_to(folder).parents
+        if p.is_file() and not any((folder / q / LIBRARY_MARK).is_file() for q in parents if q.parts):
+            found.append(p)
+    return sorted(found)
 
 
 @dataclass
@@ -63,7 +80,8 @@ class CompileResult:
 
 
 def collect_files(paths: Sequence[str | Path]) -> list[Path]:
-    """The ``.oac`` files named by ``paths`` (files as given, folders searched recursively).
+    """The ``.oac`` files named by ``paths`` (files as given, folders searched recursively,
+    leaving out subfolders that are libraries of their own: :func:`oac_files`).
 
     :class:`~oacdsl.errors.InputError` for a missing path or a folder without ``.oac`` files.
     """
@@ -74,7 +92,7 @@ def collect_files(paths: Sequence[str | Path]) -> list[Path]:
         path = Path(raw)
         if path.is_dir():
             try:
-                found = sorted(p for p in path.rglob("*.oac") if p.is_file())
+                found = oac_files(path)
             except OSError as error:
                 raise InputError(f"cannot list: {error.strerror or error}", location=str(path)) from None
             if not found:

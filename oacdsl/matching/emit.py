@@ -45,11 +45,13 @@ class Emitted:
 
 
 def library_files(library: Path) -> list[Path]:
-    """The ``.oac`` files of a library folder (or the file itself), drafts left out."""
+    """The ``.oac`` files of a library folder (or the file itself), drafts and the
+    subfolders that are libraries of their own left out (``oac_files``)."""
+    from oacdsl.compiler.loader import oac_files
+
     if library.is_file():
         return [library]
-    return sorted(p for p in library.rglob("*.oac")
-                  if p.is_file() and DRAFTS not in p.relative_to(library).parts[:-1])
+    return [p for p in oac_files(library) if DRAFTS not in p.relative_to(library).parts[:-1]]
 
 
 def render(decls: Sequence[Oac], path: str, header: Sequence[str] = ()) -> str:

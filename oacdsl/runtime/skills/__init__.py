@@ -4,9 +4,11 @@ from __future__ import annotations
 
 from oacdsl.runtime.skills.base import Skill, SkillContext
 from oacdsl.runtime.skills.grasp import reach_and_grasp
+from oacdsl.runtime.skills.hold import hold, retreat
 from oacdsl.runtime.skills.mix import mix
 from oacdsl.runtime.skills.place import place
 from oacdsl.runtime.skills.pour import pour
+from oacdsl.runtime.skills.touch import touch
 from oacdsl.runtime.skills.wipe import wipe
 
 __all__ = ["IMPLEMENTATIONS", "Skill", "SkillContext"]
@@ -18,4 +20,7 @@ IMPLEMENTATIONS: dict[str, Skill] = {
     "pour": pour,
     "mix": mix,
     "wipe": wipe,
+    "hold": hold,
+    "touch": touch,
+    "retreat": retreat,
 }

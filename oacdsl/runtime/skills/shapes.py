@@ -1,0 +1,75 @@
+"""Where an object's solids are: the corners of their bounding boxes, in any pose.
+
+The skills that bring one object onto another (``touch``, ``stir``, ``cut`` …) ask where
+the held object's lowest point or its tip is and where the target's top is, whatever
+way either is turned. A solid's bounding box is enough for that (metres, object frame:
+origin at the centre of the object's base, z up).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from oacdsl.runtime.bodies import Body
+
+__all__ = ["corners", "world_corners", "lowest_z", "highest_z", "long_axis", "tip_local"]
+
+
+def corners(body: Body) -> np.ndarray:
+    """(8k, 3) corners of the bounding boxes of ``body``'s k solids, object frame (m)."""
+    out = []
+    for s in body.solids:
+        d = s.dims
+        if s.kind == "box":
+            hx, hy, h = d["length"] / 2, d["width"] / 2, d["height"]
+        elif s.kind == "sphere":
+            hx = hy = d["radius"]
+            h = 2 * d["radius"]
+        elif s.kind == "mesh":
+            hx = hy = body.mesh_extent[0]
+            h = body.mesh_extent[1]
+        else:
+            hx = hy = d.get("radius", 0.0)
+            h = d.get("height", 0.0)
+        ax, ay, az = s.at if s.kind != "mesh" else (0.0, 0.0, 0.0)
+        for x in (-hx, hx):
+            for y in (-hy, hy):
+                for z in (0.0, h):
+                    out.append((ax + x, ay + y, az + z))
+    return np.array(out, dtype=float).reshape(-1, 3)
+
+
+def world_corners(body: Body, t_world_obj: np.ndarray) -> np.ndarray:
+    """The corners of :func:`corners` in the world, for the object at ``t_world_obj``."""
+    c = corners(body)
+    return c @ t_world_obj[:3, :3].T + t_world_obj[:3, 3]
+
+
+def lowest_z(body: Body, t_world_obj: np.ndarray) -> float:
+    """Height (m) of the object's lowest point in the world."""
+    return float(world_corners(body, t_world_obj)[:, 2].min())
+
+
+def highest_z(body: Body, t_world_obj: np.ndarray) -> float:
+    """Height (m) of the object's highest point in the world."""
+    return float(world_corners(body, t_world_obj)[:, 2].max())
+
+
+def long_axis(body: Body) -> np.ndarray:
+    """The object-frame axis (unit) along which the object is longest: x, y or z."""
+    c = corners(body)
+    span = c.max(axis=0) - c.min(axis=0)
+    axis = np.zeros(3)
+    axis[int(np.argmax(span))] = 1.0
+    return axis
+
+
+def tip_local(body: Body, direction: np.ndarray) -> np.ndarray:
+    """The object-frame point at the far end along ``direction`` (object frame): the middle of
+    the bounding box's face that way (a spoon's bowl end, a knife's point), m."""
+    c = corners(body)
+    d = np.asarray(direction, dtype=float)
+    lo, hi = c.min(axis=0), c.max(axis=0)
+    mid = 0.5 * (lo + hi)
+    far = float((c @ d).max())
+    return mid + (far - float(mid @ d)) * d

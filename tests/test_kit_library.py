@@ -1,0 +1,74 @@
+"""library/kit: the KIT Bimanual clips' library compiles on its own, and the library above
+leaves it out (it holds a LIBRARY file)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from oacdsl.compiler import compile_paths, load_library
+from oacdsl.compiler.loader import collect_files, oac_files
+from oacdsl.geometry import resolve_scene
+from oacdsl.matching.demonstration import find_scene
+from oacdsl.matching.emit import library_files
+
+ROOT = Path(__file__).resolve().parents[1]
+KIT = ROOT / "library" / "kit"
+
+#: The marker groups `oacc segment` reports for each development clip (KIT preset).
+CLIP_GROUPS = {
+    "kit_pour": {"cup_small", "milk_small"},
+    "kit_stir": {"cup_large", "tablespoon"},
+    "kit_mix": {"mixing_bowl_green", "salad_fork", "salad_spoon"},
+    "kit_wipe": {"draining_rack", "plate_dish", "sponge_small"},
+    "kit_scoop": {"cup_small", "ladle", "mixing_bowl_green"},
+    "kit_cut": {"cucumber_attachment", "cutting_board_small", "knife_black"},
+}
+
+
+def test_kit_library_compiles_without_warnings() -> None:
+    result = compile_paths([KIT])
+    assert result.ok
+    assert [d.message for d in result.diagnostics] == []
+
+
+def test_every_dev_clip_has_a_scene_with_exactly_its_marker_groups() -> None:
+    lib = load_library([KIT])
+    for name, objects in CLIP_GROUPS.items():
+        groups = sorted(objects | {"left_hand", "right_hand"})
+        assert find_scene(lib, groups).name == name
+        scene = lib.scenes[name]
+        assert {i.name for i in scene.tracked()} == set(groups)
+        assert [i.name for i in scene.instances if i.environment] == ["table"]
+
+
+def test_every_kit_object_has_geometry_and_its_graspables_a_grasp() -> None:
+    lib = load_library([KIT])
+    for scene in lib.scenes.values():
+        geometry = resolve_scene(lib, scene)
+        for inst in scene.instances:
+            resolved = geometry[inst.name]
+            assert resolved is not None and resolved.shapes, inst.name
+            classes = lib.instance_classes(scene)[inst.name]
+            if "Graspable" in classes:
+                assert lib.grasp_for(classes) is not None, inst.name
+            if resolved.role == "object":
+                assert len(resolved.markers) == 4, inst.name  # where KIT's four markers sit
+
+
+def test_a_folder_with_a_library_file_is_left_out_of_the_library_above(tmp_path: Path) -> None:
+    (tmp_path / "a.oac").write_text("class A\n", encoding="utf-8")
+    inner = tmp_path / "inner"
+    inner.mkdir()
+    (inner / "a.oac").write_text("class A\n", encoding="utf-8")  # would be a duplicate
+    assert oac_files(tmp_path) == [tmp_path / "a.oac", inner / "a.oac"]
+    (inner / "LIBRARY").write_text("a library of its own\n", encoding="utf-8")
+    assert oac_files(tmp_path) == [tmp_path / "a.oac"]
+    assert collect_files([tmp_path]) == [tmp_path / "a.oac"]
+    assert library_files(tmp_path) == [tmp_path / "a.oac"]
+    assert oac_files(inner) == [inner / "a.oac"]  # on its own it is a library
+    assert compile_paths([tmp_path]).ok
+
+
+def test_the_standard_library_leaves_kit_out() -> None:
+    files = library_files(ROOT / "library")
+    assert files and not any("kit" in p.relative_to(ROOT / "library").parts for p in files)

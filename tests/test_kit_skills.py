@@ -1,0 +1,101 @@
+"""The skills of bimanual sequences on the robot (tests/data/kit_skills.oac): hold, touch,
+retreat, both-hand grasps and places, and the tool motions; each checked in the simulation."""
+
+import subprocess
+import sys
+from functools import lru_cache
+
+import numpy as np
+import pytest
+
+pytest.importorskip("mujoco", reason="the robot runtime needs the 'robot' extra (mujoco)")
+pytest.importorskip("placo", reason="the robot runtime needs the 'robot' extra (placo)")
+
+from runtime_lib import ROOT, STANDARD  # noqa: E402
+
+from oacdsl.compiler import load_library  # noqa: E402
+from oacdsl.runtime.executor import prepare, run_prepared  # noqa: E402
+from oacdsl.runtime.skills.hold import home_pose  # noqa: E402
+
+KIT_SKILLS = ROOT / "tests" / "data" / "kit_skills.oac"
+
+
+@lru_cache(maxsize=1)
+def kit_library():
+    return load_library([*STANDARD, KIT_SKILLS])
+
+
+def run_task(name, scene, seed=None, places=None, observers=()):
+    run = prepare(kit_library(), name, scene=scene, seed=seed, places=places)
+    for obs in observers:
+        obs.controller = run.controller
+        run.controller.add_observer(obs)
+    return run, run_prepared(run)
+
+
+class Track:
+    """Observer: the positions (m) of one object, 100 times per simulated second."""
+
+    rate_hz = 100.0
+
+    def __init__(self, obj):
+        self.obj, self.points, self.controller = obj, [], None
+
+    def __call__(self, world):
+        self.points.append(world.body_pose(self.obj)[:3, 3].copy())
+
+
+def oacc_run(*args):
+    cmd = [
+        sys.executable,
+        "-m",
+        "oacdsl",
+        "run",
+        *args,
+        "--library",
+        "library",
+        "--library",
+        str(KIT_SKILLS),
+        "--no-record",
+    ]
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=300, cwd=ROOT)
+
+
+def test_touch_brings_the_block_onto_the_cup_the_other_hand_holds_still():
+    cup = Track("cup")
+    run, result = run_task("touch_held_cup", "kit_touching", seed=2, observers=[cup])
+    assert result.success, result.error
+    world = run.world
+    assert world.held == {"l": "cup", "r": "block"}
+    assert world.touching("block", "cup")
+    # the held cup stayed still while held and touched: from the hold on it moved < 2 cm
+    hold_start = round(sum(s.duration_s for s in result.steps[:2]) * Track.rate_hz)
+    path = np.array(cup.points[hold_start:])
+    assert np.linalg.norm(path - path[0], axis=1).max() < 0.02
+    # the block came down from above: it rests on the cup's rim, not beside it
+    assert world.body_pose("block")[2, 3] > world.body_pose("cup")[2, 3] + 0.08
+
+
+def test_touch_reaches_a_cup_standing_on_the_table_and_leaves_it_standing():
+    run, result = run_task("touch_standing_cup", "kit_touching", seed=4)
+    assert result.success, result.error
+    assert ["block", "cup"] in result.steps[-1].observed
+    assert run.world.body_pose("cup")[2, 2] > 0.99  # upright
+
+
+def test_retreat_takes_the_empty_hand_home():
+    run, result = run_task("place_and_retreat", "kit_touching", seed=1)
+    assert result.success, result.error
+    world = run.world
+    home = home_pose(run.context, "r")
+    assert np.linalg.norm(world.frame_pose("grasp_r")[:3, 3] - home[:3, 3]) < 0.05
+    # before the retreat the hand was at the cup, far from home
+    assert np.linalg.norm(world.body_pose("cup")[:3, 3] - home[:3, 3]) > 0.15
+
+
+def test_a_target_out_of_reach_is_one_line_naming_the_step():
+    out = oacc_run("touch_standing_cup", "--scene", "kit_touching", "--place", "cup=125cm,60cm")
+    assert out.returncode == 1, out.stderr
+    line = out.stderr.strip().splitlines()[-1]
+    assert line.startswith("oacc: error: step 2 touch_cup(right_hand, block, cup): touch_cup: the top of cup")
+    assert "out of reach of right_hand" in line and "Traceback" not in out.stderr
