@@ -192,6 +192,15 @@ SIGNATURES: dict[str, SkillSignature] = {
                 SkillParamSpec("duration", "s", 1.6, 0.5, 10.0, "time to get there"),
             ),
         ),
+        SkillSignature(
+            "lift",
+            "raise the held object straight up, off what it touches (a tool off its work)",
+            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("t", ANY)),
+            (
+                SkillParamSpec("height", "m", 0.08, 0.02, 0.30, "how far the object is raised"),
+                SkillParamSpec("duration", "s", 1.0, 0.3, 5.0, "time to raise it"),
+            ),
+        ),
     )
 }
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 from oacdsl.runtime.skills.base import Skill, SkillContext
 from oacdsl.runtime.skills.grasp import reach_and_grasp
 from oacdsl.runtime.skills.hold import hold, retreat
+from oacdsl.runtime.skills.lift import lift
 from oacdsl.runtime.skills.mix import mix
 from oacdsl.runtime.skills.place import place
 from oacdsl.runtime.skills.pour import pour
@@ -23,4 +24,5 @@ IMPLEMENTATIONS: dict[str, Skill] = {
     "hold": hold,
     "touch": touch,
     "retreat": retreat,
+    "lift": lift,
 }
