@@ -256,6 +256,12 @@ def _stages(
             warn(w)
         executed = attempt("execute", execute)
         result.put("run", executed.doc)
+        ran = len(executed.doc["steps"])
+        if any(sub.get("step", -1) >= ran for sub in matched.doc["sub_actions"]):
+            for sub in matched.doc["sub_actions"]:  # a failed run stops early: later steps never ran
+                if sub.get("step", -1) >= ran:
+                    del sub["step"]
+            result.put("match", matched.doc)
         if executed.render_note:
             warn(f"{executed.render_note}; the report has no pictures of the robot")
         # a robot that failed a step is still verified: the report shows how far it got

@@ -17,7 +17,7 @@ from oacdsl.runtime.transforms import make_T
 __all__ = ["lift", "LIFT_M", "LIFT_S"]
 
 #: How far the held object is raised, m.
-LIFT_M = 0.08
+LIFT_M = 0.12
 #: Time to raise it, s.
 LIFT_S = 1.0
 

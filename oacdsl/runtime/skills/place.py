@@ -96,8 +96,11 @@ def _set_down(
     support = target_support(ctx, obj)
     if support is None or (pick is not None and support in pick.supports):
         xy, where = origin[:2, 3], "its place"  # back where it was picked up (it stood there)
-    elif world.touching(obj, support):
-        xy, where = t_obj[:2, 3], support  # it is on the support already (a wipe): set it down here
+    elif world.touching(obj, support):  # on the support already (a wipe, a ladle in a bowl): set it down here
+        ctl.activity = f"setting {obj} down on {support}"
+        here = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+        lower_until_contact(ctx, side, here, 0.03, f"placing {obj}", force)
+        return
     else:
         xy, where = world.body_pose(support)[:2, 3], support
     height = ctx.support_height(xy, exclude=obj)
