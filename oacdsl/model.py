@@ -344,18 +344,34 @@ class Param(Node):
     default: str | None = None
 
 
-class Call(Node):
-    """One step of a composed OAC: ``grasp(h1, c1)`` — arguments are variable names."""
-
-    oac: str
-    args: tuple[str, ...]
-
-
 class SkillParam(Node):
-    """A named parameter of a skill call: ``tilt 110deg`` (the value in SI units)."""
+    """A named parameter of a skill call: ``tilt 110deg`` (the value as written; SI via
+    :func:`oacdsl.units.language_si`)."""
 
     name: str
     value: Quantity
+
+
+def sorted_skill_params(v: tuple[SkillParam, ...]) -> tuple[SkillParam, ...]:
+    """Skill parameters in canonical order: by name, then value as written."""
+    return tuple(sorted(v, key=lambda s: (s.name, s.value.value, s.value.unit)))
+
+
+class Call(Node):
+    """One step of a composed OAC: ``grasp(h1, c1)`` — arguments are variable names.
+
+    ``skill_params`` (``pour(h, c, l, b) { tilt 105deg }``, sorted by name) override the
+    named parameters of the called OAC's skill for this step (docs/language.md).
+    """
+
+    oac: str
+    args: tuple[str, ...]
+    skill_params: tuple[SkillParam, ...] = ()
+
+    @field_validator("skill_params")
+    @classmethod
+    def _sort_skill_params(cls, v: tuple[SkillParam, ...]) -> tuple[SkillParam, ...]:
+        return sorted_skill_params(v)
 
 
 class Oac(Node):
@@ -386,7 +402,7 @@ class Oac(Node):
     @field_validator("skill_params")
     @classmethod
     def _sort_skill_params(cls, v: tuple[SkillParam, ...]) -> tuple[SkillParam, ...]:
-        return tuple(sorted(v, key=lambda s: (s.name, s.value.value, s.value.unit)))
+        return sorted_skill_params(v)
 
     def skill_arguments(self) -> tuple[str, ...]:
         """The names passed to the skill: ``skill_args`` when written, else the parameters."""

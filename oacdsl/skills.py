@@ -18,7 +18,31 @@ from dataclasses import dataclass
 
 from oacdsl.units import unit_kind
 
-__all__ = ["ANY", "SIGNATURES", "SKILLS", "SkillArg", "SkillParamSpec", "SkillSignature", "format_value"]
+__all__ = [
+    "ANY",
+    "MOTION_FEATURES",
+    "SIGNATURES",
+    "SKILLS",
+    "MotionSource",
+    "SkillArg",
+    "SkillParamSpec",
+    "SkillSignature",
+    "format_value",
+]
+
+#: The fields of :class:`oacdsl.segmentation.motionfeatures.MotionFeatures` a parameter may come
+#: from (SI units; a test checks they exist). ``extent_m`` is a triple: ``axis`` picks one.
+MOTION_FEATURES: tuple[str, ...] = (
+    "cycles",
+    "duration_s",
+    "extent_m",
+    "path_length_m",
+    "period_s",
+    "radius_m",
+    "tilt_max_rad",
+    "tilt_rise_s",
+    "tilt_time_s",
+)
 
 
 @dataclass(frozen=True)
@@ -30,8 +54,50 @@ class SkillArg:
 
 
 @dataclass(frozen=True)
+class MotionSource:
+    """Where a skill parameter comes from in the demonstration (docs/motion.md, docs/language.md).
+
+    The composer sets the parameter of a step to ``scale`` × the sub-action's
+    :class:`~oacdsl.segmentation.motion.SubActionMotion` feature ``feature`` (SI units;
+    ``axis`` picks a component of ``extent_m``, 0 = along the main axis), rounded for a
+    count, then retargets it to the robot (clamped into the parameter's range and, for a
+    length, the target object's size). ``needs`` names another feature that must be defined
+    (not None) for the parameter to be taken: a stirring radius only where an oscillation
+    was found (``needs="period_s"``), a tilt only where the object really tilted
+    (``needs="tilt_rise_s"``). Without a value the skill's default applies.
+
+    Example: ``MotionSource("extent_m", scale=0.5, needs="period_s")`` — a wipe's stroke
+    goes half the demonstrated extent to either side of the middle.
+    """
+
+    feature: str
+    scale: float = 1.0
+    axis: int = 0
+    needs: str | None = None
+
+    def __post_init__(self) -> None:
+        for name in (self.feature, self.needs):
+            if name is not None and name not in MOTION_FEATURES:
+                raise ValueError(f"no motion feature {name!r}; features: {', '.join(MOTION_FEATURES)}")
+        if not 0 <= self.axis <= 2 or (self.axis and self.feature != "extent_m"):
+            raise ValueError(f"axis {self.axis}: only extent_m has axes 0, 1, 2")
+        if not (math.isfinite(self.scale) and self.scale > 0):
+            raise ValueError(f"scale {self.scale}: a positive number")
+
+    def describe(self) -> str:
+        """``0.5 x extent_m[0] (where period_s is found)``."""
+        name = f"{self.feature}[{self.axis}]" if self.feature == "extent_m" else self.feature
+        text = name if self.scale == 1.0 else f"{self.scale:g} x {name}"
+        return text + (f" (where {self.needs} is found)" if self.needs else "")
+
+
+@dataclass(frozen=True)
 class SkillParamSpec:
-    """A named parameter: SI unit (``m``, ``rad``, ``s``, ``N``; ``""`` a whole count), default, range."""
+    """A named parameter: SI unit (``m``, ``rad``, ``s``, ``N``; ``""`` a whole count), default, range.
+
+    ``source``: the demonstrated motion feature the composer fills it from
+    (:class:`MotionSource`; None: never taken from the demonstration).
+    """
 
     name: str
     unit: str
@@ -39,6 +105,7 @@ class SkillParamSpec:
     low: float
     high: float
     doc: str
+    source: MotionSource | None = None
 
     @property
     def whole(self) -> bool:
@@ -51,6 +118,7 @@ class SkillParamSpec:
         return (
             f"{self.name}: {kind}, default {format_value(self.default, self.unit)}"
             f" ({format_value(self.low, self.unit)} to {format_value(self.high, self.unit)}) — {self.doc}"
+            + (f"; from the demonstration: {self.source.describe()}" if self.source else "")
         )
 
 
@@ -130,9 +198,24 @@ SIGNATURES: dict[str, SkillSignature] = {
             ),
             (
                 SkillParamSpec(
-                    "tilt", "rad", _deg(125.0), _deg(30.0), _deg(180.0), "final tilt of the container"
+                    "tilt",
+                    "rad",
+                    _deg(125.0),
+                    _deg(30.0),
+                    _deg(180.0),
+                    "final tilt of the container",
+                    MotionSource("tilt_max_rad", needs="tilt_rise_s"),
                 ),
-                SkillParamSpec("duration", "s", 1.8, 0.3, 10.0, "time to tilt it that far"),
+                # the skill tilts at a constant rate: its 10-90 % rise takes 0.8 of the duration
+                SkillParamSpec(
+                    "duration",
+                    "s",
+                    1.8,
+                    0.3,
+                    10.0,
+                    "time to tilt it that far",
+                    MotionSource("tilt_rise_s", scale=1.25),
+                ),
                 SkillParamSpec("height", "m", 0.045, 0.01, 0.20, "the lip's height above the target's rim"),
             ),
         ),
@@ -141,9 +224,17 @@ SIGNATURES: dict[str, SkillSignature] = {
             "put the held tool into a container and stir",
             (SkillArg("h", "Hand"), SkillArg("m", "Graspable"), SkillArg("b", "Container")),
             (
-                SkillParamSpec("radius", "m", 0.03, 0.0, 0.08, "radius of the stirring circles"),
-                SkillParamSpec("turns", "", 2.0, 1.0, 10.0, "number of circles"),
-                SkillParamSpec("period", "s", 1.2, 0.3, 5.0, "time for one circle"),
+                SkillParamSpec(
+                    "radius",
+                    "m",
+                    0.03,
+                    0.0,
+                    0.08,
+                    "radius of the stirring circles",
+                    MotionSource("radius_m", needs="period_s"),
+                ),
+                SkillParamSpec("turns", "", 2.0, 1.0, 10.0, "number of circles", MotionSource("cycles")),
+                SkillParamSpec("period", "s", 1.2, 0.3, 5.0, "time for one circle", MotionSource("period_s")),
                 SkillParamSpec(
                     "force", "N", 15.0, 3.0, 40.0, "wrist force that stops the descent into the container"
                 ),
@@ -154,8 +245,18 @@ SIGNATURES: dict[str, SkillSignature] = {
             "press the held tool onto a surface and move it to and fro",
             (SkillArg("h", "Hand"), SkillArg("s", "Graspable"), SkillArg("t", "Surface")),
             (
-                SkillParamSpec("strokes", "", 3.0, 1.0, 20.0, "number of to-and-fro strokes"),
-                SkillParamSpec("length", "m", 0.06, 0.01, 0.20, "how far each stroke goes to either side"),
+                SkillParamSpec(
+                    "strokes", "", 3.0, 1.0, 20.0, "number of to-and-fro strokes", MotionSource("cycles")
+                ),
+                SkillParamSpec(
+                    "length",
+                    "m",
+                    0.06,
+                    0.01,
+                    0.20,
+                    "how far each stroke goes to either side",
+                    MotionSource("extent_m", scale=0.5, needs="period_s"),
+                ),
                 SkillParamSpec(
                     "press", "m", 0.004, 0.0, 0.02, "how far the tool is pressed into the surface"
                 ),
@@ -166,7 +267,8 @@ SIGNATURES: dict[str, SkillSignature] = {
             "keep the held object still while the other hand works on it",
             (SkillArg("h", "Hand"), SkillArg("o", "Graspable")),
             (
-                # feature: duration_s (how long the demonstration held it)
+                # not from the demonstration: there the hold overlaps the other hand's work,
+                # here the steps run one after the other
                 SkillParamSpec("duration", "s", 0.5, 0.1, 10.0, "how long the hand keeps still"),
             ),
         ),
@@ -187,9 +289,32 @@ SIGNATURES: dict[str, SkillSignature] = {
             "retreat",
             "take the empty hand back to its home pose, out of the other hand's way",
             (SkillArg("h", "Hand"),),
+            (SkillParamSpec("duration", "s", 1.6, 0.5, 10.0, "time to get there"),),
+        ),
+        SkillSignature(
+            "grasp_both",
+            "grasp two objects (or one with both hands) at the same time, then lift them",
             (
-                # feature: duration_s
-                SkillParamSpec("duration", "s", 1.6, 0.5, 10.0, "time to get there"),
+                SkillArg("h1", "Hand"),
+                SkillArg("o1", "Graspable"),
+                SkillArg("h2", "Hand"),
+                SkillArg("o2", "Graspable"),
+            ),
+            (SkillParamSpec("lift", "m", 0.10, 0.0, 0.30, "how high the objects are lifted after closing"),),
+        ),
+        SkillSignature(
+            "place_both",
+            "set two held objects down at the same time, each where its step's effect says",
+            (
+                SkillArg("h1", "Hand"),
+                SkillArg("o1", "Graspable"),
+                SkillArg("h2", "Hand"),
+                SkillArg("o2", "Graspable"),
+            ),
+            (
+                SkillParamSpec(
+                    "force", "N", 3.0, 1.0, 20.0, "wrist force change that means the support took an object"
+                ),
             ),
         ),
         SkillSignature(

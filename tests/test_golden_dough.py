@@ -66,3 +66,15 @@ def test_match_dough_default_mode_same_oacs_and_bindings(capsys, lib_dir):
     got = [s["matches"][s["chosen"]] for s in doc["sub_actions"]]
     assert got == [{"oac": t["oac"], "binding": t["binding"]} for t in truth["sub_actions"]]
     assert all(len(s["matches"]) == 1 for s in doc["sub_actions"])
+
+
+def test_the_papers_plain_steps_with_no_demo_params(capsys, lib_dir):
+    # The paper's OAC names its steps only; by default oacc compose also writes the skill
+    # parameters of the demonstrated motion on the steps (the pours' tilt and duration).
+    code = main(["compose", str(DOUGH), "--library", str(lib_dir), "--name", "dough", "--no-demo-params"])
+    assert code == 0, capsys.readouterr().err
+    learned = load_library([lib_dir]).oacs["dough"]
+    assert [c.oac for c in learned.steps] == [
+        "grasp", "pour", "place", "grasp", "pour", "place", "grasp", "mix"]
+    assert all(c.skill_params == () for c in learned.steps)
+    assert "demonstrated" not in (lib_dir / "learned" / "dough.oac").read_text()

@@ -99,3 +99,36 @@ def test_a_target_out_of_reach_is_one_line_naming_the_step():
     line = out.stderr.strip().splitlines()[-1]
     assert line.startswith("oacc: error: step 2 touch_cup(right_hand, block, cup): touch_cup: the top of cup")
     assert "out of reach of right_hand" in line and "Traceback" not in out.stderr
+
+
+class HandSpeeds:
+    """Observer: the speed (m/s) of both hands' grasp frames, 50 times per simulated second."""
+
+    rate_hz = 50.0
+
+    def __init__(self):
+        self.last, self.speeds, self.controller = None, [], None
+
+    def __call__(self, world):
+        now = np.array([world.frame_pose(f"grasp_{s}")[:3, 3] for s in "rl"])
+        if self.last is not None:
+            self.speeds.append(np.linalg.norm(now - self.last, axis=1) * self.rate_hz)
+        self.last = now
+
+
+def test_grasp_both_and_place_both_move_the_two_arms_at_once():
+    speeds = HandSpeeds()
+    run, result = run_task("both_hands", "kit_touching", seed=3, observers=[speeds])
+    assert result.success, result.error
+    grasp, place = result.steps
+    assert ["cup", "left_hand"] in grasp.observed and ["block", "right_hand"] in grasp.observed
+    world = run.world
+    assert world.held == {"l": None, "r": None}
+    for obj in ("cup", "block"):  # each back where it stood, upright
+        t, p = world.body_pose(obj), world.layout.placement(obj)
+        assert np.hypot(t[0, 3] - p.x, t[1, 3] - p.y) < 0.03 and t[2, 2] > 0.99
+    # both hands were moving (> 5 cm/s) together for most of the run
+    v = np.array(speeds.speeds)
+    both = np.mean((v[:, 0] > 0.05) & (v[:, 1] > 0.05))
+    either = np.mean((v[:, 0] > 0.05) | (v[:, 1] > 0.05))
+    assert both > 0.7 * either

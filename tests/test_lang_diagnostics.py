@@ -13,6 +13,9 @@ LIBRARY = {
 }
 
 G = "oac g(h: Hand, o: Graspable) {\n"  # a prefix for OAC snippets; the body starts on line 2
+#: A composed OAC up to its steps; the steps start on line 5.
+STEPS = ("oac d(h: Hand, c: Cup, l: Liquid, b: Bowl) {\n  pre h <-> nothing, c <-> l\n"
+         "  effect l <-> b\n  steps {\n")
 
 #: (snippet, code, message fragment, "line:col" of the first diagnostic with that code).
 #: Each snippet is compiled as bad.oac together with the standard library.
@@ -334,6 +337,39 @@ BAD = [
         "4:26",
     ),
     ("scene s {\n  a : Liquid\n  c : Cup\n  a in c balls 99\n}", "E044", "'a' has 99 balls", "4:16"),
+    # skill parameters on a step: checked against the called OAC's skill
+    (
+        STEPS + "    grasp(h, c)\n    pour(h, c, l, b) { tlt 105deg }\n  }\n}",
+        "E042",
+        "skill 'pour' has no parameter 'tlt' (did you mean 'tilt'?)",
+        "6:24",
+    ),
+    (
+        STEPS + "    grasp(h, c) { lift 3s }\n    pour(h, c, l, b)\n  }\n}",
+        "E043",
+        "'lift' of skill 'reach_and_grasp' is a length (m, cm, mm), but '3s' has a unit of duration",
+        "5:24",
+    ),
+    (
+        STEPS + "    grasp(h, c)\n    pour(h, c, l, b) { duration 20s }\n  }\n}",
+        "E044",
+        "'duration' of skill 'pour' must lie between 0.3s and 10s, not 20s",
+        "6:33",
+    ),
+    (
+        STEPS + "    grasp(h, c)\n    pour(h, c, l, b) { tilt 100deg tilt 90deg }\n  }\n}",
+        "E006",
+        "skill parameter 'tilt' is given twice",
+        "6:36",
+    ),
+    (
+        STEPS + "    grasp(h, c)\n    pour(h, c, l, b)\n  }\n}\n"
+        "oac e(h: Hand, c: Cup, l: Liquid, b: Bowl) {\n  pre h <-> nothing, c <-> l\n  effect l <-> b\n"
+        "  steps { d(h, c, l, b) { tilt 100deg } }\n}",
+        "E047",
+        "'d' is a composed OAC: it executes no skill, so a step calling it takes no skill parameters",
+        "12:27",
+    ),
     (
         "oac p(h: Hand, c: Cup, l: Liquid, b: Bowl) {\n  pre h <-> c\n  effect l <-> b\n"
         "  execute pour { tilt 110 }\n}",

@@ -169,3 +169,40 @@ def test_many_errors_in_one_file_split_its_text_once() -> None:
     rendered = result.error().rendered
     assert diagnostics._lines.cache_info().misses - before <= 1
     assert rendered.count("error[E006]") == 2999 and rendered.endswith("2999 errors, 0 warnings")
+
+
+COMPOSED_WITH_PARAMS = """oac dough(h: Hand = left_hand, c: Cup = red_cup, l: Liquid = liquid_one,
+          b: Bowl = orange_bowl, r: Hand = right_hand, m: Mixer = mixer) {
+    pre     h <-> nothing, r <-> nothing, c <-> l
+    effect  l <-> b, m <-> b, r <-> m, not c <-> l
+    steps {
+        grasp(h, c) { lift 8cm }
+        # demonstrated tilt 110deg over 0.65 s (10-90 %)
+        pour(h, c, l, b) { duration 0.81s  tilt 110deg }
+        place(h, c)
+        grasp(r, m)
+        mix(r, m, b) { period 0.9s  radius 3cm  turns 3 }
+    }
+}
+"""
+
+
+def test_mutated_step_parameters_give_diagnostics_never_another_exception() -> None:
+    # steps with skill parameters (what the composer writes): the new syntax and its checks
+    rng = random.Random(SEED + 1)
+    path = str(ROOT / "library" / "learned_dough.oac")
+    modules = [parse_text(p.read_text(encoding="utf-8"), str(p)) for p in STANDARD]
+    texts = {str(p): p.read_text(encoding="utf-8") for p in STANDARD}
+    assert check_case(path, COMPOSED_WITH_PARAMS, modules, texts) == "ok"
+    outcomes: Counter[str] = Counter()
+    for n in range(400):
+        text, how = mutate(COMPOSED_WITH_PARAMS, rng)
+        try:
+            outcomes[check_case(path, text, modules, texts)] += 1
+        except AssertionError:
+            raise
+        except Exception as error:  # noqa: BLE001
+            pytest.fail(f"case {n} ({how}): {type(error).__name__}: {error}\n{text!r}")
+    assert outcomes["E001"] > 40, outcomes
+    # the step parameters' own checks are reached (unknown name, unit, range, twice)
+    assert sum(outcomes[c] for c in ("E042", "E043", "E044", "E006")) > 0, outcomes

@@ -43,7 +43,6 @@ term = lower | st.just(NOTHING)
 
 atoms = st.builds(Atom, left=term, right=term, negated=st.booleans(), **trivia)
 params = st.builds(Param, name=lower, cls=upper, default=st.none() | lower, **trivia)
-calls = st.builds(Call, oac=lower, args=st.lists(lower, max_size=3).map(tuple), **trivia)
 oac_fields = dict(
     name=lower,
     params=st.lists(params, max_size=4).map(tuple),
@@ -54,6 +53,8 @@ oac_fields = dict(
 finite = st.floats(allow_nan=False, allow_infinity=False, width=64)
 quantities = st.builds(Quantity, value=finite, unit=st.sampled_from(["", "m", "rad", "s", "N", "m/s"]))
 skill_params = st.builds(SkillParam, name=lower, value=quantities, **trivia)
+calls = st.builds(Call, oac=lower, args=st.lists(lower, max_size=3).map(tuple),
+                  skill_params=st.lists(skill_params, max_size=3).map(tuple), **trivia)
 oacs = st.builds(
     Oac,
     skill=lower,

@@ -91,7 +91,14 @@ def test_a_tilt_gives_its_angle_and_time():
     f = motion_features(t, path_transforms(np.zeros((t.size, 3)), tilt))
     assert math.degrees(f.tilt_max_rad) == pytest.approx(100, abs=0.5)
     assert f.tilt_time_s == pytest.approx(2.5, abs=0.15)  # above 50°: from 0.5 s to 3.0 s
+    assert f.tilt_rise_s == pytest.approx(0.8, abs=0.01)  # 10 % at 0.1 s, 90 % at 0.9 s
     assert f.path_length_m == 0.0
+
+
+def test_no_tilt_no_rise():
+    t = np.arange(0, 2.0, 0.1)
+    f = motion_features(t, path_transforms(np.zeros((t.size, 3)), np.radians(2.0) * np.ones(t.size)))
+    assert f.tilt_rise_s is None and f.tilt_time_s == 0.0
 
 
 

@@ -95,6 +95,12 @@ def test_reproduce_first_pour(short_demo: Path, library: Path, tmp_path: Path, g
     r = doc["run"]
     assert r["success"] is True and [s["oac"] for s in r["steps"]] == ["grasp", "pour", "place"]
     assert all(s["success"] for s in r["steps"])
+    # the pour used the demonstrated tilt and duration (written on the composed step)
+    demo = next(d for d in c["demo_params"] if d["oac"] == "pour")
+    tilt = next(x for x in demo["params"] if x["name"] == "tilt")
+    assert r["steps"][1]["params"]["tilt"] == pytest.approx(tilt["demonstrated"], abs=math.radians(0.5))
+    assert r["steps"][1]["params"]["duration"] == c["steps"][1]["params"]["duration"]
+    assert "pour(hand, cup, liquid, bowl) { duration" in c["text"]
     assert r["metrics"]["balls_in_bowl"] >= math.ceil(SUCCESS_FRACTION * BALLS_PER_LIQUID)
     assert ["liquid_one", "red_cup"] in r["initial"]
     # the closed loop: the robot's own recording shows the demonstration's three changes

@@ -30,6 +30,11 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p.add_argument("--paper-effects", action="store_true",
                    help="effects as in the paper: only the relations that started (default: also those that"
                         " ended, as 'not a <-> b', so that the OAC is sound)")
+    p.add_argument("--no-demo-params", action="store_true",
+                   help="write the steps without skill parameters (the paper's plain steps); by default each"
+                        " step carries the parameters its skill takes from the demonstrated motion (a pour's"
+                        " tilt and duration, a stir's radius and period), retargeted to the robot, with a"
+                        " comment saying what was scaled (docs/motion.md)")
     p.add_argument("--force", action="store_true", help="replace a different OAC already in the target file")
     p.add_argument("--dry-run", action="store_true", help="print the new OAC; write nothing")
     p.set_defaults(func=run)
@@ -54,8 +59,17 @@ def run(args: argparse.Namespace) -> int:
     demo = compose_demonstration(args.name, matches, inputs.library, inputs.scene,
                                  propose=args.propose, paper_effects=args.paper_effects)
     comp = demo.composition
-    oac = comp.oac
     warnings = list(comp.warnings)
+    if not args.no_demo_params:
+        if inputs.recording is None:
+            warnings.append("the demonstration is a segmentation, without motion: the steps carry no"
+                            " skill parameters from it")
+        else:
+            from oacdsl.matching.demoparams import demonstrated_motions, with_demo_params
+
+            motions = demonstrated_motions(inputs.recording, [m.sub_action for m in matches])
+            comp = with_demo_params(comp, motions, inputs.library, inputs.scene)
+    oac = comp.oac
     if inputs.outside_scene is not None:  # defaults would name instances the library does not know
         bare = tuple(p.model_copy(update={"default": None}) for p in oac.params)
         oac = oac.model_copy(update={"params": bare})

@@ -85,6 +85,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     )
     p.add_argument("--no-record", action="store_true", help="do not store the run's outcome in the run store")
     p.add_argument("--no-render", action="store_true", help="no pictures of the robot (faster)")
+    p.add_argument("--no-demo-params", action="store_true",
+                   help="compose the paper's plain steps: no skill parameters from the demonstrated motion"
+                        " (by default a pour takes the demonstrated tilt and duration, a stir its radius and"
+                        " period, retargeted to the robot; docs/motion.md)")
     p.add_argument(
         "--force", action="store_true", help="replace a different OAC of the same name in LIBRARY/learned/"
     )
@@ -161,6 +165,7 @@ def run(args: argparse.Namespace) -> int:
         command=command,
         warn=warn,
         overrides=overrides,
+        demo_params=not args.no_demo_params,
     )
     verdict = outcome.result["verdict"]
     mark = "verified" if verdict["success"] else "FAILED"

@@ -34,6 +34,12 @@ def run(args: argparse.Namespace) -> int:
                         "min": p.low,
                         "max": p.high,
                         "doc": p.doc,
+                        "source": None if p.source is None else {
+                            "feature": p.source.feature,
+                            "scale": p.source.scale,
+                            "axis": p.source.axis,
+                            "needs": p.source.needs,
+                        },
                     }
                     for p in sig.params
                 ],

@@ -8,7 +8,7 @@ relation and may not be named.
 
 from __future__ import annotations
 
-from oacdsl.compiler.check_skills import check_skill_call
+from oacdsl.compiler.check_skills import check_skill_call, check_step_params
 from oacdsl.compiler.context import Context
 from oacdsl.compiler.diagnostics import Note
 from oacdsl.compiler.grammar import keywords
@@ -224,6 +224,7 @@ class _OacChecker:
                 )
         for i in range(len(callee.params), len(call.args)):
             self.resolve(call.args[i], call, f"args.{i}")
+        check_step_params(self.ctx, call, callee)
 
     def run(self) -> None:
         oac = self.oac

@@ -5,7 +5,9 @@ Without an argument list the skill gets the OAC's parameters in order. Every
 argument must have the class the signature names (inherited classes count), when
 the library defines that class;
 every named parameter must exist, carry a unit of its kind (a bare number is
-SI; a count is bare and whole) and lie in its range.
+SI; a count is bare and whole) and lie in its range. A step of a composed OAC may
+carry parameters for the skill of the OAC it calls (``pour(h, c, l, b) { tilt 105deg }``):
+the same checks, against that skill's signature.
 """
 
 from __future__ import annotations
@@ -16,11 +18,11 @@ from collections.abc import Callable
 from oacdsl.compiler.context import Context
 from oacdsl.compiler.diagnostics import Note
 from oacdsl.errors import did_you_mean
-from oacdsl.model import Node, Oac, Quantity, SkillParam
+from oacdsl.model import Call, Node, Oac, Quantity, SkillParam
 from oacdsl.skills import SIGNATURES, SkillParamSpec, SkillSignature, format_value
 from oacdsl.units import language_si, unit_kind
 
-__all__ = ["check_quantity_unit", "check_skill_call"]
+__all__ = ["check_quantity_unit", "check_skill_call", "check_skill_params", "check_step_params"]
 
 #: Bare numbers beyond these are probably written in another unit (W040): radians, metres.
 PLAUSIBLE_BARE = {"rad": 2 * math.pi, "m": 2.0}
@@ -132,8 +134,14 @@ def check_skill_call(ctx: Context, oac: Oac, resolve: Resolve, declared: Callabl
                 where,
                 note,
             )
+    check_skill_params(ctx, sig, oac.skill_params)
+
+
+def check_skill_params(ctx: Context, sig: SkillSignature, params: tuple[SkillParam, ...]) -> None:
+    """Every named parameter of a call of skill ``sig``: given once (E006), known (E042), of its
+    unit (E043), in its range (E044)."""
     seen: dict[str, SkillParam] = {}
-    for given in sorted(oac.skill_params, key=_position):
+    for given in sorted(params, key=_position):
         if given.name in seen:
             ctx.add(
                 "E006",
@@ -144,6 +152,26 @@ def check_skill_call(ctx: Context, oac: Oac, resolve: Resolve, declared: Callabl
             continue
         seen[given.name] = given
         _check_param(ctx, sig, given)
+
+
+def check_step_params(ctx: Context, call: Call, callee: Oac) -> None:
+    """The skill parameters of a step ``call`` of ``callee`` (docs/language.md): checked against
+    the signature of the skill ``callee`` executes; a composed ``callee`` executes no skill of its
+    own, so parameters on a step that calls it are an error (E047)."""
+    if not call.skill_params:
+        return
+    if callee.skill is None:
+        ctx.add(
+            "E047",
+            f"'{callee.name}' is a composed OAC: it executes no skill, so a step calling it takes no"
+            " skill parameters; write them on the steps of"
+            f" '{callee.name}' that call a skill",
+            call.part("skill_params"),
+            Note(f"'{callee.name}' is defined here", callee.part("name")),
+        )
+        return
+    if callee.skill in SIGNATURES:  # an unknown skill is reported at the callee (E016)
+        check_skill_params(ctx, SIGNATURES[callee.skill], call.skill_params)
 
 
 def _param_kinds(ctx: Context, oac: Oac, name: str) -> list[frozenset[str]] | None:

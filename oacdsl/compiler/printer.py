@@ -38,6 +38,7 @@ from oacdsl.model import (
     Quantity,
     Scene,
     Shape,
+    SkillParam,
     atom_text,
 )
 from oacdsl.world import NOTHING
@@ -295,8 +296,16 @@ def _section(keyword: str, oac: Oac, atoms: tuple[Atom, ...]) -> list[str]:
     return lines
 
 
+def _skill_params(params: tuple[SkillParam, ...]) -> str:
+    """`` { tilt 110deg  duration 2s }`` ("" for none)."""
+    if not params:
+        return ""
+    return " { " + "  ".join(f"{_name(s.name)} {format_quantity(s.value)}" for s in params) + " }"
+
+
 def _call(call: Call) -> str:
-    return _with_note(f"{_name(call.oac)}(" + ", ".join(_name(a) for a in call.args) + ")", call)
+    head = f"{_name(call.oac)}(" + ", ".join(_name(a) for a in call.args) + ")"
+    return _with_note(head + _skill_params(call.skill_params), call)
 
 
 def _oac(decl: Oac) -> list[str]:
@@ -317,11 +326,7 @@ def _oac(decl: Oac) -> list[str]:
         text = f"{_IND}{'execute':<8}{_name(decl.skill)}"
         if decl.skill_args is not None:
             text += "(" + ", ".join(_name(a) for a in decl.skill_args) + ")"
-        if decl.skill_params:
-            text += " { " + "  ".join(
-                f"{_name(s.name)} {format_quantity(s.value)}" for s in decl.skill_params
-            ) + " }"
-        lines.append(text)
+        lines.append(text + _skill_params(decl.skill_params))
     else:
         raise LanguageError(f"cannot print OAC '{decl.name}': it has neither a skill nor steps")
     lines.append(_with_note("}", decl))

@@ -338,12 +338,29 @@ EXAMPLES: list[tuple[str, list[str]]] = [
     ("'{' and the steps", ["oac f() { steps", "oac f() { steps }"]),
     ("a step such as 'grasp(h, o)' or '}'", ["oac f() { steps {", "oac f() { steps { g() )"]),
     (
-        "the next step such as 'place(h, o)' or '}'",
+        "the step's skill parameters '{ tilt 110deg }', the next step such as 'place(h, o)' or '}'",
         [
             "oac f() { steps { g(a)",
             "oac f() { steps { g(a) h(b)",
             "oac f() { steps { g(a) )",
         ],
+    ),
+    (
+        "the next step such as 'place(h, o)' or '}'",
+        [
+            "oac f() { steps { g(a) { }",
+            "oac f() { steps { g(a) { t 1 }",
+            "oac f() { steps { g(a) { t 1 } )",
+            "oac f() { steps { g(a) { t 1 } h(b) { }",
+        ],
+    ),
+    (
+        "a skill parameter of the step such as 'tilt 110deg' or '}'",
+        ["oac f() { steps { g(a) {", "oac f() { steps { g(a) { )"],
+    ),
+    (
+        "the step parameter's value, a number with its unit such as 110deg",
+        ["oac f() { steps { g(a) { t", "oac f() { steps { g(a) { t }"],
     ),
     (
         "'(' and the step's arguments",

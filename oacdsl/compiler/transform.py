@@ -45,6 +45,7 @@ from oacdsl.model import (
     fill_key,
     pair_order,
     place_key,
+    sorted_skill_params,
 )
 
 __all__ = ["ModelBuilder"]
@@ -337,8 +338,11 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
         args, rpar = children
         return args or [], rpar
 
-    def skill_params(self, children: list[Any]) -> list[SkillParam]:
-        return [c for c in children[:-1] if c is not None]
+    def skill_params(self, children: list[Any]) -> tuple[list[SkillParam], Token]:
+        return [c for c in children[:-1] if c is not None], children[-1]
+
+    def step_params(self, children: list[Any]) -> tuple[list[SkillParam], Token]:
+        return self.skill_params(children)
 
     def skill_param(self, children: list[Any]) -> SkillParam:
         name, value = children
@@ -357,19 +361,22 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
         return "steps", tuple(calls), ("steps", kw.line, kw.column, rbrace.end_line, rbrace.end_column)
 
     def call(self, children: list[Any]) -> Call:
-        name, args, rpar = children
+        name, args, rpar, params = children
         toks: list[Token] = args or []
         parts: _Parts = [_part("oac", name)]
         parts += [_part(f"args.{i}", t) for i, t in enumerate(toks)]
-        return make(
-            Call,
-            {
-                "oac": str(name),
-                "args": tuple(str(t) for t in toks),
-                "span": self._between(name, rpar),
-                "parts": tuple(parts),
-            },
-        )
+        values: dict[str, Any] = {"oac": str(name), "args": tuple(str(t) for t in toks)}
+        end: Any = rpar
+        if params is not None:
+            given, rbrace = params
+            end = rbrace
+            first = given[0].span if given and given[0].span is not None else None
+            line, column = (first.line, first.column) if first else (rpar.end_line, rpar.end_column)
+            parts.append(("skill_params", line, column, rbrace.end_line, rbrace.end_column))
+            if given:
+                values["skill_params"] = sorted_skill_params(tuple(given))
+        values.update(span=self._between(name, end), parts=tuple(parts))
+        return make(Call, values)
 
     def oac_body(self, children: list[Any]) -> list[Any]:
         return children
@@ -393,10 +400,8 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
                 values["skill_args"] = tuple(str(t) for t in toks)
                 parts += [_part(f"skill_args.{i}", t) for i, t in enumerate(toks)]
                 parts.append(("skill_call", body[1].line, body[1].column, rpar.end_line, rpar.end_column))
-            if skill_params:
-                values["skill_params"] = tuple(
-                    sorted(skill_params, key=lambda s: (s.name, s.value.value, s.value.unit))
-                )
+            if skill_params is not None and skill_params[0]:
+                values["skill_params"] = sorted_skill_params(tuple(skill_params[0]))
         else:
             values["steps"] = body[1]
             parts.append(body[2])

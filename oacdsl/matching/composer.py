@@ -76,6 +76,9 @@ class Composition:
     #: "effect" | "ended", "relation": [a, b], "negated": bool, "step": index into steps,
     #: "keyframe": index into the keyframes, "note": str}`` (instance names).
     provenance: tuple[dict[str, Any], ...] = field(default=())
+    #: Skill parameters set from the demonstrated motion, per step that has any to set
+    #: (:func:`oacdsl.matching.demoparams.with_demo_params`; ``compose.demo_params`` of result.json).
+    demo_params: tuple[dict[str, Any], ...] = field(default=())
 
     def to_json(self, file: str | None) -> dict[str, Any]:
         """The ``oacc compose --json`` document."""
@@ -90,6 +93,12 @@ class Composition:
         negated = [_pair(a) for a in self.pre if a.negated]
         if negated:
             doc["pre_not"] = negated
+        for entry in self.demo_params:
+            given = {r["name"]: r["value"] for r in entry["params"] if r["value"] is not None}
+            if given:
+                doc["steps"][entry["step"]]["params"] = given
+        if self.demo_params:
+            doc["demo_params"] = list(self.demo_params)
         return doc
 
 def _pair(atom: Atom) -> list[str]:

@@ -162,13 +162,21 @@ def compose_stage(
     source: str,
     outside_scene: Path | None = None,
     force: bool = False,
+    recording: Recording | None = None,
 ) -> ComposeStage:
     """Compose the matched sub-actions (Algorithm 1) and write the new OAC into
-    ``LIBRARY/learned/NAME.oac`` as ``oacc compose`` does (unchanged when it is already there)."""
+    ``LIBRARY/learned/NAME.oac`` as ``oacc compose`` does (unchanged when it is already there).
+    ``recording``: the steps carry the skill parameters of its demonstrated motion
+    (:mod:`oacdsl.matching.demoparams`; None: the paper's plain steps)."""
     from oacdsl.matching.demonstration import compose_demonstration
     from oacdsl.matching.emit import LEARNED, emit
 
     comp = compose_demonstration(name, matches, library, scene).composition
+    if recording is not None:
+        from oacdsl.matching.demoparams import demonstrated_motions, with_demo_params
+
+        motions = demonstrated_motions(recording, [m.sub_action for m in matches])
+        comp = with_demo_params(comp, motions, library, scene)
     written = comp.oac
     warnings = list(comp.warnings)
     if outside_scene is not None:  # defaults would name instances the library does not know

@@ -86,10 +86,12 @@ def reproduce(
     command: str | None = None,
     warn: Callable[[str], None] | None = None,
     overrides: SceneOverrides | None = None,
+    demo_params: bool = True,
 ) -> Outcome:
     """Run every stage on checked ``inputs`` and write the report into ``out`` (see the module
     docstring). ``db``: the run store (None: do not record); ``overrides``: the command line's
-    --place/--fill/--layout over the scene's initial state."""
+    --place/--fill/--layout over the scene's initial state; ``demo_params``: steps carry the skill
+    parameters of the demonstrated motion (``--no-demo-params``: the paper's plain steps)."""
     from oacdsl import __version__
 
     progress = Progress(list(STAGES), quiet=quiet)
@@ -139,6 +141,7 @@ def reproduce(
             db=db,
             warn=note_warning,
             overrides=overrides,
+            demo_params=demo_params,
         )
         verdict = _verdict(record, failure, name)
         result = record.to_json(verdict, progress.records(), warnings)
@@ -172,6 +175,7 @@ def _stages(
     db: Path | None,
     warn: Callable[[str], None],
     overrides: SceneOverrides | None = None,
+    demo_params: bool = True,
 ) -> tuple[str, OacError] | None:
     """Fill ``result`` stage by stage, each part checked as it is set; the first failed stage and
     its error, or None."""
@@ -214,6 +218,7 @@ def _stages(
             source=inputs.source,
             outside_scene=inputs.outside_scene,
             force=force,
+            recording=seg.recording if demo_params else None,
         )
         from oacdsl.atomic import write_atomic
 

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from oacdsl.errors import RuntimeFailure, did_you_mean
 from oacdsl.geometry import ROLE_LIQUID, resolve_scene
 from oacdsl.library import Library
-from oacdsl.model import Atom, Oac, Scene
+from oacdsl.model import Atom, Oac, Scene, SkillParam
 from oacdsl.skills import SIGNATURES
 from oacdsl.units import language_si
 from oacdsl.world import NOTHING, WorldState
@@ -35,10 +35,12 @@ _MAX_DEPTH = 16
 
 @dataclass(frozen=True)
 class Step:
-    """A primitive OAC with its parameters bound to instances."""
+    """A primitive OAC with its parameters bound to instances; ``overrides`` are the skill
+    parameters written on the step that called it (``pour(h, c, l, b) { tilt 105deg }``)."""
 
     oac: Oac
     binding: dict[str, str]
+    overrides: tuple[SkillParam, ...] = ()
 
     @property
     def args(self) -> tuple[str, ...]:
@@ -48,11 +50,19 @@ class Step:
 
     @property
     def params(self) -> dict[str, float]:
-        """The skill's named parameters (SI): the signature's defaults, then the OAC's values."""
+        """The skill's named parameters (SI): the signature's defaults, then the OAC's values,
+        then the calling step's."""
         sig = SIGNATURES.get(str(self.oac.skill))
         values = sig.defaults() if sig is not None else {}
-        values.update({p.name: language_si(p.value.value, p.value.unit)[0] for p in self.oac.skill_params})
+        for p in (*self.oac.skill_params, *self.overrides):
+            values[p.name] = language_si(p.value.value, p.value.unit)[0]
         return values
+
+    @property
+    def given(self) -> dict[str, float]:
+        """The parameters the OAC or the calling step set (SI), without the skill's defaults."""
+        return {p.name: language_si(p.value.value, p.value.unit)[0]
+                for p in (*self.oac.skill_params, *self.overrides)}
 
 
 @dataclass(frozen=True)
@@ -138,13 +148,17 @@ def expand(library: Library, oac: Oac, binding: Mapping[str, str]) -> tuple[list
 
 
 def _expand(
-    library: Library, oac: Oac, binding: dict[str, str], depth: int, steps: list[Step], calls: list[Call]
+    library: Library, oac: Oac, binding: dict[str, str], depth: int, steps: list[Step], calls: list[Call],
+    overrides: tuple[SkillParam, ...] = (),
 ) -> None:
     if depth > _MAX_DEPTH:
         raise RuntimeFailure(f"oac {oac.name}: steps nest deeper than {_MAX_DEPTH} (a cycle?)")
     if not oac.composed:
-        steps.append(Step(oac, binding))
+        steps.append(Step(oac, binding, overrides))
         return
+    if overrides:  # E047 for the compiler: a composed OAC runs no skill of its own
+        raise RuntimeFailure(f"oac {oac.name} is composed: a step calling it takes no skill parameters"
+                             f" ({', '.join(p.name for p in overrides)})")
     index, first = len(calls), len(steps)
     calls.append(Call(oac, binding, first, first, depth))  # its last step is known below
     for call in oac.steps or ():
@@ -158,7 +172,7 @@ def _expand(
                 f"oac {oac.name}: {call.oac} takes {len(callee.params)} arguments, {len(call.args)} given"
             )
         inner = {p.name: binding.get(a, a) for p, a in zip(callee.params, call.args, strict=True)}
-        _expand(library, callee, inner, depth + 1, steps, calls)
+        _expand(library, callee, inner, depth + 1, steps, calls, call.skill_params)
     if len(steps) == first:
         raise RuntimeFailure(f"oac {oac.name} has no steps to execute")
     calls[index] = Call(oac, binding, first, len(steps) - 1, depth)

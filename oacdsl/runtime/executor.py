@@ -220,6 +220,7 @@ def run_prepared(
             predicted,
             _pairs(state, mentioned),
             error,
+            step.given or None,
         )
         results.append(result)
         if error is not None:

@@ -24,9 +24,11 @@ class StepResult:
     predicted: list[list[str]]
     observed: list[list[str]]
     error: str | None = None
+    #: The skill parameters the OAC or its calling step set (SI units; the rest are defaults).
+    params: dict[str, float] | None = None
 
     def to_json(self) -> dict[str, Any]:
-        return {
+        doc: dict[str, Any] = {
             "oac": self.oac,
             "binding": dict(self.binding),
             "success": self.success,
@@ -35,6 +37,9 @@ class StepResult:
             "observed": self.observed,
             "error": self.error,
         }
+        if self.params:
+            doc["params"] = {k: round(v, 6) for k, v in sorted(self.params.items())}
+        return doc
 
 
 @dataclass

@@ -36,7 +36,7 @@ from oacdsl.segmentation.poses import ObjectPoses, fit_poses, relative
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import Segmentation, SubAction
 
-__all__ = ["AGENT_PATTERN", "SubActionMotion", "sub_action_motions"]
+__all__ = ["AGENT_PATTERN", "SubActionMotion", "sub_action_motion", "sub_action_motions"]
 
 #: Glob (case-insensitive) naming the agents, as the adaptive detector names them.
 AGENT_PATTERN = "*hand*"
@@ -150,25 +150,28 @@ def sub_action_motions(recording: Recording, segmentation: Segmentation,
     ``poses`` defaults to :func:`~oacdsl.segmentation.poses.fit_poses` of the recording.
     """
     posed = dict(poses) if poses is not None else fit_poses(recording)
+    return [sub_action_motion(recording, sub, posed) for sub in segmentation.sub_actions()]
+
+
+def sub_action_motion(recording: Recording, sub: SubAction,
+                      posed: Mapping[str, ObjectPoses]) -> SubActionMotion:
+    """The demonstrated motion of one sub-action (module doc); ``posed``: the recording's
+    :func:`~oacdsl.segmentation.poses.fit_poses` (instances with ≥ 3 markers)."""
     agents = _agents(recording.instances)
     times = np.asarray(recording.times_s, dtype=np.float64)
-    out: list[SubActionMotion] = []
-    for sub in segmentation.sub_actions():
-        a, b = sub.start.frame, sub.end.frame
-        span_t = times[a : b + 1]
-        found = _candidates(sub, agents, posed)
-        if not found:
-            out.append(SubActionMotion(sub.index, a, b, None, None, None, None, span_t,
-                                       np.full((len(span_t), 4, 4), np.nan), None, float("nan")))
-            continue
-        hand, moved, target, rel = min(
-            found, key=lambda c: (-round(_travel(posed[c[1]], a, b), 4), _RELATION_RANK[c[3]], c[:3]))
-        T_world_moved = posed[moved].T_world_object[a : b + 1]
-        if target is None:
-            T, residual = T_world_moved, _median(posed[moved].residual_m[a : b + 1])
-        else:
-            T = relative(posed[target].T_world_object[a : b + 1], T_world_moved)
-            residual = max(_median(posed[n].residual_m[a : b + 1]) for n in (moved, target))
-        out.append(SubActionMotion(sub.index, a, b, hand, moved, target, rel, span_t, T,
-                                   motion_features(span_t, T), residual))
-    return out
+    a, b = sub.start.frame, sub.end.frame
+    span_t = times[a : b + 1]
+    found = _candidates(sub, agents, posed)
+    if not found:
+        return SubActionMotion(sub.index, a, b, None, None, None, None, span_t,
+                               np.full((len(span_t), 4, 4), np.nan), None, float("nan"))
+    hand, moved, target, rel = min(
+        found, key=lambda c: (-round(_travel(posed[c[1]], a, b), 4), _RELATION_RANK[c[3]], c[:3]))
+    T_world_moved = posed[moved].T_world_object[a : b + 1]
+    if target is None:
+        T, residual = T_world_moved, _median(posed[moved].residual_m[a : b + 1])
+    else:
+        T = relative(posed[target].T_world_object[a : b + 1], T_world_moved)
+        residual = max(_median(posed[n].residual_m[a : b + 1]) for n in (moved, target))
+    return SubActionMotion(sub.index, a, b, hand, moved, target, rel, span_t, T,
+                           motion_features(span_t, T), residual)

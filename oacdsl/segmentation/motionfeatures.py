@@ -30,7 +30,10 @@ Definitions (all in the target's frame):
 - **tilt**: the angle between the object's z axis and the target's z axis, radians
   (0 while both stand as they stood at their reference frame); ``tilt_max_rad`` its
   largest value, ``tilt_time_s`` the time it stays at or above half of that (0 when
-  the largest tilt is below :data:`MIN_TILT_RAD`).
+  the largest tilt is below :data:`MIN_TILT_RAD`); ``tilt_rise_s`` the time it takes to
+  tilt: from the last frame at or below 10 % of the largest tilt before it is first reached
+  (the span's start when there is none) to the first frame at or above 90 % of it (None below
+  :data:`MIN_TILT_RAD`; a constant-rate tilt over *T* seconds rises in 0.8 *T*).
 """
 
 from __future__ import annotations
@@ -52,6 +55,7 @@ __all__ = [
     "core_frames",
     "dominant_period",
     "motion_features",
+    "tilt_rise",
 ]
 
 #: Smallest autocorrelation (0..1) at the period's lag for an oscillation to count.
@@ -86,6 +90,7 @@ class MotionFeatures:
     radius_m: float
     tilt_max_rad: float
     tilt_time_s: float
+    tilt_rise_s: float | None = None
 
     def to_json(self) -> dict[str, Any]:
         return {
@@ -98,6 +103,7 @@ class MotionFeatures:
             "radius_m": round(self.radius_m, 6),
             "tilt_max_rad": round(self.tilt_max_rad, 6),
             "tilt_time_s": round(self.tilt_time_s, 6),
+            "tilt_rise_s": None if self.tilt_rise_s is None else round(self.tilt_rise_s, 6),
         }
 
 
@@ -212,4 +218,22 @@ def motion_features(times_s: np.ndarray, T_target_object: np.ndarray) -> MotionF
     step = np.r_[dt, dt[-1:]] if len(dt) else np.zeros(1)
     tilt_time = float(step[ok][tilt >= 0.5 * tilt_max].sum()) if tilt_max >= MIN_TILT_RAD else 0.0
     return MotionFeatures(duration, path, (float(extent[0]), float(extent[1]), float(extent[2])),
-                          core_s, period, cycles, radius, tilt_max, tilt_time)
+                          core_s, period, cycles, radius, tilt_max, tilt_time,
+                          tilt_rise(t[ok], tilt) if tilt_max >= MIN_TILT_RAD else None)
+
+
+def tilt_rise(times_s: np.ndarray, tilt_rad: np.ndarray) -> float:
+    """Seconds the tilt takes from 10 % to 90 % of its largest value, on its way to that largest
+    value (module doc); the crossings are interpolated linearly between samples."""
+    peak = float(tilt_rad.max())
+
+    def crossing(i: int, level: float) -> float:  # between samples i and i + 1
+        a, b = float(tilt_rad[i]), float(tilt_rad[i + 1])
+        w = (level - a) / (b - a) if b != a else 0.0
+        return float(times_s[i] + np.clip(w, 0.0, 1.0) * (times_s[i + 1] - times_s[i]))
+
+    top = int(np.argmax(tilt_rad >= 0.9 * peak))
+    end = crossing(top - 1, 0.9 * peak) if top > 0 else float(times_s[0])
+    low = np.flatnonzero(tilt_rad[:top] <= 0.1 * peak)
+    start = crossing(int(low[-1]), 0.1 * peak) if low.size else float(times_s[0])
+    return end - start

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from oacdsl.runtime.skills.base import Skill, SkillContext
+from oacdsl.runtime.skills.bimanual import grasp_both, place_both
 from oacdsl.runtime.skills.grasp import reach_and_grasp
 from oacdsl.runtime.skills.hold import hold, retreat
 from oacdsl.runtime.skills.lift import lift
@@ -25,4 +26,6 @@ IMPLEMENTATIONS: dict[str, Skill] = {
     "touch": touch,
     "retreat": retreat,
     "lift": lift,
+    "grasp_both": grasp_both,
+    "place_both": place_both,
 }

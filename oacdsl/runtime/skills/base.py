@@ -185,6 +185,15 @@ class SkillContext:
     def carry(self, side: str, goal: np.ndarray, exclude: set[str], duration_s: float = 1.6) -> None:
         """Move hand ``side`` (and what it holds) to ``goal`` through a point high enough to
         pass over the objects near the way (``exclude`` left out)."""
+        for pose, seconds in self.carry_path(side, goal, exclude, duration_s):
+            if seconds > 0:
+                self.ctl.move(side, pose, seconds)
+
+    def carry_path(
+        self, side: str, goal: np.ndarray, exclude: set[str], duration_s: float = 1.6
+    ) -> list[tuple[np.ndarray, float]]:
+        """The three (T_world_grasp, seconds) of :meth:`carry`: a climb (0 s when none is
+        needed), a point over the middle of the way, the goal."""
         ctl = self.ctl
         now = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
         hanging = HAND_BELOW_CENTRE_M
@@ -198,12 +207,10 @@ class SkillContext:
         via = now.copy()
         via[:2, 3] = 0.5 * (now[:2, 3] + goal[:2, 3])
         via[2, 3] = max(now[2, 3], goal[2, 3], over)
-        if over > now[2, 3]:  # climb first, then cross
-            up = now.copy()
-            up[2, 3] = over
-            ctl.move(side, up, 0.4 * duration_s)
-        ctl.move(side, via, 0.5 * duration_s)
-        ctl.move(side, goal, 0.5 * duration_s)
+        up = now.copy()
+        up[2, 3] = max(over, now[2, 3])  # climb first, then cross
+        climb = 0.4 * duration_s if over > now[2, 3] else 0.0
+        return [(up, climb), (via, 0.5 * duration_s), (goal, 0.5 * duration_s)]
 
     def reach_error(self, side: str, target: np.ndarray) -> float:
         """A score of how well ``target`` can be reached (m, angle weighted 0.1 m/rad)."""

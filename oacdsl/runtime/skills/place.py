@@ -20,7 +20,14 @@ from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.skills.base import Pick, SkillContext
 from oacdsl.runtime.transforms import make_T
 
-__all__ = ["place", "CONTACT_FORCE_N", "lower_until_contact", "target_support"]
+__all__ = [
+    "place",
+    "CONTACT_FORCE_N",
+    "lower_until_contact",
+    "target_support",
+    "set_down_pose",
+    "withdrawal",
+]
 
 #: Force change (N) at the wrist that counts as "the object touches the support".
 CONTACT_FORCE_N = 3.0
@@ -70,11 +77,16 @@ def place(ctx: SkillContext, hand: str, obj: str, *, force: float = CONTACT_FORC
     ctl.open_hand(side, 0.4)
     ctx.picked.pop(side, None)
     ctl.activity = "withdrawing"
-    now = ctl.ik.frame(f"grasp_{side}")
+    for pose, seconds in withdrawal(ctl.ik.frame(f"grasp_{side}"), approach):
+        ctl.move(side, pose, seconds)
+
+
+def withdrawal(now: np.ndarray, approach: np.ndarray) -> list[tuple[np.ndarray, float]]:
+    """The two (T_world_grasp, seconds) of an open hand backing off along the grasp's
+    ``approach`` and rising, from hand pose ``now``."""
     back = make_T(now[:3, :3], now[:3, 3] - 0.12 * approach + np.array([0.0, 0.0, 0.03]))
-    ctl.move(side, back, 0.8)
     up = make_T(now[:3, :3], back[:3, 3] + np.array([0.0, 0.0, 0.08]))
-    ctl.move(side, up, 0.6)
+    return [(back, 0.8), (up, 0.6)]
 
 
 def target_support(ctx: SkillContext, obj: str) -> str | None:
@@ -86,26 +98,39 @@ def target_support(ctx: SkillContext, obj: str) -> str | None:
     return partners[0] if partners else None
 
 
-def _set_down(
-    ctx: SkillContext, side: str, obj: str, pick: Pick | None, force: float = CONTACT_FORCE_N
-) -> None:
-    """Carry ``obj`` above where it goes and lower it until the wrist feels the support."""
-    world, ctl = ctx.world, ctx.ctl
+def set_down_pose(
+    ctx: SkillContext, side: str, obj: str, pick: Pick | None
+) -> tuple[np.ndarray, str, str | None]:
+    """(T_world_grasp above where ``obj`` goes, a name for that place, the object it goes
+    is predicted to touch or None, left out of the obstacles): back where it was picked up,
+    or onto the support the step predicts."""
+    world = ctx.world
     t_obj, t_obj_in_hand = ctx.held_pose(side, obj)
     origin = pick.origin if pick is not None else t_obj
     support = target_support(ctx, obj)
     if support is None or (pick is not None and support in pick.supports):
         xy, where = origin[:2, 3], "its place"  # back where it was picked up (it stood there)
     elif world.touching(obj, support):  # on the support already (a wipe, a ladle in a bowl): set it down here
-        ctl.activity = f"setting {obj} down on {support}"
+        ctl = ctx.ctl
         here = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
-        lower_until_contact(ctx, side, here, 0.03, f"placing {obj}", force)
-        return
+        return here, support, support
     else:
         xy, where = world.body_pose(support)[:2, 3], support
     height = ctx.support_height(xy, exclude=obj)
     target_obj = make_T(origin[:3, :3], (xy[0], xy[1], height + HOVER_M))
-    hover = target_obj @ np.linalg.inv(t_obj_in_hand)
+    return target_obj @ np.linalg.inv(t_obj_in_hand), where, support
+
+
+def _set_down(
+    ctx: SkillContext, side: str, obj: str, pick: Pick | None, force: float = CONTACT_FORCE_N
+) -> None:
+    """Carry ``obj`` above where it goes and lower it until the wrist feels the support."""
+    ctl = ctx.ctl
+    hover, where, support = set_down_pose(ctx, side, obj, pick)
+    if support is not None and ctx.world.touching(obj, support):  # no hover: that would break the contact
+        ctl.activity = f"setting {obj} down on {support}"
+        lower_until_contact(ctx, side, hover, 0.03, f"placing {obj}", force)
+        return
     ctl.activity = f"carrying {obj} to {where}"
     ctx.check_reachable(side, hover, f"the place of {obj} on {where}")
     ctx.carry(side, hover, {obj} if support is None else {obj, support})

@@ -1,0 +1,242 @@
+"""Skill parameters of each composed step from the demonstrated motion, retargeted to the robot.
+
+For every step of a composition whose OAC executes a skill, each parameter of that skill
+that names a :class:`~oacdsl.skills.MotionSource` is set from the sub-action's
+:class:`~oacdsl.segmentation.motion.SubActionMotion` features (docs/motion.md):
+
+1. **demonstrated**: the feature's value (SI); a parameter whose feature, or whose
+   ``needs`` feature, the motion does not have (no oscillation, no tilt; a moved object
+   with fewer than three markers has no motion at all) is not written: the skill's
+   default (or the OAC's ``execute … { }`` value) applies;
+2. **scaled**: × the source's ``scale`` (a pour's tilt rise → its duration × 1.25, a
+   wipe's extent → its length to either side × 0.5), rounded for a count;
+3. **retargeted**: a length no larger than the *room* the robot has on the skill's target
+   (the object bound to the skill's last argument): a container's inner radius (its
+   shell's radius less its wall), a box's half width, less the held tool's own radius
+   (the object bound to the skill's second argument) — then into the parameter's range
+   (the skill's limits on the robot: speeds, angles, counts);
+4. **written** rounded as an author would (1°, 10 ms, 1 mm, whole counts), and the step
+   gets a comment saying what the demonstration showed and what was scaled or clamped.
+
+The result's ``rows`` (one per parameter considered) feed ``result.json``'s
+``compose.demo_params`` and the report's table of demonstrated against executed features.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from oacdsl.library import Library
+from oacdsl.matching.composer import Composition
+from oacdsl.model import Call, Quantity, Scene, SkillParam, sorted_skill_params
+from oacdsl.segmentation.motion import SubActionMotion
+from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.result import SubAction
+from oacdsl.skills import SIGNATURES, MotionSource, SkillParamSpec
+
+__all__ = ["CLEARANCE_M", "StepParams", "demonstrated_motions", "room_m", "step_params", "with_demo_params"]
+
+#: Kept between the tool and the target's edge when a length is retargeted, metres.
+CLEARANCE_M = 0.005
+
+
+@dataclass(frozen=True)
+class StepParams:
+    """What the demonstration sets on one step: the parameters, the comment, the rows."""
+
+    params: tuple[SkillParam, ...]
+    comment: str | None
+    #: One per parameter with a source: name, feature, demonstrated (SI or None), value
+    #: written (SI or None), unit, how (``as demonstrated`` / ``scaled …`` / ``clamped …`` /
+    #: why nothing was written).
+    rows: tuple[dict[str, Any], ...]
+
+
+def _feature(motion: SubActionMotion, source: MotionSource, name: str | None = None) -> float | None:
+    f = motion.features
+    if f is None:
+        return None
+    value = getattr(f, name or source.feature)
+    if isinstance(value, tuple):
+        value = value[source.axis]
+    return None if value is None or not math.isfinite(value) else float(value)
+
+
+def _show(value: float, unit: str) -> str:
+    """A value for a comment, as precise as it is worth: 110deg, 0.65s, 16mm, 3.4."""
+    if unit == "rad":
+        return f"{math.degrees(value):.0f}deg"
+    if unit == "s":
+        return f"{value:.2f}s"
+    if unit == "m":
+        return f"{value * 1000:.0f}mm"
+    return f"{value:.1f}" if unit == "" else f"{value:.3g}{unit}"
+
+
+def _written(value: float, spec: SkillParamSpec) -> Quantity:
+    """The value as an author writes it, rounded and kept inside the range."""
+    if spec.whole:
+        return Quantity(value=float(round(value)))
+    unit, factor, digits = {"rad": ("deg", 180 / math.pi, 0), "s": ("s", 1.0, 2), "m": ("mm", 1000.0, 0)}.get(
+        spec.unit, (spec.unit, 1.0, 3))
+    shown = round(value * factor, digits)
+    low, high = spec.low * factor, spec.high * factor
+    step = 10.0**-digits
+    shown = round(min(max(shown, math.ceil(low / step) * step), math.floor(high / step) * step), digits)
+    return Quantity(value=float(shown), unit=unit)
+
+
+def _size(geometry: Any) -> tuple[float | None, float | None]:
+    """(inner half-width of a target, outer radius of a tool) of a resolved geometry, metres."""
+    from oacdsl.geometry import si
+
+    if geometry is None or not geometry.shapes:
+        return None, None
+    shape = geometry.shapes[0]
+    dim = {d.name: si(d.value, "length") for d in shape.dims if d.name != "mass"}
+    if shape.primitive == "shell":
+        return dim["radius"] - dim["wall"], dim["radius"]
+    if shape.primitive in ("cylinder", "capsule", "sphere"):
+        return dim["radius"], dim["radius"]
+    if shape.primitive == "box":
+        return min(dim["length"], dim["width"]) / 2, max(dim["length"], dim["width"]) / 2
+    return None, None
+
+
+def room_m(library: Library, scene: Scene, target: str, tool: str | None) -> float | None:
+    """How far a held ``tool`` may move from the middle of ``target`` (metres; None: unknown)."""
+    from oacdsl.geometry import resolve
+
+    def geometry(name: str) -> Any:
+        inst = scene.instance(name)
+        return resolve(library, inst) if inst is not None else None
+
+    inner = _size(geometry(target))[0]
+    if inner is None:
+        return None
+    tool_r = (_size(geometry(tool))[1] if tool is not None else None) or 0.0
+    # a tool's "radius" on a surface is half its footprint; in a container its base's radius
+    return max(inner - min(tool_r, inner / 2) - CLEARANCE_M, 0.0)
+
+
+def _one(spec: SkillParamSpec, source: MotionSource, motion: SubActionMotion | None, room: float | None
+         ) -> tuple[SkillParam | None, str | None, dict[str, Any]]:
+    row: dict[str, Any] = {"name": spec.name, "feature": source.describe(), "unit": spec.unit,
+                           "demonstrated": None, "value": None}
+    if motion is None or motion.features is None:
+        row["how"] = "no demonstrated motion (the moved object has fewer than 3 markers)"
+        return None, None, row
+    if source.needs is not None and _feature(motion, source, source.needs) is None:
+        row["how"] = f"the motion has no {source.needs}"
+        return None, None, row
+    demo = _feature(motion, source)
+    row["demonstrated"] = demo
+    if demo is None:
+        row["how"] = f"the motion has no {source.feature}"
+        return None, None, row
+    value = source.scale * demo
+    what: list[str] = []
+    how = ["as demonstrated"]
+    if source.scale != 1.0:
+        what.append(f"x{source.scale:g}")
+        how = [f"scaled x{source.scale:g}"]
+    if spec.whole:
+        value = float(round(value))
+    if spec.unit == "m" and room is not None and value > room:
+        value = room
+        what.append(f"clamped to the room on the target ({_show(room, 'm')})")
+        how.append("clamped to the target's room")
+    if not spec.low <= value <= spec.high:
+        value = min(max(value, spec.low), spec.high)
+        what.append("clamped to the skill's range")
+        how.append("clamped to the skill's range")
+    q = _written(value, spec)
+    from oacdsl.units import language_si
+
+    row["value"] = language_si(q.value, q.unit)[0]
+    row["how"] = ", ".join(how)
+    label = (source.feature.removesuffix("_s").removesuffix("_m").removesuffix("_rad")
+             .replace("_max", "").replace("_", " "))
+    text = f"{spec.name} {q.value:g}{q.unit}" + (
+        f" from {label} {_show(demo, spec.unit)}, " + ", ".join(what) if what
+        else " as demonstrated" if label == spec.name else f" = {label} {_show(demo, spec.unit)}")
+    return SkillParam(name=spec.name, value=q), text, row
+
+
+def step_params(skill: str | None, motion: SubActionMotion | None, args: Sequence[str],
+                library: Library, scene: Scene) -> StepParams:
+    """The parameters the demonstration sets on a step executing ``skill`` on the instances
+    ``args`` (its arguments in the signature's order), with its comment (module doc)."""
+    sig = SIGNATURES.get(skill or "")
+    specs = [p for p in sig.params if p.source is not None] if sig is not None else []
+    if not specs:
+        return StepParams((), None, ())
+    room = room_m(library, scene, args[-1], args[1] if len(args) > 2 else None) if args else None
+    params: list[SkillParam] = []
+    texts: list[str] = []
+    rows: list[dict[str, Any]] = []
+    for spec in specs:
+        if spec.source is None:
+            continue
+        param, text, row = _one(spec, spec.source, motion, room)
+        rows.append(row)
+        if param is not None and text is not None:
+            params.append(param)
+            texts.append(text)
+    where = ""
+    if motion is not None and motion.moved is not None:
+        where = f" ({motion.moved} relative to {motion.frame_name})"
+    if texts:
+        comment = f"demonstrated{where}: " + "; ".join(texts)
+    else:
+        reasons = sorted({r["how"] for r in rows})
+        comment = f"skill defaults: {'; '.join(reasons)}"
+    return StepParams(tuple(params), comment, tuple(rows))
+
+
+def demonstrated_motions(recording: Recording, subs: Sequence[SubAction]) -> list[SubActionMotion]:
+    """The motion of each sub-action in ``subs`` (the matcher's: transient keyframes dropped)."""
+    from oacdsl.segmentation.motion import sub_action_motion
+    from oacdsl.segmentation.poses import fit_poses
+
+    posed = fit_poses(recording)
+    return [sub_action_motion(recording, sub, posed) for sub in subs]
+
+
+def with_demo_params(comp: Composition, found_motions: Sequence[SubActionMotion],
+                     library: Library, scene: Scene) -> Composition:
+    """``comp`` with each step's parameters from the motion of its sub-action (matched by its
+    first and last frame), a comment per step, and ``demo_params`` (module doc)."""
+    motions = {(m.start_frame, m.end_frame): m for m in found_motions}
+    calls: list[Call] = []
+    doc: list[dict[str, Any]] = []
+    for k, (call, step) in enumerate(zip(comp.oac.steps or (), comp.steps, strict=True)):
+        a, b = step.start_frame, step.end_frame
+        motion = motions.get((a, b)) if a is not None and b is not None else None
+        args = tuple(step.mapping.get(a, a) for a in step.oac.skill_arguments())
+        found = step_params(step.oac.skill, motion, args, library, scene)
+        if found.comment is None:
+            calls.append(call)
+            continue
+        calls.append(call.model_copy(update={"skill_params": sorted_skill_params(found.params),
+                                             "comments": (*call.comments, found.comment)}))
+        doc.append({
+            "step": k,
+            "oac": step.oac.name,
+            "skill": step.oac.skill,
+            "sub_action": step.index,
+            "moved": motion.moved if motion is not None else None,
+            "frame": motion.frame_name if motion is not None else None,
+            "comment": found.comment,
+            "params": [_json_row(r) for r in found.rows],
+        })
+    oac = comp.oac.model_copy(update={"steps": tuple(calls)})
+    return dataclasses.replace(comp, oac=oac, demo_params=tuple(doc))
+
+
+def _json_row(row: Mapping[str, Any]) -> dict[str, Any]:
+    return {k: (round(v, 6) if isinstance(v, float) else v) for k, v in row.items()}

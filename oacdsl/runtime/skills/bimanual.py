@@ -1,0 +1,252 @@
+"""``grasp_both`` and ``place_both``: both arms at once.
+
+The whole-body IK has a task per hand; here both are active and move together, each
+along its own way, in lockstep (a phase ends when the slower hand is there). Each hand's
+grasp is planned and checked as :func:`~oacdsl.runtime.skills.grasp.reach_and_grasp`
+plans it, each place as :func:`~oacdsl.runtime.skills.place.place` does; each hand's
+guard (its contact, its wrist force) stops that hand alone, so the two hands' contacts
+may happen at different instants. Both hands may take the same object (a wide bowl by
+both sides): it is then lifted and set down by both together.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from functools import partial
+
+import numpy as np
+
+from oacdsl.errors import RuntimeFailure
+from oacdsl.runtime.control import CONTROL_DT_S, Controller
+from oacdsl.runtime.grasping import GraspPlan
+from oacdsl.runtime.hands import OPEN, TOP_PRESHAPE
+from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
+from oacdsl.runtime.skills.grasp import LIFT_M, ease_off, grasp_candidates, lifted, plan_grasp, secure
+from oacdsl.runtime.skills.place import (
+    CONTACT_FORCE_N,
+    DESCENT_SPEED_M_S,
+    HOVER_M,
+    MIN_JERK_PEAK,
+    set_down_pose,
+    withdrawal,
+)
+from oacdsl.runtime.transforms import interpolate, make_T, min_jerk
+
+__all__ = ["grasp_both", "place_both", "move_both", "reach_both", "HANDS_APART_M"]
+
+#: How far apart two hands' grasp centres are kept when they grasp at once, m (a hand is
+#: some 10 cm wide and holds its thumb out).
+HANDS_APART_M = 0.16
+#: How many of each hand's reachable grasps are paired up.
+PAIR_CANDIDATES = 4
+
+
+def move_both(
+    ctl: Controller,
+    goals: Mapping[str, np.ndarray],
+    duration_s: float,
+    guards: Mapping[str, Callable[[], bool]] | None = None,
+) -> dict[str, bool]:
+    """Move each hand of ``goals`` (side → T_world_grasp) there in ``duration_s`` (min-jerk),
+    together. A hand whose guard becomes true stops where it really is; the motion ends when it is
+    over or every guarded hand stopped. Returns, per side, whether its guard stopped it."""
+    guards = dict(guards or {})
+    starts = {s: ctl.ik.target(s) if ctl.ik.active[s] else ctl.ik.frame(f"grasp_{s}") for s in goals}
+    for s in goals:
+        ctl.tare(s)
+    stopped = {s: False for s in goals}
+    n = max(1, round(duration_s / CONTROL_DT_S))
+    for k in range(1, n + 1):
+        for s, goal in goals.items():
+            if not stopped[s]:
+                ctl.ik.set_hand_target(s, interpolate(starts[s], goal, min_jerk(k / n)))
+        ctl.tick()
+        for s, guard in guards.items():
+            if not stopped[s] and guard():
+                # stay where the hand really is (the arm lags its command): a hand waiting
+                # for the other one would otherwise keep pressing on what it touched
+                stopped[s] = True
+                ctl.ik.set_hand_target(s, ctl.world.frame_pose(f"grasp_{s}"))
+        if guards and all(stopped[s] for s in guards):
+            break
+    return stopped
+
+
+def _lockstep(ctl: Controller, paths: Mapping[str, list[tuple[np.ndarray, float]]]) -> None:
+    """Follow each side's list of (pose, seconds) together, phase by phase (equal lengths)."""
+    for phase in zip(*paths.values(), strict=True):
+        seconds = max(t for _, t in phase)
+        if seconds > 0:
+            move_both(ctl, {s: pose for s, (pose, _) in zip(paths, phase, strict=True)}, seconds)
+
+
+def _felt(ctl: Controller, side: str, force: float) -> bool:
+    """The wrist of ``side`` felt more than ``force`` (N) since its motion began."""
+    return float(np.linalg.norm(ctl.force_change(side))) > force
+
+
+def reach_both(ctx: SkillContext, targets: Mapping[str, np.ndarray], iterations: int = 150) -> float:
+    """The larger residual (m, angle weighted 0.1 m/rad) of a static whole-body solve
+    with both hands at ``targets`` (side → T_world_grasp); the IK is left as it was."""
+    ik = ctx.ctl.ik
+    q = ik.snapshot()
+    saved = {s: (ik.target(s), ik.active[s]) for s in ("r", "l")}
+    try:
+        for s, t in targets.items():
+            ik.set_hand_target(s, t)
+        for _ in range(iterations):
+            ik.step()
+        return max((res := ik.residual(s)).position_m + 0.1 * res.angle_rad for s in targets)
+    finally:
+        ik.restore(q)
+        for s, (target, active) in saved.items():
+            if active:
+                ik.set_hand_target(s, target)
+            else:
+                ik.hand_tasks[s].T_world_frame = target
+                ik.hand_tasks[s].configure(f"hand_{s}", "soft", 0.2, 0.2)
+                ik.active[s] = False
+
+
+def _pair(ctx: SkillContext, a: tuple[str, str], b: tuple[str, str]) -> tuple[GraspPlan, GraspPlan]:
+    """The first pair of grasps (each among its hand's first reachable few) that the
+    whole-body IK reaches together with the hands :data:`HANDS_APART_M` apart."""
+    options = []
+    for hand, obj in (a, b):
+        side = ctx.side(hand)
+        reachable = [
+            p for p in grasp_candidates(ctx, hand, obj) if ctx.reach_error(side, p.grasp) < REACH_TOLERANCE_M
+        ]
+        if not reachable:  # the usual out-of-reach failure, naming the closest miss
+            ctx.first_reachable(side, [(p.grasp, p) for p in grasp_candidates(ctx, hand, obj)], obj)
+        options.append((side, reachable[:PAIR_CANDIDATES]))
+    (s1, c1), (s2, c2) = options
+    pairs = sorted(((i, j) for i in range(len(c1)) for j in range(len(c2))), key=lambda ij: (sum(ij), ij))
+    best: tuple[float, GraspPlan, GraspPlan] | None = None
+    for i, j in pairs:
+        p1, p2 = c1[i], c2[j]
+        if float(np.linalg.norm(p1.grasp[:3, 3] - p2.grasp[:3, 3])) < HANDS_APART_M:
+            continue
+        err = reach_both(ctx, {s1: p1.grasp, s2: p2.grasp})
+        if err < REACH_TOLERANCE_M:
+            return p1, p2
+        if best is None or err < best[0]:
+            best = (err, p1, p2)
+    if best is None or best[0] > 2 * REACH_TOLERANCE_M:
+        miss = f"{best[0] * 100:.0f} cm" if best is not None else "no pair of grasps far enough apart"
+        raise RuntimeFailure(
+            f"grasp_both: {a[0]} cannot grasp {a[1]} while {b[0]} grasps {b[1]}: the best whole-body IK"
+            f" solution for both leaves a hand off by {miss}"
+        )
+    return best[1], best[2]
+
+
+def _sides(ctx: SkillContext, h1: str, h2: str, what: str) -> tuple[str, str]:
+    s1, s2 = ctx.side(h1), ctx.side(h2)
+    if s1 == s2:
+        raise RuntimeFailure(f"{what} needs two different hands ({h1} given twice)")
+    return s1, s2
+
+
+def grasp_both(ctx: SkillContext, h1: str, o1: str, h2: str, o2: str, *, lift: float = LIFT_M) -> None:
+    """Grasp ``o1`` with ``h1`` and ``o2`` with ``h2`` at the same time, then lift both by ``lift`` (m)."""
+    world, ctl = ctx.world, ctx.ctl
+    _sides(ctx, h1, h2, "grasp_both")
+    ctl.activity = f"reaching for {o1} and {o2}"
+    for hand in (h1, h2):
+        held = world.held[ctx.side(hand)]
+        if held is not None:
+            raise RuntimeFailure(f"{hand} already holds {held}")
+    p1, p2 = _pair(ctx, (h1, o1), (h2, o2))
+    motions = [plan_grasp(ctx, h1, o1, p1), plan_grasp(ctx, h2, o2, p2)]
+    for m in motions:
+        if m.grasp.approach == "top":
+            ctl.set_fingers(m.side, TOP_PRESHAPE)
+    _lockstep(ctl, {m.side: m.waypoints for m in motions})
+    ctl.activity = f"approaching {o1} and {o2}"
+    move_both(
+        ctl,
+        {m.side: m.plan.end for m in motions},
+        max(m.approach_s for m in motions),
+        {m.side: partial(m.arrived, world) for m in motions},
+    )
+    eased = {m.side: e for m in motions if (e := ease_off(ctx, m)) is not None}
+    if eased:
+        move_both(ctl, eased, 0.2)
+    ctl.activity = f"closing {h1} on {o1} and {h2} on {o2}"
+    for m in motions:
+        ctl.set_fingers(m.side, m.closed)
+    # each hand is welded the moment its fingers touch (a closing finger pushes a light object away)
+    pending = list(motions)
+    for _ in range(round(0.6 / CONTROL_DT_S)):
+        ctl.tick()
+        for m in [m for m in pending if m.holding(world)]:
+            secure(ctx, m)
+            pending.remove(m)
+        if not pending:
+            break
+    for m in pending:
+        secure(ctx, m)  # raises with the reason
+    ctl.wait(0.3)
+    up = {m.side: lifted(ctx, m.side, lift) for m in motions if not m.handover}
+    if up:
+        ctl.activity = f"lifting {o1} and {o2}"
+        move_both(ctl, up, 1.0)
+
+
+def place_both(
+    ctx: SkillContext, h1: str, o1: str, h2: str, o2: str, *, force: float = CONTACT_FORCE_N
+) -> None:
+    """Set down ``o1`` held by ``h1`` and ``o2`` held by ``h2`` at the same time (where each
+    step's predicted effect says, as ``place``); each descent stops when its wrist feels
+    ``force`` (N). One object held by both hands is set down where it is."""
+    world, ctl = ctx.world, ctx.ctl
+    sides = _sides(ctx, h1, h2, "place_both")
+    for hand, obj in ((h1, o1), (h2, o2)):
+        ctx.require_held(hand, obj)
+    picks = {s: ctx.picked.get(s) for s in sides}
+    ctl.activity = f"carrying {o1} and {o2}"
+    hover: dict[str, np.ndarray] = {}
+    if o1 == o2:  # one object in both hands: straight down from where it is
+        hover = {s: ctl.ik.target(s) if ctl.ik.active[s] else ctl.ik.frame(f"grasp_{s}") for s in sides}
+    else:
+        paths = {}
+        for side, obj in zip(sides, (o1, o2), strict=True):
+            pose, where, support = set_down_pose(ctx, side, obj, picks[side])
+            ctx.check_reachable(side, pose, f"the place of {obj} on {where}")
+            hover[side] = pose
+            exclude = {o1, o2} | ({support} if support else set())
+            paths[side] = ctx.carry_path(side, pose, exclude)
+        _lockstep(ctl, paths)
+        ctl.wait(0.2)
+    ctl.activity = f"setting {o1} and {o2} down"
+    depth = HOVER_M + 0.03
+    felt = move_both(
+        ctl,
+        {s: make_T(t[:3, :3], t[:3, 3] - np.array([0.0, 0.0, depth])) for s, t in hover.items()},
+        MIN_JERK_PEAK * depth / DESCENT_SPEED_M_S,
+        {s: partial(_felt, ctl, s, force) for s in sides},
+    )
+    if o1 == o2 and any(felt.values()):
+        felt = dict.fromkeys(sides, True)  # the support took the object from both hands
+    missing = [h for h, s in ((h1, sides[0]), (h2, sides[1])) if not felt[s]]
+    if missing:
+        raise RuntimeFailure(
+            f"place_both: the wrist of {' and '.join(missing)} felt no support after lowering"
+            f" {depth * 100:.0f} cm"
+        )
+    ctl.activity = f"releasing {o1} and {o2}"
+    for s in sides:
+        world.release(s)
+    for s in sides:
+        ctl.set_fingers(s, OPEN)
+    ctl.wait(0.4)
+    ctl.activity = "withdrawing"
+    up = np.array([0.0, 0.0, -1.0])
+    paths = {
+        s: withdrawal(ctl.ik.frame(f"grasp_{s}"), p.approach if p is not None else up)
+        for s, p in picks.items()
+    }
+    for s in sides:
+        ctx.picked.pop(s, None)
+    _lockstep(ctl, paths)
