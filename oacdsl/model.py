@@ -166,7 +166,9 @@ class Instance(Node):
     ``markers`` optionally lists the motion-capture marker names of the group
     (an explicit mapping); ``environment`` marks geometry that is not tracked
     (the table in the paper's scene): it takes no part in touching relations;
-    ``ignored`` marks a marker group of the recording that is neither tracked nor built.
+    ``ignored`` marks a marker group of the recording that is neither tracked nor built;
+    ``untracked`` an object the recording does not track (KIT's milk: no markers) that
+    is built and takes part in relations, which OAC effects predict (docs/language.md).
     ``geometry`` overrides its class's geometry property by property.
     """
 
@@ -176,6 +178,9 @@ class Instance(Node):
     environment: bool = False
     #: A marker group nobody uses (``rack : Rack ignored``): not tracked, not built.
     ignored: bool = False
+    #: Built and related, but not in the recording (``milk : Milk untracked``): its relations
+    #: are predicted by OAC effects, never observed in the demonstration.
+    untracked: bool = False
     geometry: Geometry | None = None
 
     @field_validator("classes")
@@ -244,8 +249,13 @@ class Scene(Node):
         return None
 
     def tracked(self) -> tuple[Instance, ...]:
-        """Instances that take part in touching relations (neither environment nor ignored)."""
-        return tuple(i for i in self.instances if not i.environment and not i.ignored)
+        """Instances whose marker groups the recording holds: they take part in touching
+        relations (neither environment, ignored nor untracked)."""
+        return tuple(i for i in self.instances if not (i.environment or i.ignored or i.untracked))
+
+    def untracked(self) -> tuple[Instance, ...]:
+        """Instances marked ``untracked``: built and related, but not in the recording."""
+        return tuple(i for i in self.instances if i.untracked)
 
     def ignored(self) -> tuple[Instance, ...]:
         """Instances marked ``ignored``: marker groups that are neither tracked nor built."""

@@ -326,6 +326,33 @@ SIGNATURES: dict[str, SkillSignature] = {
                 SkillParamSpec("duration", "s", 1.0, 0.3, 5.0, "time to raise it"),
             ),
         ),
+        SkillSignature(
+            "stir",
+            "circle the held tool's tip inside a container (standing or held by the other hand)",
+            (SkillArg("h", "Hand"), SkillArg("s", "Graspable"), SkillArg("c", "Container")),
+            (
+                SkillParamSpec(
+                    "radius",
+                    "m",
+                    0.015,
+                    0.0,
+                    0.08,
+                    "radius of the tip's circles (clamped to the inside)",
+                    MotionSource("radius_m", needs="period_s"),
+                ),
+                SkillParamSpec("period", "s", 0.8, 0.3, 5.0, "time for one circle", MotionSource("period_s")),
+                SkillParamSpec("turns", "", 3.0, 1.0, 10.0, "number of circles", MotionSource("cycles")),
+                SkillParamSpec(
+                    "tilt", "rad", _deg(15.0), 0.0, _deg(45.0), "lean of the tool from the vertical"
+                ),
+                SkillParamSpec(
+                    "depth", "m", 0.015, 0.0, 0.10, "height of the tip above the container's floor"
+                ),
+                SkillParamSpec(
+                    "force", "N", 10.0, 3.0, 30.0, "wrist force change that stops the tip going down"
+                ),
+            ),
+        ),
     )
 }
 

@@ -8,6 +8,16 @@ distance between the two sequences of changes (insertion, deletion and
 substitution each cost 1; a swap of two steps therefore costs 2), reported with
 an alignment for display. The run is *verified* when the initial world states
 agree and the distance is within the tolerance (0 by default).
+
+**Split changes.** A person's two hands let go within a moment; the demonstration's
+segmentation merges events closer than its merge window (0.3 s) into one change, while a
+robot that puts two objects down (or ends a pour and then puts the carton down) makes the
+same changes a second or more apart. So one demonstration change also *matches*, at cost
+0, a run of two or more consecutive robot changes whose union is exactly it, each
+relation changing once in the run (no relation added and removed, none twice); the
+alignment calls that ``split`` (its robot indices ``robot`` … ``robot_last``). Anything
+else is compared strictly: a run that also changes another relation, or changes one back,
+is no split.
 """
 
 from __future__ import annotations
@@ -54,15 +64,18 @@ class Change:
 
 @dataclass(frozen=True)
 class Step:
-    """One column pair of the alignment: ``op`` is match, substitute, missing or extra.
+    """One column pair of the alignment: ``op`` is match, split, substitute, missing or extra.
 
     ``missing``: a demonstration change the robot did not make; ``extra``: a robot change the
-    demonstration does not have. Indices point into the two change lists (None when absent).
+    demonstration does not have; ``split``: one demonstration change made by the robot as the
+    consecutive changes ``robot`` … ``robot_last``. Indices point into the two change lists
+    (None when absent).
     """
 
     op: str
     demonstration: int | None
     robot: int | None
+    robot_last: int | None = None
 
 
 def _restrict(state: WorldState, keep: frozenset[str] | None) -> frozenset[Relation]:
@@ -95,13 +108,49 @@ def changes(
     return out
 
 
+def split_of(whole: Change, parts: Sequence[Change]) -> bool:
+    """True when ``parts`` (two or more consecutive changes) make ``whole`` between them,
+    each relation changing once: disjoint, and their union is exactly ``whole``."""
+    if len(parts) < 2:
+        return False
+    added: set[Relation] = set()
+    removed: set[Relation] = set()
+    for p in parts:
+        if not p.added and not p.removed:
+            return False
+        if p.added & added or p.removed & removed or p.added & removed or p.removed & added:
+            return False
+        if p.added & p.removed:
+            return False
+        added |= p.added
+        removed |= p.removed
+    return added == set(whole.added) and removed == set(whole.removed)
+
+
+def _splits(a: Sequence[Any], b: Sequence[Any]) -> dict[tuple[int, int], int]:
+    """(i, j) → k: demonstration item ``a[i-1]`` is split into ``b[j-k:j]`` (only Changes)."""
+    out: dict[tuple[int, int], int] = {}
+    for i, whole in enumerate(a, 1):
+        if not isinstance(whole, Change):
+            continue
+        size = len(whole.added) + len(whole.removed)
+        for start in range(len(b)):
+            for end in range(start + 2, min(len(b), start + size) + 1):
+                if all(isinstance(x, Change) for x in b[start:end]) and split_of(whole, b[start:end]):
+                    out.setdefault((i, end), end - start)
+    return out
+
+
 def align(a: Sequence[Any], b: Sequence[Any]) -> tuple[int, list[Step]]:
     """Levenshtein distance between two sequences (items compared with ``==``) and an alignment.
 
-    Among optimal alignments the one returned prefers matches and substitutions on the
-    diagonal, then missing items, then extra ones.
+    A :class:`Change` of ``a`` also matches, at cost 0, a run of two or more consecutive
+    changes of ``b`` that split it (:func:`split_of`). Among optimal alignments the one
+    returned prefers matches and substitutions on the diagonal, then splits, then missing
+    items, then extra ones.
     """
     n, m = len(a), len(b)
+    splits = _splits(a, b)
     d = [[0] * (m + 1) for _ in range(n + 1)]
     for i in range(n + 1):
         d[i][0] = i
@@ -110,10 +159,20 @@ def align(a: Sequence[Any], b: Sequence[Any]) -> tuple[int, list[Step]]:
     for i in range(1, n + 1):
         for j in range(1, m + 1):
             d[i][j] = min(d[i - 1][j - 1] + (a[i - 1] != b[j - 1]), d[i - 1][j] + 1, d[i][j - 1] + 1)
+            k = splits.get((i, j))
+            if k is not None:
+                d[i][j] = min(d[i][j], d[i - 1][j - k])
     steps: list[Step] = []
     i, j = n, m
     while i or j:
-        if i and j and d[i][j] == d[i - 1][j - 1] + (a[i - 1] != b[j - 1]):
+        k = splits.get((i, j))
+        if i and j and a[i - 1] == b[j - 1] and d[i][j] == d[i - 1][j - 1]:
+            steps.append(Step("match", i - 1, j - 1))
+            i, j = i - 1, j - 1
+        elif k is not None and d[i][j] == d[i - 1][j - k]:
+            steps.append(Step("split", i - 1, j - k, j - 1))
+            i, j = i - 1, j - k
+        elif i and j and d[i][j] == d[i - 1][j - 1] + (a[i - 1] != b[j - 1]):
             steps.append(Step("match" if a[i - 1] == b[j - 1] else "substitute", i - 1, j - 1))
             i, j = i - 1, j - 1
         elif i and d[i][j] == d[i - 1][j] + 1:
@@ -151,7 +210,7 @@ class Verification:
         return self.initial[0] == self.initial[1] and self.distance <= self.tolerance
 
     def counts(self) -> dict[str, int]:
-        out = {"match": 0, "substitute": 0, "missing": 0, "extra": 0}
+        out = {"match": 0, "split": 0, "substitute": 0, "missing": 0, "extra": 0}
         for s in self.alignment:
             out[s.op] += 1
         return out
@@ -164,7 +223,8 @@ class Verification:
             head = "not verified: the robot's initial world state differs from the demonstration's"
             return head if self.distance == 0 else f"{head}; edit distance {self.distance}"
         if self.distance == 0:
-            return f"verified: the robot made the demonstration's {n} world-state changes, in order"
+            split = f" ({c['split']} of them in several robot changes)" if c["split"] else ""
+            return f"verified: the robot made the demonstration's {n} world-state changes, in order{split}"
         detail = f"{c['missing']} missing, {c['extra']} extra, {c['substitute']} different"
         word = "verified within tolerance" if self.verified else "not verified"
         return f"{word}: edit distance {self.distance} over {n} demonstrated changes ({detail})"
@@ -176,7 +236,8 @@ class Verification:
         return {
             "demonstration": [c.to_json() for c in self.demonstration],
             "robot": [c.to_json() for c in self.robot],
-            "alignment": [{"op": s.op, "demonstration": s.demonstration, "robot": s.robot}
+            "alignment": [{"op": s.op, "demonstration": s.demonstration, "robot": s.robot,
+                           **({"robot_last": s.robot_last} if s.robot_last is not None else {})}
                           for s in self.alignment],
             "distance": self.distance,
             "relation_distance": self.relation_distance,

@@ -72,3 +72,31 @@ def test_a_folder_with_a_library_file_is_left_out_of_the_library_above(tmp_path:
 def test_the_standard_library_leaves_kit_out() -> None:
     files = library_files(ROOT / "library")
     assert files and not any("kit" in p.relative_to(ROOT / "library").parts for p in files)
+
+
+def test_a_demonstration_that_ends_as_it_began_composes_into_an_oac_without_effect() -> None:
+    """KIT clips put everything back: the composed OAC has no net effect (allowed for a
+    composed OAC only: a primitive one without effect is E011), with a warning."""
+    from oacdsl.matching.composer import Step, compose
+    from oacdsl.world import WorldState
+
+    lib = load_library([KIT])
+    scene = lib.scenes["kit_stir"]
+    names = ("cup_large", "left_hand", "right_hand", "tablespoon")
+    empty = WorldState.of(names)
+    held = WorldState.of(names, [("cup_large", "left_hand")])
+    binding = (("h", "left_hand"), ("o", "cup_large"))
+    steps = [Step(lib.oacs["grasp"], binding, empty, held, 0, 0, 21),
+             Step(lib.oacs["place"], binding, held, empty, 1, 21, 56)]
+    comp = compose("stir_back", steps, lib, scene)
+    assert comp.oac.effect == () and comp.oac.steps
+    assert any("ends as it began" in w for w in comp.warnings)
+    from oacdsl.compiler import compile_sources, print_module
+    from oacdsl.model import Module
+
+    sources = {str(p): p.read_text(encoding="utf-8") for p in oac_files(KIT)}
+    sources["learned.oac"] = print_module(Module(path="learned.oac", decls=(comp.oac,)))
+    assert compile_sources(sources).ok
+    primitive = "oac idle(h: Hand) {\n    pre h <-> nothing\n    execute retreat\n}\n"
+    codes = [d.code for d in compile_sources({**sources, "p.oac": primitive}).diagnostics]
+    assert "E011" in codes

@@ -132,3 +132,34 @@ def test_grasp_both_and_place_both_move_the_two_arms_at_once():
     both = np.mean((v[:, 0] > 0.05) & (v[:, 1] > 0.05))
     either = np.mean((v[:, 0] > 0.05) | (v[:, 1] > 0.05))
     assert both > 0.7 * either
+
+
+class StirLog:
+    """Observer: while the robot stirs, the spoon's tip (its base centre) relative to the cup's axis (m)."""
+
+    rate_hz = 50.0
+
+    def __init__(self):
+        self.offsets, self.controller = [], None
+
+    def __call__(self, world):
+        if self.controller is not None and self.controller.activity.startswith("stirring"):
+            spoon, cup = world.body_pose("spoon"), world.body_pose("cup")
+            self.offsets.append(spoon[:2, 3] - cup[:2, 3])
+
+
+def test_stir_circles_the_spoon_in_the_cup_the_other_hand_holds():
+    log, cup = StirLog(), Track("cup")
+    run, result = run_task("stir_held_cup", "kit_stirring", seed=1, observers=[log, cup])
+    assert result.success, result.error
+    world = run.world
+    assert world.held == {"l": "cup", "r": "spoon"} and world.touching("spoon", "cup")
+    d = np.array(log.offsets)
+    angle = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
+    radius = np.linalg.norm(d, axis=1)
+    # three circles (the first one widening) of about the default 1.5 cm, inside the cup
+    assert abs(angle[-1] - angle[0]) > 2 * 2 * np.pi
+    assert 0.008 < np.median(radius) < 0.025 and radius.max() < world.layout.bodies["cup"].inner_radius
+    # the spoon went in below the rim
+    cup_top = world.body_pose("cup")[2, 3] + world.layout.bodies["cup"].rim_height
+    assert world.body_pose("spoon")[2, 3] < cup_top - 0.02

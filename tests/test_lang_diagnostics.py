@@ -411,6 +411,8 @@ BAD = [
         "'rack' is ignored in scene 's': it takes part in no relation",
         "7:16",
     ),
+    ("scene s {\n  h : Hand untracked\n}", "E048", "'h' is a Hand: the demonstrator's hands", "2:3"),
+    ('scene s {\n  l : Liquid markers ("l1") untracked\n}', "E048", "'l' is untracked: it has no", "2:23"),
     ("grasp Bowl { type power approach side offset (0.0, 1e400, 0.0) }", "E025", "too large to be", "1:39"),
     ("grasp Bowl { type power approach side offset (-1e309, 0, 0) }", "E025", "too large to be", "1:39"),
     (

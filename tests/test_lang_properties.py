@@ -71,7 +71,8 @@ instances = st.builds(
     markers=st.lists(st.text(st.characters(blacklist_categories=("Cs",)), max_size=6), max_size=3).map(tuple),
     environment=st.booleans(),
     **trivia,
-).flatmap(lambda i: st.sampled_from([i, i.model_copy(update={"environment": False, "ignored": True})]))
+).flatmap(lambda i: st.sampled_from([i, i.model_copy(update={"environment": False, "ignored": True}),
+                                     i.model_copy(update={"environment": False, "untracked": True})]))
 places = st.builds(ScenePlace, instance=lower, x=quantities, y=quantities, **trivia)
 fills = st.builds(
     SceneFill, liquid=lower, container=lower, balls=st.none() | st.integers(-5, 100), **trivia
@@ -171,6 +172,7 @@ EDITS = [
     "markers",
     "environment",
     "ignored",
+    "untracked",
     "layout",
     "at",
     "in",

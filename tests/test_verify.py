@@ -63,7 +63,7 @@ def test_one_missing_step_costs_one():
     assert [s.op for s in v.alignment].count("missing") == 1
     missing = next(s for s in v.alignment if s.op == "missing")
     assert v.demonstration[missing.demonstration].removed == {("green_cup", "right_hand")}
-    assert v.counts() == {"match": 7, "substitute": 0, "missing": 1, "extra": 0}
+    assert v.counts() == {"match": 7, "split": 0, "substitute": 0, "missing": 1, "extra": 0}
     assert v.fidelity == pytest.approx(7 / 8)
     assert "not verified: edit distance 1" in v.verdict() and "1 missing" in v.verdict()
 
@@ -150,3 +150,67 @@ def test_align_is_levenshtein_and_its_alignment_is_consistent(a, b):
     assert sum(s.op != "match" for s in steps) == distance
     assert all((a[s.demonstration] == b[s.robot]) == (s.op == "match")
                for s in steps if s.op in ("match", "substitute"))
+
+
+# --- split changes: a demonstration change the robot makes in several keyframes -------------
+
+KIT_NAMES = ["left_hand", "right_hand", "cup_small", "milk_small"]
+HOLD = [("cup_small", "left_hand"), ("milk_small", "right_hand")]
+TOUCH = ([("cup_small", "milk_small")], [])
+#: KIT Pour at frame 56: the pour's contact and both hands end within 0.3 s (one keyframe)
+RELEASE_ALL = ([], [("cup_small", "milk_small"), ("cup_small", "left_hand"), ("milk_small", "right_hand")])
+END_POUR = ([], [("cup_small", "milk_small")])
+PLACE_CUP = ([], [("cup_small", "left_hand")])
+PLACE_MILK = ([], [("milk_small", "right_hand")])
+PLACE_BOTH = ([], [("cup_small", "left_hand"), ("milk_small", "right_hand")])
+
+
+
+def _kit(steps):
+    state = WorldState.of(KIT_NAMES, HOLD)
+    states = [state]
+    for added, removed in steps:
+        state = state.with_changes(added, removed)
+        states.append(state)
+    return states
+
+
+@pytest.mark.parametrize("robot", [
+    [TOUCH, END_POUR, PLACE_BOTH],                 # the pour ends, then both objects go down
+    [TOUCH, END_POUR, PLACE_CUP, PLACE_MILK],      # ... one after the other
+    [TOUCH, PLACE_BOTH, END_POUR],                 # any order inside the run
+])
+def test_one_demonstration_change_made_in_several_robot_changes_is_a_split(robot):
+    v = verify(_kit([TOUCH, RELEASE_ALL]), _kit(robot))
+    assert v.verified and v.distance == 0
+    assert [s.op for s in v.alignment] == ["match", "split"]
+    split = v.alignment[1]
+    assert (split.demonstration, split.robot, split.robot_last) == (1, 1, len(robot) - 1)
+    assert "in several robot changes" in v.verdict()
+    doc = json.loads(json.dumps(v.to_json()))
+    last = len(robot) - 1
+    assert doc["alignment"][1] == {"op": "split", "demonstration": 1, "robot": 1, "robot_last": last}
+    assert doc["counts"]["split"] == 1
+
+
+def test_a_run_that_changes_a_relation_twice_or_something_else_is_no_split():
+    back_and_forth = [TOUCH, END_POUR, TOUCH, RELEASE_ALL]  # the pour's contact ends, starts, ends again
+    assert not verify(_kit([TOUCH, RELEASE_ALL]), _kit(back_and_forth)).verified
+    other = ([("cup_small", "right_hand")], [("cup_small", "milk_small")])  # ends the pour but grabs the cup
+    assert not verify(_kit([TOUCH, RELEASE_ALL]), _kit([TOUCH, other, PLACE_BOTH])).verified
+    partial = verify(_kit([TOUCH, RELEASE_ALL]), _kit([TOUCH, END_POUR, PLACE_CUP]))  # the carton is kept
+    assert not partial.verified and "split" not in [s.op for s in partial.alignment]
+
+
+def test_the_strict_comparison_is_kept_where_no_split_applies():
+    """Two demonstration changes made by the robot at once are not a split (only one
+    demonstration change may become several robot changes, not the other way round)."""
+    both = (GRASP_RED[0] + POUR_ONE[0], POUR_ONE[1])
+    v = verify(run(DOUGH), run([both, *DOUGH[2:]]))
+    assert v.distance == 2 and "split" not in [s.op for s in v.alignment]
+
+
+@given(words, words)
+def test_splits_only_lower_the_distance_of_changes(a, b):
+    """Plain items (strings) are never split: align stays the Levenshtein distance there."""
+    assert align(a, b)[0] == _brute(a, b)

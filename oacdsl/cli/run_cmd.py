@@ -111,11 +111,14 @@ def _demonstrated(args: argparse.Namespace, library: Any, scene: str | None, bin
                   " was given: objects without a place take free slots", file=sys.stderr)
         return None
     from oacdsl.runtime.demo_layout import demonstrated_positions
+    from oacdsl.segmentation.grouping import group_recording
     from oacdsl.segmentation.readers import read_recording
 
     if not Path(args.demonstration).is_file():
         raise UsageError(f"{args.demonstration}: no such recording file")
-    return demonstrated_positions(read_recording(args.demonstration), sc)
+    # grouped as oacc reproduce groups it: a recognised marker set (KIT) gives the hands
+    grouped, _ = group_recording(read_recording(args.demonstration), None)
+    return demonstrated_positions(grouped, sc)
 
 
 def load_inputs(paths: list[str], scene: str | None) -> tuple[Any, str | None]:

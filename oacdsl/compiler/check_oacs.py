@@ -143,6 +143,8 @@ class _OacChecker:
     def check_effect(self) -> None:
         oac = self.oac
         if not oac.effect:
+            if oac.steps:  # composed: its steps change the world, even if it ends as it began
+                return
             self.ctx.add(
                 "E011",
                 f"OAC '{oac.name}' states no effect: write what it changes ('effect a <-> b, not c <-> d')",

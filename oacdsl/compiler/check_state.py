@@ -5,7 +5,8 @@
   not a hand, a liquid, environment or ignored (E046); X and Y are lengths (E043),
   each instance placed once (E006);
 * ``l in c [balls N]``: ``l`` a Liquid and ``c`` a Container of the scene (E004,
-  E046), each liquid in one container (E006), 1 ≤ N ≤ :data:`~oacdsl.model.MAX_BALLS` (E044).
+  E046), each liquid in one container (E006), 1 ≤ N ≤ :data:`~oacdsl.model.MAX_BALLS` (E044);
+* an ``untracked`` instance names no markers and is not a hand (E048).
 """
 
 from __future__ import annotations
@@ -134,8 +135,27 @@ def _check_fills(ctx: Context, scene: Scene) -> None:
             )
 
 
+def _check_untracked(ctx: Context, scene: Scene) -> None:
+    for inst in scene.untracked():
+        if inst.markers:
+            ctx.add(
+                "E048",
+                f"'{inst.name}' is untracked: it has no marker group in the recording, so it cannot"
+                " name markers; remove 'markers (…)' or 'untracked'",
+                inst.part("markers.0"),
+            )
+        elif "Hand" in (_classes(ctx, inst) or set()):
+            ctx.add(
+                "E048",
+                f"'{inst.name}' is a Hand: the demonstrator's hands are always tracked; 'untracked' is"
+                " for an object the recording does not see (a liquid)",
+                inst.part("name"),
+            )
+
+
 def check_scene_state(ctx: Context, scene: Scene) -> None:
     """Every check of the module docstring on one scene."""
+    _check_untracked(ctx, scene)
     _check_layout(ctx, scene)
     _check_places(ctx, scene)
     _check_fills(ctx, scene)

@@ -77,6 +77,7 @@ CODES: dict[str, str] = {
     "E045": "unknown layout or scene statement",
     "E046": "scene state that does not fit the instance (a place for a hand, contents of a non-container, …)",
     "E047": "skill parameters on a step that calls a composed OAC",
+    "E048": "untracked instance that the recording must track (a hand) or that names markers",
     "W001": "unused variable",
     "W002": "name or relation listed twice",
     "W003": "effect already holds before (it is also a precondition)",

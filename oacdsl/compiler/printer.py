@@ -161,6 +161,8 @@ def _instance_line(names: list[str], inst: Instance, width: int) -> str:
         text += " environment"
     if inst.ignored:
         text += " ignored"
+    if inst.untracked:
+        text += " untracked"
     if inst.geometry is not None:
         inside = _geometry(inst.geometry, _IND * 2)
         if not inside:
@@ -175,12 +177,12 @@ def _groups(instances: tuple[Instance, ...]) -> list[list[Instance]]:
     An instance with markers or comments gets a line of its own.
     """
     groups: list[list[Instance]] = []
-    by_kind: dict[tuple[tuple[str, ...], bool, bool], list[Instance]] = {}
+    by_kind: dict[tuple[tuple[str, ...], bool, bool, bool], list[Instance]] = {}
     for inst in instances:
         if inst.markers or inst.geometry is not None or inst.comments or inst.note is not None:
             groups.append([inst])
             continue
-        key = (inst.classes, inst.environment, inst.ignored)
+        key = (inst.classes, inst.environment, inst.ignored, inst.untracked)
         if key in by_kind:
             by_kind[key].append(inst)
         else:

@@ -29,6 +29,7 @@ _NAMED = {
     "NUMBER": "a number",
     "QUANTITY": "a number with a unit such as 56cm",
     "ENVIRONMENT": "'environment'",
+    "UNTRACKED": "'untracked'",
     "NOT": "'not'",
     "NOTHING": "'nothing'",
 }

@@ -109,6 +109,8 @@ EXAMPLES: list[tuple[str, list[str]]] = [
             "scene s { a : B ignored",
             'scene s { a : B markers ("x") ignored',
             "scene s { a : B ignored :",
+            "scene s { a : B untracked",
+            "scene s { a : B untracked :",
             "scene s { a in b balls 3",
             "scene s { a at (1, 2)",
             "scene s { layout x",

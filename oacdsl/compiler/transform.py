@@ -155,6 +155,7 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
                     "markers": tuple(marks),
                     "environment": flag is not None and flag.type == "ENVIRONMENT",
                     "ignored": flag is not None and flag.type == "IGNORED",
+                    "untracked": flag is not None and flag.type == "UNTRACKED",
                     "geometry": geometry,
                     "span": self._between(name, last),
                     "parts": (_part("name", name), *shared),

@@ -147,11 +147,9 @@ def compose(
     provenance += [_source("effect", a, s) for a, s in written]
     provenance += [_source("ended", Atom(left=a, right=b), (net.remover((a, b)) or (None,))[0])
                    for a, b in ended]
-    if not effects:
-        raise MatchingError(
-            "the composed OAC would have no effect: the demonstration ends as it began"
-            f" (steps: {', '.join(s.oac.name for s in steps)}); an OAC must change something"
-        )
+    if not effects:  # it ends as it began (take, stir, put back): its steps still change the world
+        warnings.append("the demonstration ends as it began: the composed OAC has no net effect;"
+                        " each of its steps is judged by its own effects")
     comp = _lifted(name, steps, tuple(req.atoms.values()), effects, added, ended, classes, library, warnings)
     return dataclasses.replace(comp, provenance=tuple(provenance))
 

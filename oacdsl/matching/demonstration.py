@@ -8,6 +8,7 @@ recording's marker groups.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -105,10 +106,19 @@ def match_segmentation(
     """
     agents = agents_of(matcher.instance_classes)
     stable, dropped = stable_segmentation(segmentation, agents.__contains__, transient_s)
+    subs = stable.sub_actions()
+    if matcher.untracked is not None:  # relations of untracked instances: predicted along the way
+        results = matcher.untracked.match_sequence(
+            [(sa.before, sa.after) for sa in subs], lambda b, a: matcher.match(b, a, mode=mode))
+        subs = [dataclasses.replace(sa, start=dataclasses.replace(sa.start, state=r.before),
+                                    end=dataclasses.replace(sa.end, state=r.after))
+                for sa, r in zip(subs, results, strict=True)]
+    else:
+        results = [matcher.match(sa.before, sa.after, mode=mode) for sa in subs]
     out = []
-    for sa in stable.sub_actions():
+    for sa, result in zip(subs, results, strict=True):
         inside = tuple(t for t in dropped if sa.start.frame < t.keyframe.frame < sa.end.frame)
-        out.append(SubActionMatch(sa, matcher.match(sa.before, sa.after, mode=mode), inside))
+        out.append(SubActionMatch(sa, result, inside))
     return out
 
 

@@ -22,7 +22,8 @@ __all__ = ["RESERVED", "lift", "most_specific", "snake"]
 #: Words a parameter may not be called (keywords of the language, ``nothing``).
 RESERVED = frozenset({
     "class", "scene", "grasp", "oac", "markers", "environment", "type", "approach", "offset",
-    "pre", "effect", "execute", "steps", "not", "nothing", "ignored", "layout", "at", "in", "balls",
+    "pre", "effect", "execute", "steps", "not", "nothing", "ignored", "untracked", "layout", "at",
+    "in", "balls",
 })
 
 

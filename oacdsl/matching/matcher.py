@@ -39,6 +39,7 @@ from oacdsl.matching.search import (
     search,
     seed_ok,
 )
+from oacdsl.matching.untracked import Untracked, initial_relations, variants
 from oacdsl.model import Oac, Scene
 from oacdsl.world import Relation, WorldState
 
@@ -78,6 +79,9 @@ class Matcher:
         mode: Mode = "strict",
     ) -> None:
         self.mode: Mode = _check_mode(mode)
+        #: Set by :meth:`from_library` for a scene with untracked instances
+        #: (:mod:`oacdsl.matching.untracked`): their relations are predicted, not observed.
+        self.untracked: Untracked | None = None
         self.ancestors = ancestors
         self.oacs: tuple[Oac, ...] = tuple(oacs)
         self.instance_classes = {i: frozenset(c) for i, c in instance_classes.items()}
@@ -117,13 +121,23 @@ class Matcher:
         mode: Mode = "strict",
     ) -> Matcher:
         """A matcher over all OACs of ``library`` for the instances of ``scene``
-        (or for ``instance_classes`` given directly)."""
+        (or for ``instance_classes`` given directly). A scene's untracked instances are
+        bound only through variants of the OACs (:mod:`oacdsl.matching.untracked`)."""
         if instance_classes is None:
             if scene is None:
                 raise UsageError("give a scene or the instances' classes to match against")
             instance_classes = library.instance_classes(scene)
         oacs = [library.oacs[name] for name in sorted(library.oacs)]
-        return cls(oacs, instance_classes, ancestors=library.ancestors, mode=mode)
+        hidden = {i.name for i in scene.untracked()} if scene is not None else set()
+        if scene is None or not hidden:
+            return cls(oacs, instance_classes, ancestors=library.ancestors, mode=mode)
+        every = {i: frozenset(c) for i, c in instance_classes.items()}
+        found = variants(oacs, {u: every.get(u, frozenset()) for u in hidden}, library.ancestors)
+        classes = {i: (frozenset() if i in hidden else c) for i, c in every.items()}
+        matcher = cls([v.oac for v in found], classes, ancestors=library.ancestors, mode=mode)
+        matcher.untracked = Untracked(frozenset(hidden), initial_relations(scene),
+                                      {id(v.oac): v for v in found})
+        return matcher
 
     def depth(self, cls: str) -> int:
         """How many classes ``cls`` belongs to (itself included): its specificity."""

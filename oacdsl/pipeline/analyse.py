@@ -64,6 +64,13 @@ def _match_note(rank: int, m: Any) -> str:
     return f"rank {rank + 1}: {what}, class specificity {m.specificity}, {m.idle} idle effect(s)"
 
 
+def _primitive_steps(oac: Any, by_name: dict[str, Any]) -> int:
+    """How many primitive steps running ``oac`` takes (a composed OAC: those of its steps)."""
+    if not oac.steps:
+        return 1
+    return sum(_primitive_steps(by_name[c.oac], by_name) if c.oac in by_name else 1 for c in oac.steps)
+
+
 def match_doc(matches: Sequence[SubActionMatch], matcher: Any = None) -> dict[str, Any]:
     """The ``match`` part: ``oacc match --json`` plus bound constraints and ranking notes.
 
@@ -73,6 +80,7 @@ def match_doc(matches: Sequence[SubActionMatch], matcher: Any = None) -> dict[st
     """
     from oacdsl.report import bound_conditions
 
+    by_name = {o.name: o for o in matcher.oacs} if matcher is not None else {}
     subs = []
     for k, m in enumerate(matches):
         doc = m.to_json()
@@ -91,8 +99,9 @@ def match_doc(matches: Sequence[SubActionMatch], matcher: Any = None) -> dict[st
                                  f" {x.explained} of {x.changes} changed relations (not strict)")
                 entry["rule"] = "paper"
                 doc["matches"].append(entry)
-        if m.result.chosen is not None:
-            doc["step"] = sum(1 for x in matches[:k] if x.result.chosen is not None)
+        if m.result.chosen is not None:  # a composed OAC of the library runs as several steps
+            doc["step"] = sum(_primitive_steps(x.result.chosen.oac, by_name) for x in matches[:k]
+                              if x.result.chosen is not None)
         subs.append(doc)
     return {"sub_actions": subs}
 

@@ -260,13 +260,12 @@ def _stages(
         for w in composed.warnings:
             warn(w)
         executed = attempt("execute", execute)
+        ran = len(executed.doc["steps"])  # a failed run stops early: later sub-actions ran no step
+        for sub in matched.doc["sub_actions"]:
+            if sub.get("step") is not None and sub["step"] >= ran:
+                sub["step"] = None
+        result.put("match", matched.doc)
         result.put("run", executed.doc)
-        ran = len(executed.doc["steps"])
-        if any(sub.get("step", -1) >= ran for sub in matched.doc["sub_actions"]):
-            for sub in matched.doc["sub_actions"]:  # a failed run stops early: later steps never ran
-                if sub.get("step", -1) >= ran:
-                    del sub["step"]
-            result.put("match", matched.doc)
         if executed.render_note:
             warn(f"{executed.render_note}; the report has no pictures of the robot")
         # a robot that failed a step is still verified: the report shows how far it got

@@ -175,9 +175,10 @@ class ChangeDoc(_Doc):
 
 
 class AlignDoc(_Doc):
-    op: Literal["match", "substitute", "missing", "extra"]
+    op: Literal["match", "split", "substitute", "missing", "extra"]
     demonstration: Count | None
     robot: Count | None
+    robot_last: Count | None = None  # a split: the robot's changes robot … robot_last
 
 
 class StatesDoc(_Doc):

@@ -10,6 +10,7 @@ from oacdsl.runtime.skills.lift import lift
 from oacdsl.runtime.skills.mix import mix
 from oacdsl.runtime.skills.place import place
 from oacdsl.runtime.skills.pour import pour
+from oacdsl.runtime.skills.stir import stir
 from oacdsl.runtime.skills.touch import touch
 from oacdsl.runtime.skills.wipe import wipe
 
@@ -28,4 +29,5 @@ IMPLEMENTATIONS: dict[str, Skill] = {
     "lift": lift,
     "grasp_both": grasp_both,
     "place_both": place_both,
+    "stir": stir,
 }

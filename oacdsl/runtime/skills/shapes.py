@@ -11,8 +11,9 @@ from __future__ import annotations
 import numpy as np
 
 from oacdsl.runtime.bodies import Body
+from oacdsl.runtime.simworld import SimWorld
 
-__all__ = ["corners", "world_corners", "lowest_z", "highest_z", "long_axis", "tip_local"]
+__all__ = ["corners", "world_corners", "lowest_z", "highest_z", "long_axis", "tip_local", "hand_reach_below"]
 
 
 def corners(body: Body) -> np.ndarray:
@@ -73,3 +74,20 @@ def tip_local(body: Body, direction: np.ndarray) -> np.ndarray:
     mid = 0.5 * (lo + hi)
     far = float((c @ d).max())
     return mid + (far - float(mid @ d)) * d
+
+
+def hand_reach_below(world: SimWorld, side: str, r_world_grasp: np.ndarray | None = None) -> float:
+    """How far (m) hand ``side`` (palm, fingers, thumb as they are now) reaches below its
+    grasp centre: the lowest corner of its geoms' bounding boxes, with the hand turned to
+    ``r_world_grasp`` (default: as it is)."""
+    m, d = world.model, world.data
+    t_grasp = world.frame_pose(f"grasp_{side}")
+    turn = np.eye(3) if r_world_grasp is None else r_world_grasp @ t_grasp[:3, :3].T
+    bodies = np.array(sorted(world.hand_bodies[side]))
+    signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
+    low = np.inf
+    for g in np.flatnonzero(np.isin(m.geom_bodyid, bodies)):
+        centre, half = m.geom_aabb[g, :3], m.geom_aabb[g, 3:]
+        pts = (centre + signs * half) @ d.geom_xmat[g].reshape(3, 3).T + d.geom_xpos[g]
+        low = min(low, float(((pts - t_grasp[:3, 3]) @ turn.T)[:, 2].min()))
+    return -low
