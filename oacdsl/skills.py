@@ -353,6 +353,15 @@ SIGNATURES: dict[str, SkillSignature] = {
                 ),
             ),
         ),
+        SkillSignature(
+            "take_out",
+            "lift the held object straight up until it clears a container (a spoon out of a cup)",
+            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("c", "Container")),
+            (
+                SkillParamSpec("clear", "m", 0.03, 0.0, 0.20, "height of its base above the container's top"),
+                SkillParamSpec("duration", "s", 1.0, 0.3, 10.0, "time to lift it out"),
+            ),
+        ),
     )
 }
 

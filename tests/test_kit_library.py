@@ -100,3 +100,15 @@ def test_a_demonstration_that_ends_as_it_began_composes_into_an_oac_without_effe
     primitive = "oac idle(h: Hand) {\n    pre h <-> nothing\n    execute retreat\n}\n"
     codes = [d.code for d in compile_sources({**sources, "p.oac": primitive}).diagnostics]
     assert "E011" in codes
+
+
+def test_a_skill_parameter_written_at_its_bound_in_degrees_is_in_range() -> None:
+    """'tilt 30deg' is the pour's lower bound (30° in radians, rounded to 12 digits when read)."""
+    from oacdsl.compiler import compile_sources
+
+    sources = {str(p): p.read_text(encoding="utf-8") for p in oac_files(KIT)}
+    for value, ok in (("30deg", True), ("180deg", True), ("29.9deg", False)):
+        text = ("oac p(h: Hand, c: Container, l: Liquid, b: Container) {\n    pre h <-> c, c <-> l\n"
+                f"    effect l <-> b, not c <-> l\n    execute pour {{ tilt {value} }}\n}}\n")
+        codes = [d.code for d in compile_sources({**sources, "p.oac": text}).diagnostics]
+        assert ("E044" not in codes) == ok, (value, codes)

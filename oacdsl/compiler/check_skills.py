@@ -83,7 +83,9 @@ def _check_value(ctx: Context, sig: SkillSignature, spec: SkillParamSpec, q: Qua
     elif not check_quantity_unit(ctx, q, spec.unit, what):
         return
     value = language_si(q.value, q.unit)[0]
-    if not spec.low <= value <= spec.high:
+    # a bound written in its own unit ('tilt 30deg') is SI rounded to 12 digits: within 1e-11
+    slack = 1e-11 * max(1.0, abs(spec.low), abs(spec.high))
+    if not spec.low - slack <= value <= spec.high + slack:
         ctx.add(
             "E044",
             f"{what} must lie between {format_value(spec.low, spec.unit)} and"

@@ -11,6 +11,7 @@ from oacdsl.runtime.skills.mix import mix
 from oacdsl.runtime.skills.place import place
 from oacdsl.runtime.skills.pour import pour
 from oacdsl.runtime.skills.stir import stir
+from oacdsl.runtime.skills.take_out import take_out
 from oacdsl.runtime.skills.touch import touch
 from oacdsl.runtime.skills.wipe import wipe
 
@@ -30,4 +31,5 @@ IMPLEMENTATIONS: dict[str, Skill] = {
     "grasp_both": grasp_both,
     "place_both": place_both,
     "stir": stir,
+    "take_out": take_out,
 }
