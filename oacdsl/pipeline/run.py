@@ -63,14 +63,38 @@ def _verdict(result: ResultRecord, failure: tuple[str, OacError] | None, name: s
             f" {v.verdict}.",
         }
     m = run.metrics if run is not None else {}
-    balls = f", {m['balls_in_bowl']} of {m['balls_total']} balls in the bowl" if "balls_total" in m else ""
+    balls = f", {m['balls_in_bowl']} of {m['balls_total']} balls in the bowl" if m.get("balls_total") else ""
+    liquid = ""
+    for u in (v.model_extra or {}).get("untracked", []) if v is not None else []:
+        judged = "; ".join(
+            f"step {j['step']} {j['oac']} observed " + ", ".join(" <-> ".join(p) for p in j["relations"])
+            for j in u["judged_by"]
+        )
+        liquid += (f" The untracked {u['instance']} is not in the recording, so not compared: the robot's"
+                   f" step effects judged it ({judged or 'no step predicts it'}).")
     n = len(v.demonstration) if v is not None else 0
     return {
         "success": True,
         "summary": f"ARMAR-III executed {name} ({len(run.steps) if run else 0} steps{balls}), and its own"
         f" recording, segmented by the same AAS, shows the demonstration's {n} world-state"
-        f" changes in order (edit distance {v.distance if v else '–'}).",
+        f" changes in order (edit distance {v.distance if v else '–'}).{liquid}",
     }
+
+
+def untracked_judged(scene: Any, run_doc: dict[str, Any]) -> list[dict[str, Any]]:
+    """How each untracked instance (a liquid the recording does not track) was judged: the
+    executed steps whose predicted effects name it (their effect judge observed them in the
+    simulation, else the run failed there). The closed loop leaves these instances out."""
+    out = []
+    for inst in scene.untracked():
+        judged = [
+            {"step": k, "oac": s["oac"], "relations": [p for p in s["predicted"] if inst.name in p],
+             "success": s["success"]}
+            for k, s in enumerate(run_doc.get("steps", []), 1)
+            if any(inst.name in p for p in s["predicted"])
+        ]
+        out.append({"instance": inst.name, "judged_by": judged})
+    return out
 
 
 def reproduce(
@@ -269,7 +293,9 @@ def _stages(
         if executed.render_note:
             warn(f"{executed.render_note}; the report has no pictures of the robot")
         # a robot that failed a step is still verified: the report shows how far it got
-        result.put("verification", attempt("verify", verify).doc)
+        checked = attempt("verify", verify).doc
+        checked["untracked"] = untracked_judged(inputs.scene, executed.doc)
+        result.put("verification", checked)
     except _Failed:
         pass
     done = {r["name"] for r in progress.records()}

@@ -1,6 +1,7 @@
 """``take_out(h, o, c)``: lift the held object straight up until it clears the container.
 
 A stir ends with the spoon touching the cup; a person then takes it out. The object first
+slides against the wall away from the other hand (which may hold the container) and
 rests there for :data:`SETTLE_S` (a still contact, as an observer needs to see one); the hand keeps
 its orientation and rises until the held object's base is ``clear`` above the top of
 ``c`` (read from the simulation now, a container held by the other hand included), in
@@ -28,8 +29,29 @@ TAKE_OUT_S = 1.0
 #: How long the object first rests where it is (touching the container), s: longer than the
 #: closed loop's merge window (1 s), so that an observer sees the contact start and end apart.
 SETTLE_S = 1.2
+#: Gap left between the object's base and the container's wall when it rests there, m.
+WALL_GAP_M = 0.003
 #: How far the object then moves to the hand's side, m.
 ASIDE_M = 0.10
+
+
+def _against_far_wall(ctx: SkillContext, side: str, obj: str, container: str) -> None:
+    """Slide the held object's base against the container's wall on the side away from the
+    other hand (a cup held by it): the contact is then with the container, not that hand."""
+    world, ctl = ctx.world, ctx.ctl
+    other = "l" if side == "r" else "r"
+    centre = world.body_pose(container)[:2, 3]
+    away = centre - world.frame_pose(f"grasp_{other}")[:2, 3]
+    if world.held.get(other) != container or float(np.linalg.norm(away)) < 1e-6:
+        return
+    away /= np.linalg.norm(away)
+    base = world.body_pose(obj)[:2, 3]
+    room = ctx.body(container).inner_radius - ctx.body(obj).radius - WALL_GAP_M
+    goal = centre + away * max(room, 0.0)
+    now = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+    shift = np.array([*(goal - base), 0.0])
+    ctl.activity = f"resting {obj} against the far wall of {container}"
+    ctl.move(side, make_T(now[:3, :3], now[:3, 3] + shift), 0.6)
 
 
 def take_out(ctx: SkillContext, hand: str, obj: str, container: str, *,
@@ -38,6 +60,7 @@ def take_out(ctx: SkillContext, hand: str, obj: str, container: str, *,
     top, then move it :data:`ASIDE_M` to the hand's side."""
     world, ctl = ctx.world, ctx.ctl
     side = ctx.require_held(hand, obj)
+    _against_far_wall(ctx, side, obj, container)
     ctl.activity = f"resting {obj} in {container}"
     ctl.wait(SETTLE_S)  # still where the stir left it, touching: the contact is seen before it ends
     top = float(world.body_pose(container)[2, 3] + ctx.body(container).height)
