@@ -16,7 +16,7 @@ KIT = ROOT / "library" / "kit"
 #: clip → the OAC each sub-action matches, in order (the keyframes: tests/test_toolroles.py).
 STEPS = {
     "Mix": ["grasp_both", "mix_both", "leave_both_in"],
-    "Wipe": ["take_plate", "grasp", "wipe_held", "lift_off", "set_into_rack", "leave_in_rack", "place"],
+    "Wipe": ["take_plate", "grasp", "wipe_held", "lift_sponge", "set_into_rack", "leave_in_rack", "place"],
     "Scoop": ["grasp", "take_and_dip", "scoop_into", "back_into", "put_down_and_leave"],
     "Cut": ["grasp", "grasp", "hold_on_board", "cut", "finish_cut", "place", "place"],
 }
