@@ -112,3 +112,41 @@ def test_a_skill_parameter_written_at_its_bound_in_degrees_is_in_range() -> None
                 f"    effect l <-> b, not c <-> l\n    execute pour {{ tilt {value} }}\n}}\n")
         codes = [d.code for d in compile_sources({**sources, "p.oac": text}).diagnostics]
         assert ("E044" not in codes) == ok, (value, codes)
+
+
+def test_the_demonstrated_layout_keeps_the_kit_demonstrators_sides() -> None:
+    """KIT Stir: the large cup stood at the demonstrator's left (the left hand takes it), the
+    spoon at the right; mapped into the robot's reach they keep those sides."""
+    import sys
+
+    sys.path.insert(0, str(ROOT / "tests"))
+    from _mocap import mocap_file
+
+    from oacdsl.runtime.demo_layout import demonstrated_positions, map_into_reach
+    from oacdsl.segmentation.grouping import group_recording
+    from oacdsl.segmentation.readers import read_recording
+
+    path = mocap_file("kit_bimanual/Stir_files_motions_2941_Stir1_bc_s_right_03.mmm.xml")
+    grouped, recognised = group_recording(read_recording(path), None)
+    assert recognised is not None  # the KIT marker set: the hands are groups
+    lib = load_library([KIT])
+    first = demonstrated_positions(grouped, lib.scenes["kit_stir"])
+    hands = {"l": first.pop("left_hand"), "r": first.pop("right_hand")}
+    xy = map_into_reach(first, hands, {"cup_large": 0.045, "tablespoon": 0.025}, 0.04)
+    assert xy["cup_large"][1] > 0.05 > -0.05 > xy["tablespoon"][1]  # left of the robot, right of it
+    assert all(0.45 < x < 0.85 for x, _ in xy.values())
+
+
+def test_untracked_instances_are_reported_with_the_steps_that_judged_them() -> None:
+    from oacdsl.pipeline.run import untracked_judged
+
+    lib = load_library([KIT])
+    run = {"steps": [
+        {"oac": "grasp", "predicted": [["cup_small", "left_hand"]], "success": True},
+        {"oac": "pour", "predicted": [["cup_small", "milk"]], "success": True},
+    ]}
+    assert untracked_judged(lib.scenes["kit_pour"], run) == [
+        {"instance": "milk", "judged_by": [{"step": 2, "oac": "pour", "relations": [["cup_small", "milk"]],
+                                            "success": True}]}
+    ]
+    assert untracked_judged(lib.scenes["kit_stir"], run) == []
