@@ -79,8 +79,9 @@ class InvalidRecording(RecordingError):
 class TruncatedRecording(InvalidRecording):
     """A recording ends before its declared frames: ``declared`` frames, ``complete`` present."""
 
-    def __init__(self, message: str, *, location: str | None = None, declared: int = 0,
-                 complete: int = 0) -> None:
+    def __init__(
+        self, message: str, *, location: str | None = None, declared: int = 0, complete: int = 0
+    ) -> None:
         super().__init__(message, location=location)
         self.declared = declared
         self.complete = complete

@@ -70,8 +70,13 @@ class Node(BaseModel):
         if self.span is not None:
             for k, line, column, end_line, end_column in self.parts:
                 if k == key:
-                    return Span(file=self.span.file, line=line, column=column, end_line=end_line,
-                                end_column=end_column)
+                    return Span(
+                        file=self.span.file,
+                        line=line,
+                        column=column,
+                        end_line=end_line,
+                        end_column=end_column,
+                    )
         return self.span
 
     def _key(self) -> tuple[Any, ...]:

@@ -48,8 +48,12 @@ class StageRecord:
     detail: str | None = None
 
     def to_json(self) -> dict[str, Any]:
-        return {"name": self.name, "status": self.status, "duration_s": self.duration_s,
-                "detail": self.detail}
+        return {
+            "name": self.name,
+            "status": self.status,
+            "duration_s": self.duration_s,
+            "detail": self.detail,
+        }
 
 
 class Progress:

@@ -61,14 +61,11 @@ def parse_quantity(text: str, unit: str, *, what: str | None = None) -> float:
         return float(int(value))
     if not suffix:
         raise UsageError(
-            f"{label}{text!r} has no unit; write {_KIND[unit]} with one of {expected},"
-            f" e.g. {_EXAMPLE[unit]}"
+            f"{label}{text!r} has no unit; write {_KIND[unit]} with one of {expected}, e.g. {_EXAMPLE[unit]}"
         )
     factor = spellings.get(suffix) or spellings.get(suffix.lower())
     if factor is None:
-        raise UsageError(
-            f"{label}unknown unit {suffix!r} in {text!r}; {_KIND[unit]} takes one of {expected}"
-        )
+        raise UsageError(f"{label}unknown unit {suffix!r} in {text!r}; {_KIND[unit]} takes one of {expected}")
     return value * factor
 
 

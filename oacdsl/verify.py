@@ -102,8 +102,13 @@ def changes(
         before, after = _restrict(states[i - 1], keep), _restrict(states[i], keep)
         if before != after:
             out.append(
-                Change(after - before, before - after, i,
-                       frames[i] if frames is not None else None, times_s[i] if times_s is not None else None)
+                Change(
+                    after - before,
+                    before - after,
+                    i,
+                    frames[i] if frames is not None else None,
+                    times_s[i] if times_s is not None else None,
+                )
             )
     return out
 
@@ -242,10 +247,16 @@ class Verification:
             "distance": self.distance,
             "relation_distance": self.relation_distance,
             "fidelity": self.fidelity,
-            "initial": {"equal": self.initial[0] == self.initial[1],
-                        "demonstration": rels(self.initial[0]), "robot": rels(self.initial[1])},
-            "final": {"equal": self.final[0] == self.final[1],
-                      "demonstration": rels(self.final[0]), "robot": rels(self.final[1])},
+            "initial": {
+                "equal": self.initial[0] == self.initial[1],
+                "demonstration": rels(self.initial[0]),
+                "robot": rels(self.initial[1]),
+            },
+            "final": {
+                "equal": self.final[0] == self.final[1],
+                "demonstration": rels(self.final[0]),
+                "robot": rels(self.final[1]),
+            },
             "instances": None if self.instances is None else list(self.instances),
             "tolerance": self.tolerance,
             "counts": self.counts(),

@@ -163,3 +163,38 @@ def test_stir_circles_the_spoon_in_the_cup_the_other_hand_holds():
     # the spoon went in below the rim
     cup_top = world.body_pose("cup")[2, 3] + world.layout.bodies["cup"].rim_height
     assert world.body_pose("spoon")[2, 3] < cup_top - 0.02
+
+
+def test_the_opening_of_a_closed_carton_is_found_in_its_geometry():
+    from oacdsl.runtime.bodies import bodies_for_scene
+    from oacdsl.runtime.skills.pour import spout_direction
+
+    bodies = bodies_for_scene(kit_library(), kit_library().scenes["kit_pouring"])
+    assert spout_direction(bodies["carton"]) == pytest.approx([1.0, 0.0, 0.0], abs=0.05)
+    assert spout_direction(bodies["cup"]) is None  # open all round
+
+
+class SpoutLog:
+    """Observer: while pouring, the carton's tilt and how much nearer to the bowl's axis its
+    top's opening side (object +x) is than the top's closed side (m, horizontal)."""
+
+    rate_hz = 25.0
+
+    def __init__(self):
+        self.samples, self.controller = [], None
+
+    def __call__(self, world):
+        if self.controller is not None and self.controller.activity.startswith("pouring"):
+            t, bowl = world.body_pose("carton"), world.body_pose("bowl")
+            opening, closed = (t[:3, :3] @ (x, 0.0, 0.14) + t[:3, 3] for x in (0.025, -0.025))
+            nearer = np.linalg.norm(closed[:2] - bowl[:2, 3]) - np.linalg.norm(opening[:2] - bowl[:2, 3])
+            self.samples.append((np.degrees(np.arccos(np.clip(t[2, 2], -1, 1))), nearer))
+
+
+def test_a_closed_carton_is_turned_so_that_its_opening_faces_the_bowl_and_empties():
+    log = SpoutLog()
+    run, result = run_task("pour_carton_into_bowl", "kit_pouring", seed=2, observers=[log])
+    assert result.success, result.error
+    assert run.world.balls_inside("bowl", "milk") >= 9 and run.world.balls_inside("carton", "milk") == 0
+    tilted = [nearer for tilt, nearer in log.samples if 20.0 < tilt < 60.0]  # (near 90° the top turns over)
+    assert tilted and min(tilted) > 0.0  # the opening (+x, turned from facing away) leads

@@ -15,26 +15,35 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         "compose",
         help="compose a demonstration into a new OAC (library/learned/NAME.oac)",
         description="Segment a demonstration, match its sub-actions and compose them into one new OAC"
-                    " (the paper's Algorithm 1, per relation), written by the canonical printer into"
-                    " LIBRARY/learned/NAME.oac after checking it compiles with the library. Composing"
-                    " the same demonstration again changes nothing; a different OAC of the same name"
-                    " is kept unless --force.",
+        " (the paper's Algorithm 1, per relation), written by the canonical printer into"
+        " LIBRARY/learned/NAME.oac after checking it compiles with the library. Composing"
+        " the same demonstration again changes nothing; a different OAC of the same name"
+        " is kept unless --force.",
     )
     add_input_options(p)
     p.add_argument("--name", required=True, help="name of the new OAC")
     p.add_argument("-o", "--output", metavar="FILE", help="write here instead of LIBRARY/learned/NAME.oac")
     p.add_argument("--json", action="store_true", help="print the result as JSON")
-    p.add_argument("--propose", action="store_true",
-                   help="for a sub-action that matches no OAC, write a draft OAC to LIBRARY/drafts/ for"
-                        " review and go on (the new OAC then goes to drafts/ too)")
-    p.add_argument("--paper-effects", action="store_true",
-                   help="effects as in the paper: only the relations that started (default: also those that"
-                        " ended, as 'not a <-> b', so that the OAC is sound)")
-    p.add_argument("--no-demo-params", action="store_true",
-                   help="write the steps without skill parameters (the paper's plain steps); by default each"
-                        " step carries the parameters its skill takes from the demonstrated motion (a pour's"
-                        " tilt and duration, a stir's radius and period), retargeted to the robot, with a"
-                        " comment saying what was scaled (docs/motion.md)")
+    p.add_argument(
+        "--propose",
+        action="store_true",
+        help="for a sub-action that matches no OAC, write a draft OAC to LIBRARY/drafts/ for"
+        " review and go on (the new OAC then goes to drafts/ too)",
+    )
+    p.add_argument(
+        "--paper-effects",
+        action="store_true",
+        help="effects as in the paper: only the relations that started (default: also those that"
+        " ended, as 'not a <-> b', so that the OAC is sound)",
+    )
+    p.add_argument(
+        "--no-demo-params",
+        action="store_true",
+        help="write the steps without skill parameters (the paper's plain steps); by default each"
+        " step carries the parameters its skill takes from the demonstrated motion (a pour's"
+        " tilt and duration, a stir's radius and period), retargeted to the robot, with a"
+        " comment saying what was scaled (docs/motion.md)",
+    )
     p.add_argument("--force", action="store_true", help="replace a different OAC already in the target file")
     p.add_argument("--dry-run", action="store_true", help="print the new OAC; write nothing")
     p.set_defaults(func=run)
@@ -49,21 +58,30 @@ def run(args: argparse.Namespace) -> int:
     from oacdsl.matching.results import Mode
 
     if not args.name.isidentifier() or not args.name.isascii():
-        raise UsageError(f"--name {args.name!r}: a name is letters, digits and '_',"
-                         " not starting with a digit")
+        raise UsageError(
+            f"--name {args.name!r}: a name is letters, digits and '_', not starting with a digit"
+        )
     window = transient_s(args)  # a bad value fails before any reading
     inputs = load_inputs(args)
     mode: Mode = "paper" if args.paper else "strict"
     matcher = Matcher.from_library(inputs.library, inputs.scene, mode=mode)
     matches = match_segmentation(inputs.segmented(), matcher, transient_s=window)
-    demo = compose_demonstration(args.name, matches, inputs.library, inputs.scene,
-                                 propose=args.propose, paper_effects=args.paper_effects)
+    demo = compose_demonstration(
+        args.name,
+        matches,
+        inputs.library,
+        inputs.scene,
+        propose=args.propose,
+        paper_effects=args.paper_effects,
+    )
     comp = demo.composition
     warnings = list(comp.warnings)
     if not args.no_demo_params:
         if inputs.recording is None:
-            warnings.append("the demonstration is a segmentation, without motion: the steps carry no"
-                            " skill parameters from it")
+            warnings.append(
+                "the demonstration is a segmentation, without motion: the steps carry no"
+                " skill parameters from it"
+            )
         else:
             from oacdsl.matching.demoparams import demonstrated_motions, with_demo_params
 
@@ -73,13 +91,17 @@ def run(args: argparse.Namespace) -> int:
     if inputs.outside_scene is not None:  # defaults would name instances the library does not know
         bare = tuple(p.model_copy(update={"default": None}) for p in oac.params)
         oac = oac.model_copy(update={"params": bare})
-        warnings.append(f"the scene comes from {inputs.outside_scene}, outside the library: the new OAC's"
-                        " parameters carry no default binding (put the scene into the library to keep them)")
+        warnings.append(
+            f"the scene comes from {inputs.outside_scene}, outside the library: the new OAC's"
+            " parameters carry no default binding (put the scene into the library to keep them)"
+        )
     for warning in warnings:
         print(f"oacc: warning: {warning}", file=sys.stderr)
     root = inputs.library_path if inputs.library_path.is_dir() else inputs.library_path.parent
-    header = [f"Composed by oacc compose from {inputs.source} ({mode} matching,"
-              f" {len(comp.steps)} steps, scene {inputs.scene.name})."]
+    header = [
+        f"Composed by oacc compose from {inputs.source} ({mode} matching,"
+        f" {len(comp.steps)} steps, scene {inputs.scene.name})."
+    ]
     folder = DRAFTS if demo.drafts else LEARNED
     target = Path(args.output) if args.output else root / folder / f"{args.name}.oac"
     drafts_dir = root / DRAFTS

@@ -24,6 +24,7 @@ if TYPE_CHECKING:
 
 __all__ = ["add_input_options", "load_inputs", "note", "transient_s"]
 
+
 def add_input_options(p: argparse.ArgumentParser) -> None:
     """The demonstration, library and scene arguments, and the segmentation options."""
     p.add_argument("recording", metavar="RECORDING",
@@ -44,8 +45,11 @@ def add_input_options(p: argparse.ArgumentParser) -> None:
                         " two contacts -- a liquid in flight, a dropped object -- splits no sub-action"
                         " (default: 1.5s; 0s = off; docs/matching.md)")
     g = p.add_argument_group("reading and segmenting a recording (as oacc segment; values carry units)")
-    g.add_argument("--format", metavar="FMT",
-                   help="read as this format (c3d, mmm, tsv, csv), not by the file's extension")
+    g.add_argument(
+        "--format",
+        metavar="FMT",
+        help="read as this format (c3d, mmm, tsv, csv), not by the file's extension",
+    )
     g.add_argument("--preset", metavar="NAME", help=PRESET_HELP)
     add_reading_options(g)
     add_aas_options(g)
@@ -62,8 +66,10 @@ def load_inputs(args: argparse.Namespace) -> Inputs:
         given += ["--mode"] if args.mode != DEFAULT_MODE else []
         given += ["--allow-truncated"] if allow_truncated(args) else []
         if given:
-            raise UsageError(f"{', '.join(given)}: these read and segment a recording; {args.recording} is a"
-                             " segmentation already (.json)")
+            raise UsageError(
+                f"{', '.join(given)}: these read and segment a recording; {args.recording} is a"
+                " segmentation already (.json)"
+            )
     params = params_from_args(args)  # bad units fail before any reading
     with printed_warnings():
         inputs = load(args.recording, args.library or ["library"], args.scene, params, fmt=args.format,

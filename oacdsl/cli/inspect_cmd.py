@@ -25,14 +25,21 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         "A file that breaks a reader's limits (docs/readers.md) is an error here as in segment.",
     )
     p.add_argument("recording", metavar="RECORDING", help="a .c3d, .mmm.xml/.xml, .tsv or .csv file")
-    p.add_argument("--format", dest="fmt", choices=sorted(FORMATS),
-                   help="file format (default: by extension)")
-    p.add_argument("--units", choices=["mm", "cm", "m"],
-                   help="length unit of a TSV/CSV file (default: TSV mm, CSV its '# units:' line or m)")
-    p.add_argument("--preset", choices=[*sorted(PRESETS), "none"],
-                   help="marker grouping preset (kit: KIT/MMM hand markers → left_hand, right_hand;"
-                        " applied unasked when the file has them, with a note on stderr;"
-                        " none: the file's own groups)")
+    p.add_argument(
+        "--format", dest="fmt", choices=sorted(FORMATS), help="file format (default: by extension)"
+    )
+    p.add_argument(
+        "--units",
+        choices=["mm", "cm", "m"],
+        help="length unit of a TSV/CSV file (default: TSV mm, CSV its '# units:' line or m)",
+    )
+    p.add_argument(
+        "--preset",
+        choices=[*sorted(PRESETS), "none"],
+        help="marker grouping preset (kit: KIT/MMM hand markers → left_hand, right_hand;"
+        " applied unasked when the file has them, with a note on stderr;"
+        " none: the file's own groups)",
+    )
     add_reading_options(p)
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(func=run)
@@ -80,8 +87,9 @@ def _percent(fraction: float) -> str:
 
 
 def _marker_list(markers: list[dict[str, Any]]) -> str:
-    return " ".join(m["name"] + (f"({_percent(m['gap_fraction'])})" if m["gap_fraction"] else "")
-                    for m in markers)
+    return " ".join(
+        m["name"] + (f"({_percent(m['gap_fraction'])})" if m["gap_fraction"] else "") for m in markers
+    )
 
 
 def render(doc: dict[str, Any]) -> str:
@@ -111,8 +119,14 @@ def _wrapped(head: str, text: str, width: int = 110) -> str:
     import textwrap
 
     indent = " " * min(len(head), 40)
-    return textwrap.fill(text, width=width, initial_indent=head, subsequent_indent=indent,
-                         break_on_hyphens=False, break_long_words=False)
+    return textwrap.fill(
+        text,
+        width=width,
+        initial_indent=head,
+        subsequent_indent=indent,
+        break_on_hyphens=False,
+        break_long_words=False,
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -120,8 +134,9 @@ def run(args: argparse.Namespace) -> int:
     from oacdsl.segmentation.readers import format_of, read_recording
 
     with printed_warnings():
-        recording = read_recording(args.recording, args.fmt, units=args.units,
-                                   allow_truncated=allow_truncated(args))
+        recording = read_recording(
+            args.recording, args.fmt, units=args.units, allow_truncated=allow_truncated(args)
+        )
     recording = apply_grouping(recording, args.preset)
     doc = summary(recording, args.fmt or format_of(args.recording))
     print(json.dumps(doc, indent=2) if args.json else render(doc))

@@ -13,9 +13,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         "match",
         help="match each sub-action of a demonstration to an OAC",
         description="Segment a demonstration and match every sub-action (keyframe to keyframe) to the"
-                    " OACs of a library: one line per sub-action with the chosen OAC and its binding,"
-                    " the reason when several match, the closest OACs and what failed when none does."
-                    " Exit status 1 when a sub-action matches no OAC.",
+        " OACs of a library: one line per sub-action with the chosen OAC and its binding,"
+        " the reason when several match, the closest OACs and what failed when none does."
+        " Exit status 1 when a sub-action matches no OAC.",
     )
     add_input_options(p)
     p.add_argument("--json", action="store_true", help="print the result as JSON")
@@ -45,11 +45,15 @@ def run(args: argparse.Namespace) -> int:
         what = chosen.text() if chosen is not None else "no match"
         print(f"{m.index + 1:>{width}}  frames {frames:<{span}}  {what}")
         for t in m.transient:
-            print(f"{'':>{width}}  through a transient state at frame {t.keyframe.frame}"
-                  f" ({t.duration_s:.2f} s: {', '.join(t.objects)} touching nothing)")
+            print(
+                f"{'':>{width}}  through a transient state at frame {t.keyframe.frame}"
+                f" ({t.duration_s:.2f} s: {', '.join(t.objects)} touching nothing)"
+            )
         if m.explanation:
             print(f"{'':>{width}}  {m.explanation}")
     ambiguous = sum(1 for m in matches if m.result.ambiguous)
-    print(f"{len(matches)} sub-actions ({mode} matching, scene {inputs.scene.name}): "
-          f"{len(matches) - unmatched} matched, {unmatched} unmatched, {ambiguous} ambiguous")
+    print(
+        f"{len(matches)} sub-actions ({mode} matching, scene {inputs.scene.name}): "
+        f"{len(matches) - unmatched} matched, {unmatched} unmatched, {ambiguous} ambiguous"
+    )
     return 1 if unmatched else 0

@@ -9,8 +9,10 @@ from oacdsl.segmentation.motion import SubActionMotion
 
 __all__ = ["format_motion_table"]
 
-_HEADER = (f"{'#':>3}  {'frames':>9}  {'moved':<22} {'by':<11} {'target (relation)':<32}"
-           f" {'path':>7} {'extent':>7} {'period':>13} {'radius':>7} {'tilt':>11}")
+_HEADER = (
+    f"{'#':>3}  {'frames':>9}  {'moved':<22} {'by':<11} {'target (relation)':<32}"
+    f" {'path':>7} {'extent':>7} {'period':>13} {'radius':>7} {'tilt':>11}"
+)
 
 
 def _row(m: SubActionMotion) -> str:
@@ -21,16 +23,23 @@ def _row(m: SubActionMotion) -> str:
     target = f"{m.target} ({m.relation})" if m.target else "world"
     period = f"{f.period_s:.2f}s x{f.cycles:.1f}" if f.period_s is not None and f.cycles else "-"
     tilt = f"{math.degrees(f.tilt_max_rad):.0f}deg {f.tilt_time_s:.1f}s"
-    return (f"{m.index:>3}  {frames:>9}  {m.moved:<22} {m.hand or '-':<11} {target:<32}"
-            f" {f.path_length_m * 1e3:>5.0f}mm {f.extent_m[0] * 1e3:>5.0f}mm {period:>13}"
-            f" {f.radius_m * 1e3:>5.0f}mm {tilt:>11}")
+    return (
+        f"{m.index:>3}  {frames:>9}  {m.moved:<22} {m.hand or '-':<11} {target:<32}"
+        f" {f.path_length_m * 1e3:>5.0f}mm {f.extent_m[0] * 1e3:>5.0f}mm {period:>13}"
+        f" {f.radius_m * 1e3:>5.0f}mm {tilt:>11}"
+    )
 
 
 def format_motion_table(motions: Sequence[SubActionMotion]) -> str:
     """The readable table (millimetres, seconds, degrees: converted from SI for reading only)."""
-    lines = ["demonstrated motion per sub-action (object pose by a rigid fit of its markers;"
-             " path in the target's frame):", _HEADER]
+    lines = [
+        "demonstrated motion per sub-action (object pose by a rigid fit of its markers;"
+        " path in the target's frame):",
+        _HEADER,
+    ]
     lines += [_row(m) for m in motions]
-    lines.append("path: length; extent: along the main axis; period: of the oscillation x cycles;"
-                 " radius: around its centre; tilt: largest, and time above half of it")
+    lines.append(
+        "path: length; extent: along the main axis; period: of the oscillation x cycles;"
+        " radius: around its centre; tilt: largest, and time above half of it"
+    )
     return "\n".join(lines)

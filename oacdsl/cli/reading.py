@@ -61,15 +61,19 @@ def check_windows(args: argparse.Namespace, recording: Any) -> None:
 
     frames = getattr(args, "frames", None)
     if frames is not None and parse_quantity(frames, "frames", what="--frames") > recording.n_frames:
-        raise UsageError(f"--frames {frames}: more than the recording's {recording.n_frames} frames",
-                         location=recording.source)
+        raise UsageError(
+            f"--frames {frames}: more than the recording's {recording.n_frames} frames",
+            location=recording.source,
+        )
     merge = getattr(args, "merge", None)
     duration_s = float(recording.times_s[-1])
     if merge is not None and parse_quantity(merge, "s", what="--merge") > duration_s:
-        raise UsageError(f"--merge {merge}: longer than the recording ({duration_s:g} s)",
-                         location=recording.source)
+        raise UsageError(
+            f"--merge {merge}: longer than the recording ({duration_s:g} s)", location=recording.source
+        )
     for option, attr in (("--hold", "hold"), ("--change-window", "change_window")):  # n and the slope window
         value = getattr(args, attr, None)
         if value is not None and parse_quantity(value, "s", what=option) > duration_s:
-            raise UsageError(f"{option} {value}: longer than the recording ({duration_s:g} s)",
-                             location=recording.source)
+            raise UsageError(
+                f"{option} {value}: longer than the recording ({duration_s:g} s)", location=recording.source
+            )

@@ -85,10 +85,13 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     )
     p.add_argument("--no-record", action="store_true", help="do not store the run's outcome in the run store")
     p.add_argument("--no-render", action="store_true", help="no pictures of the robot (faster)")
-    p.add_argument("--no-demo-params", action="store_true",
-                   help="compose the paper's plain steps: no skill parameters from the demonstrated motion"
-                        " (by default a pour takes the demonstrated tilt and duration, a stir its radius and"
-                        " period, retargeted to the robot; docs/motion.md)")
+    p.add_argument(
+        "--no-demo-params",
+        action="store_true",
+        help="compose the paper's plain steps: no skill parameters from the demonstrated motion"
+        " (by default a pour takes the demonstrated tilt and duration, a stir its radius and"
+        " period, retargeted to the robot; docs/motion.md)",
+    )
     p.add_argument(
         "--force", action="store_true", help="replace a different OAC of the same name in LIBRARY/learned/"
     )
@@ -97,9 +100,12 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     g.add_argument("--format", metavar="FMT", help="read as this format (c3d, mmm, tsv, csv)")
     g.add_argument("--preset", metavar="NAME", help=PRESET_HELP)
     add_reading_options(g)
-    add_aas_options(g, mode_help="touch detector for the demonstration: adaptive (per-pair distances"
-                    " learned from co-motion; default) or paper (Eq. 1/2 as printed); the robot's own"
-                    " recording is always segmented with paper")
+    add_aas_options(
+        g,
+        mode_help="touch detector for the demonstration: adaptive (per-pair distances"
+        " learned from co-motion; default) or paper (Eq. 1/2 as printed); the robot's own"
+        " recording is always segmented with paper",
+    )
     p.set_defaults(func=run)
 
 
@@ -128,8 +134,14 @@ def run(args: argparse.Namespace) -> int:
     try:
         with printed_warnings():
             inputs = load_inputs(
-                args.recording, args.library, args.scene, params,
-                fmt=args.format, preset=args.preset, allow_truncated=allow_truncated(args), note=print_note,
+                args.recording,
+                args.library,
+                args.scene,
+                params,
+                fmt=args.format,
+                preset=args.preset,
+                allow_truncated=allow_truncated(args),
+                note=print_note,
             )
     except MatchingError as error:  # no scene fits the recording: an input error, nothing is written
         raise InputError(error.message, location=args.recording or BUNDLED_NAME) from None

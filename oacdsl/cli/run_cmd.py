@@ -94,8 +94,9 @@ def _pairs(items: list[str], flag: str) -> dict[str, str]:
     return out
 
 
-def _demonstrated(args: argparse.Namespace, library: Any, scene: str | None, bindings: dict[str, str],
-                  layout: str | None) -> dict[str, Any] | None:
+def _demonstrated(
+    args: argparse.Namespace, library: Any, scene: str | None, bindings: dict[str, str], layout: str | None
+) -> dict[str, Any] | None:
     """First-frame positions of --demonstration for a 'layout demonstrated', else None (a warning
     when the scene wants them but no recording is given)."""
     from oacdsl.runtime.binding import choose_scene
@@ -107,8 +108,11 @@ def _demonstrated(args: argparse.Namespace, library: Any, scene: str | None, bin
     wanted = (layout or sc.layout) == "demonstrated"
     if args.demonstration is None:
         if wanted:
-            print(f"oacc: warning: scene {sc.name} is laid out as demonstrated, but no --demonstration"
-                  " was given: objects without a place take free slots", file=sys.stderr)
+            print(
+                f"oacc: warning: scene {sc.name} is laid out as demonstrated, but no --demonstration"
+                " was given: objects without a place take free slots",
+                file=sys.stderr,
+            )
         return None
     from oacdsl.runtime.demo_layout import demonstrated_positions
     from oacdsl.segmentation.grouping import group_recording

@@ -53,46 +53,71 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p.add_argument("--format", metavar="FMT", help="read as this format, not by the file's extension")
     add_reading_options(p)
     groups = p.add_argument_group("marker groups (default: as the file groups them)")
-    groups.add_argument("--scene", metavar="PATH", action="append",
-                        help=".oac file or folder (repeatable, loaded as one library) with a scene whose"
-                             " instances and markers define the groups")
+    groups.add_argument(
+        "--scene",
+        metavar="PATH",
+        action="append",
+        help=".oac file or folder (repeatable, loaded as one library) with a scene whose"
+        " instances and markers define the groups",
+    )
     groups.add_argument("--scene-name", metavar="NAME", help="which scene (needed if there are several)")
     groups.add_argument("--preset", metavar="NAME", help=PRESET_HELP)
     add_aas_options(p.add_argument_group("AAS parameters"))
     out = p.add_argument_group("output")
     out.add_argument("--json", action="store_true", help="print the segmentation as JSON")
-    out.add_argument("--plot", metavar="OUT.png",
-                     help="draw distances, thresholds and keyframes over time (the paper's Fig. 3)")
-    out.add_argument("--graphs", metavar="DIR",
-                     help="write the world state of every keyframe as a graph picture (the paper's Fig. 4)")
-    out.add_argument("--motion", action="store_true",
-                     help="also the demonstrated motion of every sub-action: moved object, target,"
-                          " path features (with --json: the records, T_target_object per frame)")
-    out.add_argument("--plot-motion", metavar="OUT.png",
-                     help="draw each sub-action's object path in its target's frame, one panel each")
+    out.add_argument(
+        "--plot",
+        metavar="OUT.png",
+        help="draw distances, thresholds and keyframes over time (the paper's Fig. 3)",
+    )
+    out.add_argument(
+        "--graphs",
+        metavar="DIR",
+        help="write the world state of every keyframe as a graph picture (the paper's Fig. 4)",
+    )
+    out.add_argument(
+        "--motion",
+        action="store_true",
+        help="also the demonstrated motion of every sub-action: moved object, target,"
+        " path features (with --json: the records, T_target_object per frame)",
+    )
+    out.add_argument(
+        "--plot-motion",
+        metavar="OUT.png",
+        help="draw each sub-action's object path in its target's frame, one panel each",
+    )
     p.set_defaults(func=run)
 
 
-PRESET_HELP = ("built-in marker grouping: 'kit' (KIT/MMM hand markers → left_hand, right_hand; applied"
-               " unasked when the file has them, with a note on stderr) or 'none' (the file's own groups)")
+PRESET_HELP = (
+    "built-in marker grouping: 'kit' (KIT/MMM hand markers → left_hand, right_hand; applied"
+    " unasked when the file has them, with a note on stderr) or 'none' (the file's own groups)"
+)
 
-MODE_HELP = ("touch detector: adaptive (per-pair distances learned from co-motion, distance change"
-             " fitted over --change-window; default: F1 1.00 against 0.85 on the KIT clips), robust"
-             " (Eq. 1/2 at one distance, distance change fitted over --change-window) or paper"
-             " (Eq. 1/2 as printed: one-frame difference)")
+MODE_HELP = (
+    "touch detector: adaptive (per-pair distances learned from co-motion, distance change"
+    " fitted over --change-window; default: F1 1.00 against 0.85 on the KIT clips), robust"
+    " (Eq. 1/2 at one distance, distance change fitted over --change-window) or paper"
+    " (Eq. 1/2 as printed: one-frame difference)"
+)
 
 
 def add_aas_options(group: Any, mode_help: str = MODE_HELP) -> None:
     """The AAS parameters every command that segments takes (read by :func:`params_from_args`)."""
     group.add_argument("--distance", metavar="LEN", help="distance threshold d (default: 150mm)")
     group.add_argument("--speed", metavar="SPEED", help="distance-change threshold v (default: 100mm/s)")
-    group.add_argument("--hold", metavar="TIME",
-                       help="how long a condition must hold: n as a duration (default: 0.1s, at least"
-                            " 2 frames)")
+    group.add_argument(
+        "--hold",
+        metavar="TIME",
+        help="how long a condition must hold: n as a duration (default: 0.1s, at least 2 frames)",
+    )
     group.add_argument("--frames", metavar="N", help="n as a number of frames (instead of --hold)")
-    group.add_argument("--change-window", metavar="TIME",
-                       help="window of the least-squares fit that estimates the distance change in modes"
-                            " robust and adaptive (default: 0.1s; paper: one frame, as printed)")
+    group.add_argument(
+        "--change-window",
+        metavar="TIME",
+        help="window of the least-squares fit that estimates the distance change in modes"
+        " robust and adaptive (default: 0.1s; paper: one frame, as printed)",
+    )
     group.add_argument("--merge", metavar="TIME", help="keyframe merge window (default: 0.3s; 0s = off)")
     group.add_argument("--mode", metavar="MODE", default=DEFAULT_MODE, help=mode_help)
 
@@ -225,8 +250,11 @@ def format_table(seg: Any) -> str:
         f" {len(seg.instances)} instances: {', '.join(seg.instances) or '(none)'}",
         f"d = {format_quantity(p['distance_m'], 'm')}, v = {speed}, n = {p['frames']} frames,"
         f" merge = {format_quantity(p['merge_s'], 's')}, mode = {p['mode']}"
-        + (f", change window = {format_quantity(p['change_window_s'], 's')}"
-           if p.get("mode") != "paper" and "change_window_s" in p else ""),
+        + (
+            f", change window = {format_quantity(p['change_window_s'], 's')}"
+            if p.get("mode") != "paper" and "change_window_s" in p
+            else ""
+        ),
         "",
         f"{'#':>3}  {'frame':>7}  {'time [s]':>9}  relations",
     ]

@@ -34,7 +34,9 @@ def run(args: argparse.Namespace) -> int:
                         "min": p.low,
                         "max": p.high,
                         "doc": p.doc,
-                        "source": None if p.source is None else {
+                        "source": None
+                        if p.source is None
+                        else {
                             "feature": p.source.feature,
                             "scale": p.source.scale,
                             "axis": p.source.axis,

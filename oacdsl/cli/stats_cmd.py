@@ -77,8 +77,17 @@ def _print_table(table: list[Any]) -> None:
             reason = r.last_failure if len(r.last_failure) <= 60 else r.last_failure[:59] + "…"
             failure = f"{_when(r.last_failure_utc)}  {reason}"
         median = "" if r.median_duration_s is None else f"{r.median_duration_s:.2f} s"
-        lines.append([r.oac, str(r.runs), str(r.successes), _pct(r.rate),
-                      f"{_pct(r.ci_low)} – {_pct(r.ci_high)}", median, failure or "—"])
+        lines.append(
+            [
+                r.oac,
+                str(r.runs),
+                str(r.successes),
+                _pct(r.rate),
+                f"{_pct(r.ci_low)} – {_pct(r.ci_high)}",
+                median,
+                failure or "—",
+            ]
+        )
     widths = [max(len(row[i]) for row in [head, *lines]) for i in range(len(head) - 1)]
     right = {1, 2, 3, 5}
     for row in [head, *lines]:

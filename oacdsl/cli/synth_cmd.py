@@ -55,18 +55,36 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     )
     p.add_argument("scene", metavar="SCENE", choices=sorted(SCENES), help="the scene: " + ", ".join(SCENES))
     p.add_argument("-o", "--output", metavar="FILE.c3d", required=True, help="the C3D file to write")
-    p.add_argument("--seed", metavar="N", type=int, default=DEFAULT_SEED,
-                   help=f"random seed: timing, noise and gaps (default: {DEFAULT_SEED})")
-    p.add_argument("--truth", metavar="FILE.json",
-                   help="where to write the ground truth (default: FILE.truth.json next to the C3D)")
+    p.add_argument(
+        "--seed",
+        metavar="N",
+        type=int,
+        default=DEFAULT_SEED,
+        help=f"random seed: timing, noise and gaps (default: {DEFAULT_SEED})",
+    )
+    p.add_argument(
+        "--truth",
+        metavar="FILE.json",
+        help="where to write the ground truth (default: FILE.truth.json next to the C3D)",
+    )
     p.add_argument("--clean", action="store_true", help="write the noise-free, gap-free scene instead")
-    p.add_argument("--rate", metavar="HZ", type=float, default=100.0,
-                   help="frame rate, Hz, 10 to 1000 (default: 100)")
-    p.add_argument("--jitter", metavar="MM", type=float, default=None,
-                   help="white marker jitter per frame and axis, millimetres, 0 to 5 (default: 0.05)")
-    p.add_argument("--flight", metavar="TIME", default=None,
-                   help="time each liquid is in the air from its cup to the bowl, 0.05s to 1.5s"
-                        " (default: 0.16s, a thrown-down parabola; longer: a slow straight stream)")
+    p.add_argument(
+        "--rate", metavar="HZ", type=float, default=100.0, help="frame rate, Hz, 10 to 1000 (default: 100)"
+    )
+    p.add_argument(
+        "--jitter",
+        metavar="MM",
+        type=float,
+        default=None,
+        help="white marker jitter per frame and axis, millimetres, 0 to 5 (default: 0.05)",
+    )
+    p.add_argument(
+        "--flight",
+        metavar="TIME",
+        default=None,
+        help="time each liquid is in the air from its cup to the bowl, 0.05s to 1.5s"
+        " (default: 0.16s, a thrown-down parabola; longer: a slow straight stream)",
+    )
     p.set_defaults(func=run)
 
 
@@ -100,8 +118,9 @@ def run(args: argparse.Namespace) -> int:
     truth_file = Path(args.truth) if args.truth else truth_path(out)
     if truth_file.resolve() == out.resolve():
         raise UsageError("--truth must differ from the C3D output")
-    demo = SCENES[args.scene](seed=args.seed, source=out.name, rate_hz=args.rate, noise=noise,
-                              flight_s=flight)
+    demo = SCENES[args.scene](
+        seed=args.seed, source=out.name, rate_hz=args.rate, noise=noise, flight_s=flight
+    )
     recording = demo.clean if args.clean else demo.recording
     truth = dict(demo.truth, recording=out.name, clean=bool(args.clean))
     text = json.dumps(truth, indent=1) + "\n"
@@ -115,15 +134,21 @@ def run(args: argparse.Namespace) -> int:
         write_c3d(recording, out)
         os.replace(tmp, truth_file)
     except OSError as err:
-        raise InputError(f"cannot write: {err.strerror or err}", location=str(err.filename or truth_file)) \
-            from None
+        raise InputError(
+            f"cannot write: {err.strerror or err}", location=str(err.filename or truth_file)
+        ) from None
     finally:
         with contextlib.suppress(OSError):
             tmp.unlink(missing_ok=True)
     n_gaps = len(truth["realism"]["gaps"])
-    print(f"wrote {out} ({len(recording.marker_names)} markers, {recording.n_frames} frames,"
-          f" {recording.times_s[-1]:.1f} s at {recording.rate_hz:g} Hz"
-          f"{', noise-free' if args.clean else f', {n_gaps} gaps'})", file=sys.stderr)
-    print(f"wrote {truth_file} ({len(truth['keyframes'])} keyframes:"
-          f" {', '.join(truth['oac_sequence'])})", file=sys.stderr)
+    print(
+        f"wrote {out} ({len(recording.marker_names)} markers, {recording.n_frames} frames,"
+        f" {recording.times_s[-1]:.1f} s at {recording.rate_hz:g} Hz"
+        f"{', noise-free' if args.clean else f', {n_gaps} gaps'})",
+        file=sys.stderr,
+    )
+    print(
+        f"wrote {truth_file} ({len(truth['keyframes'])} keyframes: {', '.join(truth['oac_sequence'])})",
+        file=sys.stderr,
+    )
     return 0

@@ -368,8 +368,10 @@ EXAMPLES: list[tuple[str, list[str]]] = [
         "'(' and the step's arguments",
         ["oac f() { steps { g", "oac f() { steps { g }", "oac f() { steps { g() h"],
     ),
-    ("an argument or ')'", ["oac f() { steps { g(", "oac f() { steps { g( }", "oac f() { execute s(",
-                            "oac f() { execute s( }"]),
+    (
+        "an argument or ')'",
+        ["oac f() { steps { g(", "oac f() { steps { g( }", "oac f() { execute s(", "oac f() { execute s( }"],
+    ),
     (
         "an argument",
         [

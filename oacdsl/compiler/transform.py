@@ -220,8 +220,10 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
                 "x": x,
                 "y": y,
                 "span": self._between(name, rpar),
-                "parts": (_part("instance", name), ("at", x.span.line, x.span.column, rpar.end_line,
-                                                       rpar.end_column)),
+                "parts": (
+                    _part("instance", name),
+                    ("at", x.span.line, x.span.column, rpar.end_line, rpar.end_column),
+                ),
             },
         )
 

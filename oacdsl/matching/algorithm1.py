@@ -51,8 +51,10 @@ class Step:
         where = f"keyframe {self.index + int(end)}" + (f", frame {frame}" if frame is not None else "")
         return f"step {self.index + 1} {self.oac.name}, {where}"
 
+
 def key(atom: Atom) -> tuple[str, str, bool]:
     return (atom.left, atom.right, atom.negated)
+
 
 class Net:
     """The steps' net update of the unknown initial state, with the last writer of each part."""
@@ -188,6 +190,7 @@ def decide_precondition(atom: Atom, step: Step, net: Net, req: Requirements) -> 
         )
         return
     req.add(atom, step)  # stronger than needed, true at the start: sound
+
 
 def net_effects(net: Net, req: Requirements) -> list[tuple[Atom, Step]]:
     """The net update as atoms, without what the preconditions make redundant, each with

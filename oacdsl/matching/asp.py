@@ -70,7 +70,7 @@ def _oac_rules(k: int, oac: Oac, mode: Mode, iid: _Ids, cid: _Ids) -> list[str]:
     terms = [var[p] for p in params] + [term(c) for c in constants]
     body = ["sub(S, Tb, Ta)", *joins] + [f"cls({var[p.name]}, {cid(p.cls)})" for p in oac.params]
     body += [f"inst({term(c)})" for c in constants] + rest
-    body += [f"{x} != {y}" for i, x in enumerate(terms) for y in terms[i + 1:]]
+    body += [f"{x} != {y}" for i, x in enumerate(terms) for y in terms[i + 1 :]]
     vs = "(" + ", ".join(var[p] for p in params) + ("," if len(params) == 1 else "") + ")"
     if mode == "paper":
         return [f"m({k}, S, {vs}) :- {', '.join(body)}."]

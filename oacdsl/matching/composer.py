@@ -101,8 +101,10 @@ class Composition:
             doc["demo_params"] = list(self.demo_params)
         return doc
 
+
 def _pair(atom: Atom) -> list[str]:
     return [atom.left, atom.right]
+
 
 def compose(
     name: str,
@@ -134,13 +136,22 @@ def compose(
     added = tuple(sorted(final.relations - initial.relations))
     ended = tuple(sorted(initial.relations - final.relations))
     warnings = req.warnings
-    paper = tuple(Atom(left=a, right=b, note=(net.added[(a, b)].note(True) if (a, b) in net.added
-                                              else "world-state change")) for a, b in added)
+    paper = tuple(
+        Atom(
+            left=a,
+            right=b,
+            note=(net.added[(a, b)].note(True) if (a, b) in net.added else "world-state change"),
+        )
+        for a, b in added
+    )
     if paper_effects:
         sound = {key(a) for a in effects}
         if sound != {key(a) for a in paper}:
-            warnings.append("the paper's effects differ from the steps' net effects ("
-                            + ", ".join(atom_text(a) for a in effects) + "): the OAC is not sound")
+            warnings.append(
+                "the paper's effects differ from the steps' net effects ("
+                + ", ".join(atom_text(a) for a in effects)
+                + "): the OAC is not sound"
+            )
         effects = paper
         written = [(a, net.added.get((a.left, a.right))) for a in paper]  # type: ignore[misc]
     provenance = [_source("pre", a, req.by[key(a)]) for a in req.atoms.values()]
@@ -166,10 +177,17 @@ def _source(kind: str, atom: Atom, step: Step | None) -> dict[str, Any]:
         "note": step.note(end) if step is not None else "world-state change",
     }
 
+
 def _lifted(
-    name: str, steps: Sequence[Step], pre: tuple[Atom, ...], effect: tuple[Atom, ...],
-    added: tuple[Relation, ...], ended: tuple[Relation, ...], classes: Mapping[str, frozenset[str]],
-    library: Library, warnings: list[str],
+    name: str,
+    steps: Sequence[Step],
+    pre: tuple[Atom, ...],
+    effect: tuple[Atom, ...],
+    added: tuple[Relation, ...],
+    ended: tuple[Relation, ...],
+    classes: Mapping[str, frozenset[str]],
+    library: Library,
+    warnings: list[str],
 ) -> Composition:
     order: list[str] = []
     required: dict[str, list[str]] = {}
@@ -191,12 +209,24 @@ def _lifted(
     lifted, names = lift(order, classes, required, library.ancestors)
 
     def up(a: Atom) -> Atom:  # built anew: the pair order is normalised again after renaming
-        return Atom(left=names.get(a.left, a.left), right=names.get(a.right, a.right),
-                    negated=a.negated, note=a.note)
+        return Atom(
+            left=names.get(a.left, a.left), right=names.get(a.right, a.right), negated=a.negated, note=a.note
+        )
 
-    calls = tuple(Call(oac=s.oac.name, args=tuple(names.get(s.mapping[p.name], s.mapping[p.name])
-                                                  for p in s.oac.params)) for s in steps)
+    calls = tuple(
+        Call(
+            oac=s.oac.name, args=tuple(names.get(s.mapping[p.name], s.mapping[p.name]) for p in s.oac.params)
+        )
+        for s in steps
+    )
     oac = Oac(name=name, params=lifted, pre=tuple(map(up, pre)), effect=tuple(map(up, effect)), steps=calls)
-    return Composition(oac=oac, pre=tuple(sorted(pre, key=Atom.sort_key)),
-                       effect=tuple(sorted(effect, key=Atom.sort_key)), added=added, ended=ended,
-                       steps=tuple(steps), names=names, warnings=tuple(warnings))
+    return Composition(
+        oac=oac,
+        pre=tuple(sorted(pre, key=Atom.sort_key)),
+        effect=tuple(sorted(effect, key=Atom.sort_key)),
+        added=added,
+        ended=ended,
+        steps=tuple(steps),
+        names=names,
+        warnings=tuple(warnings),
+    )

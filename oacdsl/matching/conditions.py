@@ -74,9 +74,7 @@ def why_not(atom: Atom, state: WorldState) -> str:
 def _known(state: WorldState, *names: str) -> None:
     for name in names:
         if name not in state.instances:
-            raise MatchingError(
-                f"effect names {name!r}, which is not an instance of the world state"
-            )
+            raise MatchingError(f"effect names {name!r}, which is not an instance of the world state")
 
 
 def apply_effects(state: WorldState, effects: Iterable[Atom]) -> WorldState:

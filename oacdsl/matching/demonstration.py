@@ -74,6 +74,7 @@ def find_scene(library: Library, instances: Sequence[str], name: str | None = No
             raise MatchingError(f"no scene {name!r} in the library{did_you_mean(name, library.scenes)}")
         return library.scenes[name]
     wanted = set(instances)
+
     def called(instances: Sequence[Instance]) -> set[str]:
         return {i.name for i in instances}
 
@@ -86,8 +87,9 @@ def find_scene(library: Library, instances: Sequence[str], name: str | None = No
         return fits[0]
     if len(fits) > 1:
         names = ", ".join(sorted(s.name for s in fits))
-        raise MatchingError(f"several scenes have the recording's instances ({names});"
-                            " choose one with --scene")
+        raise MatchingError(
+            f"several scenes have the recording's instances ({names}); choose one with --scene"
+        )
     known = ", ".join(sorted(library.scenes)) or "none"
     raise MatchingError(
         f"no scene of the library has exactly the recording's instances ({', '.join(sorted(wanted))});"
@@ -164,12 +166,15 @@ def compose_demonstration(
             while draft_name in taken:
                 draft_name += "_"
             taken.add(draft_name)
-            note = (f"DRAFT proposed by oacc compose for {name}: sub-action {sa.index + 1},"
-                    f" frames {sa.start.frame}–{sa.end.frame}, matched no OAC.",
-                    "Review pre and effect, replace 'execute TODO' by a skill (oacc skills),",
-                    "then move this file out of drafts/.")
-            oac, mapping = propose_draft(draft_name, sa.before, sa.after, classes, library.ancestors,
-                                         comments=note)
+            note = (
+                f"DRAFT proposed by oacc compose for {name}: sub-action {sa.index + 1},"
+                f" frames {sa.start.frame}–{sa.end.frame}, matched no OAC.",
+                "Review pre and effect, replace 'execute TODO' by a skill (oacc skills),",
+                "then move this file out of drafts/.",
+            )
+            oac, mapping = propose_draft(
+                draft_name, sa.before, sa.after, classes, library.ancestors, comments=note
+            )
             binding = tuple((p.name, mapping[p.name]) for p in oac.params)
             drafts.append((sa.index, oac))
         steps.append(Step(oac, binding, sa.before, sa.after, sa.index, sa.start.frame, sa.end.frame))

@@ -82,7 +82,8 @@ def _written(value: float, spec: SkillParamSpec) -> Quantity:
     if spec.whole:
         return Quantity(value=float(round(value)))
     unit, factor, digits = {"rad": ("deg", 180 / math.pi, 0), "s": ("s", 1.0, 2), "m": ("mm", 1000.0, 0)}.get(
-        spec.unit, (spec.unit, 1.0, 3))
+        spec.unit, (spec.unit, 1.0, 3)
+    )
     shown = round(value * factor, digits)
     low, high = spec.low * factor, spec.high * factor
     step = 10.0**-digits
@@ -123,10 +124,16 @@ def room_m(library: Library, scene: Scene, target: str, tool: str | None) -> flo
     return max(inner - min(tool_r, inner / 2) - CLEARANCE_M, 0.0)
 
 
-def _one(spec: SkillParamSpec, source: MotionSource, motion: SubActionMotion | None, room: float | None
-         ) -> tuple[SkillParam | None, str | None, dict[str, Any]]:
-    row: dict[str, Any] = {"name": spec.name, "feature": source.describe(), "unit": spec.unit,
-                           "demonstrated": None, "value": None}
+def _one(
+    spec: SkillParamSpec, source: MotionSource, motion: SubActionMotion | None, room: float | None
+) -> tuple[SkillParam | None, str | None, dict[str, Any]]:
+    row: dict[str, Any] = {
+        "name": spec.name,
+        "feature": source.describe(),
+        "unit": spec.unit,
+        "demonstrated": None,
+        "value": None,
+    }
     if motion is None or motion.features is None:
         row["how"] = "no demonstrated motion (the moved object has fewer than 3 markers)"
         return None, None, row
@@ -159,16 +166,26 @@ def _one(spec: SkillParamSpec, source: MotionSource, motion: SubActionMotion | N
 
     row["value"] = language_si(q.value, q.unit)[0]
     row["how"] = ", ".join(how)
-    label = (source.feature.removesuffix("_s").removesuffix("_m").removesuffix("_rad")
-             .replace("_max", "").replace("_", " "))
+    label = (
+        source.feature.removesuffix("_s")
+        .removesuffix("_m")
+        .removesuffix("_rad")
+        .replace("_max", "")
+        .replace("_", " ")
+    )
     text = f"{spec.name} {q.value:g}{q.unit}" + (
-        f" from {label} {_show(demo, spec.unit)}, " + ", ".join(what) if what
-        else " as demonstrated" if label == spec.name else f" = {label} {_show(demo, spec.unit)}")
+        f" from {label} {_show(demo, spec.unit)}, " + ", ".join(what)
+        if what
+        else " as demonstrated"
+        if label == spec.name
+        else f" = {label} {_show(demo, spec.unit)}"
+    )
     return SkillParam(name=spec.name, value=q), text, row
 
 
-def step_params(skill: str | None, motion: SubActionMotion | None, args: Sequence[str],
-                library: Library, scene: Scene) -> StepParams:
+def step_params(
+    skill: str | None, motion: SubActionMotion | None, args: Sequence[str], library: Library, scene: Scene
+) -> StepParams:
     """The parameters the demonstration sets on a step executing ``skill`` on the instances
     ``args`` (its arguments in the signature's order), with its comment (module doc)."""
     sig = SIGNATURES.get(skill or "")
@@ -207,8 +224,9 @@ def demonstrated_motions(recording: Recording, subs: Sequence[SubAction]) -> lis
     return [sub_action_motion(recording, sub, posed) for sub in subs]
 
 
-def with_demo_params(comp: Composition, found_motions: Sequence[SubActionMotion],
-                     library: Library, scene: Scene) -> Composition:
+def with_demo_params(
+    comp: Composition, found_motions: Sequence[SubActionMotion], library: Library, scene: Scene
+) -> Composition:
     """``comp`` with each step's parameters from the motion of its sub-action (matched by its
     first and last frame), a comment per step, and ``demo_params`` (module doc)."""
     motions = {(m.start_frame, m.end_frame): m for m in found_motions}
@@ -222,18 +240,26 @@ def with_demo_params(comp: Composition, found_motions: Sequence[SubActionMotion]
         if found.comment is None:
             calls.append(call)
             continue
-        calls.append(call.model_copy(update={"skill_params": sorted_skill_params(found.params),
-                                             "comments": (*call.comments, found.comment)}))
-        doc.append({
-            "step": k,
-            "oac": step.oac.name,
-            "skill": step.oac.skill,
-            "sub_action": step.index,
-            "moved": motion.moved if motion is not None else None,
-            "frame": motion.frame_name if motion is not None else None,
-            "comment": found.comment,
-            "params": [_json_row(r) for r in found.rows],
-        })
+        calls.append(
+            call.model_copy(
+                update={
+                    "skill_params": sorted_skill_params(found.params),
+                    "comments": (*call.comments, found.comment),
+                }
+            )
+        )
+        doc.append(
+            {
+                "step": k,
+                "oac": step.oac.name,
+                "skill": step.oac.skill,
+                "sub_action": step.index,
+                "moved": motion.moved if motion is not None else None,
+                "frame": motion.frame_name if motion is not None else None,
+                "comment": found.comment,
+                "params": [_json_row(r) for r in found.rows],
+            }
+        )
     oac = comp.oac.model_copy(update={"steps": tuple(calls)})
     return dataclasses.replace(comp, oac=oac, demo_params=tuple(doc))
 

@@ -58,6 +58,12 @@ def propose_draft(
     def up(a: Atom) -> Atom:
         return Atom(left=names[a.left], right=names.get(a.right, a.right), negated=a.negated)
 
-    oac = Oac(name=name, params=params, pre=tuple(map(up, pre)), effect=tuple(map(up, effect)),
-              skill=PLACEHOLDER_SKILL, comments=comments)
+    oac = Oac(
+        name=name,
+        params=params,
+        pre=tuple(map(up, pre)),
+        effect=tuple(map(up, effect)),
+        skill=PLACEHOLDER_SKILL,
+        comments=comments,
+    )
     return oac, {names[i]: i for i in involved}

@@ -108,8 +108,9 @@ def _check(library: Path | None, target: Path, text: str, decls: Sequence[Oac], 
     for f in others:
         for oac in _existing(f) or ():
             if oac.name in names:
-                raise MatchingError(f"an OAC named {oac.name!r} is already defined in {f};"
-                                    " choose another --name")
+                raise MatchingError(
+                    f"an OAC named {oac.name!r} is already defined in {f}; choose another --name"
+                )
     for path, pending_text in pending.items():
         if path.resolve() != target.resolve():
             sources[str(path)] = pending_text
@@ -117,8 +118,9 @@ def _check(library: Path | None, target: Path, text: str, decls: Sequence[Oac], 
     result = compile_sources(sources)
     errors = [d for d in result.errors if not (drafts and d.code == "E016")]
     if errors:
-        raise LanguageError(f"{errors[0].header()} (the new file does not compile with the library;"
-                            " nothing was written)")
+        raise LanguageError(
+            f"{errors[0].header()} (the new file does not compile with the library; nothing was written)"
+        )
 
 
 def emit(
@@ -147,8 +149,11 @@ def emit(
         old = _existing(target)
         if old is not None and old == tuple(decls):
             return Emitted(target, "unchanged", text)
-        changes = (differences(old[0], decls[0]) if old and len(old) == 1 and len(decls) == 1
-                   else "different declarations")
+        changes = (
+            differences(old[0], decls[0])
+            if old and len(old) == 1 and len(decls) == 1
+            else "different declarations"
+        )
         if not force:
             raise MatchingError(
                 f"{target} already holds {'a different ' + repr(decls[0].name) if old else 'other content'}"

@@ -51,16 +51,22 @@ def _ok(c: Cond, b: Sequence[str], views: tuple[StateView, StateView]) -> bool:
     return b[i] in view.touching
 
 
-def _unaccounted(co: CompiledOac, b: Sequence[str], added: frozenset[tuple[str, str]],
-                 removed: frozenset[tuple[str, str]]) -> list[str]:
+def _unaccounted(
+    co: CompiledOac, b: Sequence[str], added: frozenset[tuple[str, str]], removed: frozenset[tuple[str, str]]
+) -> list[str]:
     pos = {tuple(sorted((b[i], b[j]))) for i, j in co.eff_pos}
     neg = {tuple(sorted((b[i], b[j]))) for i, j in co.eff_neg}
     cleared = {b[i] for i in co.eff_none}
-    out = [f"change {x} <-> {y} started, but no effect states {x} <-> {y}"
-           for x, y in sorted(added) if (x, y) not in pos]
-    out += [f"change {x} <-> {y} ended, but no effect states not {x} <-> {y}, {x} <-> nothing"
-            f" or {y} <-> nothing"
-            for x, y in sorted(removed) if (x, y) not in neg and x not in cleared and y not in cleared]
+    out = [
+        f"change {x} <-> {y} started, but no effect states {x} <-> {y}"
+        for x, y in sorted(added)
+        if (x, y) not in pos
+    ]
+    out += [
+        f"change {x} <-> {y} ended, but no effect states not {x} <-> {y}, {x} <-> nothing or {y} <-> nothing"
+        for x, y in sorted(removed)
+        if (x, y) not in neg and x not in cleared and y not in cleared
+    ]
     return out
 
 
@@ -80,8 +86,11 @@ def closest_binding(
     doms = [sorted(members.get(c, ())) for c in co.classes]
     for v, d in enumerate(doms):
         if not d:
-            what = (f"{co.names[v]} is not an instance of the world state" if v >= co.n_params
-                    else f"no instance of class {co.classes[v]} for parameter {co.names[v]}")
+            what = (
+                f"{co.names[v]} is not an instance of the world state"
+                if v >= co.n_params
+                else f"no instance of class {co.classes[v]} for parameter {co.names[v]}"
+            )
             return NearMiss(oac, (), (what,), 0)
     views = (StateView(before), StateView(after))
     added = after.relations - before.relations
@@ -129,8 +138,11 @@ def closest_binding(
 
     extend(0, 0)
     if best is None:
-        why = ("no complete binding within the search budget" if truncated
-               else "its parameters cannot all bind to different instances")
+        why = (
+            "no complete binding within the search budget"
+            if truncated
+            else "its parameters cannot all bind to different instances"
+        )
         return NearMiss(oac, (), (why,), 0, truncated)
     bound = best
     mapping = dict(zip(co.names, bound, strict=True))
@@ -162,8 +174,10 @@ def explain_no_match(
     removed = before.relations - after.relations
     rule = "strict rule" if mode == "strict" else "paper's rule"
     if mode == "strict" and not added and not removed:
-        return (), ("nothing changed between the two keyframes; under the strict rule an OAC must"
-                    " change something (the paper's rule, --paper, accepts OACs whose effects already hold)")
+        return (), (
+            "nothing changed between the two keyframes; under the strict rule an OAC must"
+            " change something (the paper's rule, --paper, accepts OACs whose effects already hold)"
+        )
     cap = max(2_000, 400_000 // max(1, len(compiled)))  # a budget for the whole library
     misses = [closest_binding(co, members, before, after, mode, node_cap=cap) for co in compiled]
     # Closest first: the binding that satisfies the most conditions, then the fewest failures.
@@ -173,4 +187,3 @@ def explain_no_match(
     if not near:
         return near, f"{head}: the library has no OACs"
     return near, f"{head}; closest: " + " | ".join(m.text() for m in near)
-

@@ -225,9 +225,7 @@ class Matcher:
             self._views[state] = v
         return v
 
-    def _accounting(
-        self, r: Relation, started: bool
-    ) -> _Accounting:
+    def _accounting(self, r: Relation, started: bool) -> _Accounting:
         """The OACs with an effect atom whose classes fit the changed relation ``r`` (that
         started, or ended), and the partial bindings that make it account for ``r``. It
         depends on the instances' classes only: computed once per relation and kept."""
@@ -274,8 +272,12 @@ class Matcher:
         return MatchResult(before, after, mode, (), near_misses=near, explanation=text)
 
     def _record(
-        self, co: CompiledOac, b: tuple[str, ...], added: frozenset[Relation],
-        removed: frozenset[Relation], before: StateView,
+        self,
+        co: CompiledOac,
+        b: tuple[str, ...],
+        added: frozenset[Relation],
+        removed: frozenset[Relation],
+        before: StateView,
     ) -> Match:
         idle = 0
         for i, j in co.eff_pos:
@@ -296,8 +298,9 @@ class Matcher:
         )
 
 
-def _accounts_all(co: CompiledOac, b: tuple[str, ...], added: frozenset[Relation],
-                  removed: frozenset[Relation]) -> bool:
+def _accounts_all(
+    co: CompiledOac, b: tuple[str, ...], added: frozenset[Relation], removed: frozenset[Relation]
+) -> bool:
     """True when the bound effects account for every changed relation (the strict rule)."""
     if added:
         pos = {(b[i], b[j]) if b[i] < b[j] else (b[j], b[i]) for i, j in co.eff_pos}
@@ -312,8 +315,9 @@ def _accounts_all(co: CompiledOac, b: tuple[str, ...], added: frozenset[Relation
     return True
 
 
-def _explained(co: CompiledOac, b: tuple[str, ...], added: frozenset[Relation],
-               removed: frozenset[Relation]) -> int:
+def _explained(
+    co: CompiledOac, b: tuple[str, ...], added: frozenset[Relation], removed: frozenset[Relation]
+) -> int:
     """How many changed relations the bound effects account for."""
     pos = {(b[i], b[j]) if b[i] < b[j] else (b[j], b[i]) for i, j in co.eff_pos}
     neg = {(b[i], b[j]) if b[i] < b[j] else (b[j], b[i]) for i, j in co.eff_neg}
@@ -336,13 +340,17 @@ def _reason(matches: list[Match]) -> str | None:
     if a.explained != b.explained:
         why = f"it explains {a.explained} of {a.changes} changed relations, {b.text()} only {b.explained}"
     elif a.specificity != b.specificity:
-        why = (f"its classes are more specific ({_classes_text(a)}) than those of {b.text()}"
-               f" ({_classes_text(b)})")
+        why = (
+            f"its classes are more specific ({_classes_text(a)}) than those of {b.text()}"
+            f" ({_classes_text(b)})"
+        )
     elif a.idle != b.idle:
         why = f"fewer of its effects already held before ({a.idle}, {b.text()}: {b.idle})"
     else:
-        why = (f"ambiguous: it ties with {b.text()} on explained change, class specificity and"
-               " idle effects; chosen by name and binding order")
+        why = (
+            f"ambiguous: it ties with {b.text()} on explained change, class specificity and"
+            " idle effects; chosen by name and binding order"
+        )
     return f"{head}: {why}"
 
 
@@ -367,4 +375,3 @@ def match_sub_action(
             raise UsageError("a scene needs a Library to resolve its classes; pass the classes directly")
         matcher = Matcher(library, classes, mode=mode)
     return matcher.match(before, after, explain=explain)
-

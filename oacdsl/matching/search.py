@@ -23,7 +23,15 @@ from oacdsl.model import Oac
 from oacdsl.world import NOTHING, WorldState
 
 __all__ = [
-    "AFTER", "BEFORE", "CompiledOac", "StateView", "compile_oac", "domains", "plan", "search", "seed_ok",
+    "AFTER",
+    "BEFORE",
+    "CompiledOac",
+    "StateView",
+    "compile_oac",
+    "domains",
+    "plan",
+    "search",
+    "seed_ok",
 ]
 
 BEFORE, AFTER = 0, 1
@@ -62,8 +70,10 @@ class StateView:
         view = cls.__new__(cls)
         adj = dict(base.adj)
         touched: dict[str, set[str]] = {}
-        for rels, adding in ((base.state.relations - state.relations, False),
-                             (state.relations - base.state.relations, True)):
+        for rels, adding in (
+            (base.state.relations - state.relations, False),
+            (state.relations - base.state.relations, True),
+        ):
             for a, b in rels:
                 for x, y in ((a, b), (b, a)):
                     if x not in touched:
@@ -162,8 +172,13 @@ def compile_oac(oac: Oac, index: int, depth: Callable[[str], int]) -> CompiledOa
         impossible=impossible,
         specificity=sum(depth(p.cls) for p in oac.params),
         unary=tuple(
-            tuple(sorted({(w, False) for i, w in none if i == v} | {(w, True) for i, w in some if i == v}
-                         | {(w, True) for a, b, w in pos if v in (a, b)}))
+            tuple(
+                sorted(
+                    {(w, False) for i, w in none if i == v}
+                    | {(w, True) for i, w in some if i == v}
+                    | {(w, True) for a, b, w in pos if v in (a, b)}
+                )
+            )
             for v in range(len(names))
         ),
     )
@@ -213,8 +228,9 @@ def plan(co: CompiledOac, seeded: frozenset[int]) -> tuple[Step, ...]:
         choice: tuple[int, int, int] | None = None
         best = -1
         for v in remaining:
-            links = [(b if a == v else a, w) for a, b, w in co.pos
-                     if v in (a, b) and (b if a == v else a) in bound]
+            links = [
+                (b if a == v else a, w) for a, b, w in co.pos if v in (a, b) and (b if a == v else a) in bound
+            ]
             if links and len(links) > best:
                 best, choice = len(links), (v, links[0][0], links[0][1])
         if choice is None:  # start a new component: the variable in most positive atoms
@@ -236,8 +252,9 @@ def plan(co: CompiledOac, seeded: frozenset[int]) -> tuple[Step, ...]:
     return result
 
 
-def seed_ok(co: CompiledOac, seed: Mapping[int, str], doms: list[frozenset[str]],
-            views: tuple[StateView, StateView]) -> bool:
+def seed_ok(
+    co: CompiledOac, seed: Mapping[int, str], doms: list[frozenset[str]], views: tuple[StateView, StateView]
+) -> bool:
     """True when a partial binding respects domains, injectivity and the atoms among its variables."""
     if len(set(seed.values())) != len(seed):
         return False

@@ -55,18 +55,24 @@ class Transient:
     objects: tuple[str, ...]
 
     def to_json(self) -> dict[str, object]:
-        return {"frame": int(self.keyframe.frame), "time_s": float(self.keyframe.time_s),
-                "duration_s": round(float(self.duration_s), 6), "in_flight": list(self.objects)}
+        return {
+            "frame": int(self.keyframe.frame),
+            "time_s": float(self.keyframe.time_s),
+            "duration_s": round(float(self.duration_s), 6),
+            "in_flight": list(self.objects),
+        }
 
 
-def agents_of(instance_classes: Mapping[str, Iterable[str]],
-              agent_class: str = AGENT_CLASS) -> frozenset[str]:
+def agents_of(
+    instance_classes: Mapping[str, Iterable[str]], agent_class: str = AGENT_CLASS
+) -> frozenset[str]:
     """The instances whose classes (inherited included) contain ``agent_class``."""
     return frozenset(i for i, classes in instance_classes.items() if agent_class in set(classes))
 
 
-def stable_segmentation(segmentation: Segmentation, is_agent: Callable[[str], bool],
-                        max_s: float = TRANSIENT_S) -> tuple[Segmentation, tuple[Transient, ...]]:
+def stable_segmentation(
+    segmentation: Segmentation, is_agent: Callable[[str], bool], max_s: float = TRANSIENT_S
+) -> tuple[Segmentation, tuple[Transient, ...]]:
     """``segmentation`` without its transient keyframes (see the module docstring), and those."""
     kfs = segmentation.keyframes
     if max_s <= 0 or len(kfs) < 3:
@@ -81,12 +87,17 @@ def stable_segmentation(segmentation: Segmentation, is_agent: Callable[[str], bo
             duration = kfs[k + 1].time_s - cur.time_s
             prev, nxt = kept[-1].state, kfs[k + 1].state
             changed = (prev.relations ^ cur.state.relations) | (cur.state.relations ^ nxt.relations)
-            flying = tuple(sorted(
-                x for x in cur.state.instances
-                if not is_agent(x) and cur.state.touches_nothing(x)
-                and not prev.touches_nothing(x) and not nxt.touches_nothing(x)
-                and all(x in r for r in changed)
-            ))
+            flying = tuple(
+                sorted(
+                    x
+                    for x in cur.state.instances
+                    if not is_agent(x)
+                    and cur.state.touches_nothing(x)
+                    and not prev.touches_nothing(x)
+                    and not nxt.touches_nothing(x)
+                    and all(x in r for r in changed)
+                )
+            )
             if duration < max_s and flying:
                 dropped.append(Transient(cur, duration, flying))
                 continue

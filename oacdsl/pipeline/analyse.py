@@ -95,8 +95,10 @@ def match_doc(matches: Sequence[SubActionMatch], matcher: Any = None) -> dict[st
                 if (x.oac.name, x.binding) in seen:
                     continue
                 entry = {"oac": x.oac.name, "binding": x.mapping, **bound_conditions(x.oac, x.mapping)}
-                entry["note"] = (f"only by the paper's rule: its conditions hold, but it explains"
-                                 f" {x.explained} of {x.changes} changed relations (not strict)")
+                entry["note"] = (
+                    f"only by the paper's rule: its conditions hold, but it explains"
+                    f" {x.explained} of {x.changes} changed relations (not strict)"
+                )
                 entry["rule"] = "paper"
                 doc["matches"].append(entry)
         if m.result.chosen is not None:  # a composed OAC of the library runs as several steps

@@ -61,8 +61,12 @@ def decimated(recording: Recording, max_frames: int = PLOT_FRAMES) -> Recording:
     step = max(1, -(-recording.n_frames // max_frames))
     if step == 1:
         return recording
-    return replace(recording, rate_hz=recording.rate_hz / step, times_s=recording.times_s[::step],
-                   positions_m=recording.positions_m[::step])
+    return replace(
+        recording,
+        rate_hz=recording.rate_hz / step,
+        times_s=recording.times_s[::step],
+        positions_m=recording.positions_m[::step],
+    )
 
 
 def keyframe_snapshots(recording: Recording, segmentation: Segmentation, folder: Path) -> list[str]:

@@ -151,12 +151,21 @@ def read_segmentation_json(path: Path) -> Segmentation:
     try:
         instances = tuple(str(i) for i in doc["instances"])
         keyframes = tuple(
-            Keyframe(int(k["frame"]), float(k["time_s"]),
-                     WorldState.of(instances, [(str(a), str(b)) for a, b in k["relations"]]))
+            Keyframe(
+                int(k["frame"]),
+                float(k["time_s"]),
+                WorldState.of(instances, [(str(a), str(b)) for a, b in k["relations"]]),
+            )
             for k in doc["keyframes"]
         )
-        return Segmentation(str(doc.get("recording", path)), float(doc["rate_hz"]), int(doc["frames"]),
-                            instances, keyframes, dict(doc.get("parameters", {})))
+        return Segmentation(
+            str(doc.get("recording", path)),
+            float(doc["rate_hz"]),
+            int(doc["frames"]),
+            instances,
+            keyframes,
+            dict(doc.get("parameters", {})),
+        )
     except (KeyError, TypeError, ValueError) as error:
         what = f"missing key {error}" if isinstance(error, KeyError) else str(error)
         raise InputError(f"not a segmentation (oacc segment --json): {what}", location=str(path)) from error
@@ -245,13 +254,16 @@ def load_inputs(
     seg: Segmentation | None = None
     if recording is None:
         if fmt or preset or allow_truncated:
-            raise UsageError("--format, --preset and --allow-truncated need a RECORDING"
-                             " (the bundled one needs none)")
+            raise UsageError(
+                "--format, --preset and --allow-truncated need a RECORDING (the bundled one needs none)"
+            )
         rec, source = bundled_recording()
     elif segmentations and Path(recording).suffix.lower() == ".json":
         if fmt or preset or allow_truncated:
-            raise UsageError(f"--format, --preset, --allow-truncated: these read a recording; {recording} is"
-                             " a segmentation already (.json)")
+            raise UsageError(
+                f"--format, --preset, --allow-truncated: these read a recording; {recording} is"
+                " a segmentation already (.json)"
+            )
         source = str(recording)
         seg = read_segmentation_json(Path(recording))
     else:

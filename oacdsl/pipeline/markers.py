@@ -240,8 +240,10 @@ class VirtualMarkers:
             return len(bodies) - 1
 
         for inst, side in sorted(world.layout.hands.items()):
-            parts = [(slot(b), _body_points(model, b, _hand_grip_face(model.body(b).name)))
-                     for b in world.hand_bodies[side]]
+            parts = [
+                (slot(b), _body_points(model, b, _hand_grip_face(model.body(b).name)))
+                for b in world.hand_bodies[side]
+            ]
             self._groups.append((inst, [p for p in parts if len(p[1])]))
         balls = [b.ball_radius for b in world.layout.bodies.values() if b.ball_radius > 0]
         ball_radius = max(balls, default=DEFAULT_BALL_RADIUS_M)

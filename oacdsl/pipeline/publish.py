@@ -232,8 +232,10 @@ def publish(staging: Path, out: Path, *, keep: int = KEEP_RUNS) -> list[Path]:
 
 def _prune(runs: Path, keep: int, newest: str) -> None:
     """Remove all but the ``keep`` newest runs (by name) and never ``newest``."""
-    names = sorted((p.name for p in runs.iterdir() if p.is_dir() and not p.is_symlink()),
-                   key=lambda n: n.removeprefix("legacy-"))
+    names = sorted(
+        (p.name for p in runs.iterdir() if p.is_dir() and not p.is_symlink()),
+        key=lambda n: n.removeprefix("legacy-"),
+    )
     for name in names[: max(0, len(names) - keep)]:
         if name != newest:
             shutil.rmtree(runs / name, ignore_errors=True)

@@ -28,6 +28,7 @@ from oacdsl.world import NOTHING
 
 __all__ = ["ExecuteStage", "VerifyStage", "execute_stage", "verify_stage"]
 
+
 @dataclass
 class ExecuteStage:
     result: Any  # oacdsl.runtime.RunResult
@@ -108,8 +109,10 @@ def execute_stage(
             p.name: {"x_m": round(p.x, 4), "y_m": round(p.y, 4), "from": layout.sources.get(p.name, "auto")}
             for p in layout.placements
         },
-        "contents": {liquid: {"in": c, "balls": layout.ball_count(liquid)}
-                     for liquid, c in sorted(layout.liquids.items())},
+        "contents": {
+            liquid: {"in": c, "balls": layout.ball_count(liquid)}
+            for liquid, c in sorted(layout.liquids.items())
+        },
     }
     if result.error:
         doc["error"] = result.error

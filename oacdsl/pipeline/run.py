@@ -178,8 +178,9 @@ def reproduce(
             try:
                 files = publish(staging, out)
             except OSError as error:
-                raise InputError(f"cannot move the report into place: {error.strerror or error}",
-                                 location=str(out)) from None
+                raise InputError(
+                    f"cannot move the report into place: {error.strerror or error}", location=str(out)
+                ) from None
         code = 0 if result["verdict"]["success"] else max(failure[1].exit_code if failure else 1, 1)
         return Outcome(code, result, files, warnings)
     finally:
@@ -332,4 +333,3 @@ def _record(
             command="reproduce",
         )
     result.put("reliability", reliability_doc(db))
-

@@ -33,14 +33,20 @@ def segment_section(r: Result, images: Images) -> str:
         chips = "".join(f"<span><b>{esc(k)}</b>{esc(v)}</span>" for k, v in s.parameters.items())
         out.append(f'<div class="chips">{chips}</div>')
     if s.plot:
-        out.append('<figure>' + images.tag(s.plot, "distances of the relevant marker pairs", "wide")
-                   + "<figcaption>Distances of the relevant marker pairs over time with the thresholds;"
-                   " keyframes as vertical lines (cf. the paper's Fig. 3).</figcaption></figure>")
+        out.append(
+            "<figure>"
+            + images.tag(s.plot, "distances of the relevant marker pairs", "wide")
+            + "<figcaption>Distances of the relevant marker pairs over time with the thresholds;"
+            " keyframes as vertical lines (cf. the paper's Fig. 3).</figcaption></figure>"
+        )
     if s.keyframes:
         png = relation_timeline_png([(k.time_s, k.relations) for k in s.keyframes], duration)
-        out.append('<figure>' + images.tag(png, "when each relation held", "wide")
-                   + "<figcaption>When each touching relation held; dotted lines are the keyframes"
-                   " K0, K1, ….</figcaption></figure>")
+        out.append(
+            "<figure>"
+            + images.tag(png, "when each relation held", "wide")
+            + "<figcaption>When each touching relation held; dotted lines are the keyframes"
+            " K0, K1, ….</figcaption></figure>"
+        )
     return "".join(out) + "</section>"
 
 
@@ -102,8 +108,12 @@ def _oac_cell(sub: SubActionDoc | None) -> str:
     box += "</div>"
     others = [x for k, x in enumerate(sub.matches) if k != sub.chosen]
     if others:
-        items = "".join(f"<li><span class=mono>{call(x.oac, x.binding)}</span>"
-                        + (f" — {esc(x.note)}" if x.note else "") + "</li>" for x in others[:RUNNERS_SHOWN])
+        items = "".join(
+            f"<li><span class=mono>{call(x.oac, x.binding)}</span>"
+            + (f" — {esc(x.note)}" if x.note else "")
+            + "</li>"
+            for x in others[:RUNNERS_SHOWN]
+        )
         more = f"<div>… and {len(others) - RUNNERS_SHOWN} more</div>" if len(others) > RUNNERS_SHOWN else ""
         box += f'<div class="runners">Also matched ({len(others)}):<ol>{items}</ol>{more}</div>'
     if sub.explanation:
@@ -126,12 +136,14 @@ def _robot_cell(r: Result, images: Images, step: int | None) -> str:
 
 
 def keyframes_section(r: Result, images: Images) -> str:
-    out = ['<section id="keyframes"><h2>Keyframes and matched OACs</h2>',
-           '<p class="lead">The paper\'s Fig. 4: each keyframe of the demonstration, its world state as a'
-           " graph (black: relation held on, <span style=\"color:#d62728\">red: new</span>,"
-           " grey dashed: ended),"
-           " the OAC matched to the sub-action that leads to it with its bound constraints and the other"
-           " matches, and the robot executing that OAC (when its prediction came true, else after it).</p>"]
+    out = [
+        '<section id="keyframes"><h2>Keyframes and matched OACs</h2>',
+        '<p class="lead">The paper\'s Fig. 4: each keyframe of the demonstration, its world state as a'
+        ' graph (black: relation held on, <span style="color:#d62728">red: new</span>,'
+        " grey dashed: ended),"
+        " the OAC matched to the sub-action that leads to it with its bound constraints and the other"
+        " matches, and the robot executing that OAC (when its prediction came true, else after it).</p>",
+    ]
     s = r.segment
     if s is None or not s.keyframes:
         return "".join(out) + not_run(r, "segment", "The keyframes") + "</section>"
@@ -141,32 +153,42 @@ def keyframes_section(r: Result, images: Images) -> str:
     for i, kf in enumerate(s.keyframes):
         before = s.keyframes[i - 1].relations if i else None
         graph = kf.graph or world_state_png(s.instances, kf.relations, before)
-        cell_kf = (f'<div class="kfn">K{i}</div>'
-                   f'<div class="small muted">frame {kf.frame} · {kf.time_s:.2f} s</div>')
+        cell_kf = (
+            f'<div class="kfn">K{i}</div><div class="small muted">frame {kf.frame} · {kf.time_s:.2f} s</div>'
+        )
         if kf.image:
             cell_kf += images.tag(kf.image, f"the demonstration at keyframe {i}", "snap")
         changes = ""
         if before is not None:
             new, gone = _pairs(kf.relations) - _pairs(before), _pairs(before) - _pairs(kf.relations)
-            changes = (f'<div class="rels">new: {rel_list(sorted(new))}</div>'
-                       f'<div class="rels">ended: {rel_list(sorted(gone))}</div>')
+            changes = (
+                f'<div class="rels">new: {rel_list(sorted(new))}</div>'
+                f'<div class="rels">ended: {rel_list(sorted(gone))}</div>'
+            )
         cell_graph = images.tag(graph, f"world state at keyframe {i}", "graph") + changes
         if i == 0:
-            cell_oac = (f'<div class="oacbox"><div class="call">initial world state</div>'
-                        f'<div class="cons">{rel_list(kf.relations, empty="nothing touches")}</div></div>')
+            cell_oac = (
+                f'<div class="oacbox"><div class="call">initial world state</div>'
+                f'<div class="cons">{rel_list(kf.relations, empty="nothing touches")}</div></div>'
+            )
             robot = '<span class="muted">not executed</span>'
             if r.run is not None:
-                robot = images.tag(r.run.frame, "the robot before execution", "frame",
-                                   missing="no rendered frame")
+                robot = images.tag(
+                    r.run.frame, "the robot before execution", "frame", missing="no rendered frame"
+                )
         else:
             sub = _sub_action_for(subs, i, list(s.keyframes)) if subs else None
             cell_oac = _oac_cell(sub)
             k = subs.index(sub) if sub is not None and sub in subs else None
             robot = _robot_cell(r, images, step_of[k] if k is not None and k < len(step_of) else None)
-        rows.append(f'<tr><td class="kf">{cell_kf}</td><td class="graph">{cell_graph}</td>'
-                    f'<td>{cell_oac}</td><td class="robot">{robot}</td></tr>')
-    out.append('<table class="fig4"><thead><tr><th>keyframe</th><th>world state</th><th>matched OAC and'
-               " constraints</th><th>robot</th></tr></thead><tbody>" + "".join(rows) + "</tbody></table>")
+        rows.append(
+            f'<tr><td class="kf">{cell_kf}</td><td class="graph">{cell_graph}</td>'
+            f'<td>{cell_oac}</td><td class="robot">{robot}</td></tr>'
+        )
+    out.append(
+        '<table class="fig4"><thead><tr><th>keyframe</th><th>world state</th><th>matched OAC and'
+        " constraints</th><th>robot</th></tr></thead><tbody>" + "".join(rows) + "</tbody></table>"
+    )
     return "".join(out) + "</section>"
 
 
@@ -189,10 +211,12 @@ def composed_section(r: Result, images: Images) -> str:
     c = r.compose
     if c is None:
         return "".join(out) + not_run(r, "compose", "The composed OAC") + "</section>"
-    out.append(f'<p class="lead">Algorithm 1 applied per relation: a precondition of a step belongs to'
-               f" <code>{esc(c.name)}</code> unless an earlier step established it; its effects are the"
-               " relations of the final world state that were not in the initial one, and the ones that"
-               " ended are kept as negative effects.</p>")
+    out.append(
+        f'<p class="lead">Algorithm 1 applied per relation: a precondition of a step belongs to'
+        f" <code>{esc(c.name)}</code> unless an earlier step established it; its effects are the"
+        " relations of the final world state that were not in the initial one, and the ones that"
+        " ended are kept as negative effects.</p>"
+    )
     if c.text:
         out.append(f"<pre>{highlight_oac(c.text.rstrip())}</pre>")
     if c.file:
@@ -200,15 +224,21 @@ def composed_section(r: Result, images: Images) -> str:
     rows = []
     for kind, pairs in (("pre", c.pre), ("effect", c.effect), ("ended", c.ended)):
         for p in pairs:
-            prov = next((x for x in c.provenance
-                         if x.kind == kind and _pairs([x.relation]) == _pairs([p])), None)
+            prov = next(
+                (x for x in c.provenance if x.kind == kind and _pairs([x.relation]) == _pairs([p])), None
+            )
             by, at = _where(r, prov.step if prov else None, prov.keyframe if prov else None)
             note = f'<div class="small muted">{esc(prov.note)}</div>' if prov and prov.note else ""
-            rows.append(f"<tr><td>{esc(kind)}</td><td>{rel(p, negated=kind == 'ended')}</td>"
-                        f"<td>{by}{note}</td><td>{at}</td></tr>")
-    out.append("<h3>Preconditions and effects, with provenance</h3><table><thead><tr><th>kind</th>"
-               "<th>relation</th><th>from</th><th>keyframe</th></tr></thead><tbody>" + "".join(rows)
-               + "</tbody></table>")
+            rows.append(
+                f"<tr><td>{esc(kind)}</td><td>{rel(p, negated=kind == 'ended')}</td>"
+                f"<td>{by}{note}</td><td>{at}</td></tr>"
+            )
+    out.append(
+        "<h3>Preconditions and effects, with provenance</h3><table><thead><tr><th>kind</th>"
+        "<th>relation</th><th>from</th><th>keyframe</th></tr></thead><tbody>"
+        + "".join(rows)
+        + "</tbody></table>"
+    )
     steps = "".join(f"<li><span class=mono>{call(s.oac, s.binding)}</span></li>" for s in c.steps)
     out.append(f"<h3>Steps</h3><ol>{steps}</ol>")
     return "".join(out) + "</section>"

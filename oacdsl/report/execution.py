@@ -27,8 +27,13 @@ def compare_step(step: RunStepDoc, previous: Sequence[Sequence[str]] | None) -> 
     rows: list[tuple[Pair, str, str]] = []
     for p in step.predicted:
         ok = holds(p, step.observed)
-        rows.append((_key(p) if NOTHING not in p else (p[0], p[1]), "ok" if ok else "bad",
-                     "predicted, observed" if ok else "predicted, not observed"))
+        rows.append(
+            (
+                _key(p) if NOTHING not in p else (p[0], p[1]),
+                "ok" if ok else "bad",
+                "predicted, observed" if ok else "predicted, not observed",
+            )
+        )
     for p in step.predicted_not:
         ok = not holds(p, step.observed)
         note = "predicted to end, ended" if ok else "predicted to end, still holds"
@@ -65,10 +70,12 @@ def execution_section(r: Result, images: Images) -> str:
         return "".join(out) + not_run(r, "execute", "The robot's execution") + "</section>"
     ok = sum(1 for s in run.steps if s.success)
     verdict = badge("success", "ok") if run.success else badge("failed", "bad")
-    out.append(f'<p class="lead">ARMAR-III in MuJoCo executed <code>{esc(run.oac)}</code>: {ok} of'
-               f" {len(run.steps)} steps succeeded {verdict}."
-               " After every step the touching relations observed in the simulation are compared with the"
-               " OAC's prediction.</p>")
+    out.append(
+        f'<p class="lead">ARMAR-III in MuJoCo executed <code>{esc(run.oac)}</code>: {ok} of'
+        f" {len(run.steps)} steps succeeded {verdict}."
+        " After every step the touching relations observed in the simulation are compared with the"
+        " OAC's prediction.</p>"
+    )
     m = run.metrics
     facts = []
     if "balls_in_bowl" in m and "balls_total" in m:
@@ -98,26 +105,36 @@ def execution_section(r: Result, images: Images) -> str:
         shot = "shot"
         if s.moment:  # the moment the prediction came true, and the end of the step, side by side
             shot = "shot two"
-            pic = ('<div class="pair"><div>'
-                   + images.tag(s.moment, f"the robot as step {i + 1} makes its change", "frame")
-                   + '<div class="small muted">prediction comes true</div></div><div>' + pic
-                   + '<div class="small muted">end of the step</div></div></div>')
+            pic = (
+                '<div class="pair"><div>'
+                + images.tag(s.moment, f"the robot as step {i + 1} makes its change", "frame")
+                + '<div class="small muted">prediction comes true</div></div><div>'
+                + pic
+                + '<div class="small muted">end of the step</div></div></div>'
+            )
         state = badge("ok", "ok") if s.success else badge("failed", "bad")
         err = f'<div class="err">{esc(s.error)}</div>' if s.error else ""
-        rows.append(f'<tr class="{"" if s.success else "bad"}"><td class=num>{i + 1}</td>'
-                    f'<td class="{shot}">{pic}</td>'
-                    f'<td><div class="call mono">{call(s.oac, s.binding)}</div>{state}{err}</td>'
-                    f"<td>{_comparison(s, previous)}</td><td class=num>{seconds(s.duration_s)}</td></tr>")
+        rows.append(
+            f'<tr class="{"" if s.success else "bad"}"><td class=num>{i + 1}</td>'
+            f'<td class="{shot}">{pic}</td>'
+            f'<td><div class="call mono">{call(s.oac, s.binding)}</div>{state}{err}</td>'
+            f"<td>{_comparison(s, previous)}</td><td class=num>{seconds(s.duration_s)}</td></tr>"
+        )
         previous = s.observed
-    out.append('<table><thead><tr><th class=num>#</th><th>the robot</th><th>step</th>'
-               "<th>predicted vs observed</th><th class=num>time</th></tr></thead><tbody>" + "".join(rows)
-               + "</tbody></table>")
+    out.append(
+        "<table><thead><tr><th class=num>#</th><th>the robot</th><th>step</th>"
+        "<th>predicted vs observed</th><th class=num>time</th></tr></thead><tbody>"
+        + "".join(rows)
+        + "</tbody></table>"
+    )
     return "".join(out) + "</section>"
 
 
 def _cards(facts: list[tuple[str, str]]) -> str:
-    cards = "".join(f'<div class="card"><div class="v">{esc(v)}</div><div class="k">{esc(k)}</div></div>'
-                    for k, v in facts)
+    cards = "".join(
+        f'<div class="card"><div class="v">{esc(v)}</div><div class="k">{esc(k)}</div></div>'
+        for k, v in facts
+    )
     return f'<div class="cards">{cards}</div>'
 
 
@@ -134,17 +151,25 @@ def _change(c: ChangeDoc | None) -> str:
 
 
 def verification_section(r: Result, images: Images) -> str:
-    out = ['<section id="verification"><h2>Closed-loop verification</h2>',
-           '<p class="lead">The robot\'s own execution, recorded with virtual markers and segmented by the'
-           " same AAS, compared with the demonstration: each keyframe transition is a change (relations added"
-           " and removed); the two sequences of changes are aligned with the Levenshtein distance.</p>"]
+    out = [
+        '<section id="verification"><h2>Closed-loop verification</h2>',
+        '<p class="lead">The robot\'s own execution, recorded with virtual markers and segmented by the'
+        " same AAS, compared with the demonstration: each keyframe transition is a change (relations added"
+        " and removed); the two sequences of changes are aligned with the Levenshtein distance.</p>",
+    ]
     v = r.verification
     if v is None:
         return "".join(out) + not_run(r, "verify", "The verification") + "</section>"
-    out.append(f'<div class="verdict {"ok" if v.verified else "fail"}"><div class="big">'
-               f'{"✔" if v.verified else "✘"} {esc(v.verdict)}</div></div>')
-    facts = [("edit distance", str(v.distance)), ("fidelity", f"{100 * v.fidelity:.0f} %"),
-             ("demonstration changes", str(len(v.demonstration))), ("robot changes", str(len(v.robot)))]
+    out.append(
+        f'<div class="verdict {"ok" if v.verified else "fail"}"><div class="big">'
+        f"{'✔' if v.verified else '✘'} {esc(v.verdict)}</div></div>"
+    )
+    facts = [
+        ("edit distance", str(v.distance)),
+        ("fidelity", f"{100 * v.fidelity:.0f} %"),
+        ("demonstration changes", str(len(v.demonstration))),
+        ("robot changes", str(len(v.robot))),
+    ]
     if v.relation_distance is not None:
         facts.insert(1, ("relation-level distance", str(v.relation_distance)))
     facts.append(("initial states", "equal" if v.initial.equal else "differ"))
@@ -169,37 +194,50 @@ def verification_section(r: Result, images: Images) -> str:
     out.append('<table class="align"><thead><tr><th class=num>#</th><th>demonstration</th><th></th>'
                "<th>robot</th></tr></thead><tbody>" + "".join(rows) + "</tbody></table>")
     if v.plot:
-        out.append("<figure>" + images.tag(v.plot, "the robot's recording", "wide")
-                   + "<figcaption>The robot's execution segmented by the AAS.</figcaption></figure>")
+        out.append(
+            "<figure>"
+            + images.tag(v.plot, "the robot's recording", "wide")
+            + "<figcaption>The robot's execution segmented by the AAS.</figcaption></figure>"
+        )
     return "".join(out) + "</section>"
 
 
 def reliability_section(r: Result) -> str:
-    out = ['<section id="reliability"><h2>OAC reliability</h2>',
-           '<p class="lead">The OAC\'s success measure (Krüger\'s third element): every execution\'s outcome'
-           " is kept in the run store; the rate's 95 % interval is the Wilson score interval"
-           " (band: interval; mark: rate).</p>"]
+    out = [
+        '<section id="reliability"><h2>OAC reliability</h2>',
+        "<p class=\"lead\">The OAC's success measure (Krüger's third element): every execution's outcome"
+        " is kept in the run store; the rate's 95 % interval is the Wilson score interval"
+        " (band: interval; mark: rate).</p>",
+    ]
     rel_doc = r.reliability
     if rel_doc is None or not rel_doc.oacs:
         return "".join(out) + '<p class="muted">No recorded runs.</p></section>'
     rows = []
     for x in rel_doc.oacs:
-        bar = (f'<div class="bar"><div class="ci" style="left:{100 * x.ci_low:.1f}%;'
-               f'width:{100 * (x.ci_high - x.ci_low):.1f}%"></div>'
-               f'<div class="pt" style="left:{100 * x.rate:.1f}%"></div></div>')
+        bar = (
+            f'<div class="bar"><div class="ci" style="left:{100 * x.ci_low:.1f}%;'
+            f'width:{100 * (x.ci_high - x.ci_low):.1f}%"></div>'
+            f'<div class="pt" style="left:{100 * x.rate:.1f}%"></div></div>'
+        )
         fail = esc(x.last_failure) if x.last_failure else '<span class="muted">—</span>'
         when = f'<div class="small muted">{esc(x.last_failure_utc)}</div>' if x.last_failure_utc else ""
-        rows.append(f"<tr><td class=mono>{esc(x.oac)}</td><td class=num>{x.runs}</td>"
-                    f"<td class=num>{x.successes}</td><td class=num>{100 * x.rate:.0f} %</td>"
-                    f'<td style="width:18%">{bar}</td>'
-                    f'<td class="num small">{100 * x.ci_low:.0f}–{100 * x.ci_high:.0f} %</td>'
-                    f"<td class=num>{seconds(x.median_duration_s)}</td>"
-                    f"<td class=small>{fail}{when}</td></tr>")
-    out.append("<table><thead><tr><th>OAC</th><th class=num>runs</th><th class=num>ok</th>"
-               "<th class=num>rate</th><th></th><th class=num>95 % interval</th>"
-               "<th class=num>median time</th><th>last failure</th>"
-               "</tr></thead><tbody>" + "".join(rows) + "</tbody></table>")
+        rows.append(
+            f"<tr><td class=mono>{esc(x.oac)}</td><td class=num>{x.runs}</td>"
+            f"<td class=num>{x.successes}</td><td class=num>{100 * x.rate:.0f} %</td>"
+            f'<td style="width:18%">{bar}</td>'
+            f'<td class="num small">{100 * x.ci_low:.0f}–{100 * x.ci_high:.0f} %</td>'
+            f"<td class=num>{seconds(x.median_duration_s)}</td>"
+            f"<td class=small>{fail}{when}</td></tr>"
+        )
+    out.append(
+        "<table><thead><tr><th>OAC</th><th class=num>runs</th><th class=num>ok</th>"
+        "<th class=num>rate</th><th></th><th class=num>95 % interval</th>"
+        "<th class=num>median time</th><th>last failure</th>"
+        "</tr></thead><tbody>" + "".join(rows) + "</tbody></table>"
+    )
     if rel_doc.db:
-        out.append(f'<p class="small muted">Run store: <code>{esc(rel_doc.db)}</code>'
-                   " (<code>oacc stats</code> shows it).</p>")
+        out.append(
+            f'<p class="small muted">Run store: <code>{esc(rel_doc.db)}</code>'
+            " (<code>oacc stats</code> shows it).</p>"
+        )
     return "".join(out) + "</section>"

@@ -23,8 +23,18 @@ if TYPE_CHECKING:
 
 __all__ = ["instance_colour", "marker_snapshot_png", "relation_timeline_png", "save_png", "world_state_png"]
 
-_PALETTE = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
-            "#bcbd22", "#17becf"]
+_PALETTE = [
+    "#1f77b4",
+    "#ff7f0e",
+    "#2ca02c",
+    "#d62728",
+    "#9467bd",
+    "#8c564b",
+    "#e377c2",
+    "#7f7f7f",
+    "#bcbd22",
+    "#17becf",
+]
 NEW = "#d62728"
 ENDED = "#9a9a9a"
 KEPT = "#222222"
@@ -79,8 +89,9 @@ def world_state_png(
 
 
 @functools.lru_cache(maxsize=128)
-def _world_state(instances: tuple[str, ...], now: frozenset[Pair], old: frozenset[Pair] | None,
-                 title: str | None) -> bytes:
+def _world_state(
+    instances: tuple[str, ...], now: frozenset[Pair], old: frozenset[Pair] | None, title: str | None
+) -> bytes:
     """Cached: a report draws the same graphs again when it is re-rendered."""
     if old is None:
         old = now
@@ -107,14 +118,30 @@ def _world_state(instances: tuple[str, ...], now: frozenset[Pair], old: frozense
             ax.plot([x0, x1], [y0, y1], color=ENDED, lw=1.8, ls=(0, (2, 2)), zorder=1)
     for name, (x, y) in pos.items():
         touching = any(name in p for p in now)
-        ax.scatter([x], [y], s=150, color=instance_colour(instances, name), zorder=2,
-                   edgecolors=KEPT if touching else "white", linewidths=1.4)
+        ax.scatter(
+            [x],
+            [y],
+            s=150,
+            color=instance_colour(instances, name),
+            zorder=2,
+            edgecolors=KEPT if touching else "white",
+            linewidths=1.4,
+        )
         r = math.hypot(x, y) or 1.0
         lx, ly = x + 0.2 * x / r, y + 0.2 * y / r
         ha = "center" if abs(x) < 0.3 else ("left" if x > 0 else "right")
         va = "center" if abs(x) >= 0.3 else ("bottom" if y > 0 else "top")
-        ax.text(lx, ly, name.replace("_", "\n", 1), ha=ha, va=va, fontsize=8.5, color="#333333", zorder=3,
-                linespacing=0.95)
+        ax.text(
+            lx,
+            ly,
+            name.replace("_", "\n", 1),
+            ha=ha,
+            va=va,
+            fontsize=8.5,
+            color="#333333",
+            zorder=3,
+            linespacing=0.95,
+        )
     if title:
         fig.suptitle(title, fontsize=9, y=0.985)
     return _png(fig)
@@ -137,8 +164,12 @@ def relation_timeline_png(
 
 
 @functools.lru_cache(maxsize=16)
-def _timeline(keyframes: tuple[tuple[float, tuple[Pair, ...]], ...], end_s: float,
-              labels: tuple[str, ...] | None, title: str | None) -> bytes:
+def _timeline(
+    keyframes: tuple[tuple[float, tuple[Pair, ...]], ...],
+    end_s: float,
+    labels: tuple[str, ...] | None,
+    title: str | None,
+) -> bytes:
     rows: list[Pair] = []
     for _, rels in keyframes:
         for p in rels:
@@ -205,9 +236,18 @@ def marker_snapshot_png(
         else:
             near[1].append(name)
     for c, group in labels:
-        ax.annotate("\n".join(n.replace("_", " ") for n in group), (c[0], c[1]), xytext=(0, 6),
-                    textcoords="offset points", fontsize=7, ha="center", va="bottom", color="#333333",
-                    linespacing=0.95, zorder=3)
+        ax.annotate(
+            "\n".join(n.replace("_", " ") for n in group),
+            (c[0], c[1]),
+            xytext=(0, 6),
+            textcoords="offset points",
+            fontsize=7,
+            ha="center",
+            va="bottom",
+            color="#333333",
+            linespacing=0.95,
+            zorder=3,
+        )
     if groups:
         allp = np.concatenate(list(groups.values()))
         lo, hi = allp.min(axis=0), allp.max(axis=0)
@@ -223,9 +263,15 @@ def marker_snapshot_png(
 def _rounded_box(ax: Any, lo: Any, hi: Any, pad: float) -> Any:
     from matplotlib.patches import FancyBboxPatch
 
-    return FancyBboxPatch((lo[0] - pad / 2, lo[1] - pad / 3), hi[0] - lo[0] + pad, hi[1] - lo[1] + pad,
-                          boxstyle=f"round,pad=0,rounding_size={pad / 2}", facecolor="#f4f6f9",
-                          edgecolor="#dde2e8", zorder=0)
+    return FancyBboxPatch(
+        (lo[0] - pad / 2, lo[1] - pad / 3),
+        hi[0] - lo[0] + pad,
+        hi[1] - lo[1] + pad,
+        boxstyle=f"round,pad=0,rounding_size={pad / 2}",
+        facecolor="#f4f6f9",
+        edgecolor="#dde2e8",
+        zorder=0,
+    )
 
 
 def save_png(data: bytes, path: str | os.PathLike[str]) -> Path:

@@ -23,8 +23,14 @@ __all__ = [
     "seconds",
 ]
 
-_MIME = {".png": "image/png", ".jpg": "image/jpeg", ".jpeg": "image/jpeg", ".gif": "image/gif",
-         ".svg": "image/svg+xml", ".webp": "image/webp"}
+_MIME = {
+    ".png": "image/png",
+    ".jpg": "image/jpeg",
+    ".jpeg": "image/jpeg",
+    ".gif": "image/gif",
+    ".svg": "image/svg+xml",
+    ".webp": "image/webp",
+}
 
 
 #: URL schemes a link of the page may use; anything else (javascript:, data:, …) is not linked.
@@ -99,7 +105,7 @@ def highlight_oac(text: str) -> str:
     """``.oac`` source as escaped HTML with keywords, comments, strings and ``<->`` marked."""
     out, pos = [], 0
     for m in _TOKEN.finditer(text):
-        out.append(esc(text[pos:m.start()]))
+        out.append(esc(text[pos : m.start()]))
         kind = m.lastgroup or "kw"
         out.append(f'<span class="{kind}">{esc(m.group())}</span>')
         pos = m.end()

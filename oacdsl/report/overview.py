@@ -79,7 +79,8 @@ def _stages(r: Result) -> str:
         '<h3>Stages</h3><table class="stages"><thead>'
         "<tr><th class=num>#</th><th>stage</th><th>status</th>"
         "<th class=num>time</th><th></th><th>detail</th></tr></thead><tbody>"
-        + "".join(rows) + "</tbody></table>"
+        + "".join(rows)
+        + "</tbody></table>"
     )
 
 

@@ -39,18 +39,20 @@ def render_html(
     """
     r = validate_result(result, source=source)
     images = Images(Path(base_dir) if base_dir is not None else None)
-    body = "".join([
-        header(r),
-        segment_section(r, images),
-        keyframes_section(r, images),
-        composed_section(r, images),
-        execution_section(r, images),
-        verification_section(r, images),
-        reliability_section(r),
-        footer(r),
-    ])
+    body = "".join(
+        [
+            header(r),
+            segment_section(r, images),
+            keyframes_section(r, images),
+            composed_section(r, images),
+            execution_section(r, images),
+            verification_section(r, images),
+            reliability_section(r),
+            footer(r),
+        ]
+    )
     page = (
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+        '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
         '<meta name="viewport" content="width=device-width, initial-scale=1">'
         f'<meta name="generator" content="oacdsl {esc(r.oacdsl_version or "")}">'
         f"<title>{esc(title_of(r))} · oacdsl report</title><style>{CSS}</style></head>"

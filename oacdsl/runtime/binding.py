@@ -61,8 +61,10 @@ class Step:
     @property
     def given(self) -> dict[str, float]:
         """The parameters the OAC or the calling step set (SI), without the skill's defaults."""
-        return {p.name: language_si(p.value.value, p.value.unit)[0]
-                for p in (*self.oac.skill_params, *self.overrides)}
+        return {
+            p.name: language_si(p.value.value, p.value.unit)[0]
+            for p in (*self.oac.skill_params, *self.overrides)
+        }
 
 
 @dataclass(frozen=True)
@@ -148,7 +150,12 @@ def expand(library: Library, oac: Oac, binding: Mapping[str, str]) -> tuple[list
 
 
 def _expand(
-    library: Library, oac: Oac, binding: dict[str, str], depth: int, steps: list[Step], calls: list[Call],
+    library: Library,
+    oac: Oac,
+    binding: dict[str, str],
+    depth: int,
+    steps: list[Step],
+    calls: list[Call],
     overrides: tuple[SkillParam, ...] = (),
 ) -> None:
     if depth > _MAX_DEPTH:
@@ -157,8 +164,10 @@ def _expand(
         steps.append(Step(oac, binding, overrides))
         return
     if overrides:  # E047 for the compiler: a composed OAC runs no skill of its own
-        raise RuntimeFailure(f"oac {oac.name} is composed: a step calling it takes no skill parameters"
-                             f" ({', '.join(p.name for p in overrides)})")
+        raise RuntimeFailure(
+            f"oac {oac.name} is composed: a step calling it takes no skill parameters"
+            f" ({', '.join(p.name for p in overrides)})"
+        )
     index, first = len(calls), len(steps)
     calls.append(Call(oac, binding, first, first, depth))  # its last step is known below
     for call in oac.steps or ():

@@ -157,7 +157,14 @@ def plan_layout(
         sources.setdefault(name, "auto")
     placements = tuple(Placement(n, bodies[n], placed[n][0], placed[n][1]) for n in names)
     return Layout(
-        scene.name, placements, liquids, hands, table or ROLE_TABLE, seed, bodies=bodies, balls=counts,
+        scene.name,
+        placements,
+        liquids,
+        hands,
+        table or ROLE_TABLE,
+        seed,
+        bodies=bodies,
+        balls=counts,
         sources=sources,
     )
 
@@ -262,8 +269,10 @@ def _liquids(
             )
     unknown = sorted(set(counts) - set(liquid_names))
     if unknown:
-        raise RuntimeFailure(f"cannot give balls to {unknown[0]!r}: not a liquid of the scene"
-                             f"{did_you_mean(unknown[0], liquid_names)}")
+        raise RuntimeFailure(
+            f"cannot give balls to {unknown[0]!r}: not a liquid of the scene"
+            f"{did_you_mean(unknown[0], liquid_names)}"
+        )
     return contents, counts
 
 

@@ -239,7 +239,6 @@ def collisions_text() -> str:
     return json.dumps(pairs, indent=1) + "\n"
 
 
-
 def write_urdf(path: Path = URDF_PATH) -> Path:
     """Write :func:`urdf_text` to ``path`` and :func:`collisions_text` next to it, atomically."""
     write_atomic(path, urdf_text())

@@ -49,18 +49,24 @@ def check_work(recording: Recording, frames: int | None = None) -> None:
     (``n``, when given explicitly) longer than the recording."""
     where = recording.source
     if frames is not None and frames > recording.n_frames:
-        raise SegmentationError(f"frames n = {frames} is more than the recording's {recording.n_frames}"
-                                " frames", location=where)
+        raise SegmentationError(
+            f"frames n = {frames} is more than the recording's {recording.n_frames} frames", location=where
+        )
     hint = "group the markers (--preset, --scene) or segment a shorter part"
     if len(recording.groups) > MAX_INSTANCES:
-        raise SegmentationError(f"{len(recording.groups)} marker groups (instances), more than the"
-                                f" {MAX_INSTANCES} a segmentation takes; {hint}", location=where)
+        raise SegmentationError(
+            f"{len(recording.groups)} marker groups (instances), more than the"
+            f" {MAX_INSTANCES} a segmentation takes; {hint}",
+            location=where,
+        )
     sizes = [len(set(idx)) for idx in recording.groups.values()]
     pairs = (sum(sizes) ** 2 - sum(k * k for k in sizes)) // 2
     if pairs * recording.n_frames > MAX_PAIR_FRAMES:
-        raise SegmentationError(f"{pairs} marker pairs × {recording.n_frames} frames is more than the"
-                                f" {MAX_PAIR_FRAMES:.0e} pair-frames a segmentation examines; {hint}",
-                                location=where)
+        raise SegmentationError(
+            f"{pairs} marker pairs × {recording.n_frames} frames is more than the"
+            f" {MAX_PAIR_FRAMES:.0e} pair-frames a segmentation examines; {hint}",
+            location=where,
+        )
 
 
 def segment(
@@ -86,8 +92,10 @@ def segment(
     times = np.asarray(recording.times_s, dtype=np.float64)
     if times.size > 1 and not np.all(np.diff(times) > 0):
         bad = int(np.flatnonzero(np.diff(times) <= 0)[0]) + 1
-        raise SegmentationError(f"frame times must increase; frame {bad} is at or before frame {bad - 1}",
-                                location=recording.source)
+        raise SegmentationError(
+            f"frame times must increase; frame {bad} is at or before frame {bad - 1}",
+            location=recording.source,
+        )
     det = detector if detector is not None else make_detector(params)
     table = PairTable.of(recording)
     frames, which, values = _changes(recording, table, det, chunk_frames, progress)
@@ -134,8 +142,9 @@ def _changes(
                 near = geometry.lower_bounds(x) <= det.reach_m + BOUND_MARGIN_M
             blocks = np.flatnonzero(near | tracker.touching)
         pairs, dist = geometry.distances(x, blocks)
-        chunk = DistanceChunk(start, stop, start - lo, recording.times_s[lo:stop], pairs, dist,
-                              recording.positions_m[lo:stop])
+        chunk = DistanceChunk(
+            start, stop, start - lo, recording.times_s[lo:stop], pairs, dist, recording.positions_m[lo:stop]
+        )
         changed = tracker.apply(det.step(chunk))
         if changed[0].size:
             found.append(changed)
@@ -144,5 +153,8 @@ def _changes(
     if not found:
         empty = np.zeros(0, dtype=np.intp)
         return empty, empty.copy(), np.zeros(0, dtype=bool)
-    return (np.concatenate([f[0] for f in found]), np.concatenate([f[1] for f in found]),
-            np.concatenate([f[2] for f in found]))
+    return (
+        np.concatenate([f[0] for f in found]),
+        np.concatenate([f[1] for f in found]),
+        np.concatenate([f[2] for f in found]),
+    )

@@ -113,9 +113,15 @@ class AdaptiveDetector:
         self.reach_m = max(by_distance)
         self._near_bins = self._index_near(found.closest, n_q, recording.n_frames)
         tools = tool_contacts(
-            table, recording.n_frames, recording.rate_hz, {q: spans for q, (spans, _) in learned.items()},
-            found.closest, agents_of(table.instances, self.settings.agent_pattern), self.params.distance_m,
-            self.settings.tool_dwell_s, self.settings.tool_bridge_s,
+            table,
+            recording.n_frames,
+            recording.rate_hz,
+            {q: spans for q, (spans, _) in learned.items()},
+            found.closest,
+            agents_of(table.instances, self.settings.agent_pattern),
+            self.params.distance_m,
+            self.settings.tool_dwell_s,
+            self.settings.tool_bridge_s,
         )
         last = recording.n_frames - 1
         collected: dict[int, list[tuple[int, int, int]]] = {}
@@ -130,8 +136,9 @@ class AdaptiveDetector:
                     elif off > on:
                         events += [(on, kind, 1), (off, kind, 0)]
                 collected.setdefault(q, []).extend(events)
-        self._events = {q: np.asarray(sorted(e), dtype=np.intp).reshape(-1, 3)
-                        for q, e in collected.items() if e}
+        self._events = {
+            q: np.asarray(sorted(e), dtype=np.intp).reshape(-1, 3) for q, e in collected.items() if e
+        }
         # all events as (E, 4) [causal frame, kind, on?, block], sorted by frame: a chunk slices its own
         rows = [np.column_stack([e, np.full(len(e), q, dtype=np.intp)]) for q, e in self._events.items()]
         merged = np.concatenate(rows) if rows else np.zeros((0, 4), dtype=np.intp)
@@ -166,7 +173,7 @@ class AdaptiveDetector:
         touching. ``None``: not known, use the broad phase."""
         if self._near_bins is None or self._table is None or self._inner is None:
             return None
-        near = self._near_bins[:, lo // _NEAR_BIN:(stop - 1) // _NEAR_BIN + 1].any(axis=1) | touching
+        near = self._near_bins[:, lo // _NEAR_BIN : (stop - 1) // _NEAR_BIN + 1].any(axis=1) | touching
         near[self._table.block[np.flatnonzero(self._inner.state)]] = True
         return np.flatnonzero(near)
 
@@ -206,7 +213,10 @@ class AdaptiveDetector:
                     out_pairs.append(np.array([self._heads[q]]))
                     out_frames.append(np.array([f]))
                     out_values.append(np.array([state]))
-        pairs, frames, values = (np.concatenate(out_pairs), np.concatenate(out_frames),
-                                 np.concatenate(out_values).astype(bool))
+        pairs, frames, values = (
+            np.concatenate(out_pairs),
+            np.concatenate(out_frames),
+            np.concatenate(out_values).astype(bool),
+        )
         order = np.lexsort((frames, pairs))
         return PairChanges(pairs[order].astype(np.intp), frames[order].astype(np.intp), values[order])

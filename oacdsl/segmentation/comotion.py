@@ -98,8 +98,9 @@ class CoMotion(NamedTuple):
     closest: dict[int, np.ndarray]
 
 
-def comotion(recording: Recording, table: PairTable, params: AasParams,
-             settings: AdaptiveSettings) -> CoMotion:
+def comotion(
+    recording: Recording, table: PairTable, params: AasParams, settings: AdaptiveSettings
+) -> CoMotion:
     """Co-motion episodes, grown into touching intervals, and each pair's learned distance."""
     signals = _scan(recording, table, params, settings)
     _prune_indirect(signals, table)
@@ -119,8 +120,9 @@ def comotion(recording: Recording, table: PairTable, params: AasParams,
     return CoMotion(out, {q: dmin for q, (dmin, _) in signals.items()})
 
 
-def _scan(recording: Recording, table: PairTable, params: AasParams,
-          settings: AdaptiveSettings) -> dict[int, tuple[np.ndarray, np.ndarray]]:
+def _scan(
+    recording: Recording, table: PairTable, params: AasParams, settings: AdaptiveSettings
+) -> dict[int, tuple[np.ndarray, np.ndarray]]:
     """Per instance pair that comes within reach: closest distance (F,) and co-motion frames (F,)."""
     n_frames, n_q = recording.n_frames, table.n_instance_pairs
     if n_q == 0 or n_frames < 2:
@@ -129,8 +131,10 @@ def _scan(recording: Recording, table: PairTable, params: AasParams,
     lag = settings.frames(settings.lag_s, recording.rate_hz)
     reach = params.distance_m * (1 + settings.margin)
     times = np.asarray(recording.times_s, dtype=np.float64)
-    groups = [table.marker_order[a:b] for a, b in zip(table.marker_offsets[:-1], table.marker_offsets[1:],
-                                                       strict=True)]
+    groups = [
+        table.marker_order[a:b]
+        for a, b in zip(table.marker_offsets[:-1], table.marker_offsets[1:], strict=True)
+    ]
     dmin: dict[int, np.ndarray] = {}
     carry: dict[int, np.ndarray] = {}
     for start in range(0, n_frames, _SCAN_FRAMES):
@@ -153,7 +157,7 @@ def _scan(recording: Recording, table: PairTable, params: AasParams,
         offsets = np.concatenate([[0], np.cumsum(sizes)[:-1]])  # rows of each block in `dist`
         out = slice(start - lo, stop - lo)
         for k, q in enumerate(blocks):
-            d = dist[offsets[k]:offsets[k] + sizes[k]]  # (P_q, R), frames lo..stop-1
+            d = dist[offsets[k] : offsets[k] + sizes[k]]  # (P_q, R), frames lo..stop-1
             with np.errstate(invalid="ignore"):
                 closest = np.fmin.reduce(d, axis=0)
                 a, b = table.instance_pairs[q]
@@ -194,17 +198,19 @@ def _prune_indirect(signals: dict[int, tuple[np.ndarray, np.ndarray]], table: Pa
                 carry &= ~(np.fmax(signals[q1][0], signals[q2][0]) < dmin)
 
 
-def _instance_speeds(recording: Recording, groups: list[np.ndarray], rows: np.ndarray, prev: np.ndarray,
-                     dt: np.ndarray) -> list[np.ndarray]:
+def _instance_speeds(
+    recording: Recording, groups: list[np.ndarray], rows: np.ndarray, prev: np.ndarray, dt: np.ndarray
+) -> list[np.ndarray]:
     """Per instance (table order), the median marker speed at ``rows`` (m/s; NaN in gaps)."""
     lag = int(rows[0] - prev[0])
     if rows[0] >= lag > 0 and np.array_equal(prev, rows - lag):  # a plain slice, no gather
-        before = recording.positions_m[rows[0] - lag:rows[-1] + 1 - lag]
+        before = recording.positions_m[rows[0] - lag : rows[-1] + 1 - lag]
     else:
         before = recording.positions_m[prev]
-    diff = recording.positions_m[rows[0]:rows[-1] + 1] - before  # (R, M, 3)
-    step = np.sqrt(diff[..., 0] * diff[..., 0] + diff[..., 1] * diff[..., 1]
-                   + diff[..., 2] * diff[..., 2])  # (R, M) metres, as np.linalg.norm(diff, axis=-1)
+    diff = recording.positions_m[rows[0] : rows[-1] + 1] - before  # (R, M, 3)
+    step = np.sqrt(
+        diff[..., 0] * diff[..., 0] + diff[..., 1] * diff[..., 1] + diff[..., 2] * diff[..., 2]
+    )  # (R, M) metres, as np.linalg.norm(diff, axis=-1)
     return [_nanmedian_last(step[:, m]) / dt for m in groups]
 
 

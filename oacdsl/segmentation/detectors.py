@@ -91,8 +91,9 @@ class PairChanges:
         return cls(empty, empty.copy(), np.zeros(0, dtype=bool))
 
     @classmethod
-    def from_states(cls, pairs: np.ndarray, states: np.ndarray, before: np.ndarray,
-                    start: int) -> PairChanges:
+    def from_states(
+        cls, pairs: np.ndarray, states: np.ndarray, before: np.ndarray, start: int
+    ) -> PairChanges:
         """From dense states: (A,) ``pairs``, (A, C) ``states`` at frames ``start ..``, (A,) ``before``."""
         previous = np.concatenate([before[:, None], states[:, :-1]], axis=1)
         rows, cols = np.divmod(np.flatnonzero(states != previous), max(states.shape[1], 1))

@@ -45,8 +45,24 @@ __all__ = [
 
 #: Labels of frames in which the hand touches an object (the main actions and the fine
 #: actions Move, Hold, Place).
-CONTACT_LABELS = frozenset({"Open", "Close", "Cut", "Mix", "Peel", "Pour", "RollOut", "Scoop", "Stir",
-                            "Transfer", "Wipe", "Move", "Hold", "Place"})
+CONTACT_LABELS = frozenset(
+    {
+        "Open",
+        "Close",
+        "Cut",
+        "Mix",
+        "Peel",
+        "Pour",
+        "RollOut",
+        "Scoop",
+        "Stir",
+        "Transfer",
+        "Wipe",
+        "Move",
+        "Hold",
+        "Place",
+    }
+)
 #: Labels of frames without contact.
 NO_CONTACT_LABELS = frozenset({"Idle", "Approach", "Retreat"})
 #: Label-file column → instance name of the hand.
@@ -117,24 +133,29 @@ def read_labels(path: str | Path) -> dict[str, list[str]]:
     header = [h.strip() for h in rows[0]]
     missing = [c for c in ("frame", *HAND_COLUMNS) if c not in header]
     if missing:
-        raise RecordingError(f"line 1: no column {missing[0]!r} (expected frame,time_s,lhand_action,"
-                             "rhand_action)", location=location)
+        raise RecordingError(
+            f"line 1: no column {missing[0]!r} (expected frame,time_s,lhand_action,rhand_action)",
+            location=location,
+        )
     out: dict[str, list[str]] = {hand: [] for hand in HAND_COLUMNS.values()}
     known = CONTACT_LABELS | NO_CONTACT_LABELS
     for line_no, row in enumerate(rows[1:], start=2):
         if not any(f.strip() for f in row):
             continue
         if len(row) != len(header):
-            raise RecordingError(f"line {line_no}: {len(row)} fields, expected {len(header)}",
-                                 location=location)
+            raise RecordingError(
+                f"line {line_no}: {len(row)} fields, expected {len(header)}", location=location
+            )
         if row[header.index("frame")].strip() != str(len(out["left_hand"])):
-            raise RecordingError(f"line {line_no}: frame {row[header.index('frame')]!r} is out of order",
-                                 location=location)
+            raise RecordingError(
+                f"line {line_no}: frame {row[header.index('frame')]!r} is out of order", location=location
+            )
         for column, hand in HAND_COLUMNS.items():
             label = row[header.index(column)].strip()
             if label not in known:
-                raise RecordingError(f"line {line_no}: unknown label {label!r}{did_you_mean(label, known)}",
-                                     location=location)
+                raise RecordingError(
+                    f"line {line_no}: unknown label {label!r}{did_you_mean(label, known)}", location=location
+                )
             out[hand].append(label)
     if not out["left_hand"]:
         raise RecordingError("the label file has no frames", location=location)
@@ -150,7 +171,7 @@ def states_per_frame(segmentation: Segmentation) -> list[int]:
     """Index of the keyframe in force at each frame."""
     index = np.zeros(segmentation.frames, dtype=np.intp)
     for k, kf in enumerate(segmentation.keyframes):
-        index[kf.frame:] = k
+        index[kf.frame :] = k
     return index.tolist()
 
 
@@ -179,8 +200,9 @@ def events(contact: np.ndarray, hand: str) -> list[Event]:
     return [Event(int(f), hand, "start" if contact[f] else "end") for f in change]
 
 
-def match_events(predicted: Sequence[Event], labelled: Sequence[Event],
-                 tolerance: int) -> list[tuple[Event, Event]]:
+def match_events(
+    predicted: Sequence[Event], labelled: Sequence[Event], tolerance: int
+) -> list[tuple[Event, Event]]:
     """One-to-one matches (predicted, labelled) of the same hand and kind within ``tolerance`` frames."""
     candidates = sorted(
         (abs(p.frame - t.frame), i, j)
@@ -199,8 +221,9 @@ def match_events(predicted: Sequence[Event], labelled: Sequence[Event],
     return sorted(out)
 
 
-def score_clip(clip: str, segmentation: Segmentation, labels: Mapping[str, Sequence[str]],
-               tolerance: int = 3) -> ClipScore:
+def score_clip(
+    clip: str, segmentation: Segmentation, labels: Mapping[str, Sequence[str]], tolerance: int = 3
+) -> ClipScore:
     """Score one clip's segmentation against its per-hand labels."""
     hands = tuple(labels)
     predicted: list[Event] = []
@@ -209,11 +232,15 @@ def score_clip(clip: str, segmentation: Segmentation, labels: Mapping[str, Seque
     agreement: dict[str, float] = {}
     for hand, hand_labels in labels.items():
         if len(hand_labels) != segmentation.frames:
-            raise RecordingError(f"{len(hand_labels)} labelled frames for a recording of "
-                                 f"{segmentation.frames} frames", location=clip)
+            raise RecordingError(
+                f"{len(hand_labels)} labelled frames for a recording of {segmentation.frames} frames",
+                location=clip,
+            )
         if hand not in segmentation.instances:
-            raise RecordingError(f"no instance {hand!r} in the segmentation"
-                                 f"{did_you_mean(hand, segmentation.instances)}", location=clip)
+            raise RecordingError(
+                f"no instance {hand!r} in the segmentation{did_you_mean(hand, segmentation.instances)}",
+                location=clip,
+            )
         truth = contact_from_labels(hand_labels)
         found = contact_from_segmentation(segmentation, hand, hands)
         labelled += events(truth, hand)
@@ -225,8 +252,9 @@ def score_clip(clip: str, segmentation: Segmentation, labels: Mapping[str, Seque
     return ClipScore(clip, score, sorted(predicted), sorted(labelled), matches, touched, agreement)
 
 
-def nearest_object(positions_hand: np.ndarray, objects: Mapping[str, np.ndarray],
-                   frames: np.ndarray) -> str | None:
+def nearest_object(
+    positions_hand: np.ndarray, objects: Mapping[str, np.ndarray], frames: np.ndarray
+) -> str | None:
     """The object whose markers come closest to the hand's markers (median over ``frames``).
 
     ``positions_hand`` (F, h, 3), ``objects`` name → (F, k, 3), metres; ``frames`` (F,) bool.

@@ -66,8 +66,10 @@ class ChunkGeometry:
             m = part.shape[2]
             np.fmin(lo[:, :, :m], part, out=lo[:, :, :m])
             np.fmax(hi[:, :, :m], part, out=hi[:, :, :m])
-        spans = [(np.fmin.reduce(lo[:, a:b], axis=1), np.fmax.reduce(hi[:, a:b], axis=1))
-                 for a, b in pairwise(t.marker_offsets)]
+        spans = [
+            (np.fmin.reduce(lo[:, a:b], axis=1), np.fmax.reduce(hi[:, a:b], axis=1))
+            for a, b in pairwise(t.marker_offsets)
+        ]
         box_lo = np.stack([s[0] for s in spans], axis=1)  # (3, I, blocks)
         box_hi = np.stack([s[1] for s in spans], axis=1)
         a, b = t.instance_pairs[:, 0], t.instance_pairs[:, 1]
@@ -92,8 +94,8 @@ class ChunkGeometry:
             sa = slice(t.marker_offsets[ia], t.marker_offsets[ia + 1])
             sb = slice(t.marker_offsets[ib], t.marker_offsets[ib + 1])
             ka, kb = sa.stop - sa.start, sb.stop - sb.start
-            blk = out[row:row + ka * kb].reshape(ka, kb, n_rows)
-            scratch = tmp[:ka * kb * n_rows].reshape(ka, kb, n_rows)
+            blk = out[row : row + ka * kb].reshape(ka, kb, n_rows)
+            scratch = tmp[: ka * kb * n_rows].reshape(ka, kb, n_rows)
             np.subtract(x[0, sa, None, :], x[0, None, sb, :], out=blk)
             np.square(blk, out=blk)
             for k in (1, 2):
@@ -109,7 +111,7 @@ def _centre(positions: np.ndarray) -> np.ndarray:
     """(3,) float64: the mean of the first frame that has a visible marker (zeros if none)."""
     step = 1024
     for lo in range(0, positions.shape[0], step):
-        block = positions[lo:lo + step]
+        block = positions[lo : lo + step]
         rows = np.flatnonzero(~np.isnan(block[..., 0]).all(axis=1))
         if rows.size:
             frame = block[rows[0]]
@@ -117,8 +119,12 @@ def _centre(positions: np.ndarray) -> np.ndarray:
     return np.zeros(3, dtype=np.float64)
 
 
-def closest_distances(recording: Recording, table: PairTable | None = None,
-                      chunk_frames: int = 4096, reach_m: float | None = None) -> tuple[PairTable, np.ndarray]:
+def closest_distances(
+    recording: Recording,
+    table: PairTable | None = None,
+    chunk_frames: int = 4096,
+    reach_m: float | None = None,
+) -> tuple[PairTable, np.ndarray]:
     """Per instance pair and frame, the smallest marker-pair distance, metres.
 
     Returns the pair table and a (Q, F) float32 array, NaN where no marker pair of

@@ -105,8 +105,13 @@ def resolve_markers(recording: Recording, names: Sequence[str], instance: str) -
 
 def _rebuild(recording: Recording, groups: Mapping[str, tuple[int, ...]]) -> Recording:
     return Recording(
-        recording.source, recording.rate_hz, recording.times_s, recording.marker_names,
-        recording.positions_m, dict(groups), recording.first_frame,
+        recording.source,
+        recording.rate_hz,
+        recording.times_s,
+        recording.marker_names,
+        recording.positions_m,
+        dict(groups),
+        recording.first_frame,
     )
 
 
@@ -117,8 +122,9 @@ def with_mapping(
     groups: dict[str, tuple[int, ...]] = dict(recording.groups) if keep_others else {}
     for inst, names in mapping.items():
         if not names:
-            raise RecordingError(f"instance {inst!r}: the mapping lists no markers",
-                                 location=recording.source)
+            raise RecordingError(
+                f"instance {inst!r}: the mapping lists no markers", location=recording.source
+            )
         groups[inst] = resolve_markers(recording, names, inst)
     return _rebuild(recording, groups)
 
@@ -180,9 +186,12 @@ def recognise_preset(recording: Recording) -> tuple[Recording, str | None]:
     (unchanged when no preset or several fit) and the preset's name or ``None``.
     Instances the recording already has with a preset's names are kept as they are.
     """
-    fits = [name for name, mapping in PRESETS.items()
-            if not set(mapping) & set(recording.groups)
-            and all(_has_markers(recording, names) for names in mapping.values())]
+    fits = [
+        name
+        for name, mapping in PRESETS.items()
+        if not set(mapping) & set(recording.groups)
+        and all(_has_markers(recording, names) for names in mapping.values())
+    ]
     if len(fits) != 1:
         return recording, None
     return apply_preset(recording, fits[0]), fits[0]
@@ -191,8 +200,10 @@ def recognise_preset(recording: Recording) -> tuple[Recording, str | None]:
 def recognised_note(recording: Recording, preset: str) -> str:
     """What to tell the user when ``preset`` was recognised unasked in ``recording``."""
     hands = ", ".join(f"{inst} = {' '.join(names)}" for inst, names in PRESETS[preset].items())
-    return (f"{recording.source}: marker set {preset!r} recognised ({hands});"
-            " --preset none keeps the file's groups")
+    return (
+        f"{recording.source}: marker set {preset!r} recognised ({hands});"
+        " --preset none keeps the file's groups"
+    )
 
 
 def group_recording(recording: Recording, preset: str | None) -> tuple[Recording, str | None]:

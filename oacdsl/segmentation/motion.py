@@ -118,8 +118,9 @@ def _travel(poses: ObjectPoses, a: int, b: int) -> float:
     return float(np.linalg.norm(np.diff(pos, axis=0), axis=1).sum()) if len(pos) > 1 else 0.0
 
 
-def _candidates(sub: SubAction, agents: list[str], posed: Mapping[str, ObjectPoses]
-                ) -> list[tuple[str, str, str | None, str | None]]:
+def _candidates(
+    sub: SubAction, agents: list[str], posed: Mapping[str, ObjectPoses]
+) -> list[tuple[str, str, str | None, str | None]]:
     """(hand, moved, target, relation) that fit the sub-action (module doc)."""
     before, after = sub.before, sub.after
     objects = [o for o in sorted(before.instances) if o not in agents]
@@ -143,8 +144,9 @@ def _candidates(sub: SubAction, agents: list[str], posed: Mapping[str, ObjectPos
     return out or [(h, o, None, None) for h, o in held]
 
 
-def sub_action_motions(recording: Recording, segmentation: Segmentation,
-                       poses: Mapping[str, ObjectPoses] | None = None) -> list[SubActionMotion]:
+def sub_action_motions(
+    recording: Recording, segmentation: Segmentation, poses: Mapping[str, ObjectPoses] | None = None
+) -> list[SubActionMotion]:
     """The demonstrated motion of every sub-action of ``segmentation`` (module doc).
 
     ``poses`` defaults to :func:`~oacdsl.segmentation.poses.fit_poses` of the recording.
@@ -153,8 +155,9 @@ def sub_action_motions(recording: Recording, segmentation: Segmentation,
     return [sub_action_motion(recording, sub, posed) for sub in segmentation.sub_actions()]
 
 
-def sub_action_motion(recording: Recording, sub: SubAction,
-                      posed: Mapping[str, ObjectPoses]) -> SubActionMotion:
+def sub_action_motion(
+    recording: Recording, sub: SubAction, posed: Mapping[str, ObjectPoses]
+) -> SubActionMotion:
     """The demonstrated motion of one sub-action (module doc); ``posed``: the recording's
     :func:`~oacdsl.segmentation.poses.fit_poses` (instances with ≥ 3 markers)."""
     agents = _agents(recording.instances)
@@ -163,15 +166,28 @@ def sub_action_motion(recording: Recording, sub: SubAction,
     span_t = times[a : b + 1]
     found = _candidates(sub, agents, posed)
     if not found:
-        return SubActionMotion(sub.index, a, b, None, None, None, None, span_t,
-                               np.full((len(span_t), 4, 4), np.nan), None, float("nan"))
+        return SubActionMotion(
+            sub.index,
+            a,
+            b,
+            None,
+            None,
+            None,
+            None,
+            span_t,
+            np.full((len(span_t), 4, 4), np.nan),
+            None,
+            float("nan"),
+        )
     hand, moved, target, rel = min(
-        found, key=lambda c: (-round(_travel(posed[c[1]], a, b), 4), _RELATION_RANK[c[3]], c[:3]))
+        found, key=lambda c: (-round(_travel(posed[c[1]], a, b), 4), _RELATION_RANK[c[3]], c[:3])
+    )
     T_world_moved = posed[moved].T_world_object[a : b + 1]
     if target is None:
         T, residual = T_world_moved, _median(posed[moved].residual_m[a : b + 1])
     else:
         T = relative(posed[target].T_world_object[a : b + 1], T_world_moved)
         residual = max(_median(posed[n].residual_m[a : b + 1]) for n in (moved, target))
-    return SubActionMotion(sub.index, a, b, hand, moved, target, rel, span_t, T,
-                           motion_features(span_t, T), residual)
+    return SubActionMotion(
+        sub.index, a, b, hand, moved, target, rel, span_t, T, motion_features(span_t, T), residual
+    )

@@ -217,9 +217,18 @@ def motion_features(times_s: np.ndarray, T_target_object: np.ndarray) -> MotionF
     dt = np.diff(t)
     step = np.r_[dt, dt[-1:]] if len(dt) else np.zeros(1)
     tilt_time = float(step[ok][tilt >= 0.5 * tilt_max].sum()) if tilt_max >= MIN_TILT_RAD else 0.0
-    return MotionFeatures(duration, path, (float(extent[0]), float(extent[1]), float(extent[2])),
-                          core_s, period, cycles, radius, tilt_max, tilt_time,
-                          tilt_rise(t[ok], tilt) if tilt_max >= MIN_TILT_RAD else None)
+    return MotionFeatures(
+        duration,
+        path,
+        (float(extent[0]), float(extent[1]), float(extent[2])),
+        core_s,
+        period,
+        cycles,
+        radius,
+        tilt_max,
+        tilt_time,
+        tilt_rise(t[ok], tilt) if tilt_max >= MIN_TILT_RAD else None,
+    )
 
 
 def tilt_rise(times_s: np.ndarray, tilt_rad: np.ndarray) -> float:

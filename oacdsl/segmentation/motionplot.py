@@ -77,8 +77,9 @@ def save_motion_plot(motions: Sequence[SubActionMotion], out: str | Path, *, tit
         u, v = pos[:, i], pos[:, j]
         shade = np.linspace(0.0, 1.0, len(u))
         ax.plot(u, v, color="0.75", linewidth=0.8, zorder=1)
-        ax.plot(np.where(in_core, u, np.nan), np.where(in_core, v, np.nan), color="0.35", linewidth=1.8,
-                zorder=2)
+        ax.plot(
+            np.where(in_core, u, np.nan), np.where(in_core, v, np.nan), color="0.35", linewidth=1.8, zorder=2
+        )
         ax.scatter(u, v, c=shade, cmap="viridis", s=14, zorder=3)
         finite = np.flatnonzero(np.isfinite(u) & np.isfinite(v))
         if finite.size:
@@ -87,8 +88,15 @@ def save_motion_plot(motions: Sequence[SubActionMotion], out: str | Path, *, tit
         tilt = np.arccos(np.clip(m.T_target_object[:, 2, 2], -1.0, 1.0))
         if np.isfinite(tilt).any() and np.nanmax(tilt) >= math.radians(30):
             top = int(np.nanargmax(tilt))
-            ax.plot(u[top], v[top], "*", color="darkorange", ms=13, zorder=4,
-                    label=f"largest tilt ({math.degrees(tilt[top]):.0f}°)")
+            ax.plot(
+                u[top],
+                v[top],
+                "*",
+                color="darkorange",
+                ms=13,
+                zorder=4,
+                label=f"largest tilt ({math.degrees(tilt[top]):.0f}°)",
+            )
         if m.target is not None:
             ax.plot(0.0, 0.0, "+", color="crimson", ms=12, mew=2, zorder=5, label=f"{m.target} origin")
         ax.set_xlabel(f"{_AXES[i]} in {m.frame_name} [mm]", fontsize=8)

@@ -71,8 +71,8 @@ class PairTable:
         first: list[np.ndarray] = []
         second: list[np.ndarray] = []
         for a, b in qpairs:
-            ma = order_arr[offsets[a]:offsets[a + 1]]
-            mb = order_arr[offsets[b]:offsets[b + 1]]
+            ma = order_arr[offsets[a] : offsets[a + 1]]
+            mb = order_arr[offsets[b] : offsets[b + 1]]
             first.append(np.repeat(ma, len(mb)))
             second.append(np.tile(mb, len(ma)))
         empty = np.zeros(0, dtype=np.intp)

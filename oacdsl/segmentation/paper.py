@@ -78,8 +78,9 @@ class PaperDetector:
             self._state[pairs[rows[last]]] = value[last]
         return PairChanges(pairs[rows], cols + chunk.start, value)
 
-    def _distance_changes(self, dist: np.ndarray, times: np.ndarray,
-                          at_recording_start: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    def _distance_changes(
+        self, dist: np.ndarray, times: np.ndarray, at_recording_start: bool
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
         """``(dist, |Δdist|, v·Δt, base)`` per described frame; ``base`` = column of the first (0 or 1).
 
         Frame 0 has no predecessor and takes the change of frame 1 (NaN in a one-frame recording).

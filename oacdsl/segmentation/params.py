@@ -47,8 +47,14 @@ from typing import Any
 
 from oacdsl.errors import SegmentationError
 
-__all__ = ["AUTO_MIN_FRAMES", "AUTO_WINDOW_S", "DEFAULT_CHANGE_WINDOW_S", "DEFAULT_MODE", "AasParams",
-           "frames_in"]
+__all__ = [
+    "AUTO_MIN_FRAMES",
+    "AUTO_WINDOW_S",
+    "DEFAULT_CHANGE_WINDOW_S",
+    "DEFAULT_MODE",
+    "AasParams",
+    "frames_in",
+]
 
 #: The touch detector used unless one is named (see the module docstring for why).
 DEFAULT_MODE = "adaptive"
@@ -112,7 +118,8 @@ class AasParams:
             raise SegmentationError(f"hold must be a positive duration, got {self.hold_s} s")
         if not (math.isfinite(self.change_window_s) and self.change_window_s > 0):
             raise SegmentationError(
-                f"change window must be a positive duration, got {self.change_window_s} s")
+                f"change window must be a positive duration, got {self.change_window_s} s"
+            )
 
     def resolved(self, rate_hz: float) -> AasParams:
         """These parameters with ``frames`` fixed for a recording at ``rate_hz``."""

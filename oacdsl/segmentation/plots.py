@@ -65,8 +65,11 @@ def plot_distances(recording: Recording, segmentation: Segmentation, fig: Any, *
     times = np.asarray(recording.times_s, dtype=np.float64)
     related = {r for k in segmentation.keyframes for r in k.state.relations}
     closest = np.fmin.reduce(dist, axis=1)  # NaN only for a pair never visible
-    candidates = [q for q in range(table.n_instance_pairs)
-                  if table.relation(q) in related or closest[q] * 1000.0 < NEAR_FACTOR * d_mm]
+    candidates = [
+        q
+        for q in range(table.n_instance_pairs)
+        if table.relation(q) in related or closest[q] * 1000.0 < NEAR_FACTOR * d_mm
+    ]
     order = np.nan_to_num(closest, nan=np.inf)
     candidates.sort(key=lambda q: (table.relation(q) not in related, float(order[q])))
     shown, hidden = candidates[:max_pairs], len(candidates) - max_pairs
@@ -103,9 +106,17 @@ def plot_distances(recording: Recording, segmentation: Segmentation, fig: Any, *
         for ax in (ax_d, ax_v):
             ax.axvline(k.time_s, color="k", ls=":", lw=0.8)
         labels = change_labels(prev, k.state) if prev is not None else ["initial"]
-        ax_d.annotate("\n".join(labels), (k.time_s, 1.0), xycoords=("data", "axes fraction"),
-                      xytext=(2, -2), textcoords="offset points", va="top", ha="left",
-                      fontsize=6.5, rotation=90)
+        ax_d.annotate(
+            "\n".join(labels),
+            (k.time_s, 1.0),
+            xycoords=("data", "axes fraction"),
+            xytext=(2, -2),
+            textcoords="offset points",
+            va="top",
+            ha="left",
+            fontsize=6.5,
+            rotation=90,
+        )
         prev = k.state
     if shown:
         ax_d.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), fontsize=7, frameon=False)
@@ -129,13 +140,20 @@ def world_state_layout(instances: Sequence[str]) -> dict[str, tuple[float, float
     """Fixed node positions: instances on a circle in name order (same for every keyframe)."""
     names = sorted(instances)
     n = max(len(names), 1)
-    return {name: (math.cos(math.pi / 2 - 2 * math.pi * i / n), math.sin(math.pi / 2 - 2 * math.pi * i / n))
-            for i, name in enumerate(names)}
+    return {
+        name: (math.cos(math.pi / 2 - 2 * math.pi * i / n), math.sin(math.pi / 2 - 2 * math.pi * i / n))
+        for i, name in enumerate(names)
+    }
 
 
-def draw_world_state(prev: WorldState | None, cur: WorldState, ax: Any, *,
-                     layout: Mapping[str, tuple[float, float]] | None = None,
-                     title: str | None = None) -> None:
+def draw_world_state(
+    prev: WorldState | None,
+    cur: WorldState,
+    ax: Any,
+    *,
+    layout: Mapping[str, tuple[float, float]] | None = None,
+    title: str | None = None,
+) -> None:
     """The paper's Fig. 4 graph: nodes = instances, edges = touching.
 
     Relations that exist in both states are black, new ones red and solid, ended
@@ -154,17 +172,22 @@ def draw_world_state(prev: WorldState | None, cur: WorldState, ax: Any, *,
     margin = 1800  # node "size" that keeps edge ends clear of the name boxes
     nx.draw_networkx_edges(graph, pos, ax=ax, edgelist=kept, edge_color="black", width=2.0, node_size=margin)
     nx.draw_networkx_edges(graph, pos, ax=ax, edgelist=new, edge_color="red", width=2.5, node_size=margin)
-    nx.draw_networkx_edges(graph, pos, ax=ax, edgelist=ended, edge_color="0.35", width=2.0, style=":",
-                           node_size=margin)
-    nx.draw_networkx_labels(graph, pos, ax=ax, font_size=8,
-                            bbox={"boxstyle": "round,pad=0.4", "fc": "#dde6f0", "ec": "#4a5a70"})
+    nx.draw_networkx_edges(
+        graph, pos, ax=ax, edgelist=ended, edge_color="0.35", width=2.0, style=":", node_size=margin
+    )
+    nx.draw_networkx_labels(
+        graph, pos, ax=ax, font_size=8, bbox={"boxstyle": "round,pad=0.4", "fc": "#dde6f0", "ec": "#4a5a70"}
+    )
     from matplotlib.lines import Line2D
 
-    handles = [Line2D([], [], color="black", lw=2, label="touching"),
-               Line2D([], [], color="red", lw=2.5, label="new"),
-               Line2D([], [], color="0.35", lw=2, ls=":", label="ended")]
-    ax.legend(handles=handles, loc="lower center", bbox_to_anchor=(0.5, -0.02), ncol=3, fontsize=7,
-              frameon=False)
+    handles = [
+        Line2D([], [], color="black", lw=2, label="touching"),
+        Line2D([], [], color="red", lw=2.5, label="new"),
+        Line2D([], [], color="0.35", lw=2, ls=":", label="ended"),
+    ]
+    ax.legend(
+        handles=handles, loc="lower center", bbox_to_anchor=(0.5, -0.02), ncol=3, fontsize=7, frameon=False
+    )
     ax.set_xlim(-1.45, 1.45)
     ax.set_ylim(-1.35, 1.25)
     ax.set_aspect("equal")
@@ -188,8 +211,13 @@ def write_graphs(segmentation: Segmentation, directory: str | Path) -> list[Path
         fig, ax = plt.subplots(figsize=(5.2, 5.2), layout="constrained")
         try:
             changes = "\n".join(change_labels(prev.state, k.state)) if prev is not None else "initial state"
-            draw_world_state(prev.state if prev is not None else None, k.state, ax, layout=layout,
-                             title=f"keyframe {i}: frame {k.frame}, {k.time_s:.2f} s\n{changes}")
+            draw_world_state(
+                prev.state if prev is not None else None,
+                k.state,
+                ax,
+                layout=layout,
+                title=f"keyframe {i}: frame {k.frame}, {k.time_s:.2f} s\n{changes}",
+            )
             written.append(save_figure(fig, folder / f"keyframe_{i:03d}_frame_{k.frame:06d}.png"))
         finally:
             plt.close(fig)
@@ -202,8 +230,10 @@ def save_figure(fig: Any, out: str | Path) -> Path:
     path = Path(out)
     fmt = path.suffix.lower().lstrip(".")
     if fmt not in ("png", "pdf", "svg"):
-        raise InputError(f"cannot write a {path.suffix or 'suffix-less'} picture; use .png, .pdf or .svg",
-                         location=str(path))
+        raise InputError(
+            f"cannot write a {path.suffix or 'suffix-less'} picture; use .png, .pdf or .svg",
+            location=str(path),
+        )
     try:
         with atomic_path(path, suffix=f".tmp.{fmt}", make_parents=False) as tmp:
             fig.savefig(tmp, format=fmt, dpi=150)

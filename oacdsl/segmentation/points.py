@@ -17,9 +17,13 @@ from oacdsl.segmentation.recording import Recording
 __all__ = ["recording_from_points"]
 
 
-def recording_from_points(groups: Mapping[str, np.ndarray], rate_hz: float, source: str = "<points>",
-                          labels: Mapping[str, Sequence[str]] | None = None,
-                          first_frame: int = 0) -> Recording:
+def recording_from_points(
+    groups: Mapping[str, np.ndarray],
+    rate_hz: float,
+    source: str = "<points>",
+    labels: Mapping[str, Sequence[str]] | None = None,
+    first_frame: int = 0,
+) -> Recording:
     """A recording whose instances are the keys of ``groups``.
 
     Args:
@@ -45,23 +49,27 @@ def recording_from_points(groups: Mapping[str, np.ndarray], rate_hz: float, sour
     for inst in groups:
         pts = np.asarray(groups[inst], dtype=float)
         if pts.ndim != 3 or pts.shape[2] != 3 or pts.shape[1] == 0:
-            raise RecordingError(f"group {inst!r}: points have shape {pts.shape},"
-                                 " expected (frames, k ≥ 1, 3)", location=source)
+            raise RecordingError(
+                f"group {inst!r}: points have shape {pts.shape}, expected (frames, k ≥ 1, 3)", location=source
+            )
         if n_frames is None:
             n_frames = pts.shape[0]
         elif pts.shape[0] != n_frames:
-            raise RecordingError(f"group {inst!r} has {pts.shape[0]} frames, the others {n_frames}",
-                                 location=source)
+            raise RecordingError(
+                f"group {inst!r} has {pts.shape[0]} frames, the others {n_frames}", location=source
+            )
         if np.isinf(pts).any():
-            raise RecordingError(f"group {inst!r} has infinite coordinates (use NaN for gaps)",
-                                 location=source)
+            raise RecordingError(
+                f"group {inst!r} has infinite coordinates (use NaN for gaps)", location=source
+            )
         if labels is not None and inst in labels:
             own = [str(lab) for lab in labels[inst]]
         else:
             own = [f"m{i + 1}" for i in range(pts.shape[1])]
         if len(own) != pts.shape[1]:
-            raise RecordingError(f"group {inst!r}: {len(own)} labels for {pts.shape[1]} points",
-                                 location=source)
+            raise RecordingError(
+                f"group {inst!r}: {len(own)} labels for {pts.shape[1]} points", location=source
+            )
         index[inst] = tuple(range(len(names), len(names) + len(own)))
         names.extend(f"{inst}:{lab}" for lab in own)
         blocks.append(pts)

@@ -131,25 +131,38 @@ def fit_constellation(constellation_m: np.ndarray, points_m: np.ndarray) -> tupl
 def fit_instance(recording: Recording, instance: str) -> ObjectPoses:
     """The poses of ``instance`` by a rigid fit of its markers (see the module doc)."""
     if instance not in recording.groups:
-        raise RecordingError(f"no marker group {instance!r}{did_you_mean(instance, recording.groups)}",
-                             location=recording.source)
+        raise RecordingError(
+            f"no marker group {instance!r}{did_you_mean(instance, recording.groups)}",
+            location=recording.source,
+        )
     pts = recording.group_positions(instance)
     k = pts.shape[1]
     if k < MIN_MARKERS:
-        raise RecordingError(f"instance {instance!r} has {k} marker(s); a pose needs at least {MIN_MARKERS}",
-                             location=recording.source)
+        raise RecordingError(
+            f"instance {instance!r} has {k} marker(s); a pose needs at least {MIN_MARKERS}",
+            location=recording.source,
+        )
     seen = np.isfinite(pts).all(axis=2)
     visible = seen.sum(axis=1)
     reference = int(np.argmax(visible))  # the first frame with the most markers seen
     if visible[reference] < MIN_MARKERS:
-        raise RecordingError(f"instance {instance!r}: no frame shows {MIN_MARKERS} of its markers at once",
-                             location=recording.source)
+        raise RecordingError(
+            f"instance {instance!r}: no frame shows {MIN_MARKERS} of its markers at once",
+            location=recording.source,
+        )
     ref_pts = np.where(seen[reference][:, None], pts[reference], np.nan)
     centroid = np.nanmean(ref_pts, axis=0)
     constellation = ref_pts - centroid  # world axes at the reference frame
     T, residual = fit_constellation(constellation, pts)
-    return ObjectPoses(instance, np.asarray(recording.times_s, dtype=np.float64), T, residual,
-                       visible.astype(np.int64), reference, constellation)
+    return ObjectPoses(
+        instance,
+        np.asarray(recording.times_s, dtype=np.float64),
+        T,
+        residual,
+        visible.astype(np.int64),
+        reference,
+        constellation,
+    )
 
 
 def fit_poses(recording: Recording, instances: Iterable[str] | None = None) -> dict[str, ObjectPoses]:

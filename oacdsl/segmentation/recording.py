@@ -81,5 +81,12 @@ class Recording:
                     location=self.source,
                 )
             new[inst] = tuple(index[n] for n in names)
-        return Recording(self.source, self.rate_hz, self.times_s, self.marker_names, self.positions_m,
-                         new, self.first_frame)
+        return Recording(
+            self.source,
+            self.rate_hz,
+            self.times_s,
+            self.marker_names,
+            self.positions_m,
+            new,
+            self.first_frame,
+        )

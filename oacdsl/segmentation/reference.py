@@ -41,7 +41,7 @@ def segment_reference(recording: Recording, params: AasParams | None = None) -> 
     names = sorted(recording.groups)
     pairs: list[tuple[int, int, tuple[str, str]]] = []
     for i, a in enumerate(names):
-        for b in names[i + 1:]:
+        for b in names[i + 1 :]:
             for ma in recording.groups[a]:
                 for mb in recording.groups[b]:
                     pairs.append((ma, mb, relation(a, b)))
@@ -97,8 +97,14 @@ def segment_reference(recording: Recording, params: AasParams | None = None) -> 
         if not keyframes or state != keyframes[-1].state:
             keyframes.append(Keyframe(i, times[i], state))
     merged = merge_keyframes(keyframes, params.merge_s)
-    return Segmentation(recording.source, float(recording.rate_hz), n_frames, recording.instances,
-                        tuple(merged), params.to_dict())
+    return Segmentation(
+        recording.source,
+        float(recording.rate_hz),
+        n_frames,
+        recording.instances,
+        tuple(merged),
+        params.to_dict(),
+    )
 
 
 def _robust_reference(recording: Recording, params: AasParams) -> Segmentation:
@@ -121,9 +127,17 @@ def _robust_reference(recording: Recording, params: AasParams) -> Segmentation:
         delay = n - 1 + half
         found = comotion_reference(recording, table, params, settings)
         held = {q: intervals for q, (intervals, _) in found.learned.items()}
-        tools = tool_contacts(table, n_frames, recording.rate_hz, held, found.closest,
-                              agents_of(table.instances, settings.agent_pattern), params.distance_m,
-                              settings.tool_dwell_s, settings.tool_bridge_s)
+        tools = tool_contacts(
+            table,
+            n_frames,
+            recording.rate_hz,
+            held,
+            found.closest,
+            agents_of(table.instances, settings.agent_pattern),
+            params.distance_m,
+            settings.tool_dwell_s,
+            settings.tool_bridge_s,
+        )
         for q, (_, threshold) in found.learned.items():
             distance[q] = round(threshold, 4)
         for target, per_pair in ((spans, held), (spans, tools.added), (vetoes, tools.removed)):
@@ -177,8 +191,14 @@ def _robust_reference(recording: Recording, params: AasParams) -> Segmentation:
         if not keyframes or state_i != keyframes[-1].state:
             keyframes.append(Keyframe(i, times[i], state_i))
     merged = merge_keyframes(keyframes, params.merge_s)
-    return Segmentation(recording.source, float(recording.rate_hz), n_frames, recording.instances,
-                        tuple(merged), params.to_dict())
+    return Segmentation(
+        recording.source,
+        float(recording.rate_hz),
+        n_frames,
+        recording.instances,
+        tuple(merged),
+        params.to_dict(),
+    )
 
 
 def _slope(dist: list[float], times: list[float], i: int, half: int) -> float:
@@ -198,5 +218,5 @@ def _slope(dist: list[float], times: list[float], i: int, half: int) -> float:
 def pair_frames(recording: Recording) -> int:
     """Marker-pair-frames of a recording: cross-instance marker pairs × frames."""
     sizes = np.array([len(g) for g in recording.groups.values()])
-    pairs = (sizes.sum() ** 2 - (sizes ** 2).sum()) // 2
+    pairs = (sizes.sum() ** 2 - (sizes**2).sum()) // 2
     return int(pairs) * recording.n_frames

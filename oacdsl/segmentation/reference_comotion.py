@@ -35,8 +35,9 @@ def _median(values: list[float]) -> float:
     return statistics.median(seen) if seen else math.nan
 
 
-def comotion_reference(recording: Recording, table: PairTable, params: AasParams,
-                       settings: AdaptiveSettings) -> CoMotion:
+def comotion_reference(
+    recording: Recording, table: PairTable, params: AasParams, settings: AdaptiveSettings
+) -> CoMotion:
     """The same result as :func:`~oacdsl.segmentation.comotion.comotion`, frame by frame."""
     n_frames = recording.n_frames
     if table.n_instance_pairs == 0 or n_frames < 2:
@@ -45,11 +46,17 @@ def comotion_reference(recording: Recording, table: PairTable, params: AasParams
     reach = params.distance_m * (1 + settings.margin)
     pos = recording.positions_m.tolist()
     times = [float(t) for t in recording.times_s]
-    members = [[int(m) for m in table.marker_order[a:b]]
-               for a, b in zip(table.marker_offsets[:-1], table.marker_offsets[1:], strict=True)]
-    blocks = [[(int(table.first[p]), int(table.second[p]))
-               for p in range(table.block_offsets[q], table.block_offsets[q + 1])]
-              for q in range(table.n_instance_pairs)]
+    members = [
+        [int(m) for m in table.marker_order[a:b]]
+        for a, b in zip(table.marker_offsets[:-1], table.marker_offsets[1:], strict=True)
+    ]
+    blocks = [
+        [
+            (int(table.first[p]), int(table.second[p]))
+            for p in range(table.block_offsets[q], table.block_offsets[q + 1])
+        ]
+        for q in range(table.n_instance_pairs)
+    ]
     dmin = [[math.inf] * n_frames for _ in blocks]
     carry = [[False] * n_frames for _ in blocks]
     near = [False] * len(blocks)
@@ -75,8 +82,11 @@ def comotion_reference(recording: Recording, table: PairTable, params: AasParams
             moving = closest < params.distance_m and slower > settings.move_speed_m_s
             dmin[q][f] = closest
             carry[q][f] = moving and change < settings.rigid_ratio * slower
-    signals = {q: (np.asarray(dmin[q], dtype=np.float32), np.asarray(carry[q], dtype=bool))
-               for q in range(len(blocks)) if near[q]}
+    signals = {
+        q: (np.asarray(dmin[q], dtype=np.float32), np.asarray(carry[q], dtype=bool))
+        for q in range(len(blocks))
+        if near[q]
+    }
     _prune_indirect(signals, table)
     min_len = settings.frames(settings.min_episode_s, recording.rate_hz)
     out: dict[int, tuple[list[tuple[int, int]], float]] = {}

@@ -41,8 +41,9 @@ class RobustDetector:
     :meth:`begin`'s recording).
     """
 
-    def __init__(self, params: AasParams, rate_hz: float | None = None,
-                 pair_distance_m: np.ndarray | None = None) -> None:
+    def __init__(
+        self, params: AasParams, rate_hz: float | None = None, pair_distance_m: np.ndarray | None = None
+    ) -> None:
         self.params = params
         self.d = np.float32(params.distance_m)
         # (P,) float32 metres: each marker pair's own ``d`` (the adaptive detector's), else ``d``
@@ -95,8 +96,9 @@ class RobustDetector:
             self._state[pairs[rows[last]]] = value[last]
         return PairChanges(pairs[rows], cols + chunk.start, value)
 
-    def _conditions(self, dist: np.ndarray, times: np.ndarray,
-                    d: np.floating | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _conditions(
+        self, dist: np.ndarray, times: np.ndarray, d: np.floating | np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
         """(close, far), (A, R) bool, by *causal* column: column ``c`` describes frame ``c - half``.
 
         ``d``: metres, the distance threshold (scalar, or (A, 1) one per row).

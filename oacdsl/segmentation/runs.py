@@ -22,12 +22,12 @@ def windows(cond: np.ndarray, first: int, n_out: int, n: int) -> np.ndarray:
         pad = n - 1 - first
         cond = np.concatenate([np.zeros((cond.shape[0], pad), dtype=bool), cond], axis=1)
         first += pad
-    span = cond[:, first - n + 1:first + n_out]  # n_out + n - 1 columns
+    span = cond[:, first - n + 1 : first + n_out]  # n_out + n - 1 columns
     result = np.ones((cond.shape[0], n_out), dtype=bool)
     offset, size, power = 0, 1, span  # power[:, j]: all of span[:, j:j+size]
     while size <= n:
         if n & size:
-            np.logical_and(result, power[:, offset:offset + n_out], out=result)
+            np.logical_and(result, power[:, offset : offset + n_out], out=result)
             offset += size
         if size * 2 <= n:
             power = power[:, :-size] & power[:, size:]
@@ -35,8 +35,9 @@ def windows(cond: np.ndarray, first: int, n_out: int, n: int) -> np.ndarray:
     return result
 
 
-def flips(sets: np.ndarray, resets: np.ndarray,
-           state0: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def flips(
+    sets: np.ndarray, resets: np.ndarray, state0: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Where a set/reset flip-flop changes: ``(rows, cols, new_state)``, sorted by row then column.
 
     ``sets`` and ``resets`` are never true together. The state is the type of the

@@ -31,8 +31,9 @@ def min_samples(half: int) -> int:
     return half + 1
 
 
-def windowed_slope(dist: np.ndarray, times_s: np.ndarray, half: int,
-                   min_count: int | None = None) -> np.ndarray:
+def windowed_slope(
+    dist: np.ndarray, times_s: np.ndarray, half: int, min_count: int | None = None
+) -> np.ndarray:
     """(A, R) slopes, m/s: per row and column ``c``, the least-squares slope of ``dist``
     against ``times_s`` over columns ``max(0, c - half) .. min(R - 1, c + half)``.
 
@@ -52,14 +53,16 @@ def windowed_slope(dist: np.ndarray, times_s: np.ndarray, half: int,
     x = np.where(valid, dist, 0.0).astype(np.float64)
     sx, stx = _window_sum(x, half), _window_sum(x * t, half)
     ones = np.ones((1, r))
-    s0, s1, s2 = (_window_sum(ones, half), _window_sum(ones * t, half),
-                  _window_sum(ones * t * t, half))
+    s0, s1, s2 = (_window_sum(ones, half), _window_sum(ones * t, half), _window_sum(ones * t * t, half))
     gappy = np.flatnonzero(~valid.all(axis=1))  # rows with a gap: their own sums (the same where valid)
     if gappy.size:
         s0, s1, s2 = (np.repeat(s, a, axis=0) for s in (s0, s1, s2))
         w = valid[gappy].astype(np.float64)
-        s0[gappy], s1[gappy], s2[gappy] = (_window_sum(w, half), _window_sum(w * t, half),
-                                           _window_sum(w * t * t, half))
+        s0[gappy], s1[gappy], s2[gappy] = (
+            _window_sum(w, half),
+            _window_sum(w * t, half),
+            _window_sum(w * t * t, half),
+        )
     den = s0 * s2 - s1 * s1
     with np.errstate(invalid="ignore", divide="ignore"):
         slope = (s0 * stx - s1 * sx) / den
@@ -76,7 +79,7 @@ def _window_sum(x: np.ndarray, half: int) -> np.ndarray:
     out = np.empty((x.shape[0], r))
     width = 2 * half + 1
     if r >= width:
-        np.subtract(prefix[:, width:], prefix[:, :r - width + 1], out=out[:, half:r - half])
+        np.subtract(prefix[:, width:], prefix[:, : r - width + 1], out=out[:, half : r - half])
         edge = np.concatenate([np.arange(half), np.arange(r - half, r)])
     else:
         edge = np.arange(r)

@@ -81,8 +81,14 @@ def _longest_run(mask: np.ndarray) -> int:
     return int((edges[1::2] - edges[::2]).max()) if edges.size else 0
 
 
-def score_tools(action: str, segmentation: Segmentation, labels: Mapping[str, Sequence[str]],
-                pairs: Sequence[tuple[str, str]], tolerance: int = 3, min_s: float = 0.3) -> ToolScore:
+def score_tools(
+    action: str,
+    segmentation: Segmentation,
+    labels: Mapping[str, Sequence[str]],
+    pairs: Sequence[tuple[str, str]],
+    tolerance: int = 3,
+    min_s: float = 0.3,
+) -> ToolScore:
     """Score the contacts of the tools of ``pairs`` during the frames labelled ``action``."""
     hands = set(labels)
     acting = np.zeros(segmentation.frames, dtype=bool)
@@ -98,7 +104,7 @@ def score_tools(action: str, segmentation: Segmentation, labels: Mapping[str, Se
     predicted: list[tuple[str, str]] = []
     other: list[tuple[str, str]] = []
     for i, a in enumerate(objects):
-        for b in objects[i + 1:]:
+        for b in objects[i + 1 :]:
             if _longest_run(_pair_frames(segmentation, a, b)[lo:hi]) < min_frames:
                 continue
             if a in tools or b in tools:
@@ -107,10 +113,13 @@ def score_tools(action: str, segmentation: Segmentation, labels: Mapping[str, Se
                 other.append((a, b))
     label_set = {frozenset(p) for p in pairs}
     matched = sum(1 for p in predicted if frozenset(p) in label_set)
-    coverage = {(t, g): float(_pair_frames(segmentation, t, g)[acting].mean()) if {t, g} <= set(objects)
-                else 0.0 for t, g in pairs}
-    return ToolScore(action, Score(matched, len(predicted), len(pairs)), (lo, hi), list(pairs), predicted,
-                     coverage, other)
+    coverage = {
+        (t, g): float(_pair_frames(segmentation, t, g)[acting].mean()) if {t, g} <= set(objects) else 0.0
+        for t, g in pairs
+    }
+    return ToolScore(
+        action, Score(matched, len(predicted), len(pairs)), (lo, hi), list(pairs), predicted, coverage, other
+    )
 
 
 def cross_hand_frames(segmentation: Segmentation, held: Mapping[str, str | None]) -> dict[str, int]:

@@ -61,9 +61,17 @@ def agents_of(instances: Sequence[str], pattern: str) -> tuple[int, ...]:
     return tuple(i for i, name in enumerate(instances) if fnmatch.fnmatch(name.lower(), pattern.lower()))
 
 
-def tool_contacts(table: PairTable, n_frames: int, rate_hz: float, held: Mapping[int, Spans],
-                  closest: Mapping[int, np.ndarray], agents: Sequence[int], reach_m: float,
-                  dwell_s: float, bridge_s: float) -> ToolContacts:
+def tool_contacts(
+    table: PairTable,
+    n_frames: int,
+    rate_hz: float,
+    held: Mapping[int, Spans],
+    closest: Mapping[int, np.ndarray],
+    agents: Sequence[int],
+    reach_m: float,
+    dwell_s: float,
+    bridge_s: float,
+) -> ToolContacts:
     """Tool contacts and cross-hand vetoes (see the module docstring).
 
     ``held``: instance pair → intervals in which it touches by co-motion (steps 1–3);
@@ -98,7 +106,7 @@ def tool_contacts(table: PairTable, n_frames: int, rate_hz: float, held: Mapping
     bridge = max(0, round(bridge_s * rate_hz))
     added: dict[int, Spans] = {}
     for i, x in enumerate(objects):
-        for a in objects[i + 1:]:
+        for a in objects[i + 1 :]:
             q = pair(x, a)
             if q is None:
                 continue

@@ -28,4 +28,3 @@ def default_db_path(environ: Mapping[str, str] | None = None) -> Path:
 def resolve_db_path(arg: str | os.PathLike[str] | None, environ: Mapping[str, str] | None = None) -> Path:
     """The ``--db`` argument if given, else :func:`default_db_path`."""
     return Path(arg).expanduser() if arg else default_db_path(environ)
-

@@ -227,8 +227,15 @@ class RunStore:
             raise ValueError(f"fidelity must be within [0, 1], got {fidelity}")
         rid = run_id or uuid.uuid4().hex
         rows = [
-            (rid, i, o.oac, json.dumps(dict(o.binding), sort_keys=True), int(bool(o.success)),
-             None if o.duration_s is None else float(o.duration_s), o.error)
+            (
+                rid,
+                i,
+                o.oac,
+                json.dumps(dict(o.binding), sort_keys=True),
+                int(bool(o.success)),
+                None if o.duration_s is None else float(o.duration_s),
+                o.error,
+            )
             for i, o in enumerate([run, *steps])
         ]
         try:
@@ -236,8 +243,17 @@ class RunStore:
                 self._conn.execute(
                     "INSERT INTO runs (run_id, time_utc, oac, success, recording, seed, fidelity,"
                     " edit_distance, command) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
-                    (rid, time_utc or _now_utc(), run.oac, int(bool(run.success)), recording, seed,
-                     fidelity, edit_distance, command),
+                    (
+                        rid,
+                        time_utc or _now_utc(),
+                        run.oac,
+                        int(bool(run.success)),
+                        recording,
+                        seed,
+                        fidelity,
+                        edit_distance,
+                        command,
+                    ),
                 )
                 self._conn.executemany("INSERT INTO outcomes VALUES (?, ?, ?, ?, ?, ?, ?)", rows)
         except sqlite3.DatabaseError as e:
@@ -252,8 +268,9 @@ class RunStore:
         failed step's. A primitive OAC run whose only step is that same OAC is stored once.
         """
         steps = [
-            Outcome(s["oac"], s.get("binding") or {}, bool(s.get("success")), s.get("duration_s"),
-                    s.get("error"))
+            Outcome(
+                s["oac"], s.get("binding") or {}, bool(s.get("success")), s.get("duration_s"), s.get("error")
+            )
             for s in doc.get("steps", [])
         ]
         metrics = doc.get("metrics") or {}
@@ -262,8 +279,10 @@ class RunStore:
         error = doc.get("error") or next((s.error for s in steps if s.error), None)
         run = Outcome(doc["oac"], doc.get("binding") or {}, bool(doc.get("success")), duration, error)
         if len(steps) == 1 and steps[0].oac == run.oac:
-            run, steps = Outcome(run.oac, steps[0].binding or run.binding, run.success,
-                                 steps[0].duration_s, error), []
+            run, steps = (
+                Outcome(run.oac, steps[0].binding or run.binding, run.success, steps[0].duration_s, error),
+                [],
+            )
         return self.record(run, steps, **meta)
 
     # -- reading -----------------------------------------------------------------------------------

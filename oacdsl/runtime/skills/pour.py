@@ -16,10 +16,13 @@ import math
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
+from oacdsl.runtime.bodies import Body
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
+from oacdsl.runtime.skills.bimanual import reach_both
+from oacdsl.runtime.skills.shapes import world_corners
 from oacdsl.runtime.transforms import make_T, rot_axis
 
-__all__ = ["pour", "SUCCESS_FRACTION", "TILT_RAD", "TILT_DURATION_S", "LIP_ABOVE_RIM_M"]
+__all__ = ["pour", "spout_direction", "SUCCESS_FRACTION", "TILT_RAD", "TILT_DURATION_S", "LIP_ABOVE_RIM_M"]
 
 #: Share of the balls that must land in the target container.
 SUCCESS_FRACTION = 0.9
@@ -28,6 +31,8 @@ TILT_RAD = math.radians(125.0)
 #: Lip height above the target's rim (m) while tilted, and its extra height before tilting.
 LIP_ABOVE_RIM_M = 0.045
 LIP_START_EXTRA_M = 0.07
+#: Room kept between the tilting cup and the target's rim (or floor), m.
+RIM_MARGIN_M = 0.01
 #: Where the lip is over the target: this far from its centre towards the cup, m.
 LIP_FROM_CENTRE_M = 0.03
 
@@ -37,6 +42,39 @@ def _cup_pose(
 ) -> np.ndarray:
     r = rot_axis(axis, angle) @ base_r
     return make_T(r, lip_world - r @ lip_local)
+
+
+def spout_direction(body: Body) -> np.ndarray | None:
+    """The horizontal direction (object frame, unit) of the middle of the widest gap in what
+    closes a container's top (a carton's opening), or None when the rim is open all round
+    (a cup) or closed all round."""
+    shell = body.shell
+    if shell is None:
+        return None
+    rim_z, r = shell.top, shell.dims["radius"] - shell.dims["wall"]
+    lids = [s for s in body.solids if s is not shell and s.top >= rim_z - 0.01]
+    angles = np.radians(np.arange(0.0, 360.0, 5.0))
+    open_ = np.ones(len(angles), dtype=bool)
+    for a_i, a in enumerate(angles):  # a point of the opening near the wall at each azimuth
+        x, y = 0.8 * r * math.cos(a), 0.8 * r * math.sin(a)
+        for lid in lids:
+            d, (cx, cy, _) = lid.dims, lid.at
+            if lid.kind == "box":
+                covered = abs(x - cx) <= d["length"] / 2 and abs(y - cy) <= d["width"] / 2
+            else:
+                covered = math.hypot(x - cx, y - cy) <= d.get("radius", 0.0)
+            open_[a_i] &= not covered
+    if open_.all() or not open_.any():
+        return None
+    # the widest run of open angles (the circle wraps around)
+    start = int(np.argmin(open_))  # a closed angle: runs begin after it
+    best, run, best_mid = 0, 0, 0.0
+    for k in range(1, len(angles) + 1):
+        i = (start + k) % len(angles)
+        run = run + 1 if open_[i] else 0
+        if run > best:
+            best, best_mid = run, float(angles[i]) - math.radians(5.0) * (run - 1) / 2
+    return np.array([math.cos(best_mid), math.sin(best_mid), 0.0])
 
 
 #: Time to tilt the container to its final tilt, seconds.
@@ -65,33 +103,68 @@ def pour(
     cup, bowl = ctx.body(source), ctx.body(target)
     if not cup.container:
         raise RuntimeFailure(f"pour: {source!r} is no container (its shape has no shell)")
-    t_bowl = world.body_pose(target)
+    t_bowl = world.body_pose(target)  # where it is now: on the table or in the other hand
     centre, rim_z = t_bowl[:3, 3], t_bowl[2, 3] + bowl.rim_height
-    # the cup kept upright with its current heading
+    off_centre = min(LIP_FROM_CENTRE_M, 0.5 * bowl.inner_radius)
+    # the cup kept upright with its current heading; a cup with an opening in its top (a
+    # carton's spout) turned so that the opening faces the target
     yaw = math.atan2(t_cup[1, 0], t_cup[0, 0])
-    base_r = rot_axis((0.0, 0.0, 1.0), yaw)
+    spout = spout_direction(cup)
 
-    def plan(u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        lip_local = base_r.T @ (-u * cup.rim_radius) + np.array([0.0, 0.0, cup.rim_height])
-        lip = np.array([*(centre[:2] + u[:2] * LIP_FROM_CENTRE_M), rim_z + height])
-        return lip_local, lip, np.cross(u, (0.0, 0.0, 1.0))
+    def heading(u: np.ndarray) -> np.ndarray:
+        if spout is None:
+            return rot_axis((0.0, 0.0, 1.0), yaw)
+        return rot_axis((0.0, 0.0, 1.0), math.atan2(-u[1], -u[0]) - math.atan2(spout[1], spout[0]))
 
     def hand_at(u: np.ndarray, angle: float, lift: float) -> np.ndarray:
-        lip_local, lip, axis = plan(u)
-        return _cup_pose(base_r, lip_local, lip + np.array([0.0, 0.0, lift]), axis, angle) @ np.linalg.inv(
-            cup_in_hand
-        )
+        base_r = heading(u)
+        lip_local = base_r.T @ (-u * cup.rim_radius) + np.array([0.0, 0.0, cup.rim_height])
+        lip = np.array([*(centre[:2] + u[:2] * off_centre), rim_z + height + lift])
+        axis = np.cross(u, (0.0, 0.0, 1.0))
+        return _cup_pose(base_r, lip_local, lip, axis, angle) @ np.linalg.inv(cup_in_hand)
+
+    floor_z = t_bowl[2, 3] + bowl.floor
+
+    def clear_lift(u: np.ndarray) -> float:
+        """How much higher (m) the lip must go so that, at every tilt on the way (the lip
+        coming down from :data:`LIP_START_EXTRA_M` higher in the first half), the cup
+        stays above the target's rim where it is over the wall or beyond it, and above
+        its floor inside it."""
+        need = 0.0
+        for frac in np.linspace(0.0, 1.0, 13):
+            lift = LIP_START_EXTRA_M * max(0.0, 1.0 - 2.0 * frac)  # as the tilting motion lowers it
+            pts = world_corners(cup, hand_at(u, tilt * float(frac), lift) @ cup_in_hand)
+            d = np.hypot(pts[:, 0] - centre[0], pts[:, 1] - centre[1])
+            near = d < bowl.rim_radius + RIM_MARGIN_M
+            inside = d < bowl.inner_radius - RIM_MARGIN_M
+            low = np.where(inside, floor_z, rim_z) + RIM_MARGIN_M
+            if near.any():
+                need = max(need, float((low - pts[:, 2])[near].max()))
+        return need
+
+    holder = ctx.other_holder(side, target)
+    keep = world.frame_pose(f"grasp_{holder}") if holder is not None else None
+
+    def reach(t_hand: np.ndarray) -> float:
+        """How well the hand reaches ``t_hand``, the other hand keeping the target where it is."""
+        if keep is None or holder is None:
+            return ctx.reach_error(side, t_hand)
+        return reach_both(ctx, {side: t_hand, holder: keep})
 
     ctl.activity = f"planning to pour {liquid} into {target}"
     to_cup = t_cup[:2, 3] - centre[:2]
     home = math.atan2(to_cup[1], to_cup[0])
     candidates = sorted((home + k * math.pi / 4 for k in range(-3, 5)), key=lambda a: abs(a - home))
-    best: tuple[float, np.ndarray] | None = None
+    best: tuple[float, np.ndarray, float] | None = None
     for a in candidates:
         u = np.array([math.cos(a), math.sin(a), 0.0])
-        err = max(ctx.reach_error(side, hand_at(u, tilt, 0.0)), ctx.reach_error(side, hand_at(u, 0.0, 0.07)))
+        extra = clear_lift(u)
+        err = max(
+            ctx.reach_error(side, hand_at(u, tilt, extra)),
+            ctx.reach_error(side, hand_at(u, 0.0, 0.07 + extra)),
+        )
         if best is None or err < best[0]:
-            best = (err, u)
+            best = (err, u, extra)
         if err < REACH_TOLERANCE_M:
             break
     if best is None or best[0] > 3 * REACH_TOLERANCE_M:
@@ -99,20 +172,24 @@ def pour(
             f"cannot pour from {source} into {target}: no tilted pose over {target} is in reach"
             f" of {hand} (best leaves the hand {best[0] * 100 if best else float('nan'):.0f} cm off)"
         )
-    u = best[1]
+    _, u, extra = best
     ctl.activity = f"bringing {source} over {target}"
-    start = hand_at(u, 0.0, LIP_START_EXTRA_M)
+    start = hand_at(u, 0.0, extra + LIP_START_EXTRA_M)
     ctx.carry(side, start, {source, target}, 1.8)
     ctl.activity = f"pouring {liquid} into {target}"
     steps = 40
     for k in range(1, steps + 1):
         s = k / steps
-        ctl.move(side, hand_at(u, tilt * s, LIP_START_EXTRA_M * max(0.0, 1.0 - 2.0 * s)), duration / steps)
+        ctl.move(
+            side,
+            hand_at(u, tilt * s, extra + LIP_START_EXTRA_M * max(0.0, 1.0 - 2.0 * s)),
+            duration / steps,
+        )
     ctl.wait(2.0, until=lambda: world.balls_inside(source, liquid) == 0)
     ctl.wait(0.6)
     for k in range(1, steps // 2 + 1):
         s = 1.0 - k / (steps // 2)
-        ctl.move(side, hand_at(u, tilt * s, LIP_START_EXTRA_M * (1.0 - s)), 1.0 / (steps // 2))
+        ctl.move(side, hand_at(u, tilt * s, extra + LIP_START_EXTRA_M * (1.0 - s)), 1.0 / (steps // 2))
     inside = world.balls_inside(target, liquid)
     if inside < SUCCESS_FRACTION * total:
         left = world.balls_inside(source, liquid)

@@ -34,8 +34,9 @@ def format_of(path: str | Path) -> str:
         if name.endswith(extensions):
             return fmt
     known = ", ".join(e for exts in FORMATS.values() for e in exts)
-    raise RecordingError(f"unknown recording format (extensions: {known}; or give the format)",
-                         location=str(path))
+    raise RecordingError(
+        f"unknown recording format (extensions: {known}; or give the format)", location=str(path)
+    )
 
 
 def _reader(fmt: str) -> Callable[..., Recording]:
@@ -71,12 +72,14 @@ def read_recording(
     if fmt is None:
         fmt = format_of(path)
     elif fmt not in FORMATS:
-        raise RecordingError(f"unknown recording format {fmt!r}{did_you_mean(fmt, FORMATS)}",
-                             location=str(path))
+        raise RecordingError(
+            f"unknown recording format {fmt!r}{did_you_mean(fmt, FORMATS)}", location=str(path)
+        )
     check_regular(path)  # before anything opens it: /dev/zero or a FIFO would be read for ever
     if units is not None and fmt not in ("tsv", "csv"):
-        raise RecordingError(f"{fmt} files declare their own units; drop the units option",
-                             location=str(path))
+        raise RecordingError(
+            f"{fmt} files declare their own units; drop the units option", location=str(path)
+        )
     if fmt == "c3d":
         return read_c3d(path, allow_truncated=allow_truncated)
     return _reader(fmt)(path, units=units) if units is not None else _reader(fmt)(path)

@@ -141,8 +141,9 @@ def _labels_for_writing(recording: Recording) -> list[str]:
     owner: dict[int, str] = {}
     for group, idx in recording.groups.items():
         if ":" in group or not group.strip():
-            raise RecordingError(f"cannot write group name {group!r} to C3D (no ':' allowed)",
-                                 location=recording.source)
+            raise RecordingError(
+                f"cannot write group name {group!r} to C3D (no ':' allowed)", location=recording.source
+            )
         for i in idx:
             if i in owner:
                 raise RecordingError(

@@ -233,7 +233,9 @@ def check_c3d_data_size(path: Path, size: int, layout: C3dLayout, *, allow_trunc
         hint = f"; --allow-truncated reads the {present} complete frame{plural}" if present else ""
         raise TruncatedRecording(
             f"truncated C3D file: {where} of {declared} frames; {lost} lost{hint}",
-            location=location, declared=declared, complete=present,
+            location=location,
+            declared=declared,
+            complete=present,
         )
     check_size(present, layout.points, location, extra_values=present * layout.analog_per_frame)
     warnings.warn(

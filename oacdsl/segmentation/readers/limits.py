@@ -32,9 +32,22 @@ import numpy as np
 from oacdsl.errors import InvalidRecording, RecordingError
 
 __all__ = [
-    "MAX_COORDINATE_M", "MAX_DURATION_S", "MAX_FILE_BYTES", "MAX_FRAME_NUMBER", "MAX_MARKERS",
-    "MAX_POSITION_BYTES", "MAX_RATE_HZ", "MIN_RATE_HZ", "check_coordinates", "check_frame_numbers",
-    "check_rate", "check_regular", "check_size", "check_times", "open_regular", "read_regular",
+    "MAX_COORDINATE_M",
+    "MAX_DURATION_S",
+    "MAX_FILE_BYTES",
+    "MAX_FRAME_NUMBER",
+    "MAX_MARKERS",
+    "MAX_POSITION_BYTES",
+    "MAX_RATE_HZ",
+    "MIN_RATE_HZ",
+    "check_coordinates",
+    "check_frame_numbers",
+    "check_rate",
+    "check_regular",
+    "check_size",
+    "check_times",
+    "open_regular",
+    "read_regular",
 ]
 
 MIN_RATE_HZ = 1.0  # Hz; slower is not motion capture
@@ -47,8 +60,11 @@ MAX_FRAME_NUMBER = 2**31 - 1  # the file's own frame numbers
 MAX_DURATION_S = 1e6  # seconds (11.6 days) from the first frame to the last
 
 _KINDS = [
-    (stat.S_ISDIR, "a folder"), (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
-    (stat.S_ISFIFO, "a FIFO (named pipe)"), (stat.S_ISSOCK, "a socket"),
+    (stat.S_ISDIR, "a folder"),
+    (stat.S_ISCHR, "a character device"),
+    (stat.S_ISBLK, "a block device"),
+    (stat.S_ISFIFO, "a FIFO (named pipe)"),
+    (stat.S_ISSOCK, "a socket"),
 ]  # anything else: "a special file"
 
 Label = Callable[[int], str]
@@ -103,15 +119,20 @@ def read_regular(path: Path) -> bytes:
 
 def _check_file_size(size: int, location: str) -> None:
     if size > MAX_FILE_BYTES:
-        raise InvalidRecording(f"the file is {size / 2**30:.1f} GiB, more than the limit of"
-                               f" {MAX_FILE_BYTES / 2**30:g} GiB", location=location)
+        raise InvalidRecording(
+            f"the file is {size / 2**30:.1f} GiB, more than the limit of {MAX_FILE_BYTES / 2**30:g} GiB",
+            location=location,
+        )
 
 
 def check_rate(rate_hz: float, location: str, what: str = "frame rate") -> float:
     """``rate_hz`` when finite and within MIN_RATE_HZ … MAX_RATE_HZ (Hz), else an error."""
     if not (math.isfinite(rate_hz) and MIN_RATE_HZ <= rate_hz <= MAX_RATE_HZ):
-        raise InvalidRecording(f"{what} is {rate_hz:g} Hz; a recording's rate must lie within"
-                               f" {MIN_RATE_HZ:g}..{MAX_RATE_HZ:g} Hz", location=location)
+        raise InvalidRecording(
+            f"{what} is {rate_hz:g} Hz; a recording's rate must lie within"
+            f" {MIN_RATE_HZ:g}..{MAX_RATE_HZ:g} Hz",
+            location=location,
+        )
     return float(rate_hz)
 
 
@@ -128,7 +149,9 @@ def check_size(frames: int, markers: int, location: str, *, extra_values: int = 
         extra = " (with its analog samples)" if extra_values else ""
         raise InvalidRecording(
             f"{frames} frames × {markers} markers need {needed / 2**30:.1f} GiB{extra}, more than the limit"
-            f" of {MAX_POSITION_BYTES / 2**30:g} GiB", location=location)
+            f" of {MAX_POSITION_BYTES / 2**30:g} GiB",
+            location=location,
+        )
 
 
 def check_frame_numbers(numbers: np.ndarray, location: str, label: Label) -> None:
@@ -137,13 +160,17 @@ def check_frame_numbers(numbers: np.ndarray, location: str, label: Label) -> Non
     ok[ok] = numbers[ok] == np.round(numbers[ok])
     if not ok.all():
         i = int(np.flatnonzero(~ok)[0])
-        raise InvalidRecording(f"{label(i)}: frame number {_show(numbers[i])} is not a whole number"
-                               f" within ±{MAX_FRAME_NUMBER}", location=location)
+        raise InvalidRecording(
+            f"{label(i)}: frame number {_show(numbers[i])} is not a whole number within ±{MAX_FRAME_NUMBER}",
+            location=location,
+        )
     steps = np.diff(numbers)
     if (steps <= 0).any():
         i = int(np.flatnonzero(steps <= 0)[0]) + 1
-        raise InvalidRecording(f"{label(i)}: frame number {numbers[i]:.0f} does not follow"
-                               f" {numbers[i - 1]:.0f}", location=location)
+        raise InvalidRecording(
+            f"{label(i)}: frame number {numbers[i]:.0f} does not follow {numbers[i - 1]:.0f}",
+            location=location,
+        )
 
 
 def check_times(times_s: np.ndarray, location: str, label: Label) -> None:
@@ -155,11 +182,17 @@ def check_times(times_s: np.ndarray, location: str, label: Label) -> None:
     steps = np.diff(times_s)
     if (steps <= 0).any():
         i = int(np.flatnonzero(steps <= 0)[0]) + 1
-        raise InvalidRecording(f"{label(i)}: time {times_s[i]:g} s does not follow {times_s[i - 1]:g} s"
-                               " (frame times must increase)", location=location)
+        raise InvalidRecording(
+            f"{label(i)}: time {times_s[i]:g} s does not follow {times_s[i - 1]:g} s"
+            " (frame times must increase)",
+            location=location,
+        )
     if times_s.size and times_s[-1] - times_s[0] > MAX_DURATION_S:
-        raise InvalidRecording(f"the recording spans {times_s[-1] - times_s[0]:g} s, more than the limit"
-                               f" of {MAX_DURATION_S:g} s", location=location)
+        raise InvalidRecording(
+            f"the recording spans {times_s[-1] - times_s[0]:g} s, more than the limit"
+            f" of {MAX_DURATION_S:g} s",
+            location=location,
+        )
 
 
 def check_coordinates(positions_m: np.ndarray, names: Sequence[str], location: str, label: Label) -> None:

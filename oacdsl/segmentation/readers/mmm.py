@@ -71,8 +71,9 @@ class _Parser(SafeXmlReader):
     def start(self, tag: str, attrs: dict[str, str]) -> None:
         self.depth += 1
         if self.depth == 1 and tag != "MMM":
-            raise InvalidRecording(f"not an MMM motion file: the root element is <{tag}>, not <MMM>",
-                                   location=self.location)
+            raise InvalidRecording(
+                f"not an MMM motion file: the root element is <{tag}>, not <MMM>", location=self.location
+            )
         if tag == "Motion" and self.depth == 2:
             self.motion = _Motion(attrs.get("name") or f"motion{len(self.motions) + 1}")
             self.motions.append(self.motion)
@@ -128,8 +129,10 @@ class _Parser(SafeXmlReader):
             raise self.fail(f"{where} is {text!r}, expected three numbers (mm)") from None
         for axis, v in zip("xyz", (x, y, z), strict=True):
             if not (abs(v) * _MM_TO_M <= MAX_COORDINATE_M or math.isnan(v)):
-                raise self.fail(f"{where} has {axis} = {v:g} mm; a coordinate must be finite and within"
-                                f" ±{MAX_COORDINATE_M:g} m (NaN is a gap)")
+                raise self.fail(
+                    f"{where} has {axis} = {v:g} mm; a coordinate must be finite and within"
+                    f" ±{MAX_COORDINATE_M:g} m (NaN is a gap)"
+                )
         return (x, y, z)
 
 

@@ -43,11 +43,14 @@ def rpy_matrix(rpy_rad: np.ndarray) -> np.ndarray:
     """Rotation matrices ``Rz(z) · Ry(y) · Rx(x)`` for (..., 3) angles in radians."""
     x, y, z = (np.asarray(rpy_rad, dtype=np.float64)[..., i] for i in range(3))
     cx, sx, cy, sy, cz, sz = np.cos(x), np.sin(x), np.cos(y), np.sin(y), np.cos(z), np.sin(z)
-    return np.stack([
-        np.stack([cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx], axis=-1),
-        np.stack([sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx], axis=-1),
-        np.stack([-sy, cy * sx, cy * cx], axis=-1),
-    ], axis=-2)
+    return np.stack(
+        [
+            np.stack([cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx], axis=-1),
+            np.stack([sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx], axis=-1),
+            np.stack([-sy, cy * sx, cy * cx], axis=-1),
+        ],
+        axis=-2,
+    )
 
 
 class _PoseParser(SafeXmlReader):

@@ -88,8 +88,9 @@ def read_csv(path: str | Path, units: str | None = None) -> Recording:
             )
     incomplete = [m for m, a in axes.items() if set(a) != {"x", "y", "z"}]
     if incomplete:
-        raise InvalidRecording(f"line {i + 1}: marker {incomplete[0]!r} lacks some of its _x, _y, _z columns",
-                               location=location)
+        raise InvalidRecording(
+            f"line {i + 1}: marker {incomplete[0]!r} lacks some of its _x, _y, _z columns", location=location
+        )
     if not axes:
         raise InvalidRecording(f"line {i + 1}: no marker columns (<marker>_x, _y, _z)", location=location)
     text_rows = [(i + 2 + k, line) for k, line in enumerate(lines[i + 1 :]) if line.strip()]
@@ -110,16 +111,18 @@ def read_csv(path: str | Path, units: str | None = None) -> Recording:
         try:
             rate = float(value)
         except ValueError:
-            raise InvalidRecording(f"line {line}: rate_hz {value!r} is not a number",
-                                   location=location) from None
+            raise InvalidRecording(
+                f"line {line}: rate_hz {value!r} is not a number", location=location
+            ) from None
         check_rate(rate, location, f"line {line}: rate_hz")
         if time_col is not None:
             check_times(table[:, time_col], location, label)
     elif time_col is not None:
         rate = rate_from_times(table[:, time_col], location, label)
     else:
-        raise InvalidRecording("no time column and no '# rate_hz:' line: the frame rate is unknown",
-                               location=location)
+        raise InvalidRecording(
+            "no time column and no '# rate_hz:' line: the frame rate is unknown", location=location
+        )
     times = table[:, time_col] - table[0, time_col] if time_col is not None else np.arange(len(rows)) / rate
     first = 0
     if frame_col is not None:

@@ -56,8 +56,9 @@ def _number(text: str, what: str, line_no: int, location: str) -> float:
     try:
         return float(text)
     except ValueError:
-        raise InvalidRecording(f"line {line_no}: {what} {text!r} is not a number",
-                               location=location) from None
+        raise InvalidRecording(
+            f"line {line_no}: {what} {text!r} is not a number", location=location
+        ) from None
 
 
 _CHUNK_FIELDS = 1 << 20  # fields converted at once: bounds the temporary strings (~60 MB)
@@ -78,8 +79,9 @@ def parse_table(rows: list[tuple[int, list[str]]], width: int, location: str) ->
         flat: list[str] = []
         for line_no, fields in chunk:
             if len(fields) != width:
-                raise InvalidRecording(f"line {line_no}: {len(fields)} fields, expected {width}",
-                                       location=location)
+                raise InvalidRecording(
+                    f"line {line_no}: {len(fields)} fields, expected {width}", location=location
+                )
             flat.extend(f.strip() or "nan" for f in fields)
         try:
             table[start : start + len(chunk)] = np.array(flat, dtype=np.float64).reshape(len(chunk), width)
@@ -135,12 +137,14 @@ def read_tsv(path: str | Path, units: str = "mm") -> Recording:
     check_size(0, n_markers, location)
     names = unique_names(header["MARKER_NAMES"][1], "marker")
     if not n_markers:
-        raise InvalidRecording(f"line {header['MARKER_NAMES'][0]}: MARKER_NAMES lists no markers",
-                               location=location)
+        raise InvalidRecording(
+            f"line {header['MARKER_NAMES'][0]}: MARKER_NAMES lists no markers", location=location
+        )
     if "NO_OF_MARKERS" in header and header["NO_OF_MARKERS"][1][0] != str(n_markers):
         line, value = header["NO_OF_MARKERS"][0], header["NO_OF_MARKERS"][1][0]
-        raise InvalidRecording(f"line {line}: NO_OF_MARKERS is {value} but MARKER_NAMES lists {n_markers}",
-                               location=location)
+        raise InvalidRecording(
+            f"line {line}: NO_OF_MARKERS is {value} but MARKER_NAMES lists {n_markers}", location=location
+        )
     has_frame_time = False
     if i < len(lines) and _fields(lines[i])[0].strip().lower() == "frame":
         columns = [c.strip().lower() for c in _fields(lines[i])]
@@ -154,8 +158,10 @@ def read_tsv(path: str | Path, units: str = "mm") -> Recording:
         raise InvalidRecording("the recording has no frames", location=location)
     if "NO_OF_FRAMES" in header and header["NO_OF_FRAMES"][1][0] != str(len(text_rows)):
         line, value = header["NO_OF_FRAMES"][0], header["NO_OF_FRAMES"][1][0]
-        raise InvalidRecording(f"line {line}: NO_OF_FRAMES is {value} but the file holds {len(text_rows)}"
-                               " data rows", location=location)
+        raise InvalidRecording(
+            f"line {line}: NO_OF_FRAMES is {value} but the file holds {len(text_rows)} data rows",
+            location=location,
+        )
     check_size(len(text_rows), n_markers, location, extra_values=2 * len(text_rows))
     rows = [(n, _fields(line)) for n, line in text_rows]
     table = parse_table(rows, width, location)
@@ -176,8 +182,9 @@ def read_tsv(path: str | Path, units: str = "mm") -> Recording:
         times = table[:, 1] - table[0, 1]
         rate = rate_from_times(table[:, 1], location, label)
     else:
-        raise InvalidRecording("no FREQUENCY line and no Time column: the frame rate is unknown",
-                               location=location)
+        raise InvalidRecording(
+            "no FREQUENCY line and no Time column: the frame rate is unknown", location=location
+        )
     first = int(table[0, 0]) if has_frame_time else 0
     groups = prefix_groups(names)
     index = {n: k for k, n in enumerate(names)}

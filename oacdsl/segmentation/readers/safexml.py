@@ -54,5 +54,8 @@ class SafeXmlReader:
                     self.expat.Parse(chunk, False)
                 self.expat.Parse(b"", True)
         except expat.ExpatError as err:
-            raise InvalidRecording(f"not well-formed XML at line {err.lineno}, column {err.offset + 1}"
-                                   f" ({expat.ErrorString(err.code)})", location=self.location) from None
+            raise InvalidRecording(
+                f"not well-formed XML at line {err.lineno}, column {err.offset + 1}"
+                f" ({expat.ErrorString(err.code)})",
+                location=self.location,
+            ) from None

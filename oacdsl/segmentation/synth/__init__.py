@@ -23,16 +23,29 @@ from oacdsl.segmentation.synth.realism import Gap, NoiseModel, add_noise, apply_
 from oacdsl.segmentation.synth.reference import PaperRule, world_states
 from oacdsl.segmentation.synth.truth import pass_by_facts, time_script, truth_document
 
-__all__ = ["DEFAULT_SEED", "FLIGHT_S", "SCENES", "Demonstration", "PaperRule", "default_rule",
-           "dough_demonstration"]
+__all__ = [
+    "DEFAULT_SEED",
+    "FLIGHT_S",
+    "SCENES",
+    "Demonstration",
+    "PaperRule",
+    "default_rule",
+    "dough_demonstration",
+]
 
 #: The seed of the bundled demonstration ``data/dough.c3d``.
 DEFAULT_SEED = 2013
 
 #: Scripted occlusions: (instance, marker, story moment, offset s, duration s, why).
 _SCRIPTED_GAPS: tuple[tuple[str, str, str, float, float, str], ...] = (
-    ("liquid_two", "LQ2", "grasp_red_cup", -0.9, 0.08,
-     "the liquid's only marker is hidden inside the green cup (the whole instance is missing)"),
+    (
+        "liquid_two",
+        "LQ2",
+        "grasp_red_cup",
+        -0.9,
+        0.08,
+        "the liquid's only marker is hidden inside the green cup (the whole instance is missing)",
+    ),
     ("left_hand", "LWTS", "grasp_red_cup", 1.0, 0.25, "wrist marker hidden while carrying the red cup"),
     ("red_cup", "RC2", "pour_liquid_one", 0.5, 0.12, "rim marker turned away while the cup is tilted"),
     ("right_hand", "RIFD", "grasp_green_cup", 1.0, 0.2, "finger marker hidden while carrying the green cup"),
@@ -66,15 +79,22 @@ def _scripted_gaps(script: Script, timing_raw: list[int], source: str) -> list[G
         last = first + max(int(round(dur_s * rate)), 1) - 1
         near = [f for f in timing_raw[1:] if first - 0.3 * rate <= f <= last + 0.3 * rate]
         if near:  # the script is laid out so that this never happens; refuse rather than guess
-            raise SegmentationError(f"scripted gap on {inst}:{label} is within 0.3 s of the change"
-                                    f" at frame {near[0]}", location=source)
+            raise SegmentationError(
+                f"scripted gap on {inst}:{label} is within 0.3 s of the change at frame {near[0]}",
+                location=source,
+            )
         gaps.append(Gap(inst, label, first, last, why))
     return gaps
 
 
-def dough_demonstration(seed: int = DEFAULT_SEED, rate_hz: float = 100.0, rule: PaperRule | None = None,
-                        noise: NoiseModel | None = None, source: str = "synth:dough",
-                        flight_s: float = FLIGHT_S) -> Demonstration:
+def dough_demonstration(
+    seed: int = DEFAULT_SEED,
+    rate_hz: float = 100.0,
+    rule: PaperRule | None = None,
+    noise: NoiseModel | None = None,
+    source: str = "synth:dough",
+    flight_s: float = FLIGHT_S,
+) -> Demonstration:
     """The paper's dough demonstration for ``seed`` at ``rate_hz`` (Hz).
 
     ``noise`` defaults to :class:`NoiseModel` (white jitter 0.05 mm); ``flight_s`` is the
@@ -105,20 +125,35 @@ def dough_demonstration(seed: int = DEFAULT_SEED, rate_hz: float = 100.0, rule: 
     realism = {
         "noise": noise.to_json(),
         "flight_s": flight_s,
-        "gaps": [{"instance": g.instance, "marker": f"{g.instance}:{g.label}", "first_frame": g.first,
-                  "last_frame": g.last, "reason": g.reason,
-                  "during": [list(p) for p in timing.relations(g.first)
-                             if g.instance in p and all(touching[g.first:g.last + 1, pairs.index(p)])]}
-                 for g in gaps],
+        "gaps": [
+            {
+                "instance": g.instance,
+                "marker": f"{g.instance}:{g.label}",
+                "first_frame": g.first,
+                "last_frame": g.last,
+                "reason": g.reason,
+                "during": [
+                    list(p)
+                    for p in timing.relations(g.first)
+                    if g.instance in p and all(touching[g.first : g.last + 1, pairs.index(p)])
+                ],
+            }
+            for g in gaps
+        ],
         "pass_by": pass_by,
-        "bounce": {"instance": "red_cup", "hand": "left_hand", "raw_changes": bounce,
-                   "merged_into": bounce[-1] if bounce else None},
+        "bounce": {
+            "instance": "red_cup",
+            "hand": "left_hand",
+            "raw_changes": bounce,
+            "merged_into": bounce[-1] if bounce else None,
+        },
     }
     truth = truth_document(script, timing, seed, script.labels, realism)
     order = sorted(script.markers_m)
     recording = recording_from_points({k: noisy[k] for k in order}, rate_hz, source, script.labels)
-    clean = recording_from_points({k: script.markers_m[k] for k in order}, rate_hz, source + ":clean",
-                                  script.labels)
+    clean = recording_from_points(
+        {k: script.markers_m[k] for k in order}, rate_hz, source + ":clean", script.labels
+    )
     return Demonstration(recording, clean, truth)
 
 

@@ -38,8 +38,10 @@ _BOWL_AT_M = np.array([0.0, 0.06, TABLE_Z_M])
 _RED_CUP_AT_M = np.array([-0.36, -0.02, TABLE_Z_M])
 _GREEN_CUP_AT_M = np.array([0.36, -0.02, TABLE_Z_M])
 _MIXER_AT_M = np.array([0.25, 0.42, TABLE_Z_M])
-_REST_M = {"left_hand": np.array([-0.45, -0.42, TABLE_Z_M + 0.03]),
-           "right_hand": np.array([0.45, -0.42, TABLE_Z_M + 0.03])}
+_REST_M = {
+    "left_hand": np.array([-0.45, -0.42, TABLE_Z_M + 0.03]),
+    "right_hand": np.array([0.45, -0.42, TABLE_Z_M + 0.03]),
+}
 #: Palm down on the table: back of the hand up, fingers forward.
 _R_REST = np.array([[0.0, 0.0, -1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]])
 #: Hand frame in the cup frame when holding the handle (back of the hand away from the cup).
@@ -49,27 +51,29 @@ _R_CUP_RIGHT_HAND = np.array([[-1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0
 _R_MIXER_HAND = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
 
 #: Where each liquid comes to rest in the bowl, bowl frame (radius 9 cm from the axis), metres.
-_LANDING_M = {"liquid_one": np.array([-0.0846, 0.0308, 0.025]),
-              "liquid_two": np.array([0.0846, -0.0308, 0.025])}
+_LANDING_M = {
+    "liquid_one": np.array([-0.0846, 0.0308, 0.025]),
+    "liquid_two": np.array([0.0846, -0.0308, 0.025]),
+}
 _POUR_TILT_RAD = np.deg2rad(110.0)
 #: Release to landing of the liquid marker, seconds: a thrown-down parabola.
 FLIGHT_S = 0.16
 #: Flights longer than this are a slow stream (straight, steady speed), not a parabola, seconds.
 _BALLISTIC_MAX_S = 0.3
-_SETTLE_S = 0.015     # time constant of the short roll after landing, seconds
+_SETTLE_S = 0.015  # time constant of the short roll after landing, seconds
 _SETTLE_ROLL_M = 0.005
 #: Motions that end in a contact (or leave one) are cut minimum-jerk profiles: they stop
 #: (start) at 80 % of the profile, still moving at about 40 % of the peak speed.
 _CONTACT_TAU = 0.8
 #: Reaches finish turning the hand at this fraction of their duration and then only translate.
 _TURN = 0.7
-_DROP_M = 0.005       # the red cup is let go this high above the table, metres
+_DROP_M = 0.005  # the red cup is let go this high above the table, metres
 _RESTITUTION = 0.3
 _UP_M = np.array([0.0, 0.0, 0.12])  # carried objects arc this much above the straight line
 #: Control points (from the mixer's handle, m) of the reach to the mixer: low over the green cup
 #: (the pass-by), then to the right of the handle, so that the hand arrives from the side.
 _MIXER_VIA_M = np.array([[0.20, -0.40, 0.10], [0.30, 0.0, 0.05]])
-_LOWER_S = 0.8        # lowering the beaters into the bowl, seconds
+_LOWER_S = 0.8  # lowering the beaters into the bowl, seconds
 _INTO_BOWL_TAU = 0.75  # the beaters reach the bottom still moving briskly
 _MIX_RADIUS_M = 0.010
 _MIX_PERIOD_S = 5.0
@@ -136,12 +140,16 @@ def dough_script(rng: np.random.Generator, rate_hz: float = 100.0, flight_s: flo
     times = np.arange(int(total_s * rate_hz) + 1) / rate_hz
     yaw_pi = rot_z(np.pi)
     hand = {h: Track(h, times, _REST_M[h], _R_REST) for h in ("left_hand", "right_hand")}
-    cups = {"red_cup": Track("red_cup", times, _RED_CUP_AT_M),
-            "green_cup": Track("green_cup", times, _GREEN_CUP_AT_M, yaw_pi)}
+    cups = {
+        "red_cup": Track("red_cup", times, _RED_CUP_AT_M),
+        "green_cup": Track("green_cup", times, _GREEN_CUP_AT_M, yaw_pi),
+    }
     bowl = Track("orange_bowl", times, _BOWL_AT_M)
     mixer = Track("mixer", times, _MIXER_AT_M)
-    liquids = {"liquid_one": Track("liquid_one", times, _RED_CUP_AT_M + LIQUID_IN_CUP_M),
-               "liquid_two": Track("liquid_two", times, _GREEN_CUP_AT_M + yaw_pi @ LIQUID_IN_CUP_M)}
+    liquids = {
+        "liquid_one": Track("liquid_one", times, _RED_CUP_AT_M + LIQUID_IN_CUP_M),
+        "liquid_two": Track("liquid_two", times, _GREEN_CUP_AT_M + yaw_pi @ LIQUID_IN_CUP_M),
+    }
     grips: dict[str, list[tuple[float, float, float]]] = {"left_hand": [], "right_hand": []}
     steps: list[Step] = []
     marks: dict[str, float] = {}
@@ -184,16 +192,24 @@ def dough_script(rng: np.random.Generator, rate_hz: float = 100.0, flight_s: flo
         if flight_s <= _BALLISTIC_MAX_S:
             g = np.array([0.0, 0.0, -GRAVITY_M_S2])
             v0 = (landing - p0 - 0.5 * g * flight_s**2) / flight_s
-            liq.path(t_land,
-                     lambda ts: p0 + np.outer(ts - t_rel0, v0) + 0.5 * np.outer((ts - t_rel0) ** 2, g))
+            liq.path(
+                t_land, lambda ts: p0 + np.outer(ts - t_rel0, v0) + 0.5 * np.outer((ts - t_rel0) ** 2, g)
+            )
         else:
             liq.path(t_land, lambda ts: p0 + np.outer((ts - t_rel0) / flight_s, landing - p0))
         roll = np.array([_LANDING_M[liquid][0], _LANDING_M[liquid][1], 0.0])
         roll = _SETTLE_ROLL_M * roll / float(np.linalg.norm(roll))  # rolls a little towards the wall
         t_land0 = liq.now_s
         liq.path(t_land + 0.3, lambda ts: landing + np.outer(1.0 - np.exp(-(ts - t_land0) / _SETTLE_S), roll))
-        steps.append(Step("pour", (h, cup_name, liquid, "orange_bowl"), t_land,
-                          ((liquid, "orange_bowl"),), ((liquid, cup_name),)))
+        steps.append(
+            Step(
+                "pour",
+                (h, cup_name, liquid, "orange_bowl"),
+                t_land,
+                ((liquid, "orange_bowl"),),
+                ((liquid, cup_name),),
+            )
+        )
         marks[f"pour_{liquid}"] = t_land
         # tilt back, carry home, set down
         t_back = t_hold + dur(1.0)
@@ -201,8 +217,13 @@ def dough_script(rng: np.random.Generator, rate_hz: float = 100.0, flight_s: flo
         bounce = cup_name == "red_cup"
         t_home = t_back + dur(1.3)
         above = home + np.array([0.0, 0.0, _DROP_M if bounce else 0.0])
-        cup.move(t_home, above, home_rot, via_m=0.5 * (cup.last_pose[0] + above) + _UP_M,
-                 end_tau=1.0 if bounce else _CONTACT_TAU)
+        cup.move(
+            t_home,
+            above,
+            home_rot,
+            via_m=0.5 * (cup.last_pose[0] + above) + _UP_M,
+            end_tau=1.0 if bounce else _CONTACT_TAU,
+        )
         hd.follow(cup, t_home)
         if bounce:
             # let go: the cup drops the last few mm and bounces; the hand flinches back 5 cm,
@@ -224,8 +245,13 @@ def dough_script(rng: np.random.Generator, rate_hz: float = 100.0, flight_s: flo
         hd.hold(t_leave)
         t_away = t_leave + dur(1.0)
         out = hd.last_pose[0] + _retreat(side)  # straight out along the handle, then home
-        hd.move(t_away, _REST_M[h], _R_REST, via_m=np.array([out, _REST_M[h] + _UP_M]),
-                start_tau=1.0 - _CONTACT_TAU)
+        hd.move(
+            t_away,
+            _REST_M[h],
+            _R_REST,
+            via_m=np.array([out, _REST_M[h] + _UP_M]),
+            start_tau=1.0 - _CONTACT_TAU,
+        )
         steps.append(Step("place", (h, cup_name), t_leave, (), ((h, cup_name),)))
         marks[f"place_{cup_name}"] = t_leave
 
@@ -285,8 +311,15 @@ def dough_script(rng: np.random.Generator, rate_hz: float = 100.0, flight_s: flo
             closure = _grip_ramp(times, grips[name])
             pts[:, 2] += closure[:, None] * np.einsum("fij,j->fi", tr.rotation, HAND_IFD_CLOSE_M)
         markers[name] = pts[:n]
-    return Script(rate_hz, times[:n], markers, {k: b.labels for k, b in BODIES.items()},
-                  (("liquid_one", "red_cup"), ("liquid_two", "green_cup")), tuple(steps), marks)
+    return Script(
+        rate_hz,
+        times[:n],
+        markers,
+        {k: b.labels for k, b in BODIES.items()},
+        (("liquid_one", "red_cup"), ("liquid_two", "green_cup")),
+        tuple(steps),
+        marks,
+    )
 
 
 def _approach(side: float) -> np.ndarray:

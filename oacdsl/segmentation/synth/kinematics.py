@@ -111,8 +111,9 @@ class Track:
     holds the initial pose; every method fills frames ``cursor … frame(t1_s)``.
     """
 
-    def __init__(self, name: str, times_s: np.ndarray, position_m: np.ndarray,
-                 rotation: np.ndarray | None = None) -> None:
+    def __init__(
+        self, name: str, times_s: np.ndarray, position_m: np.ndarray, rotation: np.ndarray | None = None
+    ) -> None:
         self.name = name
         self.times_s = times_s
         n = times_s.shape[0]
@@ -158,9 +159,17 @@ class Track:
         self.cursor = frames[-1] + 1
         return self
 
-    def move(self, t1_s: float, position_m: np.ndarray | None = None, rotation: np.ndarray | None = None,
-             pivot_m: np.ndarray | None = None, via_m: np.ndarray | None = None,
-             start_tau: float = 0.0, end_tau: float = 1.0, turn_until: float = 1.0) -> Track:
+    def move(
+        self,
+        t1_s: float,
+        position_m: np.ndarray | None = None,
+        rotation: np.ndarray | None = None,
+        pivot_m: np.ndarray | None = None,
+        via_m: np.ndarray | None = None,
+        start_tau: float = 0.0,
+        end_tau: float = 1.0,
+        turn_until: float = 1.0,
+    ) -> Track:
         """Minimum-jerk move from the last pose to a target pose reached at ``t1_s``.
 
         ``position_m`` is the target of the body point ``pivot_m`` (body frame,

@@ -36,8 +36,12 @@ class NoiseModel:
     slow_time_s: float = 0.1
 
     def to_json(self) -> dict[str, float]:
-        return {"white_m": self.white_m, "slow_hand_m": self.slow_hand_m,
-                "slow_object_m": self.slow_object_m, "slow_time_s": self.slow_time_s}
+        return {
+            "white_m": self.white_m,
+            "slow_hand_m": self.slow_hand_m,
+            "slow_object_m": self.slow_object_m,
+            "slow_time_s": self.slow_time_s,
+        }
 
 
 @dataclass(frozen=True)
@@ -56,15 +60,20 @@ def _smooth(x: np.ndarray, sigma_frames: float) -> np.ndarray:
     half = int(np.ceil(4.0 * sigma_frames))
     k = np.exp(-0.5 * (np.arange(-half, half + 1) / sigma_frames) ** 2)
     k /= k.sum()
-    padded = np.concatenate([x[half:0:-1], x, x[-2:-half - 2:-1]], axis=0)
+    padded = np.concatenate([x[half:0:-1], x, x[-2 : -half - 2 : -1]], axis=0)
     flat = padded.reshape(padded.shape[0], -1)
     out = np.stack([np.convolve(flat[:, j], k, mode="valid") for j in range(flat.shape[1])], axis=1)
     out = out.reshape((x.shape[0],) + x.shape[1:])
     return out / max(float(out.std()), 1e-12)
 
 
-def add_noise(markers_m: Mapping[str, np.ndarray], rate_hz: float, model: NoiseModel,
-              rng: np.random.Generator, hands: Sequence[str]) -> dict[str, np.ndarray]:
+def add_noise(
+    markers_m: Mapping[str, np.ndarray],
+    rate_hz: float,
+    model: NoiseModel,
+    rng: np.random.Generator,
+    hands: Sequence[str],
+) -> dict[str, np.ndarray]:
     """Noisy copies of the (F, k, 3) marker arrays, in sorted instance order of random draws."""
     out: dict[str, np.ndarray] = {}
     for name in sorted(markers_m):
@@ -76,8 +85,15 @@ def add_noise(markers_m: Mapping[str, np.ndarray], rate_hz: float, model: NoiseM
     return out
 
 
-def random_gaps(labels: Mapping[str, Sequence[str]], n_frames: int, forbidden: Sequence[tuple[int, int]],
-                rng: np.random.Generator, count: int = 8, min_len: int = 2, max_len: int = 6) -> list[Gap]:
+def random_gaps(
+    labels: Mapping[str, Sequence[str]],
+    n_frames: int,
+    forbidden: Sequence[tuple[int, int]],
+    rng: np.random.Generator,
+    count: int = 8,
+    min_len: int = 2,
+    max_len: int = 6,
+) -> list[Gap]:
     """``count`` short gaps on markers of multi-marker instances, outside the ``forbidden`` frame spans."""
     candidates = [(inst, lab) for inst in sorted(labels) if len(labels[inst]) > 1 for lab in labels[inst]]
     gaps: list[Gap] = []
@@ -96,11 +112,12 @@ def random_gaps(labels: Mapping[str, Sequence[str]], n_frames: int, forbidden: S
     return sorted(gaps, key=lambda g: (g.first, g.instance, g.label))
 
 
-def apply_gaps(markers_m: Mapping[str, np.ndarray], labels: Mapping[str, Sequence[str]],
-               gaps: Sequence[Gap]) -> dict[str, np.ndarray]:
+def apply_gaps(
+    markers_m: Mapping[str, np.ndarray], labels: Mapping[str, Sequence[str]], gaps: Sequence[Gap]
+) -> dict[str, np.ndarray]:
     """Copies of the marker arrays with NaN on every gap's frames."""
     out = {k: v.copy() for k, v in markers_m.items()}
     for g in gaps:
         k = list(labels[g.instance]).index(g.label)
-        out[g.instance][g.first: g.last + 1, k, :] = np.nan
+        out[g.instance][g.first : g.last + 1, k, :] = np.nan
     return out

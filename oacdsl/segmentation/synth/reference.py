@@ -80,8 +80,9 @@ def touching(a_m: np.ndarray, b_m: np.ndarray, rate_hz: float, rule: PaperRule) 
     return out
 
 
-def world_states(markers_m: Mapping[str, np.ndarray], rate_hz: float,
-                 rule: PaperRule) -> tuple[list[tuple[str, str]], np.ndarray]:
+def world_states(
+    markers_m: Mapping[str, np.ndarray], rate_hz: float, rule: PaperRule
+) -> tuple[list[tuple[str, str]], np.ndarray]:
     """All instance pairs (sorted) and an (F, pairs) bool array of which touch when."""
     names = sorted(markers_m)
     pairs = list(combinations(names, 2))

@@ -59,13 +59,15 @@ def _polar(radius_m: float, azimuth_deg: float, z_m: float) -> list[float]:
 
 
 # -- hands -------------------------------------------------------------------------------
-_HAND_RIGHT_M = np.array([
-    [0.035, -0.020, 0.030],   # HTS back of hand, thumb side
-    [0.035, -0.020, -0.035],  # HPS back of hand, pinky side
-    [0.030, 0.060, 0.025],    # IFD index finger (moves when the hand closes)
-    [0.015, -0.085, 0.028],   # WTS wrist, thumb side
-    [0.015, -0.085, -0.030],  # WPS wrist, pinky side
-])
+_HAND_RIGHT_M = np.array(
+    [
+        [0.035, -0.020, 0.030],  # HTS back of hand, thumb side
+        [0.035, -0.020, -0.035],  # HPS back of hand, pinky side
+        [0.030, 0.060, 0.025],  # IFD index finger (moves when the hand closes)
+        [0.015, -0.085, 0.028],  # WTS wrist, thumb side
+        [0.015, -0.085, -0.030],  # WPS wrist, pinky side
+    ]
+)
 _HAND_SUFFIXES = ("HTS", "HPS", "IFD", "WTS", "WPS")
 #: How far the index-finger marker moves in the hand frame when the hand closes, metres.
 HAND_IFD_CLOSE_M = np.array([-0.015, -0.015, 0.0])
@@ -89,37 +91,45 @@ CUP_HANDLE_GRASP_M = np.array([-0.11, 0.0, 0.065])
 #: Where the liquid's big marker sits in the cup (towards the lip, near the bottom), cup frame, metres.
 LIQUID_IN_CUP_M = np.array([0.025, 0.0, 0.03])
 
-_RED_CUP_M = np.array([
-    _polar(_CUP_RIM_MARKER_RADIUS_M, 40.0, _CUP_HEIGHT_M + 0.004),
-    _polar(_CUP_RIM_MARKER_RADIUS_M, 150.0, _CUP_HEIGHT_M + 0.004),
-    _polar(_CUP_RIM_MARKER_RADIUS_M, 265.0, _CUP_HEIGHT_M + 0.004),
-    [-0.095, 0.0, 0.108],  # top of the handle
-])
-_GREEN_CUP_M = np.array([
-    _polar(_CUP_RIM_MARKER_RADIUS_M, 75.0, _CUP_HEIGHT_M + 0.004),
-    _polar(_CUP_RIM_MARKER_RADIUS_M, 215.0, _CUP_HEIGHT_M + 0.004),
-    [-0.095, 0.0, 0.108],
-])
+_RED_CUP_M = np.array(
+    [
+        _polar(_CUP_RIM_MARKER_RADIUS_M, 40.0, _CUP_HEIGHT_M + 0.004),
+        _polar(_CUP_RIM_MARKER_RADIUS_M, 150.0, _CUP_HEIGHT_M + 0.004),
+        _polar(_CUP_RIM_MARKER_RADIUS_M, 265.0, _CUP_HEIGHT_M + 0.004),
+        [-0.095, 0.0, 0.108],  # top of the handle
+    ]
+)
+_GREEN_CUP_M = np.array(
+    [
+        _polar(_CUP_RIM_MARKER_RADIUS_M, 75.0, _CUP_HEIGHT_M + 0.004),
+        _polar(_CUP_RIM_MARKER_RADIUS_M, 215.0, _CUP_HEIGHT_M + 0.004),
+        [-0.095, 0.0, 0.108],
+    ]
+)
 
 # -- bowl ----------------------------------------------------------------------------------
 _BOWL_HEIGHT_M = 0.12
 #: Outer radius of the bowl's rim, metres (bottom: flat, inner radius 0.11 m).
 BOWL_RIM_RADIUS_M = 0.165
-_BOWL_M = np.array([
-    _polar(BOWL_RIM_RADIUS_M + 0.003, 82.0, _BOWL_HEIGHT_M + 0.004),   # rim, back
-    _polar(BOWL_RIM_RADIUS_M + 0.003, 257.0, _BOWL_HEIGHT_M + 0.004),  # rim, front
-    _polar(0.121, 172.0, 0.018),  # low on the outside wall, left
-    _polar(0.121, 328.0, 0.018),  # low on the outside wall, right
-])
+_BOWL_M = np.array(
+    [
+        _polar(BOWL_RIM_RADIUS_M + 0.003, 82.0, _BOWL_HEIGHT_M + 0.004),  # rim, back
+        _polar(BOWL_RIM_RADIUS_M + 0.003, 257.0, _BOWL_HEIGHT_M + 0.004),  # rim, front
+        _polar(0.121, 172.0, 0.018),  # low on the outside wall, left
+        _polar(0.121, 328.0, 0.018),  # low on the outside wall, right
+    ]
+)
 
 # -- mixer -----------------------------------------------------------------------------------
 #: Grasp point on the mixer's handle, mixer frame, metres.
 MIXER_HANDLE_GRASP_M = np.array([0.0, -0.05, 0.235])
-_MIXER_M = np.array([
-    [-0.030, -0.120, 0.160],  # body, rear
-    [-0.020, 0.050, 0.210],   # body, front top
-    [-0.045, -0.030, 0.185],  # body, left side (the hand holds it from the right)
-])
+_MIXER_M = np.array(
+    [
+        [-0.030, -0.120, 0.160],  # body, rear
+        [-0.020, 0.050, 0.210],  # body, front top
+        [-0.045, -0.030, 0.185],  # body, left side (the hand holds it from the right)
+    ]
+)
 
 #: Every tracked body of the dough scene, by instance name.
 BODIES: dict[str, Body] = {
