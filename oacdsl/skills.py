@@ -315,6 +315,15 @@ SIGNATURES: dict[str, SkillSignature] = {
             ),
         ),
         SkillSignature(
+            "lift",
+            "raise the held object straight up, off what it touches (a tool off its work)",
+            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("t", ANY)),
+            (
+                SkillParamSpec("height", "m", 0.12, 0.02, 0.30, "how far the object is raised"),
+                SkillParamSpec("duration", "s", 1.0, 0.3, 5.0, "time to raise it"),
+            ),
+        ),
+        SkillSignature(
             "stir",
             "circle the held tool's tip inside a container (standing or held by the other hand)",
             (SkillArg("h", "Hand"), SkillArg("s", "Graspable"), SkillArg("c", "Container")),
