@@ -96,7 +96,7 @@ class RobustDetector:
             keep = np.flatnonzero(busy)
             dist, s0, pairs = dist[keep], s0[keep], pairs[keep]
             if row_d is not None:
-                d = d[keep]
+                d = row_d[sel[keep]]
         if pairs.size == 0:
             return PairChanges.none()
         close, far = self._conditions(dist, chunk.times_s, d)
