@@ -182,16 +182,20 @@ def _prune_indirect(signals: dict[int, tuple[np.ndarray, np.ndarray]], table: Pa
     index = {(int(a), int(b)): q for q, (a, b) in enumerate(table.instance_pairs)}
     n_inst = len(table.instances)
     for q, (dmin, carry) in signals.items():
-        if not carry.any():
+        frames = np.flatnonzero(carry)  # only co-motion frames can be dropped
+        if frames.size == 0:
             continue
         a, b = (int(i) for i in table.instance_pairs[q])
+        here = dmin[frames]
+        drop = np.zeros(frames.size, dtype=bool)
         for c in range(n_inst):
             q1 = index.get((min(a, c), max(a, c)))
             q2 = index.get((min(b, c), max(b, c)))
             if c in (a, b) or q1 not in signals or q2 not in signals:
                 continue
             with np.errstate(invalid="ignore"):
-                carry &= ~(np.fmax(signals[q1][0], signals[q2][0]) < dmin)
+                drop |= np.fmax(signals[q1][0][frames], signals[q2][0][frames]) < here
+        carry[frames[drop]] = False
 
 
 def _instance_speeds(recording: Recording, groups: list[np.ndarray], rows: np.ndarray, prev: np.ndarray,
