@@ -209,7 +209,33 @@ def _instance_speeds(recording: Recording, groups: list[np.ndarray], rows: np.nd
     diff = recording.positions_m[rows[0]:rows[-1] + 1] - before  # (R, M, 3)
     step = np.sqrt(diff[..., 0] * diff[..., 0] + diff[..., 1] * diff[..., 1]
                    + diff[..., 2] * diff[..., 2])  # (R, M) metres, as np.linalg.norm(diff, axis=-1)
-    return [_nanmedian_last(step[:, m]) / dt for m in groups]
+    by_marker = np.ascontiguousarray(step.T)  # (M, R): one marker's steps contiguous
+    return [_median_rows(by_marker[m]) / dt for m in groups]
+
+
+_NETWORK_ROWS = 8  # up to this many markers an instance's median is sorted by a network
+
+
+def _median_rows(x: np.ndarray) -> np.ndarray:
+    """:func:`_nanmedian0` of (K, R), the same values; for K ≤ ``_NETWORK_ROWS`` the columns
+    without a gap are sorted by an odd–even transposition network of element-wise min/max."""
+    k = x.shape[0]
+    if k == 0 or k > _NETWORK_ROWS:
+        return _nanmedian0(x)
+    gap = np.isnan(x).any(axis=0)
+    full = ~gap
+    some = bool(gap.any())
+    rows = [row[full] for row in x] if some else list(x)
+    for rnd in range(k):
+        for i in range(rnd % 2, k - 1, 2):
+            rows[i], rows[i + 1] = np.minimum(rows[i], rows[i + 1]), np.maximum(rows[i], rows[i + 1])
+    middle = (rows[(k - 1) // 2] + rows[k // 2]) / 2  # as _nanmedian0 with every value present
+    if not some:
+        return middle
+    out = np.empty(x.shape[1], dtype=middle.dtype)
+    out[full] = middle
+    out[gap] = _nanmedian0(x[:, gap])
+    return out
 
 
 def _nanmedian0(x: np.ndarray) -> np.ndarray:
@@ -222,22 +248,6 @@ def _nanmedian0(x: np.ndarray) -> np.ndarray:
     lo = np.maximum(count - 1, 0) // 2
     hi = np.minimum(count // 2, x.shape[0] - 1)
     median = (ordered[lo, cols] + ordered[hi, cols]) / 2
-    return np.where(count > 0, median, np.nan)
-
-
-def _nanmedian_last(x: np.ndarray) -> np.ndarray:
-    """Median over the last axis of (R, K) ignoring NaN (NaN where a row has no value).
-
-    The same values as ``_nanmedian0(x.T)``; sorting along contiguous rows is faster.
-    """
-    if x.shape[1] == 0:
-        return np.full(x.shape[0], np.nan)
-    ordered = np.sort(x, axis=1)  # NaN sort last
-    count = np.count_nonzero(~np.isnan(x), axis=1)
-    rows = np.arange(x.shape[0])
-    lo = np.maximum(count - 1, 0) // 2
-    hi = np.minimum(count // 2, x.shape[1] - 1)
-    median = (ordered[rows, lo] + ordered[rows, hi]) / 2
     return np.where(count > 0, median, np.nan)
 
 
