@@ -111,7 +111,7 @@ def comotion(recording: Recording, table: PairTable, params: AasParams,
         for a, b in _runs(carry):
             if b - a < min_len:
                 continue
-            threshold = min(float(np.nanmedian(dmin[a:b])) * (1 + settings.margin), params.distance_m)
+            threshold = min(_nanmedian1d(dmin[a:b]) * (1 + settings.margin), params.distance_m)
             spans.append(_extend(dmin, a, b, threshold, bridge))
             thresholds.append(threshold)
         if spans:
@@ -249,6 +249,21 @@ def _nanmedian0(x: np.ndarray) -> np.ndarray:
     hi = np.minimum(count // 2, x.shape[0] - 1)
     median = (ordered[lo, cols] + ordered[hi, cols]) / 2
     return np.where(count > 0, median, np.nan)
+
+
+def _nanmedian1d(x: np.ndarray) -> float:
+    """``float(np.nanmedian(x))`` of a 1-D float32 array (NaN if all are NaN), without its
+    wrappers: the middle value, or the float32 mean of the two middle values, of the
+    values present."""
+    values = x[~np.isnan(x)]
+    n = values.size
+    if n == 0:
+        return float("nan")
+    k = n // 2
+    if n % 2:
+        return float(np.partition(values, k)[k])
+    part = np.partition(values, [k - 1, k])
+    return float(np.mean(part[k - 1:k + 1]))
 
 
 def _runs(mask: np.ndarray) -> list[tuple[int, int]]:

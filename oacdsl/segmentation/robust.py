@@ -81,24 +81,18 @@ class RobustDetector:
         sel = np.flatnonzero(near)
         if sel.size == 0:
             return PairChanges.none()
-        if sel.size < near.size:
-            dist, below = chunk.dist_m[sel], below[sel]
-        else:
-            dist = chunk.dist_m
-        if row_d is not None:
-            d = row_d[sel]
-        s0, pairs = state0[sel], chunk.pairs[sel]
+        below = below[sel]
         # neither touching nor below d for n frames in a row: no run of n close frames, no flip
         causal = np.zeros(below.shape, dtype=bool)  # column c: frame c - half, as in _conditions
         causal[:, half:] = below[:, :max(0, below.shape[1] - half)]
-        busy = s0 | windows(causal, h, n_out, n).any(axis=1)
-        if not busy.all():
-            keep = np.flatnonzero(busy)
-            dist, s0, pairs = dist[keep], s0[keep], pairs[keep]
-            if row_d is not None:
-                d = row_d[sel[keep]]
-        if pairs.size == 0:
+        busy = state0[sel] | windows(causal, h, n_out, n).any(axis=1)
+        rows = sel[busy]
+        if rows.size == 0:
             return PairChanges.none()
+        dist = chunk.dist_m[rows] if rows.size < near.size else chunk.dist_m
+        s0, pairs = state0[rows], chunk.pairs[rows]
+        if row_d is not None:
+            d = row_d[rows]
         close, far = self._conditions(dist, chunk.times_s, d)
         close_n = windows(close, h, n_out, n)
         far_n = windows(far, h, n_out, n)
