@@ -98,7 +98,7 @@ class RobustDetector:
         far_n = windows(far, h, n_out, n)
         rows, cols, value = flips(close_n, far_n, s0)
         if rows.size:
-            last = np.flatnonzero(np.r_[rows[1:] != rows[:-1], True])
+            last = np.flatnonzero(np.concatenate((rows[1:] != rows[:-1], [True])))
             self._state[pairs[rows[last]]] = value[last]
         return PairChanges(pairs[rows], cols + chunk.start, value)
 
