@@ -41,6 +41,9 @@ def test_slope_at_some_columns_is_the_full_slope_there_bit_for_bit():
         rows, cols = np.nonzero(rng.random((a, r)) < 0.3)
         full = windowed_slope(dist, t, half)[rows, cols]
         assert np.array_equal(windowed_slope_at(dist, t, half, rows, cols), full, equal_nan=True)
+        shuffled = rng.permutation(rows.size)  # any order of the requested places
+        got = windowed_slope_at(dist, t, half, rows[shuffled], cols[shuffled])
+        assert np.array_equal(got, full[shuffled], equal_nan=True)
     assert windowed_slope_at(dist, t, 2, rows[:0], cols[:0]).shape == (0,)
 
 
