@@ -24,6 +24,7 @@ COMMANDS: list[str] = [
     "oacdsl.cli.fmt_cmd",
     "oacdsl.cli.inspect_cmd",
     "oacdsl.cli.segment_cmd",
+    "oacdsl.cli.draft_cmd",
     "oacdsl.cli.match_cmd",
     "oacdsl.cli.compose_cmd",
     "oacdsl.cli.run_cmd",

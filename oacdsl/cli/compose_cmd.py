@@ -39,7 +39,7 @@ def run(args: argparse.Namespace) -> int:
     from oacdsl.cli.demo_input import load_inputs, transient_s
     from oacdsl.errors import UsageError
     from oacdsl.matching.demonstration import compose_demonstration, match_segmentation
-    from oacdsl.matching.emit import DRAFTS, LEARNED, Emitted, emit, render
+    from oacdsl.matching.emit import DRAFTS, LEARNED, Emitted, emit, library_files, render
     from oacdsl.matching.matcher import Matcher
     from oacdsl.matching.results import Mode
 
@@ -78,21 +78,24 @@ def run(args: argparse.Namespace) -> int:
 
     for written_to in {target.parent, root / LEARNED, drafts_dir}:  # what killed runs left behind
         remove_stale_temporaries(written_to)
+    others = [f for p in inputs.library_paths if p != inputs.library_path for f in library_files(p)]
     # Check everything before writing anything: the drafts, then the OAC that calls them.
     drafts = {drafts_dir / f"{d.name}.oac": d for _, d in demo.drafts}
     pending = {path: render([d], str(path)) for path, d in drafts.items()}
     for path, draft in drafts.items():
         emit([draft], path, library=inputs.library_path, force=args.force, drafts=True, pending=pending,
-             write=False)
+             write=False, also=others)
 
-    def composed(write: bool) -> Emitted:
+    def composed(write: bool) -> Emitted:  # checked with every --library given
         return emit([oac], target, library=inputs.library_path, header=header, force=args.force,
-                    drafts=bool(drafts), also=[drafts_dir] if drafts else [], pending=pending, write=write)
+                    drafts=bool(drafts), also=[*others, *([drafts_dir] if drafts else [])], pending=pending,
+                    write=write)
 
     composed(write=False)
     written = []
     for path, draft in drafts.items():
-        e = emit([draft], path, library=inputs.library_path, force=args.force, drafts=True, pending=pending)
+        e = emit([draft], path, library=inputs.library_path, force=args.force, drafts=True, pending=pending,
+                 also=others)
         written.append(e)
         print(f"oacc: {e.status} draft {e.path}: sub-action matched no OAC; review it", file=sys.stderr)
     result = composed(write=True)

@@ -29,8 +29,10 @@ def add_input_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("recording", metavar="RECORDING",
                    help="motion capture (.c3d, .mmm.xml, .tsv, .csv) or a segmentation"
                         " (the .json of oacc segment --json)")
-    p.add_argument("--library", metavar="DIR", default="library",
-                   help="the OAC library: a folder (drafts/ left out) or a file (default: library/)")
+    p.add_argument("--library", metavar="DIR", action="append",
+                   help="the OAC library: a folder (drafts/ left out) or a file (default: library/);"
+                        " repeatable: several are one library (a scene drafted by oacc draft and library/),"
+                        " the first folder given gets what compose writes")
     p.add_argument("--scene", metavar="NAME|FILE",
                    help="the scene of the demonstration (default: the library's scene whose tracked"
                         " instances are the recording's marker groups)")
@@ -64,8 +66,9 @@ def load_inputs(args: argparse.Namespace) -> Inputs:
                              " segmentation already (.json)")
     params = params_from_args(args)  # bad units fail before any reading
     with printed_warnings():
-        inputs = load(args.recording, args.library, args.scene, params, fmt=args.format, preset=args.preset,
-                      allow_truncated=allow_truncated(args), segmentations=True, note=note)
+        inputs = load(args.recording, args.library or ["library"], args.scene, params, fmt=args.format,
+                      preset=args.preset, allow_truncated=allow_truncated(args), segmentations=True,
+                      note=note)
     if inputs.recording is not None:
         check_windows(args, inputs.recording)
     return inputs

@@ -90,7 +90,7 @@ def find_scene(library: Library, instances: Sequence[str], name: str | None = No
     known = ", ".join(sorted(library.scenes)) or "none"
     raise MatchingError(
         f"no scene of the library has exactly the recording's instances ({', '.join(sorted(wanted))});"
-        f" scenes: {known}; give one with --scene NAME or --scene FILE"
+        f" scenes: {known}; give one with --scene NAME or --scene FILE (oacc draft RECORDING drafts one)"
     )
 
 

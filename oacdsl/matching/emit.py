@@ -90,7 +90,7 @@ def _existing(target: Path) -> tuple[Oac, ...] | None:
 
 def _check(library: Path | None, target: Path, text: str, decls: Sequence[Oac], drafts: bool,
            also: Sequence[Path], pending: Mapping[Path, str]) -> None:
-    """Compile ``text`` (to be ``target``) with the library, the folders ``also`` and the
+    """Compile ``text`` (to be ``target``) with the library, the folders and files ``also`` and the
     files about to be written (``pending``: path → text); raise on any error (with
     ``drafts``: on any error but the placeholder skill's)."""
     from oacdsl.compiler import compile_sources, read_source
@@ -99,7 +99,7 @@ def _check(library: Path | None, target: Path, text: str, decls: Sequence[Oac], 
     others = [f for f in files if f.resolve() != target.resolve()]
     sources = {str(f): read_source(f) for f in others}
     for folder in (*also, *((target.parent,) if drafts else ())):  # drafts a composition may call
-        for f in sorted(folder.glob("*.oac")) if folder.is_dir() else ():
+        for f in sorted(folder.glob("*.oac")) if folder.is_dir() else [folder] if folder.is_file() else []:
             if f.resolve() != target.resolve():
                 sources.setdefault(str(f), read_source(f))
     names = {d.name for d in decls}
@@ -133,7 +133,7 @@ def emit(
 ) -> Emitted:
     """Write ``decls`` (one composed OAC, or drafts) to ``target`` after checking them
     against ``library`` (a folder or file; None: no check) and the ``.oac`` files in the
-    folders ``also``; see the module docstring. ``drafts``: the placeholder skill
+    folders ``also`` (or those files themselves); see the module docstring. ``drafts``: the placeholder skill
     ``TODO`` is allowed. ``pending``: files not written yet that the check must include
     (path → text). ``write=False`` checks everything and writes nothing."""
     if not decls:

@@ -13,7 +13,8 @@ second), which the synth tests check equals the bundled file.
 
 **The library.** ``--library DIR`` (``reproduce``'s default: ``library/`` in the
 working folder, else the source tree's ``library/``), every ``.oac`` file under it
-except ``drafts/``, or one file. **The scene** is ``--scene NAME`` of the library, a
+except ``drafts/``, or one file; ``match`` and ``compose`` take several (a drafted scene
+and a library: one library). **The scene** is ``--scene NAME`` of the library, a
 ``.oac`` file with one scene, or the library's scene whose tracked instances are
 the recording's marker groups; every instance of the demonstration must be one of
 them. Everything here is checked before anything is written; each problem is a
@@ -24,7 +25,7 @@ from __future__ import annotations
 
 import json
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -116,6 +117,9 @@ class Inputs:
     segmentation: Segmentation | None = None
     #: The --scene FILE when it lies outside the library (its instances are unknown there).
     outside_scene: Path | None = None
+    #: Every --library given (folders or files, loaded as one library); ``library_path`` is the
+    #: first folder among them (else the first).
+    library_paths: tuple[Path, ...] = ()
 
     def __post_init__(self) -> None:
         if (self.recording is None) == (self.segmentation is None):
@@ -158,16 +162,21 @@ def read_segmentation_json(path: Path) -> Segmentation:
         raise InputError(f"not a segmentation (oacc segment --json): {what}", location=str(path)) from error
 
 
-def open_library(path: Path) -> Library:
-    """The library at ``path`` (a folder without its drafts/, or a file), as ``--library`` reads it."""
+def open_library(path: Path | Sequence[Path]) -> Library:
+    """The library at ``path`` (a folder without its drafts/, or a file; or several of them, loaded
+    as one library), as ``--library`` reads it."""
     from oacdsl.compiler import load_library
     from oacdsl.matching.emit import library_files
 
-    if not path.exists():
-        raise InputError("no such library folder or file (give one with --library DIR)", location=str(path))
-    files = library_files(path)
-    if not files:
-        raise InputError("no .oac files in the library", location=str(path))
+    files: list[Path] = []
+    for one in [path] if isinstance(path, Path) else path:
+        if not one.exists():
+            raise InputError("no such library folder or file (give one with --library DIR)",
+                             location=str(one))
+        found = library_files(one)
+        if not found:
+            raise InputError("no .oac files in the library", location=str(one))
+        files += [f for f in found if f not in files]
     return load_library(files)
 
 
@@ -206,7 +215,7 @@ def resolve_scene(
 
 def load_inputs(
     recording: str | Path | None,
-    library: str | Path | None,
+    library: str | Path | Sequence[str | Path] | None,
     scene: str | None,
     params: AasParams,
     *,
@@ -226,8 +235,12 @@ def load_inputs(
     the file's own groups. No scene that fits the demonstration is a
     :class:`~oacdsl.errors.MatchingError`.
     """
-    library_path = Path(library) if library is not None else default_library()
-    lib = open_library(library_path)
+    if library is None:
+        paths = [default_library()]
+    else:
+        paths = [Path(library)] if isinstance(library, (str, Path)) else [Path(p) for p in library]
+    library_path = next((p for p in paths if p.is_dir()), paths[0])  # where learned/ goes
+    lib = open_library(paths)
     rec: Recording | None = None
     seg: Segmentation | None = None
     if recording is None:
@@ -263,7 +276,7 @@ def load_inputs(
     _check_tracked(instances, sc, source, "marker groups" if rec is not None else "instances")
     if rec is not None and not instances:
         raise InputError("the recording has no marker groups to segment", location=source)
-    return Inputs(lib, library_path, sc, source, params, rec, seg, outside)
+    return Inputs(lib, library_path, sc, source, params, rec, seg, outside, tuple(paths))
 
 
 def _check_tracked(instances: tuple[str, ...], scene: Scene, source: str, what: str) -> None:

@@ -1,0 +1,48 @@
+"""Names of a draft: instance names from marker groups, class names from instance names.
+
+An instance is called as its marker group when that is a name of the language (letters,
+digits, ``_``, not a keyword); otherwise a cleaned name that lists the group's markers
+explicitly (``my_box : MyBox markers ("my box:m1", …)``). A class is the instance's
+name in CamelCase (``cup_small`` → ``CupSmall``), made unique.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Collection
+
+__all__ = ["camel_case", "instance_name", "unique"]
+
+
+def _is_name(text: str) -> bool:
+    from oacdsl.compiler.grammar import keywords, name_pattern
+
+    return bool(name_pattern().fullmatch(text)) and text not in keywords()
+
+
+def unique(base: str, taken: Collection[str]) -> str:
+    """``base``, or ``base2``, ``base3`` … — the first not in ``taken``."""
+    if base not in taken:
+        return base
+    n = 2
+    while f"{base}{n}" in taken:
+        n += 1
+    return f"{base}{n}"
+
+
+def instance_name(group: str, taken: Collection[str]) -> tuple[str, bool]:
+    """The instance name of marker group ``group`` and whether it differs from the group's
+    (then the scene must list the group's markers)."""
+    if _is_name(group) and group not in taken:
+        return group, False
+    cleaned = re.sub(r"\W+", "_", group.encode("ascii", "ignore").decode()).strip("_").lower() or "object"
+    if cleaned[0].isdigit() or not _is_name(cleaned):
+        cleaned = f"object_{cleaned}"
+    return unique(cleaned, taken), True
+
+
+def camel_case(name: str) -> str:
+    """``cup_small`` → ``CupSmall``, ``box2`` → ``Box2``, ``_3d`` → ``Object3d``."""
+    parts = [p for p in re.split(r"_+", name) if p]
+    text = "".join(p[:1].upper() + p[1:] for p in parts) or "Object"
+    return text if text[0].isalpha() else f"Object{text}"
