@@ -64,16 +64,21 @@ class MotionSource:
     length, the target object's size). ``needs`` names another feature that must be defined
     (not None) for the parameter to be taken: a stirring radius only where an oscillation
     was found (``needs="period_s"``), a tilt only where the object really tilted
-    (``needs="tilt_rise_s"``). Without a value the skill's default applies.
+    (``needs="tilt_rise_s"``). ``least`` raises a value below what the robot's skill is known
+    to work with. Without a value the skill's default applies.
 
-    Example: ``MotionSource("extent_m", scale=0.5, needs="period_s")`` — a wipe's stroke
-    goes half the demonstrated extent to either side of the middle.
+    Example: ``MotionSource("radius_m", scale=1.41, needs="period_s")`` — a wipe's stroke
+    goes √2 × the strokes' median distance from their middle to either side of it.
     """
 
     feature: str
     scale: float = 1.0
     axis: int = 0
     needs: str | None = None
+    #: The least value the robot's skill is known to work with (SI; None: the range's low end):
+    #: a smaller demonstrated value is raised to it (a pour's balls leave the robot's cup
+    #: reliably only from 125° on; people pour liquids at 90-110°).
+    least: float | None = None
 
     def __post_init__(self) -> None:
         for name in (self.feature, self.needs):
@@ -84,11 +89,14 @@ class MotionSource:
         if not (math.isfinite(self.scale) and self.scale > 0):
             raise ValueError(f"scale {self.scale}: a positive number")
 
-    def describe(self) -> str:
-        """``0.5 x extent_m[0] (where period_s is found)``."""
+    def describe(self, unit: str | None = None) -> str:
+        """``0.5 x extent_m[0] (where period_s is found)``; ``unit``: the parameter's, for ``least``."""
         name = f"{self.feature}[{self.axis}]" if self.feature == "extent_m" else self.feature
         text = name if self.scale == 1.0 else f"{self.scale:g} x {name}"
-        return text + (f" (where {self.needs} is found)" if self.needs else "")
+        text += f" (where {self.needs} is found)" if self.needs else ""
+        if self.least is not None:
+            text += f", at least {format_value(self.least, unit) if unit is not None else f'{self.least:g}'}"
+        return text
 
 
 @dataclass(frozen=True)
@@ -118,7 +126,7 @@ class SkillParamSpec:
         return (
             f"{self.name}: {kind}, default {format_value(self.default, self.unit)}"
             f" ({format_value(self.low, self.unit)} to {format_value(self.high, self.unit)}) — {self.doc}"
-            + (f"; from the demonstration: {self.source.describe()}" if self.source else "")
+            + (f"; from the demonstration: {self.source.describe(self.unit)}" if self.source else "")
         )
 
 
@@ -198,13 +206,8 @@ SIGNATURES: dict[str, SkillSignature] = {
             ),
             (
                 SkillParamSpec(
-                    "tilt",
-                    "rad",
-                    _deg(125.0),
-                    _deg(30.0),
-                    _deg(180.0),
-                    "final tilt of the container",
-                    MotionSource("tilt_max_rad", needs="tilt_rise_s"),
+                    "tilt", "rad", _deg(125.0), _deg(30.0), _deg(180.0), "final tilt of the container",
+                    MotionSource("tilt_max_rad", needs="tilt_rise_s", least=_deg(125.0)),
                 ),
                 # the skill tilts at a constant rate: its 10-90 % rise takes 0.8 of the duration
                 SkillParamSpec(
@@ -245,18 +248,12 @@ SIGNATURES: dict[str, SkillSignature] = {
             "press the held tool onto a surface and move it to and fro",
             (SkillArg("h", "Hand"), SkillArg("s", "Graspable"), SkillArg("t", "Surface")),
             (
-                SkillParamSpec(
-                    "strokes", "", 3.0, 1.0, 20.0, "number of to-and-fro strokes", MotionSource("cycles")
-                ),
-                SkillParamSpec(
-                    "length",
-                    "m",
-                    0.06,
-                    0.01,
-                    0.20,
-                    "how far each stroke goes to either side",
-                    MotionSource("extent_m", scale=0.5, needs="period_s"),
-                ),
+                SkillParamSpec("strokes", "", 3.0, 1.0, 20.0, "number of to-and-fro strokes",
+                               MotionSource("cycles")),
+                # the strokes' median distance from their middle is 1/sqrt(2) of how far they go
+                # (a sinusoid's); the extent would count the way onto and off the surface too
+                SkillParamSpec("length", "m", 0.06, 0.01, 0.20, "how far each stroke goes to either side",
+                               MotionSource("radius_m", scale=1.41, needs="period_s")),
                 SkillParamSpec(
                     "press", "m", 0.004, 0.0, 0.02, "how far the tool is pressed into the surface"
                 ),
@@ -315,6 +312,15 @@ SIGNATURES: dict[str, SkillSignature] = {
                 SkillParamSpec(
                     "force", "N", 3.0, 1.0, 20.0, "wrist force change that means the support took an object"
                 ),
+            ),
+        ),
+        SkillSignature(
+            "lift",
+            "raise the held object straight up, off what it touches (a tool off its work)",
+            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("t", ANY)),
+            (
+                SkillParamSpec("height", "m", 0.12, 0.02, 0.30, "how far the object is raised"),
+                SkillParamSpec("duration", "s", 1.0, 0.3, 5.0, "time to raise it"),
             ),
         ),
         SkillSignature(

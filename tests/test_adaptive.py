@@ -185,3 +185,16 @@ def test_windowed_extend_equals_the_whole_recording_pass(monkeypatch: pytest.Mon
         b = int(rng.integers(a + 1, n + 1))
         threshold, bridge = float(rng.random() * 0.2), int(rng.integers(0, 12))
         assert cm._extend(dmin, a, b, threshold, bridge) == cm._extend_in(dmin, a, b, threshold, bridge)
+
+
+def test_instance_speed_median_by_network_equals_the_sorted_median() -> None:
+    """The scan's instance speeds: the min/max network gives _nanmedian0's values, gaps, ties and all."""
+    from oacdsl.segmentation.comotion import _median_rows, _nanmedian0
+
+    rng = np.random.default_rng(11)
+    for k in range(0, 11):  # up to 8 markers by the network, more by sorting
+        for gaps in (0.0, 0.05, 0.5, 1.0):
+            x = rng.random((k, 200))
+            x[rng.random(x.shape) < gaps] = np.nan
+            x[:, :5] = 0.25  # ties
+            assert np.array_equal(_median_rows(x), _nanmedian0(x), equal_nan=True)

@@ -47,22 +47,32 @@ def values(found) -> dict[str, tuple[float, str]]:
     return {p.name: (p.value.value, p.value.unit) for p in found.params}
 
 
+POUR = ("left_hand", "red_cup", "liquid_one", "orange_bowl")
+
+
 def test_a_pour_takes_the_demonstrated_tilt_and_a_scaled_duration(lib):
-    m = motion(tilt_max_rad=math.radians(104.4), tilt_rise_s=0.8)
-    found = step_params("pour", m, ("left_hand", "red_cup", "liquid_one", "orange_bowl"), lib,
-                        lib.scenes["kitchen"])
-    assert values(found) == {"tilt": (104.0, "deg"), "duration": (1.0, "s")}
-    assert found.comment == ("demonstrated (cup relative to world): tilt 104deg as demonstrated;"
-                             " duration 1s from tilt rise 0.80s, x1.25")
+    m = motion(tilt_max_rad=math.radians(140.4), tilt_rise_s=0.8)
+    found = step_params("pour", m, POUR, lib, lib.scenes["kitchen"])
+    assert values(found) == {"tilt": (140.0, "deg"), "duration": (1.0, "s")}
+    assert found.comment == ("demonstrated (cup relative to world, frames 10-12): tilt 140deg as"
+                             " demonstrated; duration 1s from tilt rise 0.80s, x1.25")
     assert [r["how"] for r in found.rows] == ["as demonstrated", "scaled x1.25"]
 
 
-def test_values_outside_the_skills_range_are_clamped_and_said_so(lib):
-    m = motion(tilt_max_rad=math.radians(20.0), tilt_rise_s=9.0)
-    found = step_params("pour", m, ("left_hand", "red_cup", "liquid_one", "orange_bowl"), lib,
+def test_a_tilt_below_what_empties_the_robots_cup_is_raised(lib):
+    # people pour liquids at 90-110 deg; the robot's balls leave its cup reliably from 125 deg on
+    found = step_params("pour", motion(tilt_max_rad=math.radians(110.2), tilt_rise_s=0.65), POUR, lib,
                         lib.scenes["kitchen"])
-    assert values(found) == {"tilt": (30.0, "deg"), "duration": (10.0, "s")}
-    assert "tilt 30deg from tilt 20deg, clamped to the skill's range" in found.comment
+    assert values(found) == {"tilt": (125.0, "deg"), "duration": (0.81, "s")}
+    assert "tilt 125deg from tilt 110deg, raised to the robot's least (125deg)" in found.comment
+    assert found.rows[0]["how"] == "raised to the robot's least"
+    assert found.rows[0]["demonstrated"] == pytest.approx(math.radians(110.2))
+
+
+def test_values_outside_the_skills_range_are_clamped_and_said_so(lib):
+    m = motion(tilt_max_rad=math.radians(179.9), tilt_rise_s=9.0)
+    found = step_params("pour", m, POUR, lib, lib.scenes["kitchen"])
+    assert values(found) == {"tilt": (180.0, "deg"), "duration": (10.0, "s")}
     assert "duration 10s from tilt rise 9.00s, x1.25, clamped to the skill's range" in found.comment
 
 
@@ -88,10 +98,10 @@ def test_without_an_oscillation_or_a_motion_the_skill_keeps_its_defaults(lib):
     assert step_params("reach_and_grasp", motion(), ("left_hand", "red_cup"), lib, scene).comment is None
 
 
-def test_a_wipe_stroke_is_half_the_demonstrated_extent(lib):
-    m = motion(moved="sponge", target="tray", extent_m=(0.1, 0.02, 0.01), period_s=0.67, cycles=2.5)
+def test_a_wipe_stroke_goes_sqrt2_times_the_median_radius(lib):
+    m = motion(moved="sponge", target="tray", radius_m=0.035, period_s=0.67, cycles=2.6)
     found = step_params("wipe", m, ("left_hand", "sponge", "tray"), lib, lib.scenes["wiping"])
-    assert values(found) == {"strokes": (2.0, ""), "length": (50.0, "mm")}
+    assert values(found) == {"strokes": (3.0, ""), "length": (49.0, "mm")}  # 1.41 x 35mm
 
 
 @pytest.fixture
@@ -106,13 +116,17 @@ def test_compose_writes_the_demonstrated_pours_and_no_demo_params_does_not(capsy
     doc = json.loads(capsys.readouterr().out)
     params = [s.get("params") for s in doc["steps"]]
     pours = [p for s, p in zip(doc["steps"], params, strict=True) if s["oac"] == "pour"]
-    # the dough's cups tilt 110deg and 109deg, rising (10-90 %) in 0.65 s and 0.60 s
-    assert [round(math.degrees(p["tilt"])) for p in pours] == [110, 109]
+    # the dough's cups tilt 110deg and 109deg (raised to the robot's 125deg), rising (10-90 %)
+    # in 0.65 s and 0.60 s
+    assert [round(math.degrees(p["tilt"])) for p in pours] == [125, 125]
+    tilts = [r["demonstrated"] for d in doc["demo_params"] for r in d["params"] if r["name"] == "tilt"]
+    assert [round(math.degrees(t)) for t in tilts] == [110, 109]
     assert [p["duration"] for p in pours] == [0.81, 0.75]
     assert all(p is None for s, p in zip(doc["steps"], params, strict=True) if s["oac"] != "pour")
     text = (lib_dir / "learned" / "dough.oac").read_text()
-    assert "pour(hand1, cup1, liquid1, bowl) { duration 0.81s  tilt 110deg }" in text
-    assert "# demonstrated (red_cup relative to world): tilt 110deg as demonstrated;" in text
+    assert "pour(hand1, cup1, liquid1, bowl) { duration 0.81s  tilt 125deg }" in text
+    assert ("# demonstrated (red_cup relative to world, frames 207-506): tilt 125deg from tilt 110deg,"
+            " raised to the robot's least (125deg); duration 0.81s from tilt rise 0.65s, x1.25") in text
     assert "# skill defaults: the motion has no cycles" in text  # the mix: no oscillation before its keyframe
     learned = load_library([lib_dir]).oacs["dough"]
     plain_path = tmp_path / "plain.oac"
@@ -161,3 +175,34 @@ oac outer(h: Hand = left_hand, c: Cup = red_cup, l: Liquid = liquid_one, b: Bowl
     with pytest.raises(RuntimeFailure, match="p2 is composed: a step calling it takes no skill parameters"):
         expand(library, library.oacs["outer"], {"h": "left_hand", "c": "red_cup", "l": "liquid_one",
                                                 "b": "orange_bowl"})
+
+
+def test_a_made_relation_takes_the_motion_while_it_lasts():
+    # a spoon enters the cup (made), circles in it (kept), leaves (broken): the step that
+    # makes the relation executes the stir, so its motion spans all three sub-actions
+    from types import SimpleNamespace
+
+    from oacdsl.matching.demoparams import dwelling
+
+    t = np.arange(0, 6.0, 0.1)
+    T_spoon = np.tile(np.eye(4), (len(t), 1, 1))
+    circling = (t >= 1.0) & (t < 5.0)
+    T_spoon[:, 0, 3] = np.where(circling, 0.016 * np.cos(2 * np.pi * t / 0.5), 0.2)
+    T_spoon[:, 1, 3] = np.where(circling, 0.016 * np.sin(2 * np.pi * t / 0.5), 0.0)
+    # only the frame times and the poses are read
+    cup = SimpleNamespace(T_world_object=np.tile(np.eye(4), (len(t), 1, 1)))
+    spoon = SimpleNamespace(T_world_object=T_spoon)
+    rec = SimpleNamespace(times_s=t)
+
+    def m(a: int, b: int, relation: str) -> SubActionMotion:
+        return SubActionMotion(0, a, b, "right_hand", "spoon", "cup", relation, t[a:b + 1],
+                               T_spoon[a:b + 1], None, 0.0)
+
+    motions = [m(0, 12, "made"), m(12, 48, "kept"), m(48, 55, "broken")]
+    longer = dwelling(rec, motions, 0, {"cup": cup, "spoon": spoon})
+    assert (longer.start_frame, longer.end_frame) == (0, 55)
+    assert longer.features.period_s == pytest.approx(0.5, abs=0.03)
+    assert longer.features.radius_m == pytest.approx(0.016, abs=0.002)
+    assert dwelling(rec, motions, 1, {"cup": cup, "spoon": spoon}) is motions[1]  # kept: unchanged
+    # nothing breaks it: to the recording's end
+    assert dwelling(rec, motions[:2], 0, {"cup": cup, "spoon": spoon}).end_frame == len(t) - 1

@@ -31,6 +31,12 @@ CLIPS = {
         ["grasp_both", "stir", "take_out", "place_both"],
         ["match", "match", "match", "match"],
     ),
+    # the robot makes each of the last four changes in two steps (ladle and hand, lift and dip)
+    "Scoop": (
+        "kit_bimanual/Scoop_files_motions_2989_Scoop1_mbg_l_CS_225_30o_04.mmm.xml",
+        ["grasp", "take_and_dip", "scoop_into", "back_into", "put_down_and_leave"],
+        ["match", "split", "split", "split", "split"],
+    ),
 }
 
 

@@ -98,9 +98,18 @@ def test_reproduce_first_pour(short_demo: Path, library: Path, tmp_path: Path, g
     # the pour used the demonstrated tilt and duration (written on the composed step)
     demo = next(d for d in c["demo_params"] if d["oac"] == "pour")
     tilt = next(x for x in demo["params"] if x["name"] == "tilt")
-    assert r["steps"][1]["params"]["tilt"] == pytest.approx(tilt["demonstrated"], abs=math.radians(0.5))
+    assert r["steps"][1]["params"]["tilt"] == pytest.approx(max(tilt["demonstrated"], math.radians(125)),
+                                                            abs=math.radians(0.5))
     assert r["steps"][1]["params"]["duration"] == c["steps"][1]["params"]["duration"]
     assert "pour(hand, cup, liquid, bowl) { duration" in c["text"]
+    # the report compares the demonstrated motion with the robot's (its own virtual markers)
+    poured = next(m for m in doc["motion"]["sub_actions"] if m["oac"] == "pour")
+    assert poured["robot_index"] is not None and poured["robot_moved"] == poured["moved"] == "red_cup"
+    demo_tilt, robot_tilt = poured["demonstrated"]["tilt_max_rad"], poured["executed"]["tilt_max_rad"]
+    assert demo_tilt > math.radians(90)  # the person tilted the cup ~110 deg
+    # the robot's recording shows the tilt its pour was given (its cup's markers, its own fit)
+    assert abs(math.degrees(robot_tilt - poured["params"]["tilt"])) < 10
+    assert (out / doc["motion"]["plot"]).is_file()
     assert r["metrics"]["balls_in_bowl"] >= math.ceil(SUCCESS_FRACTION * BALLS_PER_LIQUID)
     assert ["liquid_one", "red_cup"] in r["initial"]
     # the closed loop: the robot's own recording shows the demonstration's three changes

@@ -16,7 +16,7 @@ from oacdsl.errors import SegmentationError
 from oacdsl.segmentation import AasParams, segment
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.reference import segment_reference
-from oacdsl.segmentation.slope import windowed_slope
+from oacdsl.segmentation.slope import windowed_slope, windowed_slope_at
 
 
 def test_slope_is_the_least_squares_line_and_skips_gaps():
@@ -29,6 +29,22 @@ def test_slope_is_the_least_squares_line_and_skips_gaps():
     y = np.full(11, np.nan, dtype=np.float32)
     y[5] = 0.1
     assert np.isnan(windowed_slope(y[None, :], t, half=3)).all()
+
+
+def test_slope_at_some_columns_is_the_full_slope_there_bit_for_bit():
+    rng = np.random.default_rng(7)
+    for _ in range(40):
+        a, r, half = int(rng.integers(1, 12)), int(rng.integers(1, 120)), int(rng.integers(1, 6))
+        dist = (rng.random((a, r)) * 0.3).astype(np.float32)
+        dist[rng.random((a, r)) < 0.2] = np.nan  # gaps: rows with their own weights
+        t = np.cumsum(0.005 + 0.01 * rng.random(r)) + 50.0  # uneven frame times, seconds
+        rows, cols = np.nonzero(rng.random((a, r)) < 0.3)
+        full = windowed_slope(dist, t, half)[rows, cols]
+        assert np.array_equal(windowed_slope_at(dist, t, half, rows, cols), full, equal_nan=True)
+        shuffled = rng.permutation(rows.size)  # any order of the requested places
+        got = windowed_slope_at(dist, t, half, rows[shuffled], cols[shuffled])
+        assert np.array_equal(got, full[shuffled], equal_nan=True)
+    assert windowed_slope_at(dist, t, 2, rows[:0], cols[:0]).shape == (0,)
 
 
 def test_slope_noise_falls_with_the_rate_where_the_one_frame_difference_grows():

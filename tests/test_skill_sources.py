@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import pytest
 
@@ -18,12 +19,12 @@ def test_motion_features_named_exist():
 
 def test_existing_skills_name_their_sources():
     src = {(s.name, p.name): p.source for s in SIGNATURES.values() for p in s.params}
-    assert src[("pour", "tilt")] == MotionSource("tilt_max_rad", needs="tilt_rise_s")
+    assert src[("pour", "tilt")] == MotionSource("tilt_max_rad", needs="tilt_rise_s", least=math.radians(125))
     assert src[("pour", "duration")] == MotionSource("tilt_rise_s", scale=1.25)
     assert src[("mix", "period")].feature == "period_s"
     assert src[("mix", "radius")] == MotionSource("radius_m", needs="period_s")
     assert src[("mix", "turns")].feature == "cycles"
-    assert src[("wipe", "length")] == MotionSource("extent_m", scale=0.5, needs="period_s")
+    assert src[("wipe", "length")] == MotionSource("radius_m", scale=1.41, needs="period_s")
     assert src[("wipe", "strokes")].feature == "cycles"
     assert src[("pour", "height")] is None and src[("place", "force")] is None
 
@@ -42,7 +43,8 @@ def test_bad_source_is_refused(kwargs, message):
 
 def test_describe_names_the_source():
     assert SIGNATURES["wipe"].param("length").describe().endswith(
-        "from the demonstration: 0.5 x extent_m[0] (where period_s is found)")
+        "from the demonstration: 1.41 x radius_m (where period_s is found)")
+    assert MotionSource("extent_m", scale=0.5).describe() == "0.5 x extent_m[0]"
 
 
 def test_skills_json_lists_the_source(capsys):
@@ -53,5 +55,6 @@ def test_skills_json_lists_the_source(capsys):
     assert main(["skills", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     tilt = next(p for p in doc["pour"]["params"] if p["name"] == "tilt")
-    assert tilt["source"] == {"feature": "tilt_max_rad", "scale": 1.0, "axis": 0, "needs": "tilt_rise_s"}
+    assert tilt["source"] == {"feature": "tilt_max_rad", "scale": 1.0, "axis": 0, "needs": "tilt_rise_s",
+                              "least": pytest.approx(math.radians(125))}
     assert next(p for p in doc["place"]["params"])["source"] is None

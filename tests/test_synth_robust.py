@@ -85,7 +85,7 @@ def run(capsys, *argv) -> tuple[int, str, str]:
 
 def test_synth_rate_jitter_flight_from_the_command_line(capsys, tmp_path):
     lib = tmp_path / "library"
-    shutil.copytree(ROOT / "library", lib)
+    shutil.copytree(ROOT / "library", lib, ignore=shutil.ignore_patterns("learned", "drafts"))
     c3d = tmp_path / "fly.c3d"
     code, _, err = run(capsys, "synth", "dough", "-o", c3d, "--seed", 5, "--rate", 240, "--jitter", 0.5,
                        "--flight", "1s")

@@ -41,6 +41,7 @@ def run(args: argparse.Namespace) -> int:
                             "scale": p.source.scale,
                             "axis": p.source.axis,
                             "needs": p.source.needs,
+                            "least": p.source.least,
                         },
                     }
                     for p in sig.params

@@ -10,7 +10,9 @@ that names a :class:`~oacdsl.skills.MotionSource` is set from the sub-action's
    default (or the OAC's ``execute … { }`` value) applies;
 2. **scaled**: × the source's ``scale`` (a pour's tilt rise → its duration × 1.25, a
    wipe's extent → its length to either side × 0.5), rounded for a count;
-3. **retargeted**: a length no larger than the *room* the robot has on the skill's target
+3. **retargeted**: raised to the least value the robot's skill is known to work with
+   (``MotionSource.least``: a pour's tilt, 125°, from where the robot's balls leave its cup
+   reliably), a length no larger than the *room* the robot has on the skill's target
    (the object bound to the skill's last argument): a container's inner radius (its
    shell's radius less its wall), a box's half width, less the held tool's own radius
    (the object bound to the skill's second argument) — then into the parameter's range
@@ -30,10 +32,13 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from oacdsl.library import Library
 from oacdsl.matching.composer import Composition
 from oacdsl.model import Call, Quantity, Scene, SkillParam, sorted_skill_params
 from oacdsl.segmentation.motion import SubActionMotion
+from oacdsl.segmentation.poses import ObjectPoses
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import SubAction
 from oacdsl.skills import SIGNATURES, MotionSource, SkillParamSpec
@@ -92,7 +97,8 @@ def _written(value: float, spec: SkillParamSpec) -> Quantity:
 
 
 def _size(geometry: Any) -> tuple[float | None, float | None]:
-    """(inner half-width of a target, outer radius of a tool) of a resolved geometry, metres."""
+    """(inner half-width of a target, radius of a tool's cross-section) of a resolved geometry,
+    metres (its first shape: a container's shell, a tool's handle or head)."""
     from oacdsl.geometry import si
 
     if geometry is None or not geometry.shapes:
@@ -103,8 +109,8 @@ def _size(geometry: Any) -> tuple[float | None, float | None]:
         return dim["radius"] - dim["wall"], dim["radius"]
     if shape.primitive in ("cylinder", "capsule", "sphere"):
         return dim["radius"], dim["radius"]
-    if shape.primitive == "box":
-        return min(dim["length"], dim["width"]) / 2, max(dim["length"], dim["width"]) / 2
+    if shape.primitive == "box":  # a tool's narrow side: a spoon or a knife stands on it
+        return min(dim["length"], dim["width"]) / 2, min(dim["length"], dim["width"]) / 2
     return None, None
 
 
@@ -124,16 +130,10 @@ def room_m(library: Library, scene: Scene, target: str, tool: str | None) -> flo
     return max(inner - min(tool_r, inner / 2) - CLEARANCE_M, 0.0)
 
 
-def _one(
-    spec: SkillParamSpec, source: MotionSource, motion: SubActionMotion | None, room: float | None
-) -> tuple[SkillParam | None, str | None, dict[str, Any]]:
-    row: dict[str, Any] = {
-        "name": spec.name,
-        "feature": source.describe(),
-        "unit": spec.unit,
-        "demonstrated": None,
-        "value": None,
-    }
+def _one(spec: SkillParamSpec, source: MotionSource, motion: SubActionMotion | None, room: float | None
+         ) -> tuple[SkillParam | None, str | None, dict[str, Any]]:
+    row: dict[str, Any] = {"name": spec.name, "feature": source.describe(spec.unit), "unit": spec.unit,
+                           "demonstrated": None, "value": None}
     if motion is None or motion.features is None:
         row["how"] = "no demonstrated motion (the moved object has fewer than 3 markers)"
         return None, None, row
@@ -153,6 +153,10 @@ def _one(
         how = [f"scaled x{source.scale:g}"]
     if spec.whole:
         value = float(round(value))
+    if source.least is not None and value < source.least:
+        value = source.least
+        what.append(f"raised to the robot's least ({_show(value, spec.unit)})")
+        how.append("raised to the robot's least")
     if spec.unit == "m" and room is not None and value > room:
         value = room
         what.append(f"clamped to the room on the target ({_show(room, 'm')})")
@@ -165,14 +169,9 @@ def _one(
     from oacdsl.units import language_si
 
     row["value"] = language_si(q.value, q.unit)[0]
-    row["how"] = ", ".join(how)
-    label = (
-        source.feature.removesuffix("_s")
-        .removesuffix("_m")
-        .removesuffix("_rad")
-        .replace("_max", "")
-        .replace("_", " ")
-    )
+    row["how"] = ", ".join(h for h in how if h != "as demonstrated" or len(how) == 1)
+    label = (source.feature.removesuffix("_s").removesuffix("_m").removesuffix("_rad")
+             .replace("_max", "").replace("_", " "))
     text = f"{spec.name} {q.value:g}{q.unit}" + (
         f" from {label} {_show(demo, spec.unit)}, " + ", ".join(what)
         if what
@@ -206,7 +205,8 @@ def step_params(
             texts.append(text)
     where = ""
     if motion is not None and motion.moved is not None:
-        where = f" ({motion.moved} relative to {motion.frame_name})"
+        where = (f" ({motion.moved} relative to {motion.frame_name},"
+                 f" frames {motion.start_frame}-{motion.end_frame})")
     if texts:
         comment = f"demonstrated{where}: " + "; ".join(texts)
     else:
@@ -215,26 +215,71 @@ def step_params(
     return StepParams(tuple(params), comment, tuple(rows))
 
 
-def demonstrated_motions(recording: Recording, subs: Sequence[SubAction]) -> list[SubActionMotion]:
-    """The motion of each sub-action in ``subs`` (the matcher's: transient keyframes dropped)."""
+def demonstrated_motions(recording: Recording, subs: Sequence[SubAction]) -> dict[int, SubActionMotion]:
+    """The motion of each sub-action in ``subs`` (the matcher's: transient keyframes dropped),
+    keyed by the sub-action's first frame; each one that *makes* a relation extended over the
+    span the relation then lasts (:func:`dwelling`)."""
     from oacdsl.segmentation.motion import sub_action_motion
     from oacdsl.segmentation.poses import fit_poses
 
     posed = fit_poses(recording)
-    return [sub_action_motion(recording, sub, posed) for sub in subs]
+    motions = [sub_action_motion(recording, sub, posed) for sub in subs]
+    return {sub.start.frame: dwelling(recording, motions, k, posed) for k, sub in enumerate(subs)}
 
 
-def with_demo_params(
-    comp: Composition, found_motions: Sequence[SubActionMotion], library: Library, scene: Scene
-) -> Composition:
-    """``comp`` with each step's parameters from the motion of its sub-action (matched by its
-    first and last frame), a comment per step, and ``demo_params`` (module doc)."""
-    motions = {(m.start_frame, m.end_frame): m for m in found_motions}
+def dwelling(recording: Recording, motions: Sequence[SubActionMotion], k: int,
+             posed: Mapping[str, ObjectPoses]) -> SubActionMotion:
+    """Motion ``k`` over the whole time its object stays with its target.
+
+    A skill that stirs, wipes or cuts runs in the step whose effect is the tool touching
+    its target (the sub-action that *makes* the relation); the demonstrated circles or
+    strokes come after, while the relation is *kept*, until the sub-action that *breaks*
+    it (or the recording's end, when nothing breaks it: the dough's mixing follows the
+    last keyframe). So the motion of a sub-action that makes a relation is extended over
+    the following sub-actions of the same object and target that keep it, and the one
+    that breaks it; its features are computed on that span (the core still leaves out
+    the way in and out).
+    """
+    m = motions[k]
+    if m.relation != "made" or m.target is None or m.moved is None:
+        return m
+    end = m.end_frame
+    followers: list[SubActionMotion] = []
+    for n in motions[k + 1 :]:
+        if (n.moved, n.target) != (m.moved, m.target) or n.relation not in ("kept", "broken"):
+            break
+        end = n.end_frame
+        followers.append(n)
+        if n.relation == "broken":
+            break
+    else:  # the relation still holds at the last keyframe: it lasts to the recording's end
+        end = len(recording.times_s) - 1
+    if end == m.end_frame:
+        return m
+    from oacdsl.segmentation.motionfeatures import motion_features
+    from oacdsl.segmentation.poses import relative
+
+    a = m.start_frame
+    times = np.asarray(recording.times_s[a : end + 1], dtype=np.float64)
+    T = relative(posed[m.target].T_world_object[a : end + 1], posed[m.moved].T_world_object[a : end + 1])
+    merged = dataclasses.replace(m, end_frame=end, times_s=times, T_target_object=T,
+                                 features=motion_features(times, T))
+    # a period at 10 Hz hangs on a sample or two: when the whole span shows none but a
+    # following sub-action does (KIT Stir: frames 21-48 none, 27-48 0.50 s), that one tells
+    periodic = [n for n in followers if n.features is not None and n.features.period_s is not None]
+    if merged.features is not None and merged.features.period_s is None and periodic:
+        return max(periodic, key=lambda n: n.end_frame - n.start_frame)
+    return merged
+
+
+def with_demo_params(comp: Composition, motions: Mapping[int, SubActionMotion],
+                     library: Library, scene: Scene) -> Composition:
+    """``comp`` with each step's parameters from the motion of its sub-action (``motions``: by
+    the sub-action's first frame), a comment per step, and ``demo_params`` (module doc)."""
     calls: list[Call] = []
     doc: list[dict[str, Any]] = []
     for k, (call, step) in enumerate(zip(comp.oac.steps or (), comp.steps, strict=True)):
-        a, b = step.start_frame, step.end_frame
-        motion = motions.get((a, b)) if a is not None and b is not None else None
+        motion = motions.get(step.start_frame) if step.start_frame is not None else None
         args = tuple(step.mapping.get(a, a) for a in step.oac.skill_arguments())
         found = step_params(step.oac.skill, motion, args, library, scene)
         if found.comment is None:

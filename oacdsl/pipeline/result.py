@@ -22,6 +22,7 @@ from oacdsl.report.schema import (
     ComposeDoc,
     Demonstration,
     MatchSection,
+    MotionSection,
     ReliabilityDoc,
     RunDoc,
     SegmentDoc,
@@ -31,7 +32,7 @@ from oacdsl.report.schema import (
 
 __all__ = ["PARTS", "Part", "ResultRecord"]
 
-Part = Literal["segment", "match", "compose", "run", "verification", "reliability"]
+Part = Literal["segment", "match", "compose", "run", "verification", "motion", "reliability"]
 
 #: The parts of result.json the stages add, in the order they are written, with their schema.
 PARTS: dict[str, type[BaseModel]] = {
@@ -40,6 +41,7 @@ PARTS: dict[str, type[BaseModel]] = {
     "compose": ComposeDoc,
     "run": RunDoc,
     "verification": VerificationDoc,
+    "motion": MotionSection,
     "reliability": ReliabilityDoc,
 }
 

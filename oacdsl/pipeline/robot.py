@@ -127,6 +127,8 @@ class VerifyStage:
     segmentation: Segmentation
     verification: Any  # oacdsl.verify.Verification
     doc: dict[str, Any]
+    #: The robot's sub-actions as matched (transient keyframes dropped): change k ends sub-action k - 1.
+    sub_actions: list[Any] = field(default_factory=list)
 
 
 def verify_stage(
@@ -172,4 +174,4 @@ def verify_stage(
     doc["segment"] = seg.to_json()
     doc["markers"] = len(recording.marker_names)
     doc["robot_match"] = match_doc(robot_matches)
-    return VerifyStage(recording, seg, v, doc)
+    return VerifyStage(recording, seg, v, doc, [m.sub_action for m in robot_matches])

@@ -19,6 +19,8 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from oacdsl.errors import InputError, OacError
 from oacdsl.pipeline.inputs import Inputs
 from oacdsl.pipeline.result import ResultRecord
@@ -273,6 +275,18 @@ def _stages(
         )
         return done
 
+    def motion() -> dict[str, Any] | None:
+        """Demonstrated against executed motion per sub-action (never fails the run)."""
+        from oacdsl.pipeline.motion_compare import motion_doc
+
+        try:
+            return motion_doc(seg.recording, [m.sub_action for m in matched.matches], checked.recording,
+                              checked.sub_actions, checked.doc, composed.doc.get("steps", []),
+                              figs / "motion.png")
+        except (OacError, ValueError, FloatingPointError, np.linalg.LinAlgError) as error:
+            warn(f"the demonstrated and executed motion could not be compared: {error}")
+            return None
+
     try:
         seg = attempt("segment", segment)
         result.put("segment", analyse.segment_doc(seg, inputs.source))
@@ -291,12 +305,16 @@ def _stages(
                 sub["step"] = None
         result.put("match", matched.doc)
         result.put("run", executed.doc)
+        _unexecuted_steps(result, len(executed.doc.get("steps", [])))
         if executed.render_note:
             warn(f"{executed.render_note}; the report has no pictures of the robot")
         # a robot that failed a step is still verified: the report shows how far it got
-        checked = attempt("verify", verify).doc
-        checked["untracked"] = untracked_judged(inputs.scene, executed.doc)
-        result.put("verification", checked)
+        checked = attempt("verify", verify)
+        checked.doc["untracked"] = untracked_judged(inputs.scene, executed.doc)
+        result.put("verification", checked.doc)
+        compared = motion()
+        if compared is not None:
+            result.put("motion", compared)
     except _Failed:
         pass
     done = {r["name"] for r in progress.records()}
@@ -313,6 +331,18 @@ def _stages(
     else:
         progress.skip("record", "nothing was executed")
     return failed[0] if failed else None
+
+
+def _unexecuted_steps(result: ResultRecord, executed: int) -> None:
+    """A run that stopped at a failed step executed only its first ``executed`` steps: the
+    sub-actions of the steps after it point at no execution (``step`` left out)."""
+    match = result.docs.get("match")
+    if not match or not any((s.get("step") or 0) >= executed for s in match["sub_actions"]):
+        return
+    for sub in match["sub_actions"]:
+        if sub.get("step") is not None and sub["step"] >= executed:
+            del sub["step"]
+    result.put("match", match)
 
 
 def _record(

@@ -13,6 +13,7 @@ from oacdsl.errors import InputError
 from oacdsl.report.demonstration import composed_section, keyframes_section, segment_section
 from oacdsl.report.execution import execution_section, reliability_section, verification_section
 from oacdsl.report.html import Images, esc
+from oacdsl.report.motion import motion_section
 from oacdsl.report.overview import footer, header, title_of
 from oacdsl.report.schema import SCHEMA_VERSION, validate_result
 from oacdsl.report.style import CSS
@@ -39,18 +40,17 @@ def render_html(
     """
     r = validate_result(result, source=source)
     images = Images(Path(base_dir) if base_dir is not None else None)
-    body = "".join(
-        [
-            header(r),
-            segment_section(r, images),
-            keyframes_section(r, images),
-            composed_section(r, images),
-            execution_section(r, images),
-            verification_section(r, images),
-            reliability_section(r),
-            footer(r),
-        ]
-    )
+    body = "".join([
+        header(r),
+        segment_section(r, images),
+        keyframes_section(r, images),
+        composed_section(r, images),
+        execution_section(r, images),
+        verification_section(r, images),
+        motion_section(r, images),
+        reliability_section(r),
+        footer(r),
+    ])
     page = (
         '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
         '<meta name="viewport" content="width=device-width, initial-scale=1">'

@@ -226,6 +226,38 @@ class ReliabilityDoc(_Doc):
     oacs: list[ReliabilityRow]
 
 
+class MotionFeaturesDoc(_Doc):
+    """A sub-action's motion features (``SubActionMotion.features``, SI units)."""
+
+    duration_s: Seconds
+    path_length_m: Annotated[float, Field(ge=0.0)]
+    extent_m: list[float]
+    period_s: Seconds | None = None
+    cycles: Annotated[float, Field(ge=0.0)] | None = None
+    radius_m: Annotated[float, Field(ge=0.0)]
+    tilt_max_rad: Annotated[float, Field(ge=0.0)]
+    tilt_time_s: Seconds
+    tilt_rise_s: Seconds | None = None
+
+
+class MotionRow(_Doc):
+    index: Count  # the demonstration's sub-action (as matched)
+    oac: str | None = None
+    params: dict[str, float] | None = None  # the skill parameters its step was given (SI)
+    moved: str | None = None
+    target: str | None = None  # None: the world frame
+    demonstrated: MotionFeaturesDoc | None = None
+    robot_index: Count | None = None  # the robot's sub-action aligned with it
+    robot_moved: str | None = None
+    robot_target: str | None = None
+    executed: MotionFeaturesDoc | None = None
+
+
+class MotionSection(_Doc):
+    sub_actions: list[MotionRow] = []
+    plot: Image = None  # one row per sub-action: demonstration (left), robot (right)
+
+
 class Result(_Doc):
     schema_version: Literal[1] = 1
     created_utc: str | None = None
@@ -238,6 +270,7 @@ class Result(_Doc):
     compose: ComposeDoc | None = None
     run: RunDoc | None = None
     verification: VerificationDoc | None = None
+    motion: MotionSection | None = None
     reliability: ReliabilityDoc | None = None
 
     @model_validator(mode="after")

@@ -111,7 +111,7 @@ class AdaptiveDetector:
         self._inner = RobustDetector(self.params, recording.rate_hz, pair_distance_m=block_d[table.block])
         self._inner.begin(recording, table)
         self.reach_m = max(by_distance)
-        self._near_bins = self._index_near(found.closest, n_q, recording.n_frames)
+        self._near_bins = self._index_near(found.closest, block_d, recording.n_frames)
         tools = tool_contacts(
             table,
             recording.n_frames,
@@ -146,30 +146,33 @@ class AdaptiveDetector:
         self._managed = np.zeros(n_q, dtype=bool)  # blocks with events: the detector combines their state
         self._managed[list(self._events)] = True
 
-    def _index_near(self, closest: dict[int, np.ndarray], n_q: int, n_frames: int) -> np.ndarray | None:
+    def _index_near(self, closest: dict[int, np.ndarray], block_d: np.ndarray,
+                    n_frames: int) -> np.ndarray | None:
         """Per instance pair and bin of ``_NEAR_BIN`` frames: is its closest marker distance within
-        ``reach_m`` somewhere in the bin? ``None`` when the scan's reach is shorter than ``reach_m``.
+        the pair's own distance (``block_d``, (Q,) metres) somewhere in the bin? ``None`` when the
+        scan's reach is shorter than ``reach_m``.
 
         The scan knows every pair's closest distance at every frame up to its own reach (inf
         beyond it), so a pair whose bins are all False in a chunk has every marker distance
-        beyond ``reach_m`` there: the broad phase of the main pass need not be run again.
+        beyond its distance there: the paper's rule cannot find it close, and the broad phase of
+        the main pass need not be run again.
         """
         scan_reach = self.params.distance_m * (1 + self.settings.margin)  # metres, as in comotion._scan
         if self.reach_m is None or self.reach_m > scan_reach:
             return None
         n_bins = -(-n_frames // _NEAR_BIN)
-        bins = np.zeros((n_q, n_bins), dtype=bool)
+        bins = np.zeros((block_d.size, n_bins), dtype=bool)
         padded = np.full(n_bins * _NEAR_BIN, np.inf, dtype=np.float32)
         for q, dmin in closest.items():
             padded[:n_frames] = dmin
             with np.errstate(invalid="ignore"):  # NaN: no marker visible, not near
-                near = padded <= self.reach_m + BOUND_MARGIN_M
+                near = padded <= block_d[q] + BOUND_MARGIN_M
             bins[q] = near.reshape(n_bins, _NEAR_BIN).any(axis=1)
         return bins
 
     def near_blocks(self, lo: int, stop: int, touching: np.ndarray) -> np.ndarray | None:
-        """Instance pairs whose distances frames ``lo:stop`` need: within ``reach_m`` in some
-        frame, touching (``touching``, (Q,) bool), or with a marker pair the paper's rule holds
+        """Instance pairs whose distances frames ``lo:stop`` need: within their own distance in
+        some frame, touching (``touching``, (Q,) bool), or with a marker pair the paper's rule holds
         touching. ``None``: not known, use the broad phase."""
         if self._near_bins is None or self._table is None or self._inner is None:
             return None

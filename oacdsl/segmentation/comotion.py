@@ -112,7 +112,7 @@ def comotion(
         for a, b in _runs(carry):
             if b - a < min_len:
                 continue
-            threshold = min(float(np.nanmedian(dmin[a:b])) * (1 + settings.margin), params.distance_m)
+            threshold = min(_nanmedian1d(dmin[a:b]) * (1 + settings.margin), params.distance_m)
             spans.append(_extend(dmin, a, b, threshold, bridge))
             thresholds.append(threshold)
         if spans:
@@ -186,16 +186,20 @@ def _prune_indirect(signals: dict[int, tuple[np.ndarray, np.ndarray]], table: Pa
     index = {(int(a), int(b)): q for q, (a, b) in enumerate(table.instance_pairs)}
     n_inst = len(table.instances)
     for q, (dmin, carry) in signals.items():
-        if not carry.any():
+        frames = np.flatnonzero(carry)  # only co-motion frames can be dropped
+        if frames.size == 0:
             continue
         a, b = (int(i) for i in table.instance_pairs[q])
+        here = dmin[frames]
+        drop = np.zeros(frames.size, dtype=bool)
         for c in range(n_inst):
             q1 = index.get((min(a, c), max(a, c)))
             q2 = index.get((min(b, c), max(b, c)))
             if c in (a, b) or q1 not in signals or q2 not in signals:
                 continue
             with np.errstate(invalid="ignore"):
-                carry &= ~(np.fmax(signals[q1][0], signals[q2][0]) < dmin)
+                drop |= np.fmax(signals[q1][0][frames], signals[q2][0][frames]) < here
+        carry[frames[drop]] = False
 
 
 def _instance_speeds(
@@ -207,11 +211,36 @@ def _instance_speeds(
         before = recording.positions_m[rows[0] - lag : rows[-1] + 1 - lag]
     else:
         before = recording.positions_m[prev]
-    diff = recording.positions_m[rows[0] : rows[-1] + 1] - before  # (R, M, 3)
-    step = np.sqrt(
-        diff[..., 0] * diff[..., 0] + diff[..., 1] * diff[..., 1] + diff[..., 2] * diff[..., 2]
-    )  # (R, M) metres, as np.linalg.norm(diff, axis=-1)
-    return [_nanmedian_last(step[:, m]) / dt for m in groups]
+    diff = recording.positions_m[rows[0]:rows[-1] + 1] - before  # (R, M, 3)
+    step = np.sqrt(diff[..., 0] * diff[..., 0] + diff[..., 1] * diff[..., 1]
+                   + diff[..., 2] * diff[..., 2])  # (R, M) metres, as np.linalg.norm(diff, axis=-1)
+    by_marker = np.ascontiguousarray(step.T)  # (M, R): one marker's steps contiguous
+    return [_median_rows(by_marker[m]) / dt for m in groups]
+
+
+_NETWORK_ROWS = 8  # up to this many markers an instance's median is sorted by a network
+
+
+def _median_rows(x: np.ndarray) -> np.ndarray:
+    """:func:`_nanmedian0` of (K, R), the same values; for K ≤ ``_NETWORK_ROWS`` the columns
+    without a gap are sorted by an odd–even transposition network of element-wise min/max."""
+    k = x.shape[0]
+    if k == 0 or k > _NETWORK_ROWS:
+        return _nanmedian0(x)
+    gap = np.isnan(x).any(axis=0)
+    full = ~gap
+    some = bool(gap.any())
+    rows = [row[full] for row in x] if some else list(x)
+    for rnd in range(k):
+        for i in range(rnd % 2, k - 1, 2):
+            rows[i], rows[i + 1] = np.minimum(rows[i], rows[i + 1]), np.maximum(rows[i], rows[i + 1])
+    middle = (rows[(k - 1) // 2] + rows[k // 2]) / 2  # as _nanmedian0 with every value present
+    if not some:
+        return middle
+    out = np.empty(x.shape[1], dtype=middle.dtype)
+    out[full] = middle
+    out[gap] = _nanmedian0(x[:, gap])
+    return out
 
 
 def _nanmedian0(x: np.ndarray) -> np.ndarray:
@@ -227,20 +256,19 @@ def _nanmedian0(x: np.ndarray) -> np.ndarray:
     return np.where(count > 0, median, np.nan)
 
 
-def _nanmedian_last(x: np.ndarray) -> np.ndarray:
-    """Median over the last axis of (R, K) ignoring NaN (NaN where a row has no value).
-
-    The same values as ``_nanmedian0(x.T)``; sorting along contiguous rows is faster.
-    """
-    if x.shape[1] == 0:
-        return np.full(x.shape[0], np.nan)
-    ordered = np.sort(x, axis=1)  # NaN sort last
-    count = np.count_nonzero(~np.isnan(x), axis=1)
-    rows = np.arange(x.shape[0])
-    lo = np.maximum(count - 1, 0) // 2
-    hi = np.minimum(count // 2, x.shape[1] - 1)
-    median = (ordered[rows, lo] + ordered[rows, hi]) / 2
-    return np.where(count > 0, median, np.nan)
+def _nanmedian1d(x: np.ndarray) -> float:
+    """``float(np.nanmedian(x))`` of a 1-D float32 array (NaN if all are NaN), without its
+    wrappers: the middle value, or the float32 mean of the two middle values, of the
+    values present."""
+    values = x[~np.isnan(x)]
+    n = values.size
+    if n == 0:
+        return float("nan")
+    k = n // 2
+    if n % 2:
+        return float(np.partition(values, k)[k])
+    part = np.partition(values, [k - 1, k])
+    return float(np.mean(part[k - 1:k + 1]))
 
 
 def _runs(mask: np.ndarray) -> list[tuple[int, int]]:

@@ -39,13 +39,18 @@ class ChunkGeometry:
         self.centre = _centre(recording.positions_m)
         sizes = np.diff(table.marker_offsets)
         self._kmax = int(sizes.max()) if sizes.size else 0
+        order = table.marker_order  # the recording's own marker order: no gather
+        self._in_order = bool(order.size == recording.positions_m.shape[1]
+                              and np.array_equal(order, np.arange(order.size)))
 
     def coordinates(self, lo: int, hi: int) -> np.ndarray:
         """(3, M', hi - lo) float32 centred coordinates of frames ``lo:hi``, metres (NaN = gap)."""
         out = np.empty((3, self.table.marker_order.size, hi - lo), dtype=np.float32)
         rows = self.recording.positions_m[lo:hi]
-        for k in range(3):  # centre in float64, then round once to float32
-            np.subtract(rows[:, self.table.marker_order, k].T, self.centre[k], out=out[k], casting="unsafe")
+        if not self._in_order:
+            rows = rows[:, self.table.marker_order]
+        # centre in float64, then round once to float32, (F, M, 3) → (3, M, F) in one pass
+        np.subtract(rows.transpose(2, 1, 0), self.centre[:, None, None], out=out, casting="unsafe")
         return out
 
     def lower_bounds(self, x: np.ndarray, block: int = BOUND_BLOCK_FRAMES) -> np.ndarray:

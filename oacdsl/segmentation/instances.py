@@ -40,32 +40,32 @@ class InstanceTouch:
         if pairs.size:
             previous = np.empty_like(value)
             previous[1:] = value[:-1]
-            first = np.r_[True, pairs[1:] != pairs[:-1]]
+            first = np.concatenate(([True], pairs[1:] != pairs[:-1]))
             previous[first] = self.pair_state[pairs[first]]
             keep = value != previous
             pairs, frames, value = pairs[keep], frames[keep], value[keep]
         if pairs.size == 0:
             empty = np.zeros(0, dtype=np.intp)
             return empty, empty.copy(), np.zeros(0, dtype=bool)
-        last = np.r_[pairs[1:] != pairs[:-1], True]
+        last = np.concatenate((pairs[1:] != pairs[:-1], [True]))
         self.pair_state[pairs[last]] = value[last]
 
         q = self._block[pairs]
         delta = np.where(value, 1, -1)
         order = np.lexsort((frames, q))
         q, frames, delta = q[order], frames[order], delta[order]
-        q_first = np.r_[True, q[1:] != q[:-1]]
+        q_first = np.concatenate(([True], q[1:] != q[:-1]))
         total = np.cumsum(delta)
         starts = np.flatnonzero(q_first)
         before_group = (total[starts] - delta[starts])[np.cumsum(q_first) - 1]
         running = self.count[q] + total - before_group  # touching marker pairs after each change
-        frame_last = np.r_[(q[1:] != q[:-1]) | (frames[1:] != frames[:-1]), True]
+        frame_last = np.concatenate(((q[1:] != q[:-1]) | (frames[1:] != frames[:-1]), [True]))
         lq, lf, after = q[frame_last], frames[frame_last], running[frame_last] > 0
         before = np.empty_like(after)
         before[1:] = after[:-1]
-        new_q = np.r_[True, lq[1:] != lq[:-1]]
+        new_q = np.concatenate(([True], lq[1:] != lq[:-1]))
         before[new_q] = self.count[lq[new_q]] > 0
-        q_last = np.r_[q[1:] != q[:-1], True]
+        q_last = np.concatenate((q[1:] != q[:-1], [True]))
         self.count[q[q_last]] = running[q_last]
         emit = after != before
         return lf[emit], lq[emit], after[emit]

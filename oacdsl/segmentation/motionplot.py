@@ -16,13 +16,14 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from oacdsl.segmentation.motion import SubActionMotion
 from oacdsl.segmentation.plots import save_figure
 
-__all__ = ["save_motion_plot", "view_plane"]
+__all__ = ["draw_motion", "save_motion_plot", "view_plane"]
 
 _AXES = ("x", "y", "z")
 _M_TO_MM = 1000.0
@@ -69,41 +70,38 @@ def save_motion_plot(motions: Sequence[SubActionMotion], out: str | Path, *, tit
         ax.set_axis_off()
         return save_figure(fig, out)
     for k, m in enumerate(shown):
-        ax = fig.add_subplot(rows, cols, k + 1)
-        pos = m.T_target_object[:, :3, 3] * _M_TO_MM
-        core = m.features.core_s if m.features is not None else (0.0, 0.0)
-        in_core = (m.times_s >= core[0]) & (m.times_s <= core[1])
-        i, j = view_plane(pos[in_core] if in_core.sum() >= 3 else pos)
-        u, v = pos[:, i], pos[:, j]
-        shade = np.linspace(0.0, 1.0, len(u))
-        ax.plot(u, v, color="0.75", linewidth=0.8, zorder=1)
-        ax.plot(
-            np.where(in_core, u, np.nan), np.where(in_core, v, np.nan), color="0.35", linewidth=1.8, zorder=2
-        )
-        ax.scatter(u, v, c=shade, cmap="viridis", s=14, zorder=3)
-        finite = np.flatnonzero(np.isfinite(u) & np.isfinite(v))
-        if finite.size:
-            ax.plot(u[finite[0]], v[finite[0]], "o", mfc="none", mec="k", ms=8, zorder=4, label="start")
-            ax.plot(u[finite[-1]], v[finite[-1]], "s", mfc="none", mec="k", ms=8, zorder=4, label="end")
-        tilt = np.arccos(np.clip(m.T_target_object[:, 2, 2], -1.0, 1.0))
-        if np.isfinite(tilt).any() and np.nanmax(tilt) >= math.radians(30):
-            top = int(np.nanargmax(tilt))
-            ax.plot(
-                u[top],
-                v[top],
-                "*",
-                color="darkorange",
-                ms=13,
-                zorder=4,
-                label=f"largest tilt ({math.degrees(tilt[top]):.0f}°)",
-            )
-        if m.target is not None:
-            ax.plot(0.0, 0.0, "+", color="crimson", ms=12, mew=2, zorder=5, label=f"{m.target} origin")
-        ax.set_xlabel(f"{_AXES[i]} in {m.frame_name} [mm]", fontsize=8)
-        ax.set_ylabel(f"{_AXES[j]} in {m.frame_name} [mm]", fontsize=8)
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.tick_params(labelsize=7)
-        ax.grid(True, linewidth=0.3)
-        ax.set_title(_caption(m), fontsize=8)
-        ax.legend(fontsize=6, loc="best")
+        draw_motion(fig.add_subplot(rows, cols, k + 1), m)
     return save_figure(fig, out)
+
+
+def draw_motion(ax: Any, m: SubActionMotion, title: str | None = None) -> None:
+    """One panel: ``m``'s path in its target's frame on a matplotlib axis (module doc);
+    ``title`` replaces the caption."""
+    pos = m.T_target_object[:, :3, 3] * _M_TO_MM
+    core = m.features.core_s if m.features is not None else (0.0, 0.0)
+    in_core = (m.times_s >= core[0]) & (m.times_s <= core[1])
+    i, j = view_plane(pos[in_core] if in_core.sum() >= 3 else pos)
+    u, v = pos[:, i], pos[:, j]
+    shade = np.linspace(0.0, 1.0, len(u))
+    ax.plot(u, v, color="0.75", linewidth=0.8, zorder=1)
+    ax.plot(np.where(in_core, u, np.nan), np.where(in_core, v, np.nan), color="0.35", linewidth=1.8,
+            zorder=2)
+    ax.scatter(u, v, c=shade, cmap="viridis", s=14, zorder=3)
+    finite = np.flatnonzero(np.isfinite(u) & np.isfinite(v))
+    if finite.size:
+        ax.plot(u[finite[0]], v[finite[0]], "o", mfc="none", mec="k", ms=8, zorder=4, label="start")
+        ax.plot(u[finite[-1]], v[finite[-1]], "s", mfc="none", mec="k", ms=8, zorder=4, label="end")
+    tilt = np.arccos(np.clip(m.T_target_object[:, 2, 2], -1.0, 1.0))
+    if np.isfinite(tilt).any() and np.nanmax(tilt) >= math.radians(30):
+        top = int(np.nanargmax(tilt))
+        ax.plot(u[top], v[top], "*", color="darkorange", ms=13, zorder=4,
+                label=f"largest tilt ({math.degrees(tilt[top]):.0f}°)")
+    if m.target is not None:
+        ax.plot(0.0, 0.0, "+", color="crimson", ms=12, mew=2, zorder=5, label=f"{m.target} origin")
+    ax.set_xlabel(f"{_AXES[i]} in {m.frame_name} [mm]", fontsize=8)
+    ax.set_ylabel(f"{_AXES[j]} in {m.frame_name} [mm]", fontsize=8)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.tick_params(labelsize=7)
+    ax.grid(True, linewidth=0.3)
+    ax.set_title(title if title is not None else _caption(m), fontsize=8)
+    ax.legend(fontsize=6, loc="upper right")  # "best" searches every point: seconds per panel

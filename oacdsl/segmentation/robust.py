@@ -28,7 +28,7 @@ from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.runs import flips, windows
-from oacdsl.segmentation.slope import windowed_slope
+from oacdsl.segmentation.slope import windowed_slope_at
 
 __all__ = ["RobustDetector"]
 
@@ -76,23 +76,30 @@ class RobustDetector:
         first_col = max(0, h - n + 1 - 2 * half)  # columns that feed a run ending at an output frame
         row_d = None if self._pair_d is None else self._pair_d[chunk.pairs][:, None]  # (A, 1)
         d = self.d if row_d is None else row_d
-        near = (chunk.dist_m[:, first_col:] < d).any(axis=1) | state0
+        with np.errstate(invalid="ignore"):
+            below = chunk.dist_m < d  # (A, R): the distance condition of "close"
+        near = below[:, first_col:].any(axis=1) | state0
         sel = np.flatnonzero(near)
         if sel.size == 0:
             return PairChanges.none()
-        dist = chunk.dist_m[sel] if sel.size < near.size else chunk.dist_m
+        below = below[sel]
+        # neither touching nor below d for n frames in a row: no run of n close frames, no flip
+        causal = np.zeros(below.shape, dtype=bool)  # column c: frame c - half, as in _conditions
+        causal[:, half:] = below[:, :max(0, below.shape[1] - half)]
+        busy = state0[sel] | windows(causal, h, n_out, n).any(axis=1)
+        rows = sel[busy]
+        if rows.size == 0:
+            return PairChanges.none()
+        dist = chunk.dist_m[rows] if rows.size < near.size else chunk.dist_m
+        s0, pairs = state0[rows], chunk.pairs[rows]
         if row_d is not None:
-            d = row_d[sel]
+            d = row_d[rows]
         close, far = self._conditions(dist, chunk.times_s, d)
-        s0, pairs = state0[sel], chunk.pairs[sel]
         close_n = windows(close, h, n_out, n)
-        busy = s0 | close_n.any(axis=1)  # neither touching nor ever close for n frames: no flip
-        if not busy.all():
-            close_n, far, s0, pairs = close_n[busy], far[busy], s0[busy], pairs[busy]
         far_n = windows(far, h, n_out, n)
         rows, cols, value = flips(close_n, far_n, s0)
         if rows.size:
-            last = np.flatnonzero(np.r_[rows[1:] != rows[:-1], True])
+            last = np.flatnonzero(np.concatenate((rows[1:] != rows[:-1], [True])))
             self._state[pairs[rows[last]]] = value[last]
         return PairChanges(pairs[rows], cols + chunk.start, value)
 
@@ -104,15 +111,20 @@ class RobustDetector:
         ``d``: metres, the distance threshold (scalar, or (A, 1) one per row).
 
         Columns whose frame lies before the chunk's first column are False (not part of any run).
+        The slope is fitted only where it decides: at frames within ``d`` (beyond it a frame
+        is far, in a gap unknown, whatever the slope).
         """
         half = self.half
-        rate = np.abs(windowed_slope(dist, times, half))
         close = np.zeros(dist.shape, dtype=bool)
         far = np.zeros(dist.shape, dtype=bool)
         body = slice(0, max(0, dist.shape[1] - half))  # frames whose window ends inside the chunk
+        cur = dist[:, body]
         with np.errstate(invalid="ignore"):
-            cur, ch = dist[:, body], rate[:, body]
-            close[:, half:] = (cur < d) & (ch < self.v)
-            # a missing distance is unknown, even where the neighbours give a slope
-            far[:, half:] = ((cur > d) | (ch > self.v)) & ~np.isnan(cur)
+            far[:, half:] = cur > d
+            rows, cols = np.nonzero(cur <= d)  # NaN: neither
+        rate = np.abs(windowed_slope_at(dist, times, half, rows, cols))
+        limit = np.broadcast_to(d, cur.shape)[rows, cols]
+        with np.errstate(invalid="ignore"):
+            close[rows, cols + half] = (cur[rows, cols] < limit) & (rate < self.v)
+            far[rows, cols + half] = rate > self.v
         return close, far

@@ -52,7 +52,7 @@ def flips(
     kind = sets[rows, cols]
     previous = np.empty_like(kind)
     previous[1:] = kind[:-1]
-    first_in_row = np.r_[True, rows[1:] != rows[:-1]] if rows.size else np.zeros(0, dtype=bool)
+    first_in_row = np.concatenate(([True], rows[1:] != rows[:-1])) if rows.size else np.zeros(0, dtype=bool)
     previous[first_in_row] = state0[rows[first_in_row]]
     flip = kind != previous
     return rows[flip], cols[flip], kind[flip]

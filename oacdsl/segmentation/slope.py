@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["min_samples", "windowed_slope"]
+__all__ = ["min_samples", "windowed_slope", "windowed_slope_at"]
 
 
 def min_samples(half: int) -> int:
@@ -68,6 +68,63 @@ def windowed_slope(
         slope = (s0 * stx - s1 * sx) / den
     slope[np.broadcast_to(s0 < min_count, slope.shape) | ~(den > 0)] = np.nan
     return slope.astype(np.float32)
+
+
+def windowed_slope_at(dist: np.ndarray, times_s: np.ndarray, half: int, rows: np.ndarray,
+                      cols: np.ndarray, min_count: int | None = None) -> np.ndarray:
+    """``windowed_slope(dist, times_s, half, min_count)[rows, cols]``, bit for bit, computed only there.
+
+    The prefix sums are taken over the whole rows that hold a requested column (the same
+    sums as :func:`windowed_slope`), the rest only at the requested columns: the cost of
+    a row is two prefix sums plus a constant per requested column. ``rows``, ``cols``:
+    (K,) indices; returns (K,) float32 m/s.
+    """
+    a, r = dist.shape
+    if min_count is None:
+        min_count = min_samples(half)
+    if rows.size == 0 or r == 0:
+        return np.full(rows.size, np.nan, dtype=np.float32)
+    t = np.asarray(times_s, dtype=np.float64)
+    t = t - t[r // 2]  # centred as in windowed_slope
+    if rows.size < 2 or bool(np.all(rows[1:] >= rows[:-1])):  # sorted (np.nonzero's order): no sort
+        new_row = np.concatenate(([True], rows[1:] != rows[:-1]))
+        used, local = rows[new_row], np.cumsum(new_row) - 1  # rows that hold a requested column
+    else:
+        used, local = np.unique(rows, return_inverse=True)
+    sub = dist[used]
+    valid = ~np.isnan(sub)
+    x = sub.astype(np.float64)
+    np.copyto(x, 0.0, where=~valid)  # as np.where(valid, sub, 0.0), one pass fewer
+    lo = np.maximum(cols - half, 0)
+    hi = np.minimum(cols + half + 1, r)
+    px, ptx = _prefix(x), _prefix(x * t)
+    sx, stx = px[local, hi] - px[local, lo], ptx[local, hi] - ptx[local, lo]
+    ones = np.ones((1, r))
+    p0, p1, p2 = _prefix(ones)[0], _prefix(ones * t)[0], _prefix(ones * t * t)[0]
+    s0, s1, s2 = p0[hi] - p0[lo], p1[hi] - p1[lo], p2[hi] - p2[lo]
+    gappy_rows = ~valid.all(axis=1)
+    if gappy_rows.any():  # rows with a gap: their own sums (the same where valid)
+        g = np.flatnonzero(gappy_rows)
+        w = valid[g].astype(np.float64)
+        where = np.full(used.size, -1, dtype=np.intp)
+        where[g] = np.arange(g.size)
+        k = np.flatnonzero(gappy_rows[local])
+        gl = where[local[k]]
+        q0, q1, q2 = _prefix(w), _prefix(w * t), _prefix(w * t * t)
+        s0[k], s1[k], s2[k] = (q0[gl, hi[k]] - q0[gl, lo[k]], q1[gl, hi[k]] - q1[gl, lo[k]],
+                               q2[gl, hi[k]] - q2[gl, lo[k]])
+    den = s0 * s2 - s1 * s1
+    with np.errstate(invalid="ignore", divide="ignore"):
+        slope = (s0 * stx - s1 * sx) / den
+    slope[(s0 < min_count) | ~(den > 0)] = np.nan
+    return slope.astype(np.float32)
+
+
+def _prefix(x: np.ndarray) -> np.ndarray:
+    """(K, R + 1) float64 prefix sums of the rows of ``x`` (K, R), a 0 first."""
+    prefix = np.zeros((x.shape[0], x.shape[1] + 1))
+    np.cumsum(x, axis=1, out=prefix[:, 1:])
+    return prefix
 
 
 def _window_sum(x: np.ndarray, half: int) -> np.ndarray:

@@ -25,6 +25,10 @@ them. Two rules on the closest-marker distances, per frame:
   (13–19 frames of cross-hand "touching" on the KIT Pour and Stir clips); the contact
   between them is the tool contact.
 
+What a tool contact then means for the objects and hands around it (a grasped tool that
+was lying beside its target, an object let go of where it works, a support, two tools in
+one bowl, the hand behind a tool): :mod:`oacdsl.segmentation.toolroles`.
+
 Memory O(frames) per instance pair within reach, as the co-motion scan.
 """
 
@@ -37,6 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from oacdsl.segmentation.pairs import PairTable
+from oacdsl.segmentation.toolroles import refine
 
 __all__ = ["ToolContacts", "agents_of", "tool_contacts"]
 
@@ -141,6 +146,7 @@ def tool_contacts(
             veto = busy & by_other & ~holds[(h, x)]
             if veto.any():
                 removed[q] = _runs(veto)
+    added, removed = refine(added, removed, n_frames, holds, objects, agent_set, pair, dist, reach_m, dwell)
     return ToolContacts(added, removed)
 
 

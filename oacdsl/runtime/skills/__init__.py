@@ -6,6 +6,7 @@ from oacdsl.runtime.skills.base import Skill, SkillContext
 from oacdsl.runtime.skills.bimanual import grasp_both, place_both
 from oacdsl.runtime.skills.grasp import reach_and_grasp
 from oacdsl.runtime.skills.hold import hold, retreat
+from oacdsl.runtime.skills.lift import lift
 from oacdsl.runtime.skills.mix import mix
 from oacdsl.runtime.skills.place import place
 from oacdsl.runtime.skills.pour import pour
@@ -26,6 +27,7 @@ IMPLEMENTATIONS: dict[str, Skill] = {
     "hold": hold,
     "touch": touch,
     "retreat": retreat,
+    "lift": lift,
     "grasp_both": grasp_both,
     "place_both": place_both,
     "stir": stir,

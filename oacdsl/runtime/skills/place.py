@@ -110,8 +110,10 @@ def set_down_pose(
     support = target_support(ctx, obj)
     if support is None or (pick is not None and support in pick.supports):
         xy, where = origin[:2, 3], "its place"  # back where it was picked up (it stood there)
-    elif world.touching(obj, support):
-        xy, where = t_obj[:2, 3], support  # it is on the support already (a wipe): set it down here
+    elif world.touching(obj, support):  # on the support already (a wipe, a ladle in a bowl): set it down here
+        ctl = ctx.ctl
+        here = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+        return here, support, support
     else:
         xy, where = world.body_pose(support)[:2, 3], support
     height = ctx.support_height(xy, exclude=obj)
@@ -125,6 +127,10 @@ def _set_down(
     """Carry ``obj`` above where it goes and lower it until the wrist feels the support."""
     ctl = ctx.ctl
     hover, where, support = set_down_pose(ctx, side, obj, pick)
+    if support is not None and ctx.world.touching(obj, support):  # no hover: that would break the contact
+        ctl.activity = f"setting {obj} down on {support}"
+        lower_until_contact(ctx, side, hover, 0.03, f"placing {obj}", force)
+        return
     ctl.activity = f"carrying {obj} to {where}"
     ctx.check_reachable(side, hover, f"the place of {obj} on {where}")
     ctx.carry(side, hover, {obj} if support is None else {obj, support})

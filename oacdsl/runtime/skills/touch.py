@@ -25,6 +25,8 @@ __all__ = ["touch", "HOVER_M", "TOUCH_FORCE_N", "TOUCH_SPEED_M_S", "approach_pos
 HOVER_M = 0.04
 #: Wrist force change that stops the descent when the objects do not touch first, N.
 TOUCH_FORCE_N = 8.0
+#: How far the held object is pressed on once it touches, m (the contact lasts while held still).
+PRESS_M = 0.003
 #: Peak speed of the descent, m/s.
 TOUCH_SPEED_M_S = 0.08
 
@@ -81,6 +83,9 @@ def touch(
         guard=lambda: world.touching(obj, target) or float(np.linalg.norm(ctl.force_change(side))) > force,
     )
     if ctl.wait(0.3, until=lambda: world.touching(obj, target)) or world.touching(obj, target):
+        # a light press (PRESS_M further down), so that the contact lasts while the hand keeps still
+        now = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+        ctl.move(side, make_T(now[:3, :3], now[:3, 3] - np.array([0.0, 0.0, PRESS_M])), 0.2)
         return
     felt = float(np.linalg.norm(ctl.force_change(side)))
     others = sorted(world.relations().partners(obj) - {hand})

@@ -1,0 +1,77 @@
+"""What a tool contact means around it (oacdsl.segmentation.toolroles), on the KIT development clips.
+
+Each clip's keyframes are written down from its labels and its objects' heights (see
+docs/segmentation-adaptive.md, "Tool roles"); every rule of toolroles breaks one of them.
+"""
+
+from __future__ import annotations
+
+import pytest
+from _mocap import mocap_file
+
+from oacdsl.segmentation import AasParams, segment
+from oacdsl.segmentation.grouping import recognise_preset
+from oacdsl.segmentation.readers import read_recording
+
+FORK, SPOON, BOWL = "salad_fork", "salad_spoon", "mixing_bowl_green"
+L, R = "left_hand", "right_hand"
+
+#: clip → [(frame, relations made, relations broken)] of the default (adaptive) segmentation.
+EXPECTED: dict[str, list[tuple[int, set[tuple[str, str]], set[tuple[str, str]]]]] = {
+    "Mix": [  # the servers are taken, mix in the bowl and are left in it (rules 1, 2, 3, 5)
+        (12, {(L, FORK), (R, SPOON)}, set()),
+        (24, {(BOWL, FORK), (BOWL, SPOON)}, set()),
+        (58, set(), {(L, FORK), (R, SPOON)}),
+    ],
+    "Wipe": [  # the plate is put into the draining rack and stays there (rule 2)
+        (11, {(L, "plate_dish")}, set()),
+        (16, {(R, "sponge_small")}, set()),
+        (20, {("plate_dish", "sponge_small")}, set()),
+        (39, set(), {("plate_dish", "sponge_small")}),
+        (42, {("draining_rack", "plate_dish")}, set()),
+        (48, set(), {(L, "plate_dish")}),
+        (54, set(), {(R, "sponge_small")}),
+    ],
+    "Scoop": [  # the cup is held by the bowl, not on it (rule 4); the ladle goes back in (rule 2)
+        (17, {("cup_small", L)}, set()),
+        (22, {("ladle", BOWL), ("ladle", R)}, set()),
+        (35, {("cup_small", "ladle")}, {("ladle", BOWL)}),
+        (52, {("ladle", BOWL)}, {("cup_small", "ladle")}),
+        (66, set(), {("cup_small", L), ("ladle", R)}),
+    ],
+    "Cut": [  # the knife cuts the cucumber held on the board, not the board (rules 4, 5)
+        (12, {("cucumber_attachment", L)}, set()),
+        (19, {("knife_black", R)}, set()),
+        (22, {("cucumber_attachment", "cutting_board_small")}, set()),
+        (28, {("cucumber_attachment", "knife_black")}, set()),
+        (71, set(), {("cucumber_attachment", "cutting_board_small"), ("cucumber_attachment", "knife_black")}),
+        (83, set(), {("cucumber_attachment", L)}),
+        (87, set(), {("knife_black", R)}),
+    ],
+}
+
+
+def changes(action: str) -> list[tuple[int, set[tuple[str, str]], set[tuple[str, str]]]]:
+    xml = next(mocap_file("kit_bimanual").glob(f"{action}_*.mmm.xml"))
+    recording, _ = recognise_preset(read_recording(xml))
+    result = segment(recording, AasParams().resolved(recording.rate_hz))
+    assert not result.keyframes[0].state.relations  # nothing touches at the start
+    out = []
+    for before, after in zip(result.keyframes, result.keyframes[1:], strict=False):
+        was, now = before.state.relations, after.state.relations
+        made, broken = now - was, was - now
+        out.append((after.frame, set(made), set(broken)))
+    return out
+
+
+@pytest.mark.parametrize("action", sorted(EXPECTED))
+def test_development_clip_keyframes_are_what_the_labels_say(action):
+    assert changes(action) == EXPECTED[action]
+
+
+def test_pour_and_stir_keep_their_keyframes():
+    """Both objects held: nothing is left behind when they are set down (rule 2 does not apply)."""
+    pour = changes("Pour")
+    assert [f for f, _, _ in pour] == [14, 19, 22, 56]
+    assert ("cup_small", "milk_small") in pour[-1][2]
+    assert [f for f, _, _ in changes("Stir")] == [21, 27, 48, 56]
