@@ -19,6 +19,13 @@ KIT = ROOT / "library" / "kit"
 
 #: clip → (recording under shared/mocap, the composed OAC's steps, the alignment's operations)
 CLIPS = {
+    # the demonstration's last change (the carton leaves the cup, both hands let go) is two
+    # robot changes: the pour lifts the carton off the cup, later both are put down (split)
+    "Pour": (
+        "kit_bimanual/Pour_files_motions_2967_Pour1_cs_ms_0_20l_04.mmm.xml",
+        ["grasp", "grasp", "bring_to", "pour_and_place_both"],
+        ["match", "match", "match", "split"],
+    ),
     "Stir": (
         "kit_bimanual/Stir_files_motions_2941_Stir1_bc_s_right_03.mmm.xml",
         ["grasp_both", "stir", "take_out", "place_both"],

@@ -7,6 +7,12 @@ The direction the cup comes from is chosen among a few azimuths around the targe
 asking the whole-body IK which fully tilted pose it can reach best. The pour succeeds
 when at least :data:`SUCCESS_FRACTION` of the liquid's balls end inside the target,
 counted by the simulation.
+
+A target held by the other hand stays where it was: that hand's task keeps its goal, as
+strong as the pouring hand's. A narrow target (a cup) is poured into from over its near
+inner wall, lower and with a slower tilt where the balls roll out. A source resting on the
+target (a carton put onto the cup) is first slid onto its near rim, away from the other
+hand, and rests there a moment.
 """
 
 from __future__ import annotations
@@ -18,7 +24,7 @@ import numpy as np
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.bodies import Body
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
-from oacdsl.runtime.skills.bimanual import reach_both
+from oacdsl.runtime.skills.bimanual import move_both, reach_both
 from oacdsl.runtime.skills.shapes import world_corners
 from oacdsl.runtime.transforms import make_T, rot_axis
 
@@ -35,6 +41,20 @@ LIP_START_EXTRA_M = 0.07
 RIM_MARGIN_M = 0.01
 #: Where the lip is over the target: this far from its centre towards the cup, m.
 LIP_FROM_CENTRE_M = 0.03
+#: A target narrower than this (inner radius, m) is a *narrow* one (a cup, not a bowl): the
+#: balls leave the tilted source with some speed and would fly over its far rim or hit its
+#: floor hard, so the lip goes over the target's near inner wall, :data:`NARROW_LIP_ABOVE_RIM_M`
+#: above its rim, and the tilt beyond :data:`SLOW_FROM_RAD` (where the balls roll out) is
+#: :data:`NARROW_SLOWDOWN` times slower.
+NARROW_TARGET_M = 0.05
+NARROW_LIP_ABOVE_RIM_M = 0.015
+SLOW_FROM_RAD = math.radians(85.0)
+NARROW_SLOWDOWN = 4.0
+#: A source resting on the target when the pour begins (a carton put onto the cup) is slid
+#: outwards onto the target's near rim and stays there this long first (s): longer than the
+#: closed loop's 1 s merge window, so that the robot's recording shows the contact (as the
+#: demonstrator's did) before the pour lifts it.
+REST_S = 1.2
 
 
 def _cup_pose(
@@ -42,6 +62,32 @@ def _cup_pose(
 ) -> np.ndarray:
     r = rot_axis(axis, angle) @ base_r
     return make_T(r, lip_world - r @ lip_local)
+
+
+def _resting_spot(
+    t_world_target: np.ndarray, target: Body, t_world_source: np.ndarray, source: Body, u: np.ndarray
+) -> np.ndarray:
+    """Where (world x, y, m) the source's base centre goes to rest on the target's rim, as far
+    towards ``u`` (away from the hand holding the target) as it can while it still rests there:
+    one of the points of the source's floor on which the closed loop's virtual markers sit
+    (its centre, and four at half its inner radius; ``oacdsl/pipeline/markers.py``) right over
+    one of the twelve on the target's rim, so that the robot's recording shows the contact."""
+    floor = [np.zeros(2)] + [
+        0.5 * source.inner_radius * np.array([math.cos(a), math.sin(a)]) for a in np.arange(4) * math.pi / 2
+    ]
+    rim = [
+        target.rim_radius * np.array([math.cos(a), math.sin(a)]) for a in np.arange(12) * math.pi / 6
+    ]
+    centre = t_world_target[:2, 3]
+    best, best_d = centre + u[:2] * target.rim_radius, -1.0
+    for p in rim:
+        p_world = centre + t_world_target[:2, :2] @ p
+        for f in floor:
+            spot = p_world - t_world_source[:2, :2] @ f
+            d = float((spot - centre) @ u[:2])
+            if d > best_d and np.linalg.norm(spot - centre) <= target.rim_radius + 0.5 * source.rim_radius:
+                best, best_d = spot, d
+    return best
 
 
 def spout_direction(body: Body) -> np.ndarray | None:
@@ -105,7 +151,10 @@ def pour(
         raise RuntimeFailure(f"pour: {source!r} is no container (its shape has no shell)")
     t_bowl = world.body_pose(target)  # where it is now: on the table or in the other hand
     centre, rim_z = t_bowl[:3, 3], t_bowl[2, 3] + bowl.rim_height
-    off_centre = min(LIP_FROM_CENTRE_M, 0.5 * bowl.inner_radius)
+    narrow = bowl.inner_radius < NARROW_TARGET_M
+    off_centre = bowl.inner_radius if narrow else min(LIP_FROM_CENTRE_M, 0.5 * bowl.inner_radius)
+    if narrow:
+        height = min(height, NARROW_LIP_ABOVE_RIM_M)
     # the cup kept upright with its current heading; a cup with an opening in its top (a
     # carton's spout) turned so that the opening faces the target
     yaw = math.atan2(t_cup[1, 0], t_cup[0, 0])
@@ -173,23 +222,43 @@ def pour(
             f" of {hand} (best leaves the hand {best[0] * 100 if best else float('nan'):.0f} cm off)"
         )
     _, u, extra = best
+
+    def go(pose: np.ndarray, seconds: float) -> None:
+        """Move the pouring hand; a hand holding the target keeps it where it was (its goal
+        fixed, as strong a task as the pouring hand's: the whole-body IK would otherwise
+        let the target drift with the torso as the source tilts)."""
+        if keep is None or holder is None:
+            ctl.move(side, pose, seconds)
+        else:
+            move_both(ctl, {side: pose, holder: keep}, seconds)
+
+    if world.touching(source, target):
+        # slid outwards (towards the pouring side) until it rests on the near rim only, out
+        # of the way of the other hand, and kept there a moment
+        ctl.activity = f"resting {source} on {target}"
+        t_src = world.body_pose(source)
+        t_src[:2, 3] = _resting_spot(t_bowl, bowl, t_src, cup, u)
+        t_src[2, 3] += 0.002  # m
+        aside = t_src @ np.linalg.inv(cup_in_hand)
+        go(aside, 0.6)
+        ctl.wait(REST_S)
     ctl.activity = f"bringing {source} over {target}"
     start = hand_at(u, 0.0, extra + LIP_START_EXTRA_M)
-    ctx.carry(side, start, {source, target}, 1.8)
+    for pose, seconds in ctx.carry_path(side, start, {source, target}, 1.8):
+        if seconds > 0:
+            go(pose, seconds)
     ctl.activity = f"pouring {liquid} into {target}"
     steps = 40
     for k in range(1, steps + 1):
         s = k / steps
-        ctl.move(
-            side,
-            hand_at(u, tilt * s, extra + LIP_START_EXTRA_M * max(0.0, 1.0 - 2.0 * s)),
-            duration / steps,
-        )
+        slowdown = NARROW_SLOWDOWN if narrow and tilt * s > SLOW_FROM_RAD else 1.0
+        lift = extra + LIP_START_EXTRA_M * max(0.0, 1.0 - 2.0 * s)
+        go(hand_at(u, tilt * s, lift), slowdown * duration / steps)
     ctl.wait(2.0, until=lambda: world.balls_inside(source, liquid) == 0)
     ctl.wait(0.6)
     for k in range(1, steps // 2 + 1):
         s = 1.0 - k / (steps // 2)
-        ctl.move(side, hand_at(u, tilt * s, extra + LIP_START_EXTRA_M * (1.0 - s)), 1.0 / (steps // 2))
+        go(hand_at(u, tilt * s, extra + LIP_START_EXTRA_M * (1.0 - s)), 1.0 / (steps // 2))
     inside = world.balls_inside(target, liquid)
     if inside < SUCCESS_FRACTION * total:
         left = world.balls_inside(source, liquid)
