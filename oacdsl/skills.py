@@ -280,6 +280,9 @@ SIGNATURES: dict[str, SkillSignature] = {
                 SkillParamSpec(
                     "force", "N", 8.0, 2.0, 30.0, "wrist force change that means something else is in the way"
                 ),
+                SkillParamSpec(
+                    "press", "m", 0.003, 0.0, 0.03, "how far the object is pressed on once it touches"
+                ),
             ),
         ),
         SkillSignature(

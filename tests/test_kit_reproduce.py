@@ -26,6 +26,13 @@ CLIPS = {
         ["grasp", "grasp", "bring_to", "pour_and_place_both"],
         ["match", "match", "match", "split"],
     ),
+    # the knife leaves the cucumber and the cucumber the board in one demonstrated change; the
+    # robot lifts the knife first, then the cucumber (split)
+    "Cut": (
+        "kit_bimanual/Cut_files_motions_3021_Cut1_c_0_05cm_03.mmm.xml",
+        ["grasp", "grasp", "hold_on_board", "cut", "finish_cut", "place", "place"],
+        ["match", "match", "match", "match", "split", "match", "match"],
+    ),
     "Stir": (
         "kit_bimanual/Stir_files_motions_2941_Stir1_bc_s_right_03.mmm.xml",
         ["grasp_both", "stir", "take_out", "place_both"],
