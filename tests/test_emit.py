@@ -13,7 +13,7 @@ from oacdsl.errors import LanguageError, MatchingError
 from oacdsl.matching import Matcher
 from oacdsl.matching.composer import Step, compose
 from oacdsl.matching.drafts import PLACEHOLDER_SKILL, propose_draft
-from oacdsl.matching.emit import differences, emit, library_files, render
+from oacdsl.matching.emit import FINGERPRINT, differences, emit, library_files, render, unedited
 from oacdsl.model import Call, Oac
 from tests.kitchen import DOUGH_STATES, state
 from tests.random_cases import demonstrations
@@ -45,7 +45,9 @@ def test_emit_writes_canonical_text_that_compiles_and_parses_back(lib_dir):
     target = lib_dir / "learned" / "dough.oac"
     e = emit([oac], target, library=lib_dir, header=["Composed from the dough demonstration."])
     assert e.status == "written" and target.read_text() == e.text
-    assert e.text.startswith("# Composed from the dough demonstration.\noac dough(\n")
+    fingerprint, rest = e.text.split("\n", 1)
+    assert fingerprint.startswith(FINGERPRINT)
+    assert rest.startswith("# Composed from the dough demonstration.\noac dough(\n")
     assert "cup1 <-> liquid1,  # step 2 pour, keyframe 1, frame 150" in e.text
     lib = load_library([lib_dir])
     assert lib.oacs["dough"] == oac and lib.oacs["dough"].pre[0].note is not None
@@ -60,6 +62,37 @@ def test_same_demonstration_again_changes_nothing(lib_dir):
     before = target.stat().st_mtime_ns
     e = emit([oac], target, library=lib_dir, header=["another header"])  # comments are not meaning
     assert e.status == "unchanged" and target.stat().st_mtime_ns == before
+    assert load_library([lib_dir]).oacs["dough"] == oac
+
+
+def test_a_composed_file_nobody_edited_is_replaced_without_force(lib_dir):
+    oac = dough(lib_dir)
+    target = lib_dir / "learned" / "dough.oac"
+    header = ["Composed by oacc compose from dough.c3d."]
+    emit([oac], target, library=lib_dir, header=header)
+    assert target.read_text().startswith(FINGERPRINT) and unedited(target)
+    assert compile_paths([lib_dir]).ok  # the fingerprint is a comment
+    shorter = oac.model_copy(update={"pre": oac.pre[1:]})
+    e = emit([shorter], target, library=lib_dir, header=header)  # e.g. the library changed since
+    assert e.status == "replaced" and e.changes == "pre -cup1 <-> liquid1"
+    assert load_library([lib_dir]).oacs["dough"] == shorter and unedited(target)
+
+
+@pytest.mark.parametrize("edit", [
+    lambda text: text.replace("Composed by", "Reviewed; composed by"),  # a comment is an edit too
+    lambda text: text + "# checked by hand\n",
+    lambda text: text.split("\n", 1)[1],  # the fingerprint line removed
+])
+def test_an_edited_composed_file_is_kept(lib_dir, edit):
+    oac = dough(lib_dir)
+    target = lib_dir / "learned" / "dough.oac"
+    header = ["Composed by oacc compose from dough.c3d."]
+    emit([oac], target, library=lib_dir, header=header)
+    target.write_text(edit(target.read_text()))
+    assert not unedited(target)
+    shorter = oac.model_copy(update={"pre": oac.pre[1:]})
+    with pytest.raises(MatchingError, match="already holds a different 'dough'.*pass --force"):
+        emit([shorter], target, library=lib_dir, header=header)
     assert load_library([lib_dir]).oacs["dough"] == oac
 
 

@@ -12,11 +12,16 @@ file already holds an OAC with the same meaning (comments, notes and layout
 aside), nothing is written (``unchanged``). When it holds something else, that
 may be a learned OAC its author has since reviewed or edited, so it is kept and
 the call fails, naming the differences, unless ``force`` (``--force``) asks to
-replace it (``replaced``).
+replace it (``replaced``). A composed OAC's file (one written with a ``header``)
+starts with a fingerprint of the rest of its text (:data:`FINGERPRINT`): a file whose
+fingerprint still matches was not edited since it was written, so a new composition
+replaces it without ``force`` (a library change or an upgrade that changes the
+composition does not stop ``oacc reproduce``); any edit keeps it.
 """
 
 from __future__ import annotations
 
+import hashlib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,7 +31,18 @@ from oacdsl.atomic import write_atomic
 from oacdsl.errors import InputError, LanguageError, MatchingError
 from oacdsl.model import Module, Oac, atom_text
 
-__all__ = ["DRAFTS", "LEARNED", "Emitted", "differences", "emit", "library_files", "render"]
+__all__ = [
+    "DRAFTS",
+    "FINGERPRINT",
+    "LEARNED",
+    "Emitted",
+    "differences",
+    "emit",
+    "fingerprinted",
+    "library_files",
+    "render",
+    "unedited",
+]
 
 #: Subfolders of a library folder: composed OACs, and drafts for review.
 LEARNED, DRAFTS = "learned", "drafts"
@@ -42,6 +58,30 @@ class Emitted:
     status: Status
     text: str
     changes: str = ""
+
+
+#: The first line of a composed OAC's file, followed by the first 16 hex digits of the SHA-256
+#: of the rest of the file (UTF-8).
+FINGERPRINT = "# Written by oacdsl; replaced by the next composition while unedited: "
+
+
+def _digest(text: str) -> str:
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
+
+
+def fingerprinted(text: str) -> str:
+    """``text`` with the fingerprint line in front."""
+    return f"{FINGERPRINT}{_digest(text)}\n{text}"
+
+
+def unedited(target: Path) -> bool:
+    """Whether ``target`` starts with a fingerprint that matches the rest of its text."""
+    try:
+        text = target.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return False
+    first, newline, rest = text.partition("\n")
+    return bool(newline) and first.startswith(FINGERPRINT) and first[len(FINGERPRINT):] == _digest(rest)
 
 
 def library_files(library: Path) -> list[Path]:
@@ -143,6 +183,8 @@ def emit(
     if not decls:
         raise MatchingError("nothing to write")
     text = render(decls, str(target), header)
+    if header:
+        text = fingerprinted(text)
     status: Status = "written"
     changes = ""
     if target.exists():
@@ -154,7 +196,7 @@ def emit(
             if old and len(old) == 1 and len(decls) == 1
             else "different declarations"
         )
-        if not force:
+        if not force and not (header and unedited(target)):
             raise MatchingError(
                 f"{target} already holds {'a different ' + repr(decls[0].name) if old else 'other content'}"
                 f" ({changes}); pass --force to replace it, or choose another --name / -o",
