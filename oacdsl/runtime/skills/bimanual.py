@@ -133,11 +133,12 @@ def _pair(ctx: SkillContext, a: tuple[str, str], b: tuple[str, str]) -> tuple[Gr
         if best is None or err < best[0]:
             best = (err, p1, p2)
     if best is None or best[0] > 2 * REACH_TOLERANCE_M:
-        miss = f"{best[0] * 100:.0f} cm" if best is not None else "no pair of grasps far enough apart"
-        raise RuntimeFailure(
-            f"grasp_both: {a[0]} cannot grasp {a[1]} while {b[0]} grasps {b[1]}: the best whole-body IK"
-            f" solution for both leaves a hand off by {miss}"
+        why = (
+            f"the best whole-body IK solution for both leaves a hand off by {best[0] * 100:.0f} cm"
+            if best is not None
+            else "no pair of their grasps keeps the hands far enough apart"
         )
+        raise RuntimeFailure(f"{a[0]} cannot grasp {a[1]} while {b[0]} grasps {b[1]}: {why}")
     return best[1], best[2]
 
 
@@ -232,7 +233,7 @@ def place_both(
     missing = [h for h, s in ((h1, sides[0]), (h2, sides[1])) if not felt[s]]
     if missing:
         raise RuntimeFailure(
-            f"place_both: the wrist of {' and '.join(missing)} felt no support after lowering"
+            f"the wrist of {' and '.join(missing)} felt no support after lowering"
             f" {depth * 100:.0f} cm"
         )
     ctl.activity = f"releasing {o1} and {o2}"
