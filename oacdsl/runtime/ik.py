@@ -15,7 +15,8 @@ frame and last residual; the skills turn it into a :class:`~oacdsl.errors.Runtim
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -223,13 +224,20 @@ class WholeBodyIK:
     def try_reach(self, side: str, t_world_target: np.ndarray, iterations: int = 150) -> Residual:
         """Static solve towards a target without moving the robot: the residual the hand
         would keep there (the IK state and targets are restored afterwards)."""
-        q = self.snapshot()
-        saved = {s: (self.target(s), self.active[s]) for s in ("r", "l")}
-        try:
+        with self.trial():
             other = "l" if side == "r" else "r"
             self.hold_hand(other, weight=0.05)
             self.set_hand_target(side, t_world_target)
             return self.converge(iterations, tolerance_m=5e-4)
+
+    @contextmanager
+    def trial(self) -> Iterator[None]:
+        """A block that may move the IK state and the hands' targets: both are restored
+        afterwards (a static solve that does not move the robot)."""
+        q = self.snapshot()
+        saved = {s: (self.target(s), self.active[s]) for s in ("r", "l")}
+        try:
+            yield
         finally:
             self.restore(q)
             for s, (target, active) in saved.items():

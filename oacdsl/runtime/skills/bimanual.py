@@ -89,23 +89,12 @@ def reach_both(ctx: SkillContext, targets: Mapping[str, np.ndarray], iterations:
     """The larger residual (m, angle weighted 0.1 m/rad) of a static whole-body solve
     with both hands at ``targets`` (side → T_world_grasp); the IK is left as it was."""
     ik = ctx.ctl.ik
-    q = ik.snapshot()
-    saved = {s: (ik.target(s), ik.active[s]) for s in ("r", "l")}
-    try:
+    with ik.trial():
         for s, t in targets.items():
             ik.set_hand_target(s, t)
         for _ in range(iterations):
             ik.step()
         return max((res := ik.residual(s)).position_m + 0.1 * res.angle_rad for s in targets)
-    finally:
-        ik.restore(q)
-        for s, (target, active) in saved.items():
-            if active:
-                ik.set_hand_target(s, target)
-            else:
-                ik.hand_tasks[s].T_world_frame = target
-                ik.hand_tasks[s].configure(f"hand_{s}", "soft", 0.2, 0.2)
-                ik.active[s] = False
 
 
 def _pair(ctx: SkillContext, a: tuple[str, str], b: tuple[str, str]) -> tuple[GraspPlan, GraspPlan]:
