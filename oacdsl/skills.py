@@ -42,6 +42,7 @@ MOTION_FEATURES: tuple[str, ...] = (
     "tilt_max_rad",
     "tilt_rise_s",
     "tilt_time_s",
+    "twist_rad",
 )
 
 
@@ -351,6 +352,25 @@ SIGNATURES: dict[str, SkillSignature] = {
                 SkillParamSpec(
                     "force", "N", 10.0, 3.0, 30.0, "wrist force change that stops the tip going down"
                 ),
+            ),
+        ),
+        SkillSignature(
+            "twist",
+            "turn the held object about its own axis on another one, regrasping between strokes"
+            " (a lid screwed onto or off a bottle)",
+            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("t", ANY)),
+            (
+                SkillParamSpec(
+                    "angle", "rad", math.pi, -6 * math.pi, 6 * math.pi,
+                    "how far it turns, counterclockwise seen from above (negative: clockwise, screwing on)",
+                    MotionSource("twist_rad"),
+                ),
+                SkillParamSpec("duration", "s", 3.0, 0.5, 20.0, "time for the whole turn, regrasps included",
+                               MotionSource("duration_s")),
+                SkillParamSpec("stroke", "rad", _deg(40.0), _deg(10.0), _deg(120.0),
+                               "most the hand turns before it lets go and takes the object again"),
+                SkillParamSpec("lift", "m", 0.0, 0.0, 0.20,
+                               "how far it is raised off the target afterwards (0: it stays on)"),
             ),
         ),
         SkillSignature(

@@ -13,6 +13,7 @@ from oacdsl.runtime.skills.pour import pour
 from oacdsl.runtime.skills.stir import stir
 from oacdsl.runtime.skills.take_out import take_out
 from oacdsl.runtime.skills.touch import touch
+from oacdsl.runtime.skills.twist import twist
 from oacdsl.runtime.skills.wipe import wipe
 
 __all__ = ["IMPLEMENTATIONS", "Skill", "SkillContext"]
@@ -32,4 +33,5 @@ IMPLEMENTATIONS: dict[str, Skill] = {
     "place_both": place_both,
     "stir": stir,
     "take_out": take_out,
+    "twist": twist,
 }

@@ -1,0 +1,103 @@
+"""Actions no KIT development clip has (issue 11), written only in ``.oac`` files on top of the
+KIT library: ``library/examples/`` (open and close a bottle: ``twist``; …), each run on
+ARMAR-III with its effects judged, and the skills' parameters from a demonstrated motion."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent))
+
+pytest.importorskip("mujoco", reason="the robot runtime needs the 'robot' extra (mujoco)")
+pytest.importorskip("placo", reason="the robot runtime needs the 'robot' extra (placo)")
+
+from oacdsl.compiler import load_library  # noqa: E402
+from oacdsl.matching.demoparams import step_params  # noqa: E402
+from oacdsl.runtime.executor import prepare, run_prepared  # noqa: E402
+from oacdsl.segmentation.motion import SubActionMotion  # noqa: E402
+from oacdsl.segmentation.motionfeatures import MotionFeatures  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+LIBRARIES = (ROOT / "library" / "kit", ROOT / "library" / "examples")
+
+
+@lru_cache(maxsize=1)
+def library():
+    return load_library(list(LIBRARIES))
+
+
+class Yaw:
+    """Observer: the object's turn about the world's z axis (rad) while it touches ``on``, 100
+    times a second."""
+
+    rate_hz = 100.0
+
+    def __init__(self, obj, on):
+        self.obj, self.on, self.yaw = obj, on, []
+
+    def __call__(self, world):
+        if world.touching(self.obj, self.on):
+            r = world.body_pose(self.obj)[:3, :3]
+            self.yaw.append(math.atan2(r[1, 0], r[0, 0]))
+
+    def unwrapped(self):
+        """The turn since it first touched, rad."""
+        yaw = np.unwrap(np.array(self.yaw))
+        return yaw - yaw[0]
+
+
+def test_twist_screws_the_lid_on_and_off_the_bottle_the_other_hand_holds():
+    run = prepare(library(), "close_and_open")
+    lid = Yaw("lid", on="bottle")
+    run.controller.add_observer(lid)
+    result = run_prepared(run)
+    assert result.success, result.error
+    grasp_bottle, grasp_lid, screw_on, screw_off = result.steps
+    # each twist turned the lid by about its angle (240°, in strokes of at most 40° and
+    # regrasps), clockwise to close and counterclockwise to open
+    yaw = np.degrees(lid.unwrapped())
+    assert yaw.min() == pytest.approx(-240, abs=10)  # screwed on
+    assert yaw[-1] - yaw.min() == pytest.approx(240, abs=10)  # and off again
+    assert ["bottle", "lid"] in screw_on.observed
+    assert ["bottle", "lid"] not in screw_off.observed and ["left_hand", "lid"] in screw_off.observed
+    world = run.world
+    # the lid ended 6 cm above the bottle's top, on its axis
+    offset = world.body_pose("lid")[:3, 3] - world.body_pose("bottle")[:3, 3]
+    assert np.hypot(*offset[:2]) < 0.02 and offset[2] == pytest.approx(0.18 + 0.06, abs=0.02)
+
+
+def test_oacc_run_closes_and_opens_the_bottle_from_the_command_line():
+    args = [a for p in LIBRARIES for a in ("--library", str(p))]
+    out = subprocess.run(
+        [sys.executable, "-m", "oacdsl", "run", "close_and_open", *args, "--seed", "2", "--no-record"],
+        capture_output=True, text=True, timeout=300, cwd=ROOT,
+    )
+    assert out.returncode == 0, out.stderr
+    assert "step 3/4 screw_on(left_hand, lid, bottle): ok" in out.stdout
+    assert "close_and_open: success" in out.stdout
+
+
+def motion(**features: object) -> SubActionMotion:
+    base = dict(duration_s=4.2, path_length_m=0.05, extent_m=(0.02, 0.01, 0.01), core_s=(0.0, 4.2),
+                period_s=None, cycles=None, radius_m=0.01, tilt_max_rad=0.02, tilt_time_s=0.0)
+    base.update(features)
+    t = np.arange(3) * 0.1
+    return SubActionMotion(1, 10, 52, "left_hand", "lid", "bottle", "made", t, np.full((3, 4, 4), np.nan),
+                           MotionFeatures(**base), 0.0)  # type: ignore[arg-type]
+
+
+def test_a_twist_takes_the_demonstrated_turn_and_its_sense():
+    lib = library()
+    scene = lib.scenes["bottle_lid"]
+    args = ("left_hand", "lid", "bottle")
+    found = step_params("twist", motion(twist_rad=math.radians(-301.4)), args, lib, scene)
+    values = {p.name: (p.value.value, p.value.unit) for p in found.params}
+    assert values == {"angle": (-301.0, "deg"), "duration": (4.2, "s")}
+    assert "angle -301deg = twist -301deg" in (found.comment or "")
