@@ -26,7 +26,7 @@ def oacc(*args, cwd=None, stdin=None):
 
 def copy_library(tmp_path):
     lib = tmp_path / "library"
-    shutil.copytree(ROOT / "library", lib, ignore=shutil.ignore_patterns("learned", "drafts", "kit"))
+    shutil.copytree(ROOT / "library", lib, ignore=shutil.ignore_patterns("learned", "drafts", "kit", "examples"))
     return lib
 
 
