@@ -355,6 +355,24 @@ SIGNATURES: dict[str, SkillSignature] = {
             ),
         ),
         SkillSignature(
+            "stroke",
+            "draw the held tool along an object, one way, and back through the air, several times"
+            " (a peeler along a cucumber, a knife pushing pieces across a board towards a bowl)",
+            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("t", ANY)),
+            (
+                SkillParamSpec("strokes", "", 3.0, 1.0, 20.0, "number of strokes", MotionSource("cycles")),
+                SkillParamSpec("period", "s", 0.8, 0.3, 5.0, "time of one stroke along the target",
+                               MotionSource("period_s")),
+                # not from the demonstration: the composer retargets a length to the target's
+                # narrow side (a container's inner radius), and a stroke goes along its long one
+                SkillParamSpec("length", "m", 0.08, 0.01, 0.40,
+                               "how far each stroke goes (at most the target's length allows)"),
+                SkillParamSpec("press", "m", 0.004, 0.0, 0.02, "how far the tool is pressed into the target"),
+                SkillParamSpec("force", "N", 15.0, 3.0, 40.0,
+                               "wrist force on the way down that means something else is in the way"),
+            ),
+        ),
+        SkillSignature(
             "twist",
             "turn the held object about its own axis on another one, regrasping between strokes"
             " (a lid screwed onto or off a bottle)",

@@ -1,9 +1,11 @@
 """Actions no KIT development clip has (issue 11), written only in ``.oac`` files on top of the
-KIT library: ``library/examples/`` (open and close a bottle: ``twist``; …), each run on
-ARMAR-III with its effects judged, and the skills' parameters from a demonstrated motion."""
+KIT library: ``library/examples/`` (open and close a bottle: ``twist``; peel and transfer:
+``stroke``; …), each run on ARMAR-III with its effects judged, and the skills' parameters from a
+demonstrated motion."""
 
 from __future__ import annotations
 
+import json
 import math
 import subprocess
 import sys
@@ -82,6 +84,62 @@ def test_oacc_run_closes_and_opens_the_bottle_from_the_command_line():
     assert out.returncode == 0, out.stderr
     assert "step 3/4 screw_on(left_hand, lid, bottle): ok" in out.stdout
     assert "close_and_open: success" in out.stdout
+
+
+class Strokes:
+    """Observer: while ``tool`` touches ``target``, the tool's position (m, world), 100 times a
+    second; and the number of separate contacts (a stroke each)."""
+
+    rate_hz = 100.0
+
+    def __init__(self, tool, target):
+        self.tool, self.target, self.contacts, self.points, self._was = tool, target, 0, [], False
+
+    def __call__(self, world):
+        now = world.touching(self.tool, self.target)
+        self.contacts += now and not self._was
+        self._was = now
+        if now:
+            self.points.append(world.body_pose(self.tool)[:3, 3].copy())
+
+
+def test_stroke_peels_the_cucumber_the_other_hand_holds_away_from_that_hand():
+    run = prepare(library(), "peel_cucumber")
+    peeler = Strokes("peeler", "cucumber")
+    run.controller.add_observer(peeler)
+    result = run_prepared(run)
+    assert result.success, result.error
+    assert ["cucumber", "peeler"] in result.steps[-1].observed
+    assert peeler.contacts == 3  # three strokes, each one way, the peeler back through the air
+    world = run.world
+    # along the cucumber (its length, x), from near the left hand towards its free end
+    along = world.body_pose("cucumber")[:3, 0]
+    hand = world.frame_pose("grasp_l")[:3, 3]
+    way = np.array(peeler.points) @ along
+    assert np.ptp(way) > 0.05
+    free_end = float((world.body_pose("cucumber")[:3, 3] - hand) @ along)
+    assert np.sign(way[-1] - way[0]) == np.sign(free_end)
+
+
+def test_oacc_run_pushes_across_the_board_towards_the_held_bowl():
+    args = [a for p in LIBRARIES for a in ("--library", str(p))]
+    out = subprocess.run(
+        [sys.executable, "-m", "oacdsl", "run", "transfer_to_bowl", *args, "--seed", "1", "--no-record",
+         "--json"],
+        capture_output=True, text=True, timeout=300, cwd=ROOT,
+    )
+    assert out.returncode == 0, out.stderr
+    doc = json.loads(out.stdout)
+    assert doc["success"] and doc["steps"][-1]["oac"] == "push_into"
+    assert ["board", "knife_black"] in doc["steps"][-1]["observed"]
+
+
+def test_a_stroke_takes_the_demonstrated_count_and_period():
+    lib = library()
+    found = step_params("stroke", motion(period_s=0.62, cycles=4.4, radius_m=0.03),
+                        ("right_hand", "peeler", "cucumber"), lib, lib.scenes["peeling"])
+    values = {p.name: (p.value.value, p.value.unit) for p in found.params}
+    assert values == {"strokes": (4.0, ""), "period": (0.62, "s")}
 
 
 def motion(**features: object) -> SubActionMotion:

@@ -11,6 +11,7 @@ from oacdsl.runtime.skills.mix import mix
 from oacdsl.runtime.skills.place import place
 from oacdsl.runtime.skills.pour import pour
 from oacdsl.runtime.skills.stir import stir
+from oacdsl.runtime.skills.stroke import stroke
 from oacdsl.runtime.skills.take_out import take_out
 from oacdsl.runtime.skills.touch import touch
 from oacdsl.runtime.skills.twist import twist
@@ -34,4 +35,5 @@ IMPLEMENTATIONS: dict[str, Skill] = {
     "stir": stir,
     "take_out": take_out,
     "twist": twist,
+    "stroke": stroke,
 }

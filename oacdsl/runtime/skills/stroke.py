@@ -44,8 +44,8 @@ PRESS_M = 0.004
 LIFT_M = 0.03
 #: How far inside the target's ends the strokes stay, m.
 END_MARGIN_M = 0.01
-#: Wrist force change that stops the descent when the objects do not touch first, N.
-FORCE_N = 10.0
+#: Wrist force change on the way down that means something else is in the way, N.
+FORCE_N = 15.0
 #: Peak speed of a descent onto the target, m/s.
 DESCENT_SPEED_M_S = 0.08
 
@@ -86,9 +86,11 @@ def stroke(
     length: float = STROKE_LENGTH_M,
     period: float = STROKE_PERIOD_S,
     press: float = PRESS_M,
+    force: float = FORCE_N,
 ) -> None:
     """``strokes`` strokes of the held ``tool`` along ``target``, each ``length`` (m) in ``period``
-    (s), pressed ``press`` (m) into it; the tool stays on the target."""
+    (s), pressed ``press`` (m) into it; fail when the wrist feels ``force`` (N) on the way down
+    (something else in the way). The tool stays on the target."""
     world, ctl = ctx.world, ctx.ctl
     side = ctx.require_held(hand, tool)
     if target not in world.layout.bodies or not ctx.body(target).solids:
@@ -142,18 +144,18 @@ def stroke(
             go(pose, seconds)
     for k in range(max(1, round(strokes))):
         ctl.activity = f"bringing {tool} onto {target} (stroke {k + 1})"
-        depth = LIFT_M + 0.03
+        # straight to ``press`` below the target's top, not stopped at the first touch: a tool
+        # stopped there bounced off for 0.1 s before the press brought it back
+        pressed = hand_at(start, -press)
         go(
-            hand_at(start, LIFT_M - depth),
-            MIN_JERK_PEAK * depth / DESCENT_SPEED_M_S,
-            guard=lambda: world.touching(tool, target) or float(np.linalg.norm(ctl.force_change(side))) > FORCE_N,
+            pressed,
+            MIN_JERK_PEAK * (LIFT_M + press) / DESCENT_SPEED_M_S,
+            guard=lambda: float(np.linalg.norm(ctl.force_change(side))) > force,
         )
         if not (ctl.wait(0.2, until=lambda: world.touching(tool, target)) or world.touching(tool, target)):
             felt = float(np.linalg.norm(ctl.force_change(side)))
-            raise RuntimeFailure(f"stroke: {tool} did not reach {target} (the wrist felt {felt:.0f} N)")
-        now = ctl.ik.target(side)
-        pressed = make_T(now[:3, :3], now[:3, 3] - np.array([0.0, 0.0, press]))
-        go(pressed, 0.2)
+            why = "; something else is in the way" if felt > force else ""
+            raise RuntimeFailure(f"stroke: {tool} did not reach {target} (the wrist felt {felt:.0f} N{why})")
         ctl.activity = f"stroking {target} with {tool} ({k + 1})"
         drawn = pressed.copy()
         drawn[:3, 3] += np.array([*(run * u[:2]), 0.0])

@@ -15,8 +15,8 @@ and taken off); without, it stays on the target, touching it (the OAC's effect `
 
 The skill measures how far the object really turned (about the same axis, over each stroke
 and each regrasp, which turns it back a few degrees), makes up for the difference with more
-strokes (up to :data:`MAX_STROKES` times as many as ``angle`` needs), and fails when it turned less than :data:`MIN_TURNED` of
-``angle``, or the other way.
+strokes (up to :data:`MAX_STROKES` times as many as ``angle`` needs), and fails when it
+turned less than :data:`MIN_TURNED` of ``angle``, or the other way.
 """
 
 from __future__ import annotations
