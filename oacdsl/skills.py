@@ -355,6 +355,24 @@ SIGNATURES: dict[str, SkillSignature] = {
             ),
         ),
         SkillSignature(
+            "roll",
+            "move an object both hands hold to and fro on another one (a rolling pin on dough), still held",
+            (SkillArg("h1", "Hand"), SkillArg("o", "Graspable"), SkillArg("h2", "Hand"), SkillArg("t", ANY)),
+            (
+                SkillParamSpec("strokes", "", 3.0, 1.0, 20.0, "number of strokes there and back",
+                               MotionSource("cycles")),
+                # a sinusoid's median distance from its middle is 1/sqrt(2) of how far it goes
+                SkillParamSpec("length", "m", 0.06, 0.01, 0.20, "how far each stroke goes to either side",
+                               MotionSource("radius_m", scale=1.41, needs="period_s")),
+                SkillParamSpec("period", "s", 1.6, 0.5, 5.0, "time of one stroke there and back",
+                               MotionSource("period_s")),
+                SkillParamSpec("press", "m", 0.002, 0.0, 0.02,
+                               "how far it is pressed into the target (harder: more friction)"),
+                SkillParamSpec("force", "N", 15.0, 2.0, 40.0,
+                               "wrist force change that stops the descent when they do not touch first"),
+            ),
+        ),
+        SkillSignature(
             "stroke",
             "draw the held tool along an object, one way, and back through the air, several times"
             " (a peeler along a cucumber, a knife pushing pieces across a board towards a bowl)",

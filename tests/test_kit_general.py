@@ -142,6 +142,45 @@ def test_a_stroke_takes_the_demonstrated_count_and_period():
     assert values == {"strokes": (4.0, ""), "period": (0.62, "s")}
 
 
+class Path:
+    """Observer: an object's position (m, world) and whether it touches ``on``, 50 times a second."""
+
+    rate_hz = 50.0
+
+    def __init__(self, obj, on):
+        self.obj, self.on, self.points, self.touching = obj, on, [], []
+
+    def __call__(self, world):
+        self.points.append(world.body_pose(self.obj)[:3, 3].copy())
+        self.touching.append(world.touching(self.obj, self.on))
+
+
+def test_both_hands_take_the_rolling_pin_roll_it_on_the_dough_and_put_it_down():
+    run = prepare(library(), "roll_the_pin", seed=4)
+    pin = Path("rolling_pin", on="dough")
+    run.controller.add_observer(pin)
+    result = run_prepared(run)
+    assert result.success, result.error
+    take, roll, put_down = result.steps[0], result.steps[1], result.steps[2]
+    assert ["left_hand", "rolling_pin"] in take.observed and ["right_hand", "rolling_pin"] in take.observed
+    assert ["dough", "rolling_pin"] in roll.observed
+    assert ["left_hand", "nothing"] in put_down.observed and ["right_hand", "nothing"] in put_down.observed
+    # to and fro on the dough, touching it: 6 cm to either side, away from the robot and back
+    on = np.array(pin.touching)
+    first = int(np.argmax(on))
+    rolled = np.array(pin.points)[first : first + round(roll.duration_s * Path.rate_hz)]
+    assert on[first : first + len(rolled)].mean() > 0.8
+    assert np.ptp(rolled[:, 0]) == pytest.approx(0.12, abs=0.015) and np.ptp(rolled[:, 1]) < 0.02
+
+
+def test_a_roll_takes_the_demonstrated_strokes():
+    lib = library()
+    found = step_params("roll", motion(period_s=1.1, cycles=3.2, radius_m=0.06),
+                        ("left_hand", "rolling_pin", "right_hand", "dough"), lib, lib.scenes["rolling"])
+    values = {p.name: (p.value.value, p.value.unit) for p in found.params}
+    assert values == {"strokes": (3.0, ""), "length": (85.0, "mm"), "period": (1.1, "s")}
+
+
 def motion(**features: object) -> SubActionMotion:
     base = dict(duration_s=4.2, path_length_m=0.05, extent_m=(0.02, 0.01, 0.01), core_s=(0.0, 4.2),
                 period_s=None, cycles=None, radius_m=0.01, tilt_max_rad=0.02, tilt_time_s=0.0)

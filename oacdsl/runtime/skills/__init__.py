@@ -10,6 +10,7 @@ from oacdsl.runtime.skills.lift import lift
 from oacdsl.runtime.skills.mix import mix
 from oacdsl.runtime.skills.place import place
 from oacdsl.runtime.skills.pour import pour
+from oacdsl.runtime.skills.roll import roll
 from oacdsl.runtime.skills.stir import stir
 from oacdsl.runtime.skills.stroke import stroke
 from oacdsl.runtime.skills.take_out import take_out
@@ -36,4 +37,5 @@ IMPLEMENTATIONS: dict[str, Skill] = {
     "take_out": take_out,
     "twist": twist,
     "stroke": stroke,
+    "roll": roll,
 }
