@@ -75,6 +75,32 @@ def test_twist_screws_the_lid_on_and_off_the_bottle_the_other_hand_holds():
     assert np.hypot(*offset[:2]) < 0.02 and offset[2] == pytest.approx(0.18 + 0.06, abs=0.02)
 
 
+#: First-frame positions (m, motion capture frame) as a recording gives them to ``layout
+#: demonstrated``: the lid's markers above the bottle's, a little off its axis.
+FIRST_FRAME = {
+    "left_hand": np.array([0.3, 0.25, 1.0]),
+    "right_hand": np.array([0.3, -0.25, 1.0]),
+    "bottle": np.array([0.6, -0.05, 0.95]),
+    "lid": np.array([0.61, -0.04, 1.14]),
+}
+
+
+def test_a_lid_on_its_bottle_at_the_first_frame_starts_on_it_and_is_unscrewed():
+    run = prepare(library(), "open_bottle", layout="demonstrated", demonstrated=FIRST_FRAME)
+    lid, bottle = (run.world.layout.placement(n) for n in ("lid", "bottle"))
+    assert lid.on == "bottle" and (lid.x, lid.y) == (bottle.x, bottle.y)
+    assert run.world.touching("lid", "bottle")  # the precondition l <-> b holds at the start
+    result = run_prepared(run)
+    assert result.success, result.error
+    assert ["left_hand", "lid"] in result.steps[-1].observed
+    assert ["bottle", "lid"] not in result.steps[-1].observed
+    # side by side at the first frame, they are laid out apart, as before
+    apart = dict(FIRST_FRAME, lid=np.array([0.6, 0.2, 0.9]))
+    layout = prepare(library(), "open_bottle", layout="demonstrated", demonstrated=apart).world.layout
+    lid, bottle = layout.placement("lid"), layout.placement("bottle")
+    assert lid.on is None and lid.y > bottle.y + 0.1
+
+
 def test_oacc_run_closes_and_opens_the_bottle_from_the_command_line():
     args = [a for p in LIBRARIES for a in ("--library", str(p))]
     out = subprocess.run(

@@ -94,7 +94,7 @@ def grasp_candidates(ctx: SkillContext, hand: str, obj: str, shared: bool = Fals
     ``(-x, -y, z)``), whichever lies on the hand's own side of the object."""
     side = ctx.side(hand)
     t_obj = ctx.world.body_pose(obj)
-    support = ctx.support_height(t_obj[:2, 3], exclude=obj)
+    support = ctx.support_height(t_obj[:2, 3], exclude=obj, below=float(t_obj[2, 3]) + 0.01)
     grasp = ctx.grasp_for(obj)
     plans = plan_grasps(grasp, ctx.body(obj).round, t_obj, side, support_z=support)
     if shared and not ctx.body(obj).round:

@@ -61,6 +61,10 @@ OPEN_S, RISE_S, BACK_S, DOWN_S = 0.4, 0.4, 0.5, 0.4
 REGRASP_S = OPEN_S + RISE_S + BACK_S + DOWN_S + 0.4
 #: How far below where it let go the palm is aimed while the fingers open, m.
 HOLD_DOWN_M = 0.005
+#: How far the hand's grasp centre may be off the object's axis before the first stroke, m
+#: (farther, the hand is first set on the axis: a lid taken 4 cm off it swung the hand round
+#: out of reach and slid off its bottle).
+OFF_AXIS_M = 0.015
 #: How far the opened hand rises off the object before it turns back (the folded thumb of a
 #: hand from above hangs below the palm: 2 cm dragged the object along), m.
 RISE_M = 0.05
@@ -171,9 +175,42 @@ def twist(
     closed = PINCH_CLOSED if grasp.type == "pinch" else CLOSED
     turned = 0.0
     # every stroke starts from the hand's first pose over the object, moved with the object:
-    # a hand that did not quite follow a stroke would otherwise turn back too far, stroke after stroke
+    # a hand that did not quite follow a stroke would otherwise turn back too far, stroke after
+    # stroke; that pose has the hand's grasp centre on the object's axis
     first = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
     origin = world.body_pose(obj)[:3, 3].copy()
+    aside = world.frame_pose(f"grasp_{side}")[:3, 3] - origin
+    aside -= float(aside @ axis) * axis
+    first[:3, 3] -= aside
+
+    def retake() -> None:
+        """Let go of the object (on the target), and take it again from the first pose."""
+        ctl.activity = f"taking {obj} again"
+        here = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+        if not world.touching(obj, target):  # set it down on the target before letting go
+            go(_raised(here, -SEAT_M), 0.3, guard=lambda: world.touching(obj, target))
+        world.release(side)
+        # the palm holds it down while only the fingers open; the thumb stays where it is
+        # (opened, or turned back to a folded thumb, it pushed a light object off the target;
+        # fingers opening without the palm pressing turned it back by up to 16°)
+        go(_raised(ctl.ik.target(side), -HOLD_DOWN_M), 0.2)
+        names = finger_joint_names(side)
+        now = world.joint_positions()
+        ctl.set_fingers(side, {j: OPEN[j] if j.startswith("fingers") else now[q] for j, q in names.items()})
+        ctl.wait(OPEN_S)
+        rest = world.frame_pose(f"grasp_{side}")  # where the hand really is: it rests on the object
+        go(_raised(rest, RISE_M), RISE_S)
+        again = first.copy()
+        shift = world.body_pose(obj)[:3, 3] - origin
+        again[:3, 3] += shift - float(shift @ axis) * axis
+        again[:3, 3] += float((rest[:3, 3] - again[:3, 3]) @ axis) * axis
+        go(_raised(again, RISE_M), BACK_S)
+        go(again, DOWN_S)
+        _close_on(ctx, side, hand, obj, closed)
+        world.weld(side, obj)
+
+    if float(np.linalg.norm(aside)) > OFF_AXIS_M:  # turning would swing the hand round the axis
+        retake()
     last = world.body_pose(obj)[:3, :3].copy()
     for k in range(MAX_STROKES * n):
         ctl.activity = f"turning {obj} on {target} (stroke {k + 1})"
@@ -199,29 +236,7 @@ def twist(
         turned += _angle_about(axis, t_now[:3, :3], last)
         if abs(angle - turned) <= ENOUGH_RAD or k == MAX_STROKES * n - 1:
             break
-        ctl.activity = f"taking {obj} again"
-        here = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
-        if not world.touching(obj, target):  # set it down on the target before letting go
-            go(_raised(here, -SEAT_M), 0.3, guard=lambda: world.touching(obj, target))
-        world.release(side)
-        # the palm holds it down while only the fingers open; the thumb stays where it is
-        # (opened, or turned back to a folded thumb, it pushed a light object off the target;
-        # fingers opening without the palm pressing turned it back by up to 16°)
-        go(_raised(ctl.ik.target(side), -HOLD_DOWN_M), 0.2)
-        names = finger_joint_names(side)
-        now = world.joint_positions()
-        ctl.set_fingers(side, {j: OPEN[j] if j.startswith("fingers") else now[q] for j, q in names.items()})
-        ctl.wait(OPEN_S)
-        rest = world.frame_pose(f"grasp_{side}")  # where the hand really is: it rests on the object
-        go(_raised(rest, RISE_M), RISE_S)
-        again = first.copy()
-        shift = world.body_pose(obj)[:3, 3] - origin
-        again[:3, 3] += shift - float(shift @ axis) * axis
-        again[:3, 3] += float((rest[:3, 3] - again[:3, 3]) @ axis) * axis
-        go(_raised(again, RISE_M), BACK_S)
-        go(again, DOWN_S)
-        _close_on(ctx, side, hand, obj, closed)
-        world.weld(side, obj)
+        retake()
     if not world.touching(hand, obj):  # the weld holds it; the relation needs the fingers on it
         _close_on(ctx, side, hand, obj, closed)
     if turned * angle < 0 or abs(turned) < MIN_TURNED * abs(angle):
