@@ -1,5 +1,7 @@
 """``mix_both``: both hands' tools in one deep bowl at once (tests/data/kit_mixing.oac)."""
 
+import subprocess
+import sys
 from functools import lru_cache
 
 import numpy as np
@@ -68,11 +70,12 @@ def test_mix_both_circles_both_tools_side_by_side_and_leaves_them_in_the_bowl():
 
 
 def test_mix_both_names_the_tool_too_short_for_the_bowl():
-    run = prepare(mixing_library(), "mix_salad", scene="kit_mixing_deeper")
-    result = run_prepared(run)
-    assert not result.success
-    assert result.failed_step.startswith("step 2 mix_in")
-    assert "too short to reach the floor of bowl with the hand clear of its rim" in result.error
-    assert "a larger grasp offset" in result.error
-    # it stopped before going in: nothing touches the bowl
-    assert not run.world.touching("fork", "bowl") and not run.world.touching("spoon", "bowl")
+    # as a user runs it: one line naming the step and what to change, exit 1, no traceback
+    cmd = [sys.executable, "-m", "oacdsl", "run", "mix_salad", "--scene", "kit_mixing_deeper", "--library",
+           "library", "--library", str(MIXING), "--no-record"]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=300, cwd=ROOT)
+    assert proc.returncode == 1, proc.stderr
+    error = proc.stderr.strip().splitlines()[-1]
+    assert error.startswith("oacc: error: step 2 mix_in(left_hand, fork, right_hand, spoon, bowl): ")
+    assert "too short to reach the floor of bowl with the hand clear of its rim" in error
+    assert "a larger grasp offset" in error and "Traceback" not in proc.stderr
