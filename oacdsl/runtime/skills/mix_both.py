@@ -64,7 +64,9 @@ ABOVE_RIM_M = 0.05
 #: How far below the floor the tips are aimed at the end (a contact stops them), m.
 PRESS_M = 0.01
 DIP_SPEED_M_S = 0.08
-#: How far below where it touched each hand holds its tool while it rests, m.
+#: How far below where it touched each hand holds its tool while it rests, m (without it a
+#: tool could spring back off the floor; from 3 mm on, the tool shifts in the hand's weld
+#: and the fingers of a hand holding a 2 cm handle lose their contact with it: KIT Mix).
 REST_PRESS_M = 0.002
 
 
