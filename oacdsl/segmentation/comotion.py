@@ -145,7 +145,6 @@ def _scan(
             blocks = np.flatnonzero(geometry.lower_bounds(x) <= reach + BOUND_MARGIN_M)
         if blocks.size == 0:
             continue
-        _, dist = geometry.distances(x, blocks)
         # rates over `lag` frames; the first frames of the recording use frame 0 (frame 0: frame `lag`)
         rows = np.arange(lo, stop)
         prev = np.maximum(rows - lag, 0)
@@ -153,26 +152,27 @@ def _scan(
         dt = np.abs(times[rows] - times[prev])
         local_prev = prev - lo
         speeds = _instance_speeds(recording, groups, rows, prev, dt)
-        sizes = table.block_offsets[blocks + 1] - table.block_offsets[blocks]
-        offsets = np.concatenate([[0], np.cumsum(sizes)[:-1]])  # rows of each block in `dist`
         out = slice(start - lo, stop - lo)
-        for k, q in enumerate(blocks):
-            d = dist[offsets[k] : offsets[k] + sizes[k]]  # (P_q, R), frames lo..stop-1
+        sq_buf, tmp = geometry.scratch(x.shape[2]), geometry.scratch(x.shape[2])
+        for q in blocks.tolist():
+            # one pair's squared marker distances, (P_q, R) frames lo..stop-1, while in cache; the
+            # square root is taken only where needed (sqrt is monotonic: the same values)
+            sq = geometry.squared(x, q, sq_buf, tmp)
             with np.errstate(invalid="ignore"):
-                closest = np.fmin.reduce(d, axis=0)
+                closest = np.sqrt(np.fmin.reduce(sq, axis=0))
                 a, b = table.instance_pairs[q]
                 slower = np.fmin(speeds[a], speeds[b])
                 moving = (closest < params.distance_m) & (slower > settings.move_speed_m_s)
                 is_carry = moving.copy()
                 cols = np.flatnonzero(moving)  # the distance change matters only where both move
                 if cols.size:
-                    change = _nanmedian0(np.abs(d[:, cols] - d[:, local_prev[cols]])) / dt[cols]
-                    is_carry[cols] = change < settings.rigid_ratio * slower[cols]
-            if int(q) not in dmin:
-                dmin[int(q)] = np.full(n_frames, np.inf, dtype=np.float32)
-                carry[int(q)] = np.zeros(n_frames, dtype=bool)
-            dmin[int(q)][start:stop] = closest[out]
-            carry[int(q)][start:stop] = is_carry[out]
+                    change = np.abs(np.sqrt(sq[:, cols]) - np.sqrt(sq[:, local_prev[cols]]))
+                    is_carry[cols] = _nanmedian0(change) / dt[cols] < settings.rigid_ratio * slower[cols]
+            if q not in dmin:
+                dmin[q] = np.full(n_frames, np.inf, dtype=np.float32)
+                carry[q] = np.zeros(n_frames, dtype=bool)
+            dmin[q][start:stop] = closest[out]
+            carry[q][start:stop] = is_carry[out]
     return {q: (dmin[q], carry[q]) for q in dmin}
 
 
@@ -278,16 +278,28 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))
 
 
-_EXTEND_WINDOW = 2048  # frames either side of an episode looked at first by _extend
+_EXTEND_WINDOW = 2048  # frames either side of an episode looked at by _extend before the whole recording
+_EXTEND_FIRST = 128  # frames either side looked at first: most extensions end within them
 
 
 def _extend(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int = 0) -> tuple[int, int]:
-    """:func:`_extend_in` on ``_EXTEND_WINDOW`` frames either side of ``[a, b)`` when that decides
-    both ends (a run beyond ``threshold`` that stops the growth on each side, whose length is
-    known), else on the whole recording: the same result, without a pass over all of it."""
-    lo, hi = max(0, a - _EXTEND_WINDOW), min(dmin.size, b + _EXTEND_WINDOW)
-    if lo == 0 and hi == dmin.size:
-        return _extend_in(dmin, a, b, threshold, bridge)
+    """:func:`_extend_in` on ``_EXTEND_FIRST``, then ``_EXTEND_WINDOW`` frames either side of
+    ``[a, b)`` when that decides both ends (a run beyond ``threshold`` that stops the growth on
+    each side, whose length is known), else on the whole recording: the same result, without a
+    pass over all of it."""
+    for window in sorted({min(_EXTEND_FIRST, _EXTEND_WINDOW), _EXTEND_WINDOW}):
+        lo, hi = max(0, a - window), min(dmin.size, b + window)
+        if lo == 0 and hi == dmin.size:
+            break
+        found = _extend_window(dmin, a, b, threshold, bridge, lo, hi)
+        if found is not None:
+            return found
+    return _extend_in(dmin, a, b, threshold, bridge)
+
+
+def _extend_window(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int,
+                   lo: int, hi: int) -> tuple[int, int] | None:
+    """:func:`_extend_in` decided on frames ``lo:hi`` alone, or ``None`` when they do not decide it."""
     with np.errstate(invalid="ignore"):
         beyond = dmin[lo:hi] > threshold  # NaN: unknown, not beyond
     padded = np.concatenate([[False], beyond, [False]])
@@ -296,13 +308,13 @@ def _extend(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int = 0)
     cut = ((starts == lo) & (lo > 0)) | ((ends == hi) & (hi < dmin.size))  # true length unknown
     long = ends - starts > bridge
     if (cut & ~long).any():  # a short run at a window edge: bridged or not depends on the outside
-        return _extend_in(dmin, a, b, threshold, bridge)
+        return None
     keep = long | (starts == 0) | (ends == dmin.size)
     starts, ends = starts[keep], ends[keep]
     i = int(np.searchsorted(starts, a, side="left")) - 1
     j = int(np.searchsorted(ends, b, side="right"))
     if (i < 0 and lo > 0) or (j >= ends.size and hi < dmin.size):  # an end not decided in the window
-        return _extend_in(dmin, a, b, threshold, bridge)
+        return None
     return (min(int(ends[i]), a) if i >= 0 else 0, max(int(starts[j]), b) if j < ends.size else dmin.size)
 
 
