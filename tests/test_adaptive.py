@@ -171,16 +171,14 @@ def test_episode_extension_matches_a_per_frame_walk():
 
 
 def test_windowed_extend_equals_the_whole_recording_pass(monkeypatch: pytest.MonkeyPatch) -> None:
-    """_extend looks at a short window around the episode first, then a longer one; it must grow
-    exactly as the pass over the whole recording does (short windows: runs cut at the window's
-    edges, bridges, gaps)."""
+    """_extend looks at a window around the episode first; it must grow exactly as the pass over
+    the whole recording does (short windows: runs cut at the window's edges, bridges, gaps)."""
     from oacdsl.segmentation import comotion as cm
 
     rng = np.random.default_rng(3)
     for _ in range(500):
         n = int(rng.integers(1, 300))
         monkeypatch.setattr(cm, "_EXTEND_WINDOW", int(rng.integers(1, 40)))
-        monkeypatch.setattr(cm, "_EXTEND_FIRST", int(rng.integers(1, 40)))  # first, then the window
         dmin = np.repeat((rng.random(n // 6 + 1) * 0.2).astype(np.float32), 6)[:n]  # metres
         dmin[rng.random(n) < 0.05] = np.nan
         a = int(rng.integers(0, n))
