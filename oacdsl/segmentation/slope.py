@@ -105,7 +105,7 @@ def windowed_slope_at(dist: np.ndarray, times_s: np.ndarray, half: int, rows: np
     p1, p2 = _prefix(t[None, :])[0], _prefix((t * t)[None, :])[0]
     # the sample count of a full row's window: hi - lo, exactly (the prefix sums of ones, as floats)
     s0, s1, s2 = (hi - lo).astype(np.float64), p1[hi] - p1[lo], p2[hi] - p2[lo]
-    gappy_rows: np.ndarray = gap.any(axis=1)
+    gappy_rows = np.asarray(gap.any(axis=1))
     if gappy_rows.any():  # rows with a gap: their own sums (the same where valid)
         g = gappy_rows.nonzero()[0]
         w = (~gap[g]).astype(np.float64)
