@@ -28,6 +28,7 @@ __all__ = ["BOUND_BLOCK_FRAMES", "BOUND_MARGIN_M", "ChunkGeometry", "closest_dis
 BOUND_MARGIN_M = 1e-3
 #: Frames per bounding box of the broad phase (short: a fast hand's box stays small).
 BOUND_BLOCK_FRAMES = 8
+_COORD_SLAB = 1024  # frames converted at a time by ChunkGeometry.coordinates
 
 
 class ChunkGeometry:
@@ -49,8 +50,12 @@ class ChunkGeometry:
         rows = self.recording.positions_m[lo:hi]
         if not self._in_order:
             rows = rows[:, self.table.marker_order]
-        # centre in float64, then round once to float32, (F, M, 3) → (3, M, F) in one pass
-        np.subtract(rows.transpose(2, 1, 0), self.centre[:, None, None], out=out, casting="unsafe")
+        # centre in float64, then round once to float32, (F, M, 3) → (3, M, F) in one pass, in slabs
+        # of frames that stay in cache (the transposed reads of a long block do not)
+        centre = self.centre[:, None, None]
+        for a in range(0, hi - lo, _COORD_SLAB):
+            b = min(hi - lo, a + _COORD_SLAB)
+            np.subtract(rows[a:b].transpose(2, 1, 0), centre, out=out[:, :, a:b], casting="unsafe")
         return out
 
     def lower_bounds(self, x: np.ndarray, block: int = BOUND_BLOCK_FRAMES) -> np.ndarray:
