@@ -257,10 +257,14 @@ def _nanmedian0(x: np.ndarray) -> np.ndarray:
     if x.shape[0] == 0:
         return np.full(x.shape[1:], np.nan)
     ordered = np.sort(x, axis=0)  # NaN sort last
-    count = np.count_nonzero(~np.isnan(x), axis=0)
+    k = x.shape[0]
+    if not np.isnan(ordered[-1]).any():  # no NaN at all: the middle rows
+        middle: np.ndarray = (ordered[(k - 1) // 2] + ordered[k // 2]) / 2
+        return middle
+    count = k - np.isnan(ordered).sum(axis=0)
     cols = np.arange(x.shape[1])
     lo = np.maximum(count - 1, 0) // 2
-    hi = np.minimum(count // 2, x.shape[0] - 1)
+    hi = np.minimum(count // 2, k - 1)
     median = (ordered[lo, cols] + ordered[hi, cols]) / 2
     return np.where(count > 0, median, np.nan)
 
