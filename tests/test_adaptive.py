@@ -221,6 +221,24 @@ def test_sorted_median_equals_nanmedian_with_and_without_gaps() -> None:
             assert np.array_equal(got, expected.astype(np.float32), equal_nan=True)
 
 
+def test_episode_median_equals_nanmedian() -> None:
+    """_nanmedian1d (an episode's closest distance) is float(np.nanmedian(x)) of float32 values."""
+    from oacdsl.segmentation.comotion import _nanmedian1d
+
+    rng = np.random.default_rng(9)
+    for _ in range(2000):
+        n = int(rng.integers(1, 60))
+        x = (rng.random(n) * 0.2).astype(np.float32)  # metres
+        x[rng.random(n) < 0.1] = np.nan
+        if rng.random() < 0.2:
+            x[: n // 2] = np.float32(0.1)  # ties
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # all NaN
+            expected = float(np.nanmedian(x))
+        got = _nanmedian1d(x)
+        assert got == expected or (np.isnan(got) and np.isnan(expected))
+
+
 def test_squared_distances_are_the_distances_squared_bit_for_bit() -> None:
     """The co-motion scan takes the closest distance as the root of the smallest squared one and
     roots only the frames it needs: the same values as ChunkGeometry.distances."""

@@ -281,7 +281,7 @@ def _nanmedian1d(x: np.ndarray) -> float:
     if n % 2:
         return float(np.partition(values, k)[k])
     part = np.partition(values, [k - 1, k])
-    return float(np.mean(part[k - 1:k + 1]))
+    return float((part[k - 1] + part[k]) / np.float32(2))  # as np.mean of the two, in float32
 
 
 def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
