@@ -243,3 +243,12 @@ def test_the_gap_between_two_hands_counts_palms_and_thumbs_not_grasp_centres():
     # far apart: about the distance less the hands' size
     far = make_T(hand_rotation_for(left, fwd), (0.682, -0.40, 0.876))
     assert hands_gap(("l", t_l, OPEN), ("r", far, OPEN)) > 0.2
+
+
+def test_a_knife_set_down_on_its_narrow_blade_stays_standing():
+    """place keeps the hand still on the support before it lets go: let go at the moment the
+    wrist felt the table (the arm still pressing), the knife tipped over onto its side."""
+    run, result = run_task("put_knife_back", "kit_blade", seed=1)
+    assert result.success, result.error
+    run.controller.wait(1.0)  # after the hand withdrew, the knife still stands
+    assert run.world.body_pose("knife")[2, 2] > 0.99  # upright (< 8° of tilt)
