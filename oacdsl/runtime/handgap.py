@@ -64,11 +64,10 @@ def hands_gap(
     """The smallest distance (m) between two hands, each given as (side, T_world_grasp,
     finger joints); 0 when they overlap."""
     boxes_a, boxes_b = hand_box_poses(*a), hand_box_poses(*b)
+    points_a = [(_surface(h) @ t[:3, :3].T) + t[:3, 3] for t, h in boxes_a]
+    points_b = [(_surface(h) @ t[:3, :3].T) + t[:3, 3] for t, h in boxes_b]
     gap = float("inf")
-    for ta, ha in boxes_a:
-        pa = ta[:3, :3] @ _surface(ha).T
-        pa = pa.T + ta[:3, 3]
-        for tb, hb in boxes_b:
-            pb = (tb[:3, :3] @ _surface(hb).T).T + tb[:3, 3]
+    for (ta, ha), pa in zip(boxes_a, points_a, strict=True):
+        for (tb, hb), pb in zip(boxes_b, points_b, strict=True):
             gap = min(gap, _distance(pa, tb, hb), _distance(pb, ta, ha))
     return gap
