@@ -338,7 +338,8 @@ SIGNATURES: dict[str, SkillSignature] = {
                     0.015,
                     0.0,
                     0.08,
-                    "radius of the tip's circles (clamped to the inside)",
+                    "radius of the tip's circles on the floor (clamped to the inside; along the wall"
+                    " it touches, the wall's)",
                     MotionSource("radius_m", needs="period_s"),
                 ),
                 SkillParamSpec("period", "s", 0.8, 0.3, 5.0, "time for one circle", MotionSource("period_s")),

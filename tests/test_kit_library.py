@@ -150,3 +150,28 @@ def test_untracked_instances_are_reported_with_the_steps_that_judged_them() -> N
                                             "success": True}]}
     ]
     assert untracked_judged(lib.scenes["kit_stir"], run) == []
+
+
+def test_the_hand_holding_the_cucumber_stays_out_of_the_closed_loops_reach_of_the_board() -> None:
+    """The left hand holds the cucumber on the cutting board while the knife presses on it: its
+    lowest point is more than the closed loop's 15 mm above the cucumber's underside (with the
+    grasp 7.6 cm up, where the side grasp's clearance over the table put it, it was 12 mm, and
+    KIT Cut's seed 3 saw the hand touch the board)."""
+    import numpy as np
+
+    from oacdsl.pipeline.markers import ROBOT_DISTANCE_M
+    from oacdsl.runtime.grasping import plan_grasps
+    from oacdsl.runtime.handgap import hand_box_poses
+    from oacdsl.runtime.hands import OPEN
+
+    grasp = load_library([KIT]).grasps["Cucumber"]
+    t_world_cucumber = np.eye(4)
+    t_world_cucumber[:3, 3] = (0.6, 0.2, 0.8)  # lying on a support 0.8 m up
+    signs = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
+    for side in ("l", "r"):
+        for plan in plan_grasps(grasp, False, t_world_cucumber, side, support_z=0.8):
+            lowest = min(
+                float((t[:3, 3] + (signs * half) @ t[:3, :3].T)[:, 2].min())
+                for t, half in hand_box_poses(side, plan.grasp, OPEN)
+            )
+            assert lowest - 0.8 > ROBOT_DISTANCE_M + 0.003

@@ -135,17 +135,19 @@ def test_grasp_both_and_place_both_move_the_two_arms_at_once():
 
 
 class StirLog:
-    """Observer: while the robot stirs, the spoon's tip (its base centre) relative to the cup's axis (m)."""
+    """Observer: while the robot stirs, the spoon's tip (its base centre) relative to the cup's
+    axis (m), and whether the spoon touches the cup."""
 
     rate_hz = 50.0
 
     def __init__(self):
-        self.offsets, self.controller = [], None
+        self.offsets, self.touching, self.controller = [], [], None
 
     def __call__(self, world):
         if self.controller is not None and self.controller.activity.startswith("stirring"):
             spoon, cup = world.body_pose("spoon"), world.body_pose("cup")
             self.offsets.append(spoon[:2, 3] - cup[:2, 3])
+            self.touching.append(world.touching("spoon", "cup"))
 
 
 def test_stir_circles_the_spoon_in_the_cup_the_other_hand_holds():
@@ -157,9 +159,12 @@ def test_stir_circles_the_spoon_in_the_cup_the_other_hand_holds():
     d = np.array(log.offsets)
     angle = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
     radius = np.linalg.norm(d, axis=1)
-    # three circles (the first one widening) of about the default 1.5 cm, inside the cup
+    # three circles along the cup's wall (its inner radius 3.4 cm less the bowl's 1.5), inside the cup
     assert abs(angle[-1] - angle[0]) > 2 * 2 * np.pi
-    assert 0.008 < np.median(radius) < 0.025 and radius.max() < world.layout.bodies["cup"].inner_radius
+    assert 0.015 < np.median(radius) and radius.max() < world.layout.bodies["cup"].inner_radius
+    # the spoon touches the cup from the first circle on and while it circles (the effect
+    # spoon <-> cup holds while stirring, as in a demonstration)
+    assert log.touching[0] and np.mean(log.touching) > 0.9
     # the spoon went in below the rim
     cup_top = world.body_pose("cup")[2, 3] + world.layout.bodies["cup"].rim_height
     assert world.body_pose("spoon")[2, 3] < cup_top - 0.02
@@ -198,3 +203,52 @@ def test_a_closed_carton_is_turned_so_that_its_opening_faces_the_bowl_and_emptie
     assert run.world.balls_inside("bowl", "milk") >= 9 and run.world.balls_inside("carton", "milk") == 0
     tilted = [nearer for tilt, nearer in log.samples if 20.0 < tilt < 60.0]  # (near 90° the top turns over)
     assert tilted and min(tilted) > 0.0  # the opening (+x, turned from facing away) leads
+
+
+def test_grasp_both_takes_two_objects_16_cm_apart_from_their_outer_sides():
+    """Two hands taking a cup and a block 15 cm apart (KIT Stir's seed 5 has its cup and spoon
+    so close) come from their outer sides and leave room between them: their grasp centres
+    are < 16 cm apart, which an earlier rule on grasp centres refused."""
+    cup, block = Track("cup"), Track("block")
+    places = {"cup": (0.60, 0.07), "block": (0.60, -0.08)}
+    run, result = run_task("both_hands", "kit_touching", places=places, observers=[cup, block])
+    assert result.success, result.error
+    grasp = result.steps[0]
+    assert ["cup", "left_hand"] in grasp.observed and ["block", "right_hand"] in grasp.observed
+    assert ["left_hand", "right_hand"] not in grasp.observed
+    # both were lifted (the hands took them, not pushed them aside)
+    assert max(p[2] for p in cup.points) > cup.points[0][2] + 0.05
+    assert max(p[2] for p in block.points) > block.points[0][2] + 0.05
+
+
+def test_the_gap_between_two_hands_counts_palms_and_thumbs_not_grasp_centres():
+    from oacdsl.runtime.grasping import hand_rotation_for
+    from oacdsl.runtime.handgap import hands_gap
+    from oacdsl.runtime.hands import OPEN, TOP_PRESHAPE
+    from oacdsl.runtime.transforms import make_T
+
+    fwd, left = np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
+    t_l = make_T(hand_rotation_for(-left, fwd), (0.682, 0.025, 0.876))  # from the left, fingers forward
+    # KIT Stir, seed 5: the spoon's grasp 7 cm nearer the robot and 4 cm higher, the grasp
+    # centres 16.0 cm apart (an earlier rule wanted more), each hand from its own side: 4 cm between them
+    t_r = make_T(hand_rotation_for(left, fwd), (0.614, -0.112, 0.920))
+    assert float(np.linalg.norm(t_l[:3, 3] - t_r[:3, 3])) < 0.16
+    assert 0.03 < hands_gap(("l", t_l, OPEN), ("r", t_r, OPEN)) < 0.06
+    # grasp centres 16 cm apart side by side (x and z alike): the open thumbs, 9 cm past each
+    # grasp centre, meet
+    side_by_side = make_T(hand_rotation_for(left, fwd), (0.682, -0.135, 0.876))
+    assert hands_gap(("l", t_l, OPEN), ("r", side_by_side, OPEN)) == 0.0
+    # with the thumbs folded (a grasp from above) they do not
+    assert hands_gap(("l", t_l, TOP_PRESHAPE), ("r", side_by_side, TOP_PRESHAPE)) > 0.03
+    # far apart: about the distance less the hands' size
+    far = make_T(hand_rotation_for(left, fwd), (0.682, -0.40, 0.876))
+    assert hands_gap(("l", t_l, OPEN), ("r", far, OPEN)) > 0.2
+
+
+def test_a_knife_set_down_on_its_narrow_blade_stays_standing():
+    """place keeps the hand still on the support before it lets go: let go at the moment the
+    wrist felt the table (the arm still pressing), the knife tipped over onto its side."""
+    run, result = run_task("put_knife_back", "kit_blade", seed=1)
+    assert result.success, result.error
+    run.controller.wait(1.0)  # after the hand withdrew, the knife still stands
+    assert run.world.body_pose("knife")[2, 2] > 0.99  # upright (< 8° of tilt)

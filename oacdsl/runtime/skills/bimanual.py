@@ -19,6 +19,7 @@ import numpy as np
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.control import CONTROL_DT_S, Controller
 from oacdsl.runtime.grasping import GraspPlan
+from oacdsl.runtime.handgap import hands_gap
 from oacdsl.runtime.hands import OPEN, TOP_PRESHAPE
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
 from oacdsl.runtime.skills.grasp import LIFT_M, ease_off, grasp_candidates, lifted, plan_grasp, secure
@@ -34,9 +35,10 @@ from oacdsl.runtime.transforms import interpolate, make_T, min_jerk
 
 __all__ = ["grasp_both", "place_both", "move_both", "reach_both", "HANDS_APART_M"]
 
-#: How far apart two hands' grasp centres are kept when they grasp at once, m (a hand is
-#: some 10 cm wide and holds its thumb out).
-HANDS_APART_M = 0.16
+#: Room kept between two hands that grasp at once, m: the smallest distance between their
+#: collision boxes (palm, fingers, the thumb held out) at the two grasp poses
+#: (:func:`~oacdsl.runtime.handgap.hands_gap`), for the IK's tracking error and the approach.
+HANDS_APART_M = 0.03
 #: How many of each hand's reachable grasps are paired up.
 PAIR_CANDIDATES = 4
 
@@ -97,10 +99,16 @@ def reach_both(ctx: SkillContext, targets: Mapping[str, np.ndarray], iterations:
         return max((res := ik.residual(s)).position_m + 0.1 * res.angle_rad for s in targets)
 
 
+def _preshape(ctx: SkillContext, obj: str) -> dict[str, float]:
+    """The fingers of a hand coming to grasp ``obj`` (the thumb folded for a grasp from above)."""
+    return TOP_PRESHAPE if ctx.grasp_for(obj).approach == "top" else OPEN
+
+
 def _pair(ctx: SkillContext, a: tuple[str, str], b: tuple[str, str]) -> tuple[GraspPlan, GraspPlan]:
     """The first pair of grasps (each among its hand's first reachable few) that the
-    whole-body IK reaches together with the hands :data:`HANDS_APART_M` apart."""
+    whole-body IK reaches together with :data:`HANDS_APART_M` between the two hands."""
     options = []
+    shapes = (_preshape(ctx, a[1]), _preshape(ctx, b[1]))
     for hand, obj in (a, b):
         side = ctx.side(hand)
         shared = a[1] == b[1]  # one object in both hands: each takes it on its own side
@@ -112,9 +120,12 @@ def _pair(ctx: SkillContext, a: tuple[str, str], b: tuple[str, str]) -> tuple[Gr
     (s1, c1), (s2, c2) = options
     pairs = sorted(((i, j) for i in range(len(c1)) for j in range(len(c2))), key=lambda ij: (sum(ij), ij))
     best: tuple[float, GraspPlan, GraspPlan] | None = None
+    widest = 0.0
     for i, j in pairs:
         p1, p2 = c1[i], c2[j]
-        if float(np.linalg.norm(p1.grasp[:3, 3] - p2.grasp[:3, 3])) < HANDS_APART_M:
+        gap = hands_gap((s1, p1.grasp, shapes[0]), (s2, p2.grasp, shapes[1]))
+        widest = max(widest, gap)
+        if gap < HANDS_APART_M:
             continue
         err = reach_both(ctx, {s1: p1.grasp, s2: p2.grasp})
         if err < REACH_TOLERANCE_M:
@@ -125,7 +136,8 @@ def _pair(ctx: SkillContext, a: tuple[str, str], b: tuple[str, str]) -> tuple[Gr
         why = (
             f"the best whole-body IK solution for both leaves a hand off by {best[0] * 100:.0f} cm"
             if best is not None
-            else "no pair of their grasps keeps the hands far enough apart"
+            else f"no pair of their grasps leaves {HANDS_APART_M * 100:.0f} cm between the hands"
+            f" (at most {widest * 100:.1f} cm)"
         )
         raise RuntimeFailure(f"{a[0]} cannot grasp {a[1]} while {b[0]} grasps {b[1]}: {why}")
     return best[1], best[2]

@@ -7,7 +7,8 @@ sponge stays on the tray it wiped), it is set down on that object — where it i
 touches it already, else above its middle; otherwise (or when it was picked up from that
 very object) it goes back to where it was picked up. The hand carries it above that spot,
 lowers it slowly and stops when the wrist force/torque sensor feels the support (a change
-of more than :data:`CONTACT_FORCE_N` since the descent began), releases the weld, opens
+of more than :data:`CONTACT_FORCE_N` since the descent began), keeps still for
+:data:`SETTLE_S` while the arm, which lags its command, comes to rest, releases the weld, opens
 the hand and withdraws along the grasp's approach direction. When the other hand holds the
 object as well, nothing is carried: the hand only opens and withdraws.
 """
@@ -33,6 +34,10 @@ __all__ = [
 CONTACT_FORCE_N = 3.0
 HOVER_M = 0.04
 DESCENT_SPEED_M_S = 0.05
+#: Time the hand keeps still on the support before it lets go, s: at the contact the arm is
+#: still pressing down (9 N instead of 3 N), and a tall narrow object let go then tips over
+#: (the KIT knife, standing on its blade, fell on its side next to the board it cut on).
+SETTLE_S = 0.3
 #: Peak over mean speed of a min-jerk motion: the descent is timed so that its *peak* speed
 #: is :data:`DESCENT_SPEED_M_S` (a heavy object meeting the support at twice that speed made
 #: the arm's tracking lag a 66 N spike at the wrist within one control tick).
@@ -72,6 +77,7 @@ def place(ctx: SkillContext, hand: str, obj: str, *, force: float = CONTACT_FORC
     approach = pick.approach if pick is not None else np.array([0.0, 0.0, -1.0])
     if ctx.other_holder(side, obj) is None:
         _set_down(ctx, side, obj, pick, force)
+        ctl.wait(SETTLE_S)
     ctl.activity = f"releasing {obj}"
     world.release(side)
     ctl.open_hand(side, 0.4)

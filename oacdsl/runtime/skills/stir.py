@@ -3,12 +3,15 @@
 The tool is turned so that its tip (:mod:`~oacdsl.runtime.skills.tooltip`) points down,
 leaning ``tilt`` from the vertical with the handle towards the hand, and carried so that
 the tip is above the container's middle. The tip goes down to ``depth`` above the
-container's floor (a wrist force above ``force`` stops it earlier: the floor, or what
-is in the container), makes ``turns`` circles of ``radius`` (clamped so that the
-tool's end stays clear of the wall) in ``period`` seconds each, and the tool is left standing in
-the container, touching it (the OAC's effect ``s <-> c``): the tip is lowered onto the
-floor at the end until the simulation reports the contact. The container is read where
-it is when the skill starts.
+container's floor (a wrist force above ``force``, or a contact with the container, stops it
+earlier), and, unless it touches the container already (the floor), it is moved sideways
+to the wall away from the hand until the simulation reports the contact. Only then does
+it circle, ``turns`` circles in ``period`` seconds each, from where it touches and at that
+height: along the wall, pressed a little beyond it, or, on the floor, pressed onto it with
+``radius`` (clamped so that the tool's end stays clear of the wall). The tool touches the
+container all the while (the OAC's effect ``s <-> c`` holds during the stir, as in a
+demonstration) and is left there, touching it. The container is read where it is when
+the skill starts.
 """
 
 from __future__ import annotations
@@ -22,7 +25,6 @@ from oacdsl.runtime.skills.base import SkillContext
 from oacdsl.runtime.skills.place import MIN_JERK_PEAK
 from oacdsl.runtime.skills.shapes import hand_reach_below
 from oacdsl.runtime.skills.tooltip import HeldTool, held_tool, pointing
-from oacdsl.runtime.transforms import make_T, rot_axis
 
 __all__ = ["stir", "dip_poses", "STIR_RADIUS_M", "STIR_PERIOD_S", "STIR_TURNS", "STIR_TILT_RAD"]
 
@@ -38,8 +40,10 @@ STIR_FORCE_N = 10.0
 WALL_MARGIN_M = 0.004
 #: Free space kept between the hand and the container's rim, m.
 RIM_CLEARANCE_M = 0.015
-#: How far beyond the wall the tool's side is aimed at the end (a contact stops it), m.
+#: How far beyond the wall the tool's side is aimed on its way to the wall (a contact stops it), m.
 PRESS_WALL_M = 0.02
+#: How far the circling tip is pressed beyond the wall or into the floor it touches, m.
+PRESS_M = 0.005
 #: How far below the rim the tip must reach for a stir, m.
 MIN_INSIDE_M = 0.02
 #: Height of the tip above the rim before it goes in, m.
@@ -82,8 +86,9 @@ def stir(
     depth: float = STIR_DEPTH_M,
     force: float = STIR_FORCE_N,
 ) -> None:
-    """Stir ``container`` with the held ``tool``: ``turns`` circles of ``radius`` (m), ``period``
-    (s) each, the tip ``depth`` (m) above the floor, leaning ``tilt`` (rad)."""
+    """Stir ``container`` with the held ``tool``: the tip into it, onto its wall (or floor), then
+    ``turns`` circles, ``period`` (s) each, in contact (of ``radius``, m, on the floor), the tip at
+    most ``depth`` (m) above the floor, leaning ``tilt`` (rad)."""
     world, ctl = ctx.world, ctx.ctl
     side = ctx.require_held(hand, tool)
     body = ctx.body(container)
@@ -91,7 +96,6 @@ def stir(
         raise RuntimeFailure(f"stir: {container!r} is no container (its shape has no shell)")
     held, r_work, floor, up, toward, above = dip_poses(ctx, side, tool, container, tilt)
     room = max(0.0, body.inner_radius - held.half_width - WALL_MARGIN_M)
-    r = min(radius, room)
     # two axes across the container's axis for the circles
     e1 = np.cross(up, (1.0, 0.0, 0.0) if abs(up[0]) < 0.9 else (0.0, 1.0, 0.0))
     e1 /= np.linalg.norm(e1)
@@ -115,45 +119,46 @@ def stir(
             f" tip gets {inside * 100:.0f} cm below the rim (needs {MIN_INSIDE_M * 100:.0f} cm)"
         )
 
-    def at(angle: float, rr: float) -> np.ndarray:
-        return held.hand_for(r_work, level + rr * (math.cos(angle) * e1 + math.sin(angle) * e2))
+    def at(angle: float, rr: float, height: np.ndarray = level) -> np.ndarray:
+        return held.hand_for(r_work, height + rr * (math.cos(angle) * e1 + math.sin(angle) * e2))
 
+    def touching() -> bool:
+        return world.touching(tool, container)
+
+    def felt() -> bool:
+        return float(np.linalg.norm(ctl.force_change(side))) > force
+
+    # the tip first touches the container at the wall away from the hand, where the circles start
+    away = -toward - float(-toward @ up) * up
+    start_angle = math.atan2(float(away @ e2), float(away @ e1))
+    wall = body.inner_radius - held.half_width  # the tip's middle when its side is at the wall
     ctl.activity = f"bringing {tool} over {container}"
     ctx.check_reachable(side, above, f"the inside of {container}")
     for k in range(4):
-        ctx.check_reachable(side, at(k * math.pi / 2, r), f"the stirring circle in {container}")
+        angle = start_angle + k * math.pi / 2
+        ctx.check_reachable(side, at(angle, wall + PRESS_WALL_M), f"the stirring circle in {container}")
     ctx.carry(side, above, {tool, container}, 1.8)
     ctl.activity = f"dipping {tool} into {container}"
-    start = at(0.0, 0.0)
+    start = at(start_angle, 0.0)
     travel = float(np.linalg.norm(above[:3, 3] - start[:3, 3]))
-    ctl.move(
-        side,
-        start,
-        MIN_JERK_PEAK * travel / DIP_SPEED_M_S,
-        guard=lambda: float(np.linalg.norm(ctl.force_change(side))) > force,
-    )
+    ctl.move(side, start, MIN_JERK_PEAK * travel / DIP_SPEED_M_S, guard=lambda: touching() or felt())
+    if not touching():
+        # into contact: sideways to the wall (aimed a little beyond it), or down onto the floor
+        ctl.activity = f"bringing {tool} against {container}"
+        ctl.move(side, at(start_angle, wall + PRESS_WALL_M), 0.8, guard=lambda: touching() or felt())
+    if not ctl.wait(0.3, until=touching) and not touching():
+        raise RuntimeFailure(f"stir: {tool} is in {container} but does not touch it")
+    # circle from where the tip touches, at its height, kept on the wall (pressed a little beyond
+    # it) or, on the floor, pressed onto it: the tool touches the container all the while
+    tip = held_tool(ctx, side, tool).tip_world()
+    out = float(np.linalg.norm((tip - floor) - float((tip - floor) @ up) * up))
+    on_wall = out > wall - WALL_MARGIN_M
+    height = floor + float((tip - floor) @ up) * up - (0.0 if on_wall else PRESS_M) * up
+    rr = out + PRESS_M if on_wall else max(min(radius, room), out)
+    ctl.move(side, at(start_angle, rr, height), 0.2)  # pressed on where it touches
     ctl.activity = f"stirring {container} with {tool}"
     n = 16
     for k in range(1, max(1, round(turns)) * n + 1):
-        ctl.move(side, at(2 * math.pi * k / n, r * min(1.0, k / n)), period / n)
-    ctl.move(side, at(0.0, 0.0), 0.3)
-    ctl.activity = f"resting {tool} in {container}"
-    # the tool turns about the hand (which stays where it is, clear of the rim) until its
-    # tip's side touches the far wall (aimed a little beyond it): it rests there
-    t_hand = at(0.0, 0.0)
-    lever = level - t_hand[:3, 3]
-    reach = body.inner_radius - held.half_width + PRESS_WALL_M
-    turn = np.cross(lever, -toward)
-    r_turn = rot_axis(turn, math.atan2(reach, float(np.linalg.norm(lever))))
-    ctl.move(
-        side,
-        make_T(r_turn @ t_hand[:3, :3], t_hand[:3, 3]),
-        1.5,
-        guard=lambda: (
-            world.touching(tool, container) or float(np.linalg.norm(ctl.force_change(side))) > force
-        ),
-    )
-    if not ctl.wait(0.5, until=lambda: world.touching(tool, container)) and not world.touching(
-        tool, container
-    ):
-        raise RuntimeFailure(f"stir: {tool} is in {container} but does not touch it")
+        ctl.move(side, at(start_angle + 2 * math.pi * k / n, rr, height), period / n)
+    if not ctl.wait(0.3, until=touching) and not touching():
+        raise RuntimeFailure(f"stir: {tool} lost contact with {container} while stirring")
