@@ -8,7 +8,8 @@ touches it already, else above its middle; otherwise (or when it was picked up f
 very object) it goes back to where it was picked up. The hand carries it above that spot,
 lowers it slowly and stops when the wrist force/torque sensor feels the support (a change
 of more than :data:`CONTACT_FORCE_N` since the descent began), releases the weld, opens
-the hand and withdraws along the grasp's approach direction. When the other hand holds the
+the hand (a power grasp from above with its thumb still folded) and withdraws along the
+grasp's approach direction. When the other hand holds the
 object as well, nothing is carried: the hand only opens and withdraws.
 """
 
@@ -17,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
+from oacdsl.runtime.hands import TOP_PRESHAPE
 from oacdsl.runtime.skills.base import Pick, SkillContext
 from oacdsl.runtime.transforms import make_T
 
@@ -79,7 +81,14 @@ def place(ctx: SkillContext, hand: str, obj: str, *, force: float = CONTACT_FORC
         _set_down(ctx, side, obj, pick, force)
     ctl.activity = f"releasing {obj}"
     world.release(side)
-    ctl.open_hand(side, 0.4)
+    grasp = ctx.library.grasp_for(ctx.classes[obj])
+    if grasp is not None and grasp.approach == "top" and grasp.type == "power":
+        # the thumb stays folded: opened, it reaches 12 cm below the palm, into the support and
+        # the flat object just set down on it (a sponge pressed into the table: 60-72 N)
+        ctl.set_fingers(side, TOP_PRESHAPE)
+        ctl.wait(0.4)
+    else:
+        ctl.open_hand(side, 0.4)
     ctx.picked.pop(side, None)
     ctl.activity = "withdrawing"
     for pose, seconds in withdrawal(ctl.ik.frame(f"grasp_{side}"), approach):

@@ -183,6 +183,9 @@ def _wipe_held(
     ctl.wait(REST_S)
     if not touching():
         raise RuntimeFailure(f"wipe: {tool} no longer touches {surface} after the strokes")
+    # the next skill starts from the hand as it is, tool tilted and all (from the upright goal,
+    # a lift turned the hand so fast that the wrist felt 68 N)
+    ik.set_hand_target(side, ik.frame(f"grasp_{side}"))
 
 
 def _between(
