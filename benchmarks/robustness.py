@@ -33,13 +33,10 @@ from oacdsl.matching.matcher import Matcher  # noqa: E402
 from oacdsl.segmentation import AasParams, segment  # noqa: E402
 from oacdsl.segmentation.synth import FLIGHT_S, dough_demonstration  # noqa: E402
 from oacdsl.segmentation.synth.realism import NoiseModel  # noqa: E402
+from tests.kitchen import DOUGH_STEPS as STEPS  # noqa: E402
+from tests.kitchen import PAPER_EFFECT, PAPER_PRE  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-PAPER_PRE = [["green_cup", "liquid_two"], ["left_hand", "nothing"], ["liquid_one", "red_cup"],
-             ["right_hand", "nothing"]]
-PAPER_EFFECT = [["liquid_one", "orange_bowl"], ["liquid_two", "orange_bowl"], ["mixer", "orange_bowl"],
-                ["mixer", "right_hand"]]
-STEPS = ["grasp", "pour", "place", "grasp", "pour", "place", "grasp", "mix"]
 
 
 def one(library, seed: int, rate: float, jitter_mm: float, params: AasParams,

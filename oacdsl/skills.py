@@ -368,6 +368,44 @@ SIGNATURES: dict[str, SkillSignature] = {
             ),
         ),
         SkillSignature(
+            "mix_both",
+            "both hands' tools into one container at once, circling side by side, left on its floor",
+            (
+                SkillArg("h1", "Hand"),
+                SkillArg("t1", "Graspable"),
+                SkillArg("h2", "Hand"),
+                SkillArg("t2", "Graspable"),
+                SkillArg("c", "Container"),
+            ),
+            (
+                SkillParamSpec(
+                    "radius",
+                    "m",
+                    0.02,
+                    0.0,
+                    0.08,
+                    "radius of each tip's circles (clamped so that each tool stays clear of the wall)",
+                    MotionSource("radius_m", needs="period_s"),
+                ),
+                SkillParamSpec("period", "s", 1.0, 0.3, 5.0, "time for one circle", MotionSource("period_s")),
+                SkillParamSpec("turns", "", 3.0, 1.0, 10.0, "number of circles", MotionSource("cycles")),
+                SkillParamSpec(
+                    "tilt",
+                    "rad",
+                    _deg(15.0),
+                    0.0,
+                    _deg(45.0),
+                    "lean of each tool from the vertical, its handle towards its hand",
+                ),
+                SkillParamSpec(
+                    "depth", "m", 0.035, 0.0, 0.10, "height of the tips above the floor while they circle"
+                ),
+                SkillParamSpec(
+                    "force", "N", 10.0, 3.0, 30.0, "wrist force change that stops a tool going down"
+                ),
+            ),
+        ),
+        SkillSignature(
             "take_out",
             "lift the held object straight up until it clears a container (a spoon out of a cup)",
             (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("c", "Container")),

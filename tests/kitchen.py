@@ -89,6 +89,11 @@ DOUGH_STATES = [
     state(L1B, L2B, ("right_hand", "mixer"), ("mixer", "orange_bowl")),  # mix
 ]
 DOUGH_STEPS = ["grasp", "pour", "place", "grasp", "pour", "place", "grasp", "mix"]
+# Wächter et al. 2013, IV-B: the new OAC's preconditions and effects (sorted relations)
+PAPER_PRE = [["green_cup", "liquid_two"], ["left_hand", "nothing"], ["liquid_one", "red_cup"],
+             ["right_hand", "nothing"]]
+PAPER_EFFECT = [["liquid_one", "orange_bowl"], ["liquid_two", "orange_bowl"], ["mixer", "orange_bowl"],
+                ["mixer", "right_hand"]]
 
 
 def dough_segmentation():

@@ -206,3 +206,32 @@ def test_a_made_relation_takes_the_motion_while_it_lasts():
     assert dwelling(rec, motions, 1, {"cup": cup, "spoon": spoon}) is motions[1]  # kept: unchanged
     # nothing breaks it: to the recording's end
     assert dwelling(rec, motions[:2], 0, {"cup": cup, "spoon": spoon}).end_frame == len(t) - 1
+
+
+def test_two_tools_made_together_take_the_motion_of_either():
+    # a fork and a spoon go into the bowl at once (made, the fork moved most); then the
+    # spoon circles in it (kept, the spoon moved most): the step that put both in mixes,
+    # so it takes the circling that follows although the moved object differs
+    from types import SimpleNamespace
+
+    from oacdsl.matching.demoparams import dwelling
+    from oacdsl.segmentation.motionfeatures import motion_features
+
+    t = np.arange(0, 6.0, 0.1)
+    still = np.tile(np.eye(4), (len(t), 1, 1))
+    T_spoon = still.copy()
+    circling = t >= 1.2
+    T_spoon[:, 0, 3] = np.where(circling, 0.04 * np.cos(2 * np.pi * t / 0.9), 0.2)
+    T_spoon[:, 1, 3] = np.where(circling, 0.04 * np.sin(2 * np.pi * t / 0.9), 0.0)
+    posed = {n: SimpleNamespace(T_world_object=T) for n, T in
+             (("bowl", still), ("fork", still.copy()), ("spoon", T_spoon))}
+    rec = SimpleNamespace(times_s=t)
+    made = SubActionMotion(1, 0, 12, "left_hand", "fork", "bowl", "made", t[:13], still[:13], None, 0.0)
+    kept = SubActionMotion(2, 12, 58, "right_hand", "spoon", "bowl", "kept", t[12:59], T_spoon[12:59],
+                           motion_features(t[12:59], T_spoon[12:59]), 0.0)
+    # alone, the fork's sub-action is not followed by one of the fork: unchanged
+    assert dwelling(rec, [made, kept], 0, posed) is made
+    both = dwelling(rec, [made, kept], 0, posed, frozenset({"fork", "spoon"}))
+    assert both.moved == "spoon" and both.features is not None
+    assert both.features.period_s == pytest.approx(0.9, abs=0.05)
+    assert both.features.radius_m == pytest.approx(0.04, abs=0.005)

@@ -10,6 +10,7 @@ import pytest
 
 from oacdsl.cli import main
 from oacdsl.compiler import compile_paths, load_library
+from tests.kitchen import PAPER_EFFECT, PAPER_PRE
 
 ROOT = Path(__file__).resolve().parents[1]
 DOUGH = ROOT / "data" / "dough.c3d"
@@ -29,10 +30,8 @@ def test_compose_dough_gives_the_papers_oac(capsys, lib_dir):
     assert code == 0, err
     doc = json.loads(out)
     # Wächter et al. 2013, IV-B: the new OAC's preconditions and effects
-    assert doc["pre"] == [["green_cup", "liquid_two"], ["left_hand", "nothing"],
-                          ["liquid_one", "red_cup"], ["right_hand", "nothing"]]
-    assert doc["effect"] == [["liquid_one", "orange_bowl"], ["liquid_two", "orange_bowl"],
-                             ["mixer", "orange_bowl"], ["mixer", "right_hand"]]
+    assert doc["pre"] == PAPER_PRE
+    assert doc["effect"] == PAPER_EFFECT
     assert doc["ended"] == [["green_cup", "liquid_two"], ["liquid_one", "red_cup"]]
     truth = json.loads((ROOT / "data" / "dough.truth.json").read_text())
     assert [s["oac"] for s in doc["steps"]] == [s["oac"] for s in truth["sub_actions"]]

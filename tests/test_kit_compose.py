@@ -59,3 +59,18 @@ def test_a_clip_scene_without_its_oacs_says_what_is_missing(tmp_path, capsys):
     code = main(["compose", str(xml), "--library", str(lib), "--name", "m", "-o", str(tmp_path / "m.oac")])
     _, err = capsys.readouterr()
     assert code == 1 and "mixing_bowl_green <-> salad_fork" in err
+
+
+def test_mix_both_takes_the_demonstrated_mixing(tmp_path, capsys):
+    """Fork and spoon go into the bowl together (the fork moved most); the spoon's circles
+    that follow set the bimanual step's period, radius and turns."""
+    xml = next(mocap_file("kit_bimanual").glob("Mix_*.mmm.xml"))
+    out = tmp_path / "kit_mix_demo.oac"
+    assert main(["compose", str(xml), "--library", str(KIT), "--name", "kit_mix_demo", "-o", str(out)]) == 0
+    capsys.readouterr()
+    step = load_library([KIT, out]).oacs["kit_mix_demo"].steps[1]
+    params = {p.name: p.value for p in step.skill_params}
+    assert step.oac == "mix_both" and set(params) == {"period", "radius", "turns"}
+    assert 0.7 < params["period"].value < 1.1 and params["period"].unit == "s"
+    assert params["turns"].value >= 2
+    assert "salad_spoon relative to mixing_bowl_green" in out.read_text()

@@ -33,6 +33,12 @@ CLIPS = {
         ["grasp", "grasp", "hold_on_board", "cut", "finish_cut", "place", "place"],
         ["match", "match", "match", "match", "split", "match", "match"],
     ),
+    # both servers into the bowl at once (mix_both), both let go at once (place_both)
+    "Mix": (
+        "kit_bimanual/Mix_files_motions_3121_Mix1_salad_gb_parallel_08.mmm.xml",
+        ["grasp_both", "mix_both", "leave_both_in"],
+        ["match", "match", "match"],
+    ),
     "Stir": (
         "kit_bimanual/Stir_files_motions_2941_Stir1_bc_s_right_03.mmm.xml",
         ["grasp_both", "stir", "take_out", "place_both"],

@@ -15,13 +15,9 @@ from oacdsl.cli import main
 from oacdsl.compiler import compile_paths, load_library
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import Keyframe, Segmentation
-from tests.kitchen import DOUGH_STATES, DOUGH_STEPS, TRACKED, dough_segmentation
+from tests.kitchen import DOUGH_STATES, DOUGH_STEPS, PAPER_EFFECT, PAPER_PRE, TRACKED, dough_segmentation
 
 ROOT = Path(__file__).resolve().parents[1]
-PAPER_PRE = [["green_cup", "liquid_two"], ["left_hand", "nothing"], ["liquid_one", "red_cup"],
-             ["right_hand", "nothing"]]
-PAPER_EFFECT = [["liquid_one", "orange_bowl"], ["liquid_two", "orange_bowl"], ["mixer", "orange_bowl"],
-                ["mixer", "right_hand"]]
 
 
 @pytest.fixture

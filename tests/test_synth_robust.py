@@ -18,14 +18,10 @@ from oacdsl.matching.matcher import Matcher
 from oacdsl.segmentation import AasParams, segment
 from oacdsl.segmentation.synth import dough_demonstration
 from oacdsl.segmentation.synth.realism import NoiseModel
+from tests.kitchen import DOUGH_STEPS as STEPS
+from tests.kitchen import PAPER_EFFECT, PAPER_PRE
 
 ROOT = Path(__file__).resolve().parents[1]
-# Wächter et al. 2013, IV-B: the new OAC
-PAPER_PRE = [["green_cup", "liquid_two"], ["left_hand", "nothing"], ["liquid_one", "red_cup"],
-             ["right_hand", "nothing"]]
-PAPER_EFFECT = [["liquid_one", "orange_bowl"], ["liquid_two", "orange_bowl"], ["mixer", "orange_bowl"],
-                ["mixer", "right_hand"]]
-STEPS = ["grasp", "pour", "place", "grasp", "pour", "place", "grasp", "mix"]
 
 
 @pytest.fixture(scope="module")

@@ -224,11 +224,19 @@ def demonstrated_motions(recording: Recording, subs: Sequence[SubAction]) -> dic
 
     posed = fit_poses(recording)
     motions = [sub_action_motion(recording, sub, posed) for sub in subs]
-    return {sub.start.frame: dwelling(recording, motions, k, posed) for k, sub in enumerate(subs)}
+    return {sub.start.frame: dwelling(recording, motions, k, posed, _made_with(sub, motions[k].target))
+            for k, sub in enumerate(subs)}
+
+
+def _made_with(sub: SubAction, target: str | None) -> frozenset[str]:
+    """The instances that start touching ``target`` in ``sub``."""
+    if target is None:
+        return frozenset()
+    return sub.after.partners(target) - sub.before.partners(target)
 
 
 def dwelling(recording: Recording, motions: Sequence[SubActionMotion], k: int,
-             posed: Mapping[str, ObjectPoses]) -> SubActionMotion:
+             posed: Mapping[str, ObjectPoses], together: frozenset[str] = frozenset()) -> SubActionMotion:
     """Motion ``k`` over the whole time its object stays with its target.
 
     A skill that stirs, wipes or cuts runs in the step whose effect is the tool touching
@@ -238,7 +246,9 @@ def dwelling(recording: Recording, motions: Sequence[SubActionMotion], k: int,
     last keyframe). So the motion of a sub-action that makes a relation is extended over
     the following sub-actions of the same object and target that keep it, and the one
     that breaks it; its features are computed on that span (the core still leaves out
-    the way in and out).
+    the way in and out). ``together``: the objects that started touching the target in the
+    same sub-action (KIT Mix: fork and spoon into the bowl at once, mixed by both hands);
+    a following sub-action that moves any of them in the target counts as well.
     """
     m = motions[k]
     if m.relation != "made" or m.target is None or m.moved is None:
@@ -246,7 +256,8 @@ def dwelling(recording: Recording, motions: Sequence[SubActionMotion], k: int,
     end = m.end_frame
     followers: list[SubActionMotion] = []
     for n in motions[k + 1 :]:
-        if (n.moved, n.target) != (m.moved, m.target) or n.relation not in ("kept", "broken"):
+        same = n.target == m.target and n.moved in together | {m.moved}
+        if not same or n.relation not in ("kept", "broken"):
             break
         end = n.end_frame
         followers.append(n)

@@ -9,6 +9,7 @@ from oacdsl.runtime.skills.hold import hold, retreat
 from oacdsl.runtime.skills.hold_up import hold_up
 from oacdsl.runtime.skills.lift import lift
 from oacdsl.runtime.skills.mix import mix
+from oacdsl.runtime.skills.mix_both import mix_both
 from oacdsl.runtime.skills.place import place
 from oacdsl.runtime.skills.pour import pour
 from oacdsl.runtime.skills.stir import stir
@@ -24,6 +25,7 @@ IMPLEMENTATIONS: dict[str, Skill] = {
     "place": place,
     "pour": pour,
     "mix": mix,
+    "mix_both": mix_both,
     "wipe": wipe,
     "hold": hold,
     "hold_up": hold_up,

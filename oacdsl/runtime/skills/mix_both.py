@@ -1,0 +1,233 @@
+"""``mix_both``: both hands' tools in one container at once, mixing side by side (a salad
+mixed with a fork and a spoon).
+
+Each tool works on its hand's half of the container: its tip
+(:mod:`~oacdsl.runtime.skills.tooltip`) goes to a *spot* :data:`MIX_SPREAD` × the inner radius from
+the middle, on the line from the right hand to the left hand, the tool turned tip down and
+leaning ``tilt`` from the vertical with its handle towards its hand (so the hands stay
+apart and above the rim). Both arms move together (the lockstep of
+:mod:`~oacdsl.runtime.skills.bimanual`): over the rim, down to ``depth`` above the floor,
+``turns`` circles of ``radius`` (m) in ``period`` (s) each — both tips in phase, so that
+the distance between them never changes; the radius is clamped so that each tool stays
+clear of the wall — and then down onto the floor until each tool touches the container
+(the OAC's effect: both tools touch it). They are kept there :data:`REST_S`, longer than
+the closed loop's 1 s merge window, so that the robot's recording shows the contacts
+apart from the hands letting go. The container is read where it is when the skill starts.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from functools import partial
+
+import numpy as np
+
+from oacdsl.errors import RuntimeFailure
+from oacdsl.runtime.simworld import SimWorld
+from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
+from oacdsl.runtime.skills.bimanual import move_both, reach_both
+from oacdsl.runtime.skills.place import MIN_JERK_PEAK
+from oacdsl.runtime.skills.tooltip import HeldTool, held_tool, pointing
+
+__all__ = [
+    "mix_both",
+    "MIX_RADIUS_M",
+    "MIX_PERIOD_S",
+    "MIX_TURNS",
+    "MIX_TILT_RAD",
+    "MIX_DEPTH_M",
+    "MIX_SPREAD",
+    "MIX_FORCE_N",
+    "REST_S",
+]
+
+MIX_RADIUS_M = 0.02
+MIX_PERIOD_S = 1.0
+MIX_TURNS = 3
+MIX_TILT_RAD = math.radians(15.0)
+#: Height of the tips above the floor while they circle, m: the robot's virtual markers
+#: (15 mm apart count as touching) see no contact yet, so none flickers while they move.
+MIX_DEPTH_M = 0.035
+#: Each tip's spot: this fraction of the inner radius from the middle.
+MIX_SPREAD = 0.5
+#: Wrist force change that stops a tool going down, N.
+MIX_FORCE_N = 10.0
+#: How long both tools rest on the floor at the end, s (over the closed loop's 1 s merge window).
+REST_S = 1.2
+#: Room kept between a tool's side and the inner wall, and between the two tools, m.
+WALL_MARGIN_M = 0.005
+#: Free space kept between a hand and the container's rim, m.
+RIM_CLEARANCE_M = 0.015
+#: Height of the tips above the rim before they go in, m.
+ABOVE_RIM_M = 0.05
+#: How far below the floor the tips are aimed at the end (a contact stops them), m.
+PRESS_M = 0.01
+DIP_SPEED_M_S = 0.08
+#: How far below where it touched each hand holds its tool while it rests, m (without it a
+#: tool could spring back off the floor; from 3 mm on, the tool shifts in the hand's weld
+#: and the fingers of a hand holding a 2 cm handle lose their contact with it: KIT Mix).
+REST_PRESS_M = 0.002
+
+
+def _below_rim(world: SimWorld, side: str, t_hand: np.ndarray, rim: np.ndarray, inner: float,
+               outer: float) -> float:
+    """How far (m) hand ``side`` (its geoms' bounding boxes, the fingers as they are now),
+    moved to ``t_hand`` (T_world_grasp), reaches below :data:`RIM_CLEARANCE_M` over the
+    rim (``rim``: the rim's centre, world, m; ``inner``, ``outer``: its radii, m) where it is
+    within that clearance of the rim across (negative: clear of it). An upright container."""
+    m, d = world.model, world.data
+    move = t_hand @ np.linalg.inv(world.frame_pose(f"grasp_{side}"))
+    bodies = np.array(sorted(world.hand_bodies[side]))
+    signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
+    worst = -np.inf
+    for g in np.flatnonzero(np.isin(m.geom_bodyid, bodies)):
+        centre, half = m.geom_aabb[g, :3], m.geom_aabb[g, 3:]
+        pts = (centre + signs * half) @ d.geom_xmat[g].reshape(3, 3).T + d.geom_xpos[g]
+        pts = pts @ move[:3, :3].T + move[:3, 3]
+        across = np.linalg.norm(pts[:, :2] - rim[:2], axis=1)
+        if across.max() < inner - RIM_CLEARANCE_M or across.min() > outer + RIM_CLEARANCE_M:
+            continue  # wholly inside the rim or wholly outside it
+        worst = max(worst, float(rim[2]) + RIM_CLEARANCE_M - float(pts[:, 2].min()))
+    return worst
+
+
+def _felt(ctx: SkillContext, side: str, force: float) -> bool:
+    """The wrist of ``side`` felt more than ``force`` (N) since its motion began."""
+    return float(np.linalg.norm(ctx.ctl.force_change(side))) > force
+
+
+def _landed(ctx: SkillContext, side: str, tool: str, container: str, force: float) -> bool:
+    """``tool`` touches ``container``, or the wrist of ``side`` felt more than ``force`` (N)."""
+    return ctx.world.touching(tool, container) or _felt(ctx, side, force)
+
+
+def _path(ctx: SkillContext, phases: Sequence[Mapping[str, np.ndarray]], seconds: Sequence[float]) -> None:
+    for goals, s in zip(phases, seconds, strict=True):
+        if s > 0:
+            move_both(ctx.ctl, goals, s)
+
+
+def mix_both(
+    ctx: SkillContext,
+    h1: str,
+    t1: str,
+    h2: str,
+    t2: str,
+    container: str,
+    *,
+    radius: float = MIX_RADIUS_M,
+    period: float = MIX_PERIOD_S,
+    turns: float = MIX_TURNS,
+    tilt: float = MIX_TILT_RAD,
+    depth: float = MIX_DEPTH_M,
+    force: float = MIX_FORCE_N,
+) -> None:
+    """Mix in ``container`` with ``t1`` held by ``h1`` and ``t2`` held by ``h2`` at once:
+    ``turns`` circles of ``radius`` (m), ``period`` (s) each, the tips ``depth`` (m) above the
+    floor, each on its hand's half of it, leaning ``tilt`` (rad); both
+    end on the floor, touching the container."""
+    world, ctl = ctx.world, ctx.ctl
+    if t1 == t2:
+        raise RuntimeFailure(f"mix_both needs two tools ({t1} given twice)")
+    sides = (ctx.require_held(h1, t1), ctx.require_held(h2, t2))
+    if sides[0] == sides[1]:
+        raise RuntimeFailure(f"mix_both needs two different hands ({h1} given twice)")
+    body = ctx.body(container)
+    if not body.container:
+        raise RuntimeFailure(f"mix_both: {container!r} is no container (its shape has no shell)")
+    tools = dict(zip(sides, (t1, t2), strict=True))
+    t_c = world.body_pose(container)
+    up = t_c[:3, 2]
+    floor = t_c[:3, 3] + body.floor * up
+    rim = t_c[:3, 3] + body.rim_height * up
+    # across: the horizontal unit direction from the right hand to the left hand
+    hand_xy = {s: world.frame_pose(f"grasp_{s}")[:3, 3] for s in sides}
+    across = hand_xy["l"] - hand_xy["r"]
+    across[2] = 0.0
+    across /= max(float(np.linalg.norm(across)), 1e-9)
+    held: dict[str, HeldTool] = {s: held_tool(ctx, s, tools[s]) for s in sides}
+    half = max(h.half_width for h in held.values())
+    inner = body.inner_radius
+    offset = max(MIX_SPREAD * inner, half + WALL_MARGIN_M)
+    room = inner - offset - half - WALL_MARGIN_M
+    if room < 0:
+        raise RuntimeFailure(
+            f"mix_both: {container} is too narrow for {t1} and {t2} side by side"
+            f" ({inner * 200:.0f} cm inside, the tools {half * 200:.0f} cm wide)"
+        )
+    r = min(radius, room)
+    spot = {s: floor + (offset if s == "l" else -offset) * across for s in sides}
+    r_work: dict[str, np.ndarray] = {}
+    for s in sides:
+        out = spot[s] - floor
+        out /= float(np.linalg.norm(out))
+        down = -math.cos(tilt) * up - math.sin(tilt) * out  # the handle leaning out, towards the hand
+        r_work[s] = pointing(held[s], down / np.linalg.norm(down))
+    e1 = np.cross(up, across)
+    e1 /= np.linalg.norm(e1)
+
+    def hand(s: str, tip: np.ndarray) -> np.ndarray:
+        return held[s].hand_for(r_work[s], tip)
+
+    def short(s: str, above_floor: float) -> float:
+        """How far (m) hand ``s`` comes below the rim's clearance with its tip ``above_floor``."""
+        return _below_rim(world, s, hand(s, spot[s] + above_floor * up), rim, body.inner_radius,
+                          body.rim_radius)
+
+    # the tools end on the floor: the hands must stay clear of the rim there
+    worst = max(sides, key=lambda s: short(s, 0.0))
+    if short(worst, 0.0) > 0:
+        raise RuntimeFailure(
+            f"mix_both: {tools[worst]} is too short to reach the floor of {container} with the hand"
+            f" clear of its rim (its tip stays {short(worst, 0.0) * 100:.0f} cm above the floor);"
+            f" a grasp farther up its handle (a larger grasp offset) reaches deeper"
+        )
+    # the tips' height while circling: raised as far as both hands need to stay clear of the rim
+    lift = max(0.0, *(short(s, depth) for s in sides))
+    level = {s: spot[s] + (depth + lift) * up for s in sides}
+
+    def at(angle: float, rr: float) -> dict[str, np.ndarray]:
+        d = rr * (math.cos(angle) * e1 + math.sin(angle) * across)
+        return {s: hand(s, level[s] + d) for s in sides}
+
+    above = {s: hand(s, spot[s] + (float((rim - spot[s]) @ up) + ABOVE_RIM_M) * up) for s in sides}
+    ctl.activity = f"bringing {t1} and {t2} over {container}"
+    for goals, what in ((above, "over"), (at(0.0, r), "the circles in"), (at(math.pi, r), "the circles in")):
+        err = reach_both(ctx, goals)
+        if err > REACH_TOLERANCE_M:
+            raise RuntimeFailure(
+                f"mix_both: {what} {container} is out of reach of {h1} and {h2} together: the best"
+                f" whole-body IK solution leaves a hand off by {err * 100:.0f} cm"
+            )
+    paths = {s: ctx.carry_path(s, above[s], {t1, t2, container}, 1.8) for s in sides}
+    _path(ctx, [{s: paths[s][k][0] for s in sides} for k in range(3)],
+          [max(paths[s][k][1] for s in sides) for k in range(3)])
+    ctl.activity = f"dipping {t1} and {t2} into {container}"
+    start = at(0.0, 0.0)
+    travel = max(float(np.linalg.norm(above[s][:3, 3] - start[s][:3, 3])) for s in sides)
+    guards = {s: partial(_felt, ctx, s, force) for s in sides}
+    move_both(ctl, start, MIN_JERK_PEAK * travel / DIP_SPEED_M_S, guards)
+    ctl.activity = f"mixing in {container} with {t1} and {t2}"
+    n = 16
+    for k in range(1, max(1, round(turns)) * n + 1):
+        move_both(ctl, at(2 * math.pi * k / n, r * min(1.0, k / n)), period / n)
+    move_both(ctl, at(0.0, 0.0), 0.3)
+    ctl.activity = f"resting {t1} and {t2} in {container}"
+    down = {s: hand(s, spot[s] - PRESS_M * up) for s in sides}
+    move_both(
+        ctl,
+        down,
+        MIN_JERK_PEAK * (depth + lift + PRESS_M) / DIP_SPEED_M_S,
+        {s: partial(_landed, ctx, s, tools[s], container, force) for s in sides},
+    )
+    # each hand holds its tool pressed lightly on (stopped where it was, an arm lags its
+    # command and springs back: the tool rose off the floor)
+    pressed = {s: world.frame_pose(f"grasp_{s}") for s in sides}
+    for t in pressed.values():
+        t[2, 3] -= REST_PRESS_M
+    move_both(ctl, pressed, 0.3)
+    ctl.wait(REST_S)
+    missing = [tools[s] for s in sides if not world.touching(tools[s], container)]
+    if missing:
+        raise RuntimeFailure(f"mix_both: {' and '.join(missing)} in {container} but not touching it")
