@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from _aas_helpers import path, recording, still, summary
@@ -198,3 +200,137 @@ def test_instance_speed_median_by_network_equals_the_sorted_median() -> None:
             x[rng.random(x.shape) < gaps] = np.nan
             x[:, :5] = 0.25  # ties
             assert np.array_equal(_median_rows(x), _nanmedian0(x), equal_nan=True)
+
+
+def test_sorted_median_equals_nanmedian_with_and_without_gaps() -> None:
+    """_nanmedian0 (the scan's distance-change and speed medians) reads the middle rows when no
+    value is missing, and counts per column otherwise: both are np.nanmedian's values."""
+    from oacdsl.segmentation.comotion import _nanmedian0
+
+    rng = np.random.default_rng(5)
+    for k in (1, 2, 5, 16, 25):
+        for gaps in (0.0, 0.1, 1.0):
+            x = rng.random((k, 300)).astype(np.float32)
+            x[rng.random(x.shape) < gaps] = np.nan
+            x[:, :3] = np.float32(0.5)  # ties
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN columns
+                expected = np.nanmedian(x, axis=0)
+            got = _nanmedian0(x)
+            assert got.dtype == np.float32
+            assert np.array_equal(got, expected.astype(np.float32), equal_nan=True)
+
+
+def test_episode_median_equals_nanmedian() -> None:
+    """_nanmedian1d (an episode's closest distance) is float(np.nanmedian(x)) of float32 values."""
+    from oacdsl.segmentation.comotion import _nanmedian1d
+
+    rng = np.random.default_rng(9)
+    for _ in range(2000):
+        n = int(rng.integers(1, 60))
+        x = (rng.random(n) * 0.2).astype(np.float32)  # metres
+        x[rng.random(n) < 0.1] = np.nan
+        if rng.random() < 0.2:
+            x[: n // 2] = np.float32(0.1)  # ties
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # all NaN
+            expected = float(np.nanmedian(x))
+        got = _nanmedian1d(x)
+        assert got == expected or (np.isnan(got) and np.isnan(expected))
+
+
+def test_squared_distances_are_the_distances_squared_bit_for_bit() -> None:
+    """The co-motion scan takes the closest distance as the root of the smallest squared one and
+    roots only the frames it needs: the same values as ChunkGeometry.distances."""
+    from oacdsl.segmentation.geometry import ChunkGeometry
+    from oacdsl.segmentation.pairs import PairTable
+
+    rng = np.random.default_rng(2)
+    pos = rng.normal(scale=0.1, size=(97, 9, 3)) + 5.0  # metres, far from the origin
+    pos[rng.random(pos.shape[:2]) < 0.1] = np.nan
+    rec = Recording("random", RATE, np.arange(97) / RATE, tuple(f"m{i}" for i in range(9)), pos,
+                    {"a": (0, 1, 2), "b": (3, 4), "c": (5, 6, 7, 8)})
+    table = PairTable.of(rec)
+    geometry = ChunkGeometry(rec, table)
+    x = geometry.coordinates(0, 97)
+    blocks = np.arange(table.n_instance_pairs)
+    _, dist = geometry.distances(x, blocks)
+    buf, tmp = geometry.scratch(97), geometry.scratch(97)
+    for q in blocks:
+        rows = dist[table.block_offsets[q]:table.block_offsets[q + 1]]
+        sq = geometry.squared(x, int(q), buf, tmp)
+        assert np.array_equal(np.sqrt(sq), rows, equal_nan=True)
+        closest = np.fmin.reduce(rows, axis=0)
+        assert np.array_equal(np.sqrt(np.fmin.reduce(sq, axis=0)), closest, equal_nan=True)
+
+
+def _combine_loop(det: AdaptiveDetector, pairs, frames, touching, events):  # type: ignore[no-untyped-def]
+    """The managed blocks' combined state, change by change (the detector's rule, written out)."""
+    table = det._table
+    changes: dict[int, list[tuple[int, int, bool, int]]] = {}
+    for p, f, v in zip(pairs.tolist(), frames.tolist(), touching.tolist(), strict=True):
+        changes.setdefault(int(table.block[p]), []).append((f, 0, v, p))
+    for f, kind, v, q in events.tolist():
+        changes.setdefault(q, []).append((f, kind, bool(v), -1))
+    out = []
+    for q, block_changes in changes.items():
+        block_changes.sort()
+        for k, (f, kind, v, p) in enumerate(block_changes):
+            if kind == 0:
+                if det._pair_state[p] != v:
+                    det._pair_state[p] = v
+                    det._paper_count[q] += 1 if v else -1
+            else:
+                det._flags[q, kind] = v
+            if k + 1 < len(block_changes) and block_changes[k + 1][0] == f:
+                continue  # the state after all changes of a frame counts
+            flags = det._flags[q]
+            state = bool((det._paper_count[q] > 0 or flags[1] or flags[2]) and not flags[3])
+            if state != det._combined[q]:
+                det._combined[q] = state
+                out.append((int(det._heads[q]), f, state))
+    return sorted(out)
+
+
+def test_combined_block_state_equals_the_change_by_change_rule() -> None:
+    """The adaptive detector combines, per instance pair, the paper rule's marker-pair changes with
+    the episode, tool and veto intervals by array operations; the result (and the state carried to
+    the next chunk) is the change-by-change rule's, same-frame changes and all."""
+    import copy
+
+    from oacdsl.segmentation.pairs import PairTable
+
+    rng = np.random.default_rng(7)
+    groups = {"a": (0, 1), "b": (2, 3, 4), "c": (5,), "d": (6, 7)}
+    rec = Recording("r", RATE, np.arange(10) / RATE, tuple(f"m{i}" for i in range(8)),
+                    np.zeros((10, 8, 3)), groups)
+    table = PairTable.of(rec)
+    for _ in range(200):
+        det = AdaptiveDetector(AasParams(mode="adaptive").resolved(RATE))
+        det._table = table
+        det._heads = table.block_offsets[:-1].copy()
+        n_q = table.n_instance_pairs
+        det._pair_state = rng.random(table.n_pairs) < 0.3
+        det._paper_count = np.array([det._pair_state[table.block == q].sum() for q in range(n_q)])
+        det._flags = rng.random((n_q, 4)) < 0.3
+        det._combined = ((det._paper_count > 0) | det._flags[:, 1] | det._flags[:, 2]) & ~det._flags[:, 3]
+        twin = copy.deepcopy(det)
+        # paper changes: per marker pair alternating states at distinct frames (sorted by pair, frame)
+        pairs, frames, touching = [], [], []
+        for p in np.flatnonzero(rng.random(table.n_pairs) < 0.5):
+            state = bool(det._pair_state[p])
+            for f in np.sort(rng.choice(12, size=int(rng.integers(1, 4)), replace=False)):
+                state = not state if rng.random() < 0.9 else state  # now and then a repeat
+                pairs.append(p), frames.append(f), touching.append(state)
+        events = np.array([(int(rng.integers(0, 12)), int(rng.integers(1, 4)), int(rng.integers(0, 2)),
+                            int(rng.integers(0, n_q))) for _ in range(int(rng.integers(0, 8)))],
+                          dtype=np.intp).reshape(-1, 4)
+        args = (np.array(pairs, dtype=np.intp), np.array(frames, dtype=np.intp),
+                np.array(touching, dtype=bool))
+        heads, got_frames, states = det._combine(*args, events[np.argsort(events[:, 0], kind="stable")])
+        got = sorted(zip(heads.tolist(), got_frames.tolist(), states.tolist(), strict=True))
+        assert got == _combine_loop(twin, *args, events)
+        assert np.array_equal(det._combined, twin._combined)
+        assert np.array_equal(det._paper_count, twin._paper_count)
+        assert np.array_equal(det._flags, twin._flags)
+        assert np.array_equal(det._pair_state, twin._pair_state)

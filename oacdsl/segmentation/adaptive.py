@@ -187,39 +187,79 @@ class AdaptiveDetector:
         if not self._events:
             return inner
         managed = self._managed[self._table.block[inner.pairs]]
-        out_pairs = [inner.pairs[~managed]]
-        out_frames = [inner.frames[~managed]]
-        out_values = [inner.touching[~managed]]
-        # block → [(frame, kind: 0 = paper marker pair p, else event kind, value, p)]
-        changes: dict[int, list[tuple[int, int, bool, int]]] = {}
-        ours = zip(inner.pairs[managed], inner.frames[managed], inner.touching[managed], strict=True)
-        for p, f, v in ours:
-            changes.setdefault(int(self._table.block[p]), []).append((int(f), 0, bool(v), int(p)))
         first, last = np.searchsorted(self._event_rows[:, 0], [chunk.start, chunk.stop], side="left")
-        for f, kind, v, q in self._event_rows[first:last].tolist():
-            changes.setdefault(q, []).append((f, kind, bool(v), -1))
-        for q, block_changes in changes.items():
-            block_changes.sort()
-            for k, (f, kind, v, p) in enumerate(block_changes):
-                if kind == 0:
-                    if self._pair_state[p] != v:
-                        self._pair_state[p] = v
-                        self._paper_count[q] += 1 if v else -1
-                else:
-                    self._flags[q, kind] = v
-                if k + 1 < len(block_changes) and block_changes[k + 1][0] == f:
-                    continue  # the state after all changes of a frame counts
-                flags = self._flags[q]
-                state = bool((self._paper_count[q] > 0 or flags[1] or flags[2]) and not flags[3])
-                if state != self._combined[q]:
-                    self._combined[q] = state
-                    out_pairs.append(np.array([self._heads[q]]))
-                    out_frames.append(np.array([f]))
-                    out_values.append(np.array([state]))
-        pairs, frames, values = (
-            np.concatenate(out_pairs),
-            np.concatenate(out_frames),
-            np.concatenate(out_values).astype(bool),
+        heads, frames, states = self._combine(
+            inner.pairs[managed], inner.frames[managed], inner.touching[managed], self._event_rows[first:last]
         )
+        pairs = np.concatenate([inner.pairs[~managed], heads])
+        frames = np.concatenate([inner.frames[~managed], frames])
+        values = np.concatenate([inner.touching[~managed], states]).astype(bool)
         order = np.lexsort((frames, pairs))
         return PairChanges(pairs[order].astype(np.intp), frames[order].astype(np.intp), values[order])
+
+    def _combine(
+        self, pairs: np.ndarray, frames: np.ndarray, touching: np.ndarray, events: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The managed blocks' combined state changes, ``(head pairs, frames, states)``.
+
+        ``pairs``, ``frames``, ``touching``: the paper rule's changes of managed marker pairs
+        (sorted by pair, then frame); ``events``: (E, 4) [causal frame, kind, on?, block] of the
+        chunk. A block's state is (some marker pair touching by the paper's rule, or an episode
+        or a tool contact) and not a veto; it is evaluated after all changes of a frame, in the
+        order (frame, kind, value, pair) per block.
+        """
+        table = self._table
+        if table is None:
+            raise SegmentationError("adaptive detector: step() before begin()")
+        # the paper's changes that change their marker pair's state (a flip repeats none, but be exact)
+        previous = np.empty_like(touching)
+        previous[1:] = touching[:-1]
+        new_pair = np.ones(pairs.size, dtype=bool)
+        new_pair[1:] = pairs[1:] != pairs[:-1]
+        previous[new_pair] = self._pair_state[pairs[new_pair]]
+        delta = np.where(touching != previous, np.where(touching, 1, -1), 0)
+        last_of_pair = np.ones(pairs.size, dtype=bool)
+        last_of_pair[:-1] = pairs[1:] != pairs[:-1]
+        self._pair_state[pairs[last_of_pair]] = touching[last_of_pair]
+        # all changes, block by block in the order the state is followed
+        q = np.concatenate([table.block[pairs], events[:, 3]])
+        f = np.concatenate([frames, events[:, 0]])
+        kind = np.concatenate([np.zeros(pairs.size, dtype=np.intp), events[:, 1]])
+        value = np.concatenate([touching.astype(np.intp), events[:, 2]])
+        p = np.concatenate([pairs, np.full(events.shape[0], -1, dtype=np.intp)])
+        step = np.concatenate([delta, np.zeros(events.shape[0], dtype=delta.dtype)])
+        order = np.lexsort((p, value, kind, f, q))
+        q, f, kind, value, step = q[order], f[order], kind[order], value[order], step[order]
+        empty = np.zeros(0, dtype=np.intp)
+        if q.size == 0:
+            return empty, empty.copy(), np.zeros(0, dtype=bool)
+        index = np.arange(q.size)
+        group_start = np.ones(q.size, dtype=bool)
+        group_start[1:] = q[1:] != q[:-1]
+        first = np.maximum.accumulate(np.where(group_start, index, 0))  # first change of each one's block
+        # touching marker pairs after each change
+        total = np.cumsum(step)
+        count = self._paper_count[q] + total - (total[first] - step[first])
+        # each flag after each change: its last value so far in the block, else the block's own
+        flag = []
+        for k in (1, 2, 3):
+            seen = np.maximum.accumulate(np.where(kind == k, index, -1))
+            flag.append(np.where(seen >= first, value[np.maximum(seen, 0)] > 0, self._flags[q, k]))
+        state = ((count > 0) | flag[0] | flag[1]) & ~flag[2]
+        frame_end = np.ones(q.size, dtype=bool)  # the state after all changes of a frame counts
+        frame_end[:-1] = (q[1:] != q[:-1]) | (f[1:] != f[:-1])
+        eq, ef, es = q[frame_end], f[frame_end], state[frame_end]
+        before = np.empty_like(es)
+        before[1:] = es[:-1]
+        block_start = np.ones(eq.size, dtype=bool)
+        block_start[1:] = eq[1:] != eq[:-1]
+        before[block_start] = self._combined[eq[block_start]]
+        emit = es != before
+        block_end = np.ones(q.size, dtype=bool)
+        block_end[:-1] = q[1:] != q[:-1]
+        done = q[block_end]
+        self._paper_count[done] = count[block_end]
+        for j, k in enumerate((1, 2, 3)):
+            self._flags[done, k] = flag[j][block_end]
+        self._combined[done] = state[block_end]
+        return self._heads[eq[emit]], ef[emit], es[emit]

@@ -137,43 +137,53 @@ def _scan(
     ]
     dmin: dict[int, np.ndarray] = {}
     carry: dict[int, np.ndarray] = {}
-    for start in range(0, n_frames, _SCAN_FRAMES):
-        stop = min(n_frames, start + _SCAN_FRAMES)
-        lo = max(0, start - lag)
-        x = geometry.coordinates(lo, stop)
-        with np.errstate(invalid="ignore"):
-            blocks = np.flatnonzero(geometry.lower_bounds(x) <= reach + BOUND_MARGIN_M)
-        if blocks.size == 0:
-            continue
-        _, dist = geometry.distances(x, blocks)
-        # rates over `lag` frames; the first frames of the recording use frame 0 (frame 0: frame `lag`)
-        rows = np.arange(lo, stop)
-        prev = np.maximum(rows - lag, 0)
-        prev[prev == rows] = min(lag, n_frames - 1)
-        dt = np.abs(times[rows] - times[prev])
-        local_prev = prev - lo
-        speeds = _instance_speeds(recording, groups, rows, prev, dt)
-        sizes = table.block_offsets[blocks + 1] - table.block_offsets[blocks]
-        offsets = np.concatenate([[0], np.cumsum(sizes)[:-1]])  # rows of each block in `dist`
-        out = slice(start - lo, stop - lo)
-        for k, q in enumerate(blocks):
-            d = dist[offsets[k] : offsets[k] + sizes[k]]  # (P_q, R), frames lo..stop-1
-            with np.errstate(invalid="ignore"):
-                closest = np.fmin.reduce(d, axis=0)
-                a, b = table.instance_pairs[q]
-                slower = np.fmin(speeds[a], speeds[b])
-                moving = (closest < params.distance_m) & (slower > settings.move_speed_m_s)
-                is_carry = moving.copy()
-                cols = np.flatnonzero(moving)  # the distance change matters only where both move
-                if cols.size:
-                    change = _nanmedian0(np.abs(d[:, cols] - d[:, local_prev[cols]])) / dt[cols]
-                    is_carry[cols] = change < settings.rigid_ratio * slower[cols]
-            if int(q) not in dmin:
-                dmin[int(q)] = np.full(n_frames, np.inf, dtype=np.float32)
-                carry[int(q)] = np.zeros(n_frames, dtype=bool)
-            dmin[int(q)][start:stop] = closest[out]
-            carry[int(q)][start:stop] = is_carry[out]
+    with np.errstate(invalid="ignore"):  # NaN: a gap
+        for start in range(0, n_frames, _SCAN_FRAMES):
+            stop = min(n_frames, start + _SCAN_FRAMES)
+            _scan_chunk(recording, table, params, settings, geometry, groups, times, lag, reach,
+                        start, stop, dmin, carry)
     return {q: (dmin[q], carry[q]) for q in dmin}
+
+
+def _scan_chunk(
+    recording: Recording, table: PairTable, params: AasParams, settings: AdaptiveSettings,
+    geometry: ChunkGeometry, groups: list[np.ndarray], times: np.ndarray, lag: int, reach: float,
+    start: int, stop: int, dmin: dict[int, np.ndarray], carry: dict[int, np.ndarray],
+) -> None:
+    """:func:`_scan` of frames ``start:stop`` (reading ``lag`` frames before), into ``dmin``, ``carry``."""
+    n_frames = recording.n_frames
+    lo = max(0, start - lag)
+    x = geometry.coordinates(lo, stop)
+    blocks = (geometry.lower_bounds(x) <= reach + BOUND_MARGIN_M).nonzero()[0]
+    if blocks.size == 0:
+        return
+    # rates over `lag` frames; the first frames of the recording use frame 0 (frame 0: frame `lag`)
+    rows = np.arange(lo, stop)
+    prev = np.maximum(rows - lag, 0)
+    prev[prev == rows] = min(lag, n_frames - 1)
+    dt = np.abs(times[rows] - times[prev])
+    local_prev = prev - lo
+    speeds = _instance_speeds(recording, groups, rows, prev, dt)
+    out = slice(start - lo, stop - lo)
+    sq_buf, tmp = geometry.scratch(x.shape[2]), geometry.scratch(x.shape[2])
+    for q in blocks.tolist():
+        # one pair's squared marker distances, (P_q, R) frames lo..stop-1, while in cache; the
+        # square root is taken only where needed (sqrt is monotonic: the same values)
+        sq = geometry.squared(x, q, sq_buf, tmp)
+        closest = np.sqrt(np.fmin.reduce(sq, axis=0))
+        a, b = table.instance_pairs[q]
+        slower = np.fmin(speeds[a], speeds[b])
+        moving = (closest < params.distance_m) & (slower > settings.move_speed_m_s)
+        is_carry = moving.copy()
+        cols = moving.nonzero()[0]  # the distance change matters only where both move
+        if cols.size:
+            change = np.abs(np.sqrt(sq[:, cols]) - np.sqrt(sq[:, local_prev[cols]]))
+            is_carry[cols] = _nanmedian0(change) / dt[cols] < settings.rigid_ratio * slower[cols]
+        if q not in dmin:
+            dmin[q] = np.full(n_frames, np.inf, dtype=np.float32)
+            carry[q] = np.zeros(n_frames, dtype=bool)
+        dmin[q][start:stop] = closest[out]
+        carry[q][start:stop] = is_carry[out]
 
 
 def _prune_indirect(signals: dict[int, tuple[np.ndarray, np.ndarray]], table: PairTable) -> None:
@@ -186,7 +196,7 @@ def _prune_indirect(signals: dict[int, tuple[np.ndarray, np.ndarray]], table: Pa
     index = {(int(a), int(b)): q for q, (a, b) in enumerate(table.instance_pairs)}
     n_inst = len(table.instances)
     for q, (dmin, carry) in signals.items():
-        frames = np.flatnonzero(carry)  # only co-motion frames can be dropped
+        frames = carry.nonzero()[0]  # only co-motion frames can be dropped
         if frames.size == 0:
             continue
         a, b = (int(i) for i in table.instance_pairs[q])
@@ -197,8 +207,7 @@ def _prune_indirect(signals: dict[int, tuple[np.ndarray, np.ndarray]], table: Pa
             q2 = index.get((min(b, c), max(b, c)))
             if c in (a, b) or q1 not in signals or q2 not in signals:
                 continue
-            with np.errstate(invalid="ignore"):
-                drop |= np.fmax(signals[q1][0][frames], signals[q2][0][frames]) < here
+            drop |= np.fmax(signals[q1][0][frames], signals[q2][0][frames]) < here  # NaN: not closer
         carry[frames[drop]] = False
 
 
@@ -248,10 +257,14 @@ def _nanmedian0(x: np.ndarray) -> np.ndarray:
     if x.shape[0] == 0:
         return np.full(x.shape[1:], np.nan)
     ordered = np.sort(x, axis=0)  # NaN sort last
-    count = np.count_nonzero(~np.isnan(x), axis=0)
+    k = x.shape[0]
+    if not np.isnan(ordered[-1]).any():  # no NaN at all: the middle rows
+        middle: np.ndarray = (ordered[(k - 1) // 2] + ordered[k // 2]) / 2
+        return middle
+    count = k - np.isnan(ordered).sum(axis=0)
     cols = np.arange(x.shape[1])
     lo = np.maximum(count - 1, 0) // 2
-    hi = np.minimum(count // 2, x.shape[0] - 1)
+    hi = np.minimum(count // 2, k - 1)
     median = (ordered[lo, cols] + ordered[hi, cols]) / 2
     return np.where(count > 0, median, np.nan)
 
@@ -268,7 +281,7 @@ def _nanmedian1d(x: np.ndarray) -> float:
     if n % 2:
         return float(np.partition(values, k)[k])
     part = np.partition(values, [k - 1, k])
-    return float(np.mean(part[k - 1:k + 1]))
+    return float((part[k - 1] + part[k]) / np.float32(2))  # as np.mean of the two, in float32
 
 
 def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
@@ -286,24 +299,35 @@ def _extend(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int = 0)
     both ends (a run beyond ``threshold`` that stops the growth on each side, whose length is
     known), else on the whole recording: the same result, without a pass over all of it."""
     lo, hi = max(0, a - _EXTEND_WINDOW), min(dmin.size, b + _EXTEND_WINDOW)
-    if lo == 0 and hi == dmin.size:
-        return _extend_in(dmin, a, b, threshold, bridge)
-    with np.errstate(invalid="ignore"):
-        beyond = dmin[lo:hi] > threshold  # NaN: unknown, not beyond
-    padded = np.concatenate([[False], beyond, [False]])
-    edges = np.flatnonzero(padded[1:] != padded[:-1])
-    starts, ends = edges[::2] + lo, edges[1::2] + lo  # runs [s, e) beyond, cut at the window
-    cut = ((starts == lo) & (lo > 0)) | ((ends == hi) & (hi < dmin.size))  # true length unknown
-    long = ends - starts > bridge
-    if (cut & ~long).any():  # a short run at a window edge: bridged or not depends on the outside
-        return _extend_in(dmin, a, b, threshold, bridge)
-    keep = long | (starts == 0) | (ends == dmin.size)
+    if lo > 0 or hi < dmin.size:
+        found = _extend_window(dmin, a, b, threshold, bridge, lo, hi)
+        if found is not None:
+            return found
+    return _extend_in(dmin, a, b, threshold, bridge)
+
+
+def _extend_window(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int,
+                   lo: int, hi: int) -> tuple[int, int] | None:
+    """:func:`_extend_in` decided on frames ``lo:hi`` alone, or ``None`` when they do not decide it."""
+    size = dmin.size
+    padded = np.zeros(hi - lo + 2, dtype=bool)
+    np.greater(dmin[lo:hi], threshold, out=padded[1:-1])  # NaN: unknown, not beyond
+    edges = (padded[1:] != padded[:-1]).nonzero()[0] + lo
+    starts, ends = edges[::2], edges[1::2]  # runs [s, e) beyond, cut at the window
+    if starts.size == 0:
+        return None if lo > 0 or hi < size else (0, size)
+    keep = ends - starts > bridge
+    # a short run at a window edge (its true length unknown): bridged or not depends on the outside
+    if (not keep[0] and lo > 0 and starts[0] == lo) or (not keep[-1] and hi < size and ends[-1] == hi):
+        return None
+    keep[0] |= starts[0] == 0
+    keep[-1] |= ends[-1] == size
     starts, ends = starts[keep], ends[keep]
-    i = int(np.searchsorted(starts, a, side="left")) - 1
-    j = int(np.searchsorted(ends, b, side="right"))
-    if (i < 0 and lo > 0) or (j >= ends.size and hi < dmin.size):  # an end not decided in the window
-        return _extend_in(dmin, a, b, threshold, bridge)
-    return (min(int(ends[i]), a) if i >= 0 else 0, max(int(starts[j]), b) if j < ends.size else dmin.size)
+    i = int(starts.searchsorted(a, side="left")) - 1
+    j = int(ends.searchsorted(b, side="right"))
+    if (i < 0 and lo > 0) or (j >= ends.size and hi < size):  # an end not decided in the window
+        return None
+    return (min(int(ends[i]), a) if i >= 0 else 0, max(int(starts[j]), b) if j < ends.size else size)
 
 
 def _extend_in(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int = 0) -> tuple[int, int]:

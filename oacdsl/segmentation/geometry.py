@@ -28,6 +28,7 @@ __all__ = ["BOUND_BLOCK_FRAMES", "BOUND_MARGIN_M", "ChunkGeometry", "closest_dis
 BOUND_MARGIN_M = 1e-3
 #: Frames per bounding box of the broad phase (short: a fast hand's box stays small).
 BOUND_BLOCK_FRAMES = 8
+_COORD_SLAB = 1024  # frames converted at a time by ChunkGeometry.coordinates
 
 
 class ChunkGeometry:
@@ -49,8 +50,12 @@ class ChunkGeometry:
         rows = self.recording.positions_m[lo:hi]
         if not self._in_order:
             rows = rows[:, self.table.marker_order]
-        # centre in float64, then round once to float32, (F, M, 3) → (3, M, F) in one pass
-        np.subtract(rows.transpose(2, 1, 0), self.centre[:, None, None], out=out, casting="unsafe")
+        # centre in float64, then round once to float32, (F, M, 3) → (3, M, F) in one pass, in slabs
+        # of frames that stay in cache (the transposed reads of a long block do not)
+        centre = self.centre[:, None, None]
+        for a in range(0, hi - lo, _COORD_SLAB):
+            b = min(hi - lo, a + _COORD_SLAB)
+            np.subtract(rows[a:b].transpose(2, 1, 0), centre, out=out[:, :, a:b], casting="unsafe")
         return out
 
     def lower_bounds(self, x: np.ndarray, block: int = BOUND_BLOCK_FRAMES) -> np.ndarray:
@@ -92,24 +97,39 @@ class ChunkGeometry:
         pairs = t.block_pairs(blocks)
         n_rows = x.shape[2]
         out = np.empty((pairs.size, n_rows), dtype=np.float32)
-        tmp = np.empty(self._kmax * self._kmax * n_rows, dtype=np.float32)
+        tmp = self.scratch(n_rows)
         row = 0
         for q in blocks:
-            ia, ib = t.instance_pairs[q]
-            sa = slice(t.marker_offsets[ia], t.marker_offsets[ia + 1])
-            sb = slice(t.marker_offsets[ib], t.marker_offsets[ib + 1])
-            ka, kb = sa.stop - sa.start, sb.stop - sb.start
-            blk = out[row : row + ka * kb].reshape(ka, kb, n_rows)
-            scratch = tmp[: ka * kb * n_rows].reshape(ka, kb, n_rows)
-            np.subtract(x[0, sa, None, :], x[0, None, sb, :], out=blk)
-            np.square(blk, out=blk)
-            for k in (1, 2):
-                np.subtract(x[k, sa, None, :], x[k, None, sb, :], out=scratch)
-                np.square(scratch, out=scratch)
-                blk += scratch
-            row += ka * kb
+            size = self.squared(x, int(q), out[row:], tmp).shape[0]
+            row += size
         np.sqrt(out, out=out)
         return pairs, out
+
+    def scratch(self, n_rows: int) -> np.ndarray:
+        """A float32 buffer large enough for :meth:`squared`'s ``tmp`` (and ``out``) on ``n_rows`` frames."""
+        return np.empty(self._kmax * self._kmax * n_rows, dtype=np.float32)
+
+    def squared(self, x: np.ndarray, q: int, out: np.ndarray, tmp: np.ndarray) -> np.ndarray:
+        """Squared distances (m²) of the marker pairs of instance pair ``q``, written to the first
+        ``|A| |B|`` rows of ``out`` ((≥ |A| |B|, R) float32, or a flat buffer) and returned as
+        (|A| |B|, R), table order; ``tmp``: a :meth:`scratch` buffer. The square roots of these are
+        :meth:`distances`' values, bit for bit."""
+        t = self.table
+        n_rows = x.shape[2]
+        ia, ib = t.instance_pairs[q]
+        sa = slice(t.marker_offsets[ia], t.marker_offsets[ia + 1])
+        sb = slice(t.marker_offsets[ib], t.marker_offsets[ib + 1])
+        ka, kb = sa.stop - sa.start, sb.stop - sb.start
+        flat = out.reshape(-1)[: ka * kb * n_rows]
+        blk = flat.reshape(ka, kb, n_rows)
+        scratch = tmp[: ka * kb * n_rows].reshape(ka, kb, n_rows)
+        np.subtract(x[0, sa, None, :], x[0, None, sb, :], out=blk)
+        np.square(blk, out=blk)
+        for k in (1, 2):
+            np.subtract(x[k, sa, None, :], x[k, None, sb, :], out=scratch)
+            np.square(scratch, out=scratch)
+            blk += scratch
+        return flat.reshape(ka * kb, n_rows)
 
 
 def _centre(positions: np.ndarray) -> np.ndarray:

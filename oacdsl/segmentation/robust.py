@@ -70,16 +70,19 @@ class RobustDetector:
         return self._state
 
     def step(self, chunk: DistanceChunk) -> PairChanges:
+        with np.errstate(invalid="ignore"):  # NaN distances (gaps) compare false
+            return self._step(chunk)
+
+    def _step(self, chunk: DistanceChunk) -> PairChanges:
         n, h, half = self.n, chunk.history, self.half
         n_out = chunk.stop - chunk.start
         state0 = self._state[chunk.pairs]
         first_col = max(0, h - n + 1 - 2 * half)  # columns that feed a run ending at an output frame
         row_d = None if self._pair_d is None else self._pair_d[chunk.pairs][:, None]  # (A, 1)
         d = self.d if row_d is None else row_d
-        with np.errstate(invalid="ignore"):
-            below = chunk.dist_m < d  # (A, R): the distance condition of "close"
+        below = chunk.dist_m < d  # (A, R): the distance condition of "close"
         near = below[:, first_col:].any(axis=1) | state0
-        sel = np.flatnonzero(near)
+        sel = near.nonzero()[0]
         if sel.size == 0:
             return PairChanges.none()
         below = below[sel]
@@ -115,16 +118,16 @@ class RobustDetector:
         is far, in a gap unknown, whatever the slope).
         """
         half = self.half
+        n_rows, width = dist.shape
         close = np.zeros(dist.shape, dtype=bool)
         far = np.zeros(dist.shape, dtype=bool)
-        body = slice(0, max(0, dist.shape[1] - half))  # frames whose window ends inside the chunk
-        cur = dist[:, body]
-        with np.errstate(invalid="ignore"):
-            far[:, half:] = cur > d
-            rows, cols = np.nonzero(cur <= d)  # NaN: neither
+        body = max(0, width - half)  # frames whose window ends inside the chunk
+        cur = dist[:, :body]
+        far[:, half:] = cur > d
+        rows, cols = np.divmod((cur <= d).ravel().nonzero()[0], body)  # NaN: neither; 2-D nonzero is slower
         rate = np.abs(windowed_slope_at(dist, times, half, rows, cols))
-        limit = np.broadcast_to(d, cur.shape)[rows, cols]
-        with np.errstate(invalid="ignore"):
-            close[rows, cols + half] = (cur[rows, cols] < limit) & (rate < self.v)
-            far[rows, cols + half] = rate > self.v
+        flat = rows * width + cols  # the requested cells in dist (C order), the same in close and far
+        limit = d if np.ndim(d) == 0 else np.asarray(d).reshape(-1)[rows]
+        close.ravel()[flat + half] = (dist.ravel()[flat] < limit) & (rate < self.v)
+        far.ravel()[flat + half] = rate > self.v
         return close, far

@@ -86,31 +86,38 @@ def windowed_slope_at(dist: np.ndarray, times_s: np.ndarray, half: int, rows: np
         return np.full(rows.size, np.nan, dtype=np.float32)
     t = np.asarray(times_s, dtype=np.float64)
     t = t - t[r // 2]  # centred as in windowed_slope
-    if rows.size < 2 or bool(np.all(rows[1:] >= rows[:-1])):  # sorted (np.nonzero's order): no sort
-        new_row = np.concatenate(([True], rows[1:] != rows[:-1]))
-        used, local = rows[new_row], np.cumsum(new_row) - 1  # rows that hold a requested column
+    if rows.size < 2 or bool((rows[1:] >= rows[:-1]).all()):  # sorted (np.nonzero's order): no sort
+        new_row = np.empty(rows.size, dtype=bool)
+        new_row[0] = True
+        np.not_equal(rows[1:], rows[:-1], out=new_row[1:])
+        used, local = rows[new_row], new_row.cumsum() - 1  # rows that hold a requested column
     else:
         used, local = np.unique(rows, return_inverse=True)
-    sub = dist[used]
-    valid = ~np.isnan(sub)
-    x = sub.astype(np.float64)
-    np.copyto(x, 0.0, where=~valid)  # as np.where(valid, sub, 0.0), one pass fewer
+    x = (dist if used.size == a else dist[used]).astype(np.float64)  # every row requested: no gather
+    gap = np.isnan(x)
+    np.copyto(x, 0.0, where=gap)  # as np.where(valid, sub, 0.0)
     lo = np.maximum(cols - half, 0)
     hi = np.minimum(cols + half + 1, r)
-    px, ptx = _prefix(x), _prefix(x * t)
+    px = _prefix(x)
+    np.multiply(x, t, out=x)
+    ptx = _prefix(x)
     sx, stx = px[local, hi] - px[local, lo], ptx[local, hi] - ptx[local, lo]
-    ones = np.ones((1, r))
-    p0, p1, p2 = _prefix(ones)[0], _prefix(ones * t)[0], _prefix(ones * t * t)[0]
-    s0, s1, s2 = p0[hi] - p0[lo], p1[hi] - p1[lo], p2[hi] - p2[lo]
-    gappy_rows = ~valid.all(axis=1)
+    p1, p2 = _prefix(t[None, :])[0], _prefix((t * t)[None, :])[0]
+    # the sample count of a full row's window: hi - lo, exactly (the prefix sums of ones, as floats)
+    s0, s1, s2 = (hi - lo).astype(np.float64), p1[hi] - p1[lo], p2[hi] - p2[lo]
+    gappy_rows = np.asarray(gap.any(axis=1))
     if gappy_rows.any():  # rows with a gap: their own sums (the same where valid)
-        g = np.flatnonzero(gappy_rows)
-        w = valid[g].astype(np.float64)
+        g = gappy_rows.nonzero()[0]
+        w = (~gap[g]).astype(np.float64)
         where = np.full(used.size, -1, dtype=np.intp)
         where[g] = np.arange(g.size)
-        k = np.flatnonzero(gappy_rows[local])
+        k = gappy_rows[local].nonzero()[0]
         gl = where[local[k]]
-        q0, q1, q2 = _prefix(w), _prefix(w * t), _prefix(w * t * t)
+        q0 = _prefix(w)
+        np.multiply(w, t, out=w)
+        q1 = _prefix(w)
+        np.multiply(w, t, out=w)
+        q2 = _prefix(w)
         s0[k], s1[k], s2[k] = (q0[gl, hi[k]] - q0[gl, lo[k]], q1[gl, hi[k]] - q1[gl, lo[k]],
                                q2[gl, hi[k]] - q2[gl, lo[k]])
     den = s0 * s2 - s1 * s1
@@ -122,7 +129,8 @@ def windowed_slope_at(dist: np.ndarray, times_s: np.ndarray, half: int, rows: np
 
 def _prefix(x: np.ndarray) -> np.ndarray:
     """(K, R + 1) float64 prefix sums of the rows of ``x`` (K, R), a 0 first."""
-    prefix = np.zeros((x.shape[0], x.shape[1] + 1))
+    prefix = np.empty((x.shape[0], x.shape[1] + 1))
+    prefix[:, 0] = 0.0
     np.cumsum(x, axis=1, out=prefix[:, 1:])
     return prefix
 
