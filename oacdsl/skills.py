@@ -187,6 +187,16 @@ SIGNATURES: dict[str, SkillSignature] = {
             (SkillParamSpec("lift", "m", 0.10, 0.0, 0.30, "how high the object is lifted after closing"),),
         ),
         SkillSignature(
+            "hold_up",
+            "grasp an object, lift it and hold it up in front of the robot on the hand's side",
+            (SkillArg("h", "Hand"), SkillArg("o", "Graspable")),
+            (
+                SkillParamSpec("lift", "m", 0.20, 0.0, 0.30, "how high it is lifted off its support"),
+                SkillParamSpec("forward", "m", 0.5, 0.3, 0.8, "its middle held this far ahead of the base"),
+                SkillParamSpec("aside", "m", 0.10, -0.10, 0.30, "… and to the hand's side of the middle"),
+            ),
+        ),
+        SkillSignature(
             "place",
             "lower the held object until the wrist force sensor feels the support, then open the hand",
             (SkillArg("h", "Hand"), SkillArg("o", "Graspable")),
@@ -283,6 +293,10 @@ SIGNATURES: dict[str, SkillSignature] = {
                 ),
                 SkillParamSpec(
                     "press", "m", 0.003, 0.0, 0.03, "how far the object is pressed on once it touches"
+                ),
+                SkillParamSpec(
+                    "steady", "", 1.0, 0.0, 1.0,
+                    "1: the other hand's goal stays fixed meanwhile; 0: an idle hand's usual, weaker hold",
                 ),
             ),
         ),

@@ -44,6 +44,13 @@ CLIPS = {
         ["grasp_both", "stir", "take_out", "place_both"],
         ["match", "match", "match", "match"],
     ),
+    # the left hand holds the plate up in front of the robot, the right wipes it with the
+    # sponge (slow strokes: the robot's own recording sees the contact all along)
+    "Wipe": (
+        "kit_bimanual/Wipe_files_motions_3091_Wipe1_pl_sp_front_angle_03.mmm.xml",
+        ["take_plate", "grasp", "wipe_held", "lift_sponge", "set_into_rack", "leave_in_rack", "place"],
+        ["match"] * 7,
+    ),
     # the robot makes each of the last four changes in two steps (ladle and hand, lift and dip)
     "Scoop": (
         "kit_bimanual/Scoop_files_motions_2989_Scoop1_mbg_l_CS_225_30o_04.mmm.xml",

@@ -27,7 +27,10 @@ below means a container with a grasp declared for it, a bowl one without.
 - Any other object (mixer, sponge, tray): its collision shapes — a grid of at most 6 × 6
   cells of about 20 mm on every box face; a thin cylinder (a grip, radius up to 25 mm) has
   rings of 6 every 20 mm along it, a thicker one (a mixer's head) a ring round the middle;
-  both the centres of their caps and a ring on each cap at 60 % of the radius.
+  both the centres of their caps and a ring on each cap at 60 % of the radius. A disc (a
+  cylinder 5 cm or more across its radius and at most half as high: a plate) has a 20 mm
+  grid on both faces and a ring every 20 mm round its rim: a hand pinching its edge or a
+  sponge on it touches it far from the sparse rings.
 - A liquid: the centre of every ball (the liquid is where its balls are; the
   demonstration's single "big marker" stands for the same thing).
 
@@ -97,6 +100,10 @@ FLOOR_SPACING_M = 0.02
 GRIP_SPACING_M = 0.02
 #: Cylinders up to this radius are grips (rings all along them), metres.
 GRIP_RADIUS_M = 0.025
+#: Cylinders at least this wide and at most half as high as wide are discs (a plate, a
+#: tray): a grid on both faces and a rim ring, so that a hand pinching the edge or a
+#: sponge anywhere on the face has a marker within the distance, metres.
+DISC_RADIUS_M = 0.05
 #: Height of a container's floor markers above its floor when the scene has no liquid, metres.
 DEFAULT_BALL_RADIUS_M = 0.009
 #: At most this many grid cells along one side of a box face.
@@ -162,6 +169,9 @@ def _geom_local(model: Any, g: int, grip_face: tuple[int, int] | None = None) ->
     if kind in (mujoco.mjtGeom.mjGEOM_CYLINDER, mujoco.mjtGeom.mjGEOM_CAPSULE):
         r, h = float(size[0]), float(size[1])
         caps = [(0.0, 0.0, -h), (0.0, 0.0, h), *_ring(0.6 * r, -h, 6), *_ring(0.6 * r, h, 6)]
+        if r >= DISC_RADIUS_M and 2 * h <= r:  # a disc (a plate): grids on both faces, a dense rim
+            k = math.ceil(2 * math.pi * r / GRIP_SPACING_M)
+            return [*_disc(r, -h, GRIP_SPACING_M), *_disc(r, h, GRIP_SPACING_M), *_ring(r, 0.0, k)]
         if r > GRIP_RADIUS_M:  # a body (a mixer's head): caps and a ring round the middle
             return [*caps, *_ring(r, 0.0, 8, math.pi / 8)]
         n = max(1, math.ceil(2 * h / GRIP_SPACING_M))  # a grip: rings all along it

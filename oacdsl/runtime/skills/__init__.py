@@ -6,6 +6,7 @@ from oacdsl.runtime.skills.base import Skill, SkillContext
 from oacdsl.runtime.skills.bimanual import grasp_both, place_both
 from oacdsl.runtime.skills.grasp import reach_and_grasp
 from oacdsl.runtime.skills.hold import hold, retreat
+from oacdsl.runtime.skills.hold_up import hold_up
 from oacdsl.runtime.skills.lift import lift
 from oacdsl.runtime.skills.mix import mix
 from oacdsl.runtime.skills.mix_both import mix_both
@@ -30,6 +31,7 @@ IMPLEMENTATIONS: dict[str, Skill] = {
     "mix_both": mix_both,
     "wipe": wipe,
     "hold": hold,
+    "hold_up": hold_up,
     "touch": touch,
     "retreat": retreat,
     "lift": lift,

@@ -11,7 +11,9 @@ other hand holds (a cucumber held on the board) is touched at its far end from t
 While the other hand holds anything but the target container (a cup held up keeps the
 controller's usual hold), its goal stays fixed where it was, as strong a task as the
 moving hand's: otherwise every motion re-anchors it where the torso dragged it, and what
-it holds drifts.
+it holds drifts. With ``steady 0`` it keeps that usual hold: a sponge held up in the air
+while the other hand sets a plate into a rack (KIT Wipe) need not stay put, and its fixed
+goal made the whole-body IK push the plate onto the rack with 61-74 N.
 """
 
 from __future__ import annotations
@@ -81,9 +83,11 @@ def touch(
     hover: float = HOVER_M,
     force: float = TOUCH_FORCE_N,
     press: float = PRESS_M,
+    steady: float = 1.0,
 ) -> None:
     """Lower the held ``obj`` onto ``target`` from ``hover`` (m) above it until they touch,
-    then press it ``press`` (m) further on; fail when the wrist feels ``force`` (N) first."""
+    then press it ``press`` (m) further on; fail when the wrist feels ``force`` (N) first.
+    ``steady`` 0: the other hand keeps the controller's usual hold instead of a fixed goal."""
     world, ctl = ctx.world, ctx.ctl
     side = ctx.require_held(hand, obj)
     if target not in world.layout.bodies or not ctx.body(target).solids:
@@ -93,7 +97,7 @@ def touch(
     other = "l" if side == "r" else "r"
     keep, away = None, None
     held_target = world.held.get(other) == target
-    if world.held.get(other) is not None and not (held_target and ctx.body(target).container):
+    if steady and world.held.get(other) is not None and not (held_target and ctx.body(target).container):
         # the other hand holds a knife, or a solid this one works on (a cucumber on the board):
         # its goal stays fixed while this one moves; a held container (a cup) keeps the
         # controller's usual hold of the idle hand

@@ -4,21 +4,59 @@ The tool is carried above the middle of the surface, lowered until the wrist fee
 contact, and moved in strokes across the surface while commanded slightly into it
 (a light press, limited by the arm's stiffness); it stays on the surface at the end,
 as the OAC's effect ``s <-> t`` says.
+
+A surface the other hand holds up (a plate held by its edge, KIT Wipe) is wiped where it
+is held, on its half away from that hand (:data:`FAR_M` off its middle), the strokes going
+across: that hand's goal stays fixed, as strong a task as the wiping hand's (the
+controller's usual hold of an idle hand re-anchors it at every motion, and the plate
+would sink under the press), and every goal of the wiping hand is read from where the
+surface is at that tick. ARMAR-III cannot hold a tool flat from above close to a plate
+its other hand pinches from above (the whole-body IK leaves both hands 10–17 cm off),
+so the wiping hand's orientation counts little (:data:`HELD_ORIENTATION_WEIGHT`): the
+tool tilts onto the plate, touching it with its edge. The tool is lowered until the
+simulation reports it touching the surface, and the skill fails when it does not, or
+no longer touches it after the strokes.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from functools import partial
+
 import numpy as np
 
+from oacdsl.errors import RuntimeFailure
+from oacdsl.runtime.control import CONTROL_DT_S
 from oacdsl.runtime.skills.base import SkillContext
-from oacdsl.runtime.skills.place import lower_until_contact
-from oacdsl.runtime.transforms import make_T
+from oacdsl.runtime.skills.place import DESCENT_SPEED_M_S, MIN_JERK_PEAK, lower_until_contact
+from oacdsl.runtime.transforms import interpolate, make_T, min_jerk
 
-__all__ = ["wipe", "STROKE_M", "STROKES"]
+__all__ = ["wipe", "STROKE_M", "STROKES", "FAR_M", "HELD_ORIENTATION_WEIGHT"]
 
 STROKE_M = 0.06
 STROKES = 3
 PRESS_M = 0.004
+#: Height of the tool's base above the surface's top before the descent, m.
+HOVER_M = 0.04
+#: How far below the surface's top the descent may go before it counts as a miss, m.
+DESCENT_M = 0.08
+#: How far from the held surface's middle, away from the holding hand, the tool wipes, m.
+FAR_M = 0.05
+#: Weight of the wiping hand's orientation while it wipes a held surface (a hand's position
+#: counts 1 per metre; 0.3 elsewhere): the tool may tilt on the surface rather than stay
+#: out of reach.
+HELD_ORIENTATION_WEIGHT = 0.02
+#: How much higher than the hover height the tool is carried in, m.
+CLIMB_M = 0.04
+#: Time to carry the tool over a held surface, s.
+CARRY_S = 2.0
+#: Peak speed of the strokes on a held surface, m/s: below the closed loop's distance
+#: change (0.1 m/s), so that the robot's own recording sees the tool touch the surface all
+#: along (faster, every pair of virtual markers changes distance too fast to count).
+HELD_STROKE_SPEED_M_S = 0.05
+#: How long the tool rests on a held surface before its strokes, s: longer than the closed
+#: loop's merge window (1 s), so that the contact's start is a change of its own.
+REST_S = 1.2
 
 
 def wipe(
@@ -33,8 +71,12 @@ def wipe(
 ) -> None:
     """Wipe ``surface`` with the held ``tool``: ``strokes`` times ``length`` (m) to either side of
     its middle, pressed ``press`` (m) into it."""
-    world, ctl = ctx.world, ctx.ctl
     side = ctx.require_held(hand, tool)
+    other = "l" if side == "r" else "r"
+    if ctx.world.held.get(other) == surface:
+        _wipe_held(ctx, side, other, tool, surface, round(strokes), length, press)
+        return
+    world, ctl = ctx.world, ctx.ctl
     t_tool, tool_in_hand = ctx.held_pose(side, tool)
     t_surface = world.body_pose(surface)
     top = t_surface[2, 3] + ctx.body(surface).height
@@ -42,7 +84,7 @@ def wipe(
     def hand_for(p: np.ndarray) -> np.ndarray:
         return make_T(t_tool[:3, :3], p) @ np.linalg.inv(tool_in_hand)
 
-    above = np.array([t_surface[0, 3], t_surface[1, 3], top + 0.04])
+    above = np.array([t_surface[0, 3], t_surface[1, 3], top + HOVER_M])
     ctl.activity = f"bringing {tool} over {surface}"
     ctx.check_reachable(side, hand_for(above), f"the middle of {surface}")
     ctx.carry(side, hand_for(above), {tool, surface}, 1.8)
@@ -59,3 +101,95 @@ def wipe(
         ctl.move(side, goal, 0.7 * max(1.0, length / STROKE_M))
     ctl.move(side, pressed, 0.4)
     ctl.wait(0.3)
+
+
+def _wipe_held(
+    ctx: SkillContext, side: str, other: str, tool: str, surface: str, strokes: int, length: float,
+    press: float,
+) -> None:
+    """Wipe ``surface`` held by hand ``other`` (see the module docstring)."""
+    world, ctl = ctx.world, ctx.ctl
+    ik = ctl.ik
+    keep = ik.target(other) if ik.active[other] else ik.frame(f"grasp_{other}")
+    _, tool_in_hand = ctx.held_pose(side, tool)
+    r_tool = world.body_pose(tool)[:3, :3].copy()
+    t_surface = world.body_pose(surface)
+    # the spot: on the half of the surface away from the holding hand, FAR_M off its middle
+    away = t_surface[:2, 3] - world.frame_pose(f"grasp_{other}")[:2, 3]
+    away = away / max(float(np.linalg.norm(away)), 1e-6)
+    along = np.array([-away[1], away[0]])  # the strokes go across that direction
+    height = ctx.body(surface).height
+
+    def spot(shift: float, drop: float) -> np.ndarray:
+        """T_world_grasp with the tool's base ``drop`` below HOVER_M above the spot, moved
+        ``shift`` (m) along the strokes; read from where the surface is now."""
+        t = world.body_pose(surface)
+        xy = t[:2, 3] + FAR_M * away + shift * along
+        p = np.array([xy[0], xy[1], t[2, 3] + height + HOVER_M - drop])
+        return make_T(r_tool, p) @ np.linalg.inv(tool_in_hand)
+
+    def aim(pose: np.ndarray) -> None:
+        ik.set_hand_target(side, pose, orientation_weight=HELD_ORIENTATION_WEIGHT)
+
+    def touching() -> bool:
+        return world.touching(tool, surface)
+
+    Guard = Callable[[], bool] | None
+
+    def go(goal: Callable[[float], np.ndarray], seconds: float, guard: Guard = None) -> bool:
+        """Follow ``goal(s)``, s from 0 to 1 (min-jerk), the other hand's goal fixed;
+        True when ``guard`` stopped it (where the hand really is)."""
+        for s in (side, other):
+            ctl.tare(s)
+        n = max(1, round(seconds / CONTROL_DT_S))
+        for k in range(1, n + 1):
+            ik.set_hand_target(other, keep)
+            aim(goal(min_jerk(k / n)))
+            ctl.tick()
+            if guard is not None and guard():
+                aim(world.frame_pose(f"grasp_{side}"))
+                return True
+        return False
+
+    def stroke_s(distance: float) -> float:
+        return MIN_JERK_PEAK * abs(distance) / HELD_STROKE_SPEED_M_S
+
+    start = ik.target(side) if ik.active[side] else ik.frame(f"grasp_{side}")
+    ctl.activity = f"bringing {tool} over {surface}"
+    ctx.check_reachable(side, spot(0.0, 0.0), f"the middle of {surface}")
+    go(lambda s: interpolate(start, spot(0.0, -CLIMB_M * (1.0 - s)), s), CARRY_S)
+    ctl.activity = f"pressing {tool} onto {surface}"
+    depth = HOVER_M + DESCENT_M
+    if not go(lambda s: spot(0.0, depth * s), MIN_JERK_PEAK * depth / DESCENT_SPEED_M_S, touching):
+        felt = float(np.linalg.norm(ctl.force_change(side)))
+        raise RuntimeFailure(
+            f"wipe: {tool} did not reach {surface} held by the other hand (the wrist felt {felt:.0f} N)"
+        )
+    # how far below the hover point it touched, then pressed on
+    reached = float(spot(0.0, 0.0)[2, 3] - world.frame_pose(f"grasp_{side}")[2, 3])
+    pressed = reached + press
+    go(lambda s: spot(0.0, reached + press * s), 0.3)
+    ctl.wait(REST_S)  # the contact begins, still, long enough for the closed loop to see it
+    ctl.activity = f"wiping {surface} with {tool}"
+    last = 0.0
+    for sign in (1.0, -1.0) * strokes:
+        a, b = last, sign * length
+        go(partial(_between, spot, a, b, pressed), stroke_s(b - a))
+        last = b
+    go(lambda s: spot(last * (1.0 - s), pressed), stroke_s(last))
+    if not touching():  # the strokes lifted it: down again until it touches
+        again = MIN_JERK_PEAK * DESCENT_M / DESCENT_SPEED_M_S
+        go(lambda s: spot(0.0, pressed + DESCENT_M * s), again, touching)
+    ctl.wait(REST_S)
+    if not touching():
+        raise RuntimeFailure(f"wipe: {tool} no longer touches {surface} after the strokes")
+    # the next skill starts from the hand as it is, tool tilted and all (from the upright goal,
+    # a lift turned the hand so fast that the wrist felt 68 N)
+    ik.set_hand_target(side, ik.frame(f"grasp_{side}"))
+
+
+def _between(
+    spot: Callable[[float, float], np.ndarray], a: float, b: float, drop: float, s: float
+) -> np.ndarray:
+    """``spot`` moved from ``a`` to ``b`` along the strokes at phase ``s`` (0 … 1), ``drop`` down."""
+    return spot(a + (b - a) * s, drop)
