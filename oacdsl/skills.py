@@ -42,6 +42,7 @@ MOTION_FEATURES: tuple[str, ...] = (
     "tilt_max_rad",
     "tilt_rise_s",
     "tilt_time_s",
+    "twist_rad",
 )
 
 
@@ -366,6 +367,61 @@ SIGNATURES: dict[str, SkillSignature] = {
                 SkillParamSpec(
                     "force", "N", 10.0, 3.0, 30.0, "wrist force change that stops the tip going down"
                 ),
+            ),
+        ),
+        SkillSignature(
+            "roll",
+            "move an object both hands hold to and fro on another one (a rolling pin on dough), still held",
+            (SkillArg("h1", "Hand"), SkillArg("o", "Graspable"), SkillArg("h2", "Hand"), SkillArg("t", ANY)),
+            (
+                SkillParamSpec("strokes", "", 3.0, 1.0, 20.0, "number of strokes there and back",
+                               MotionSource("cycles")),
+                # a sinusoid's median distance from its middle is 1/sqrt(2) of how far it goes
+                SkillParamSpec("length", "m", 0.06, 0.01, 0.20, "how far each stroke goes to either side",
+                               MotionSource("radius_m", scale=1.41, needs="period_s")),
+                SkillParamSpec("period", "s", 1.6, 0.5, 5.0, "time of one stroke there and back",
+                               MotionSource("period_s")),
+                SkillParamSpec("press", "m", 0.002, 0.0, 0.02,
+                               "how far it is pressed into the target (harder: more friction)"),
+                SkillParamSpec("force", "N", 15.0, 2.0, 40.0,
+                               "wrist force change that stops the descent when they do not touch first"),
+            ),
+        ),
+        SkillSignature(
+            "stroke",
+            "draw the held tool along an object, one way, and back through the air, several times"
+            " (a peeler along a cucumber, a knife pushing pieces across a board towards a bowl)",
+            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("t", ANY)),
+            (
+                SkillParamSpec("strokes", "", 3.0, 1.0, 20.0, "number of strokes", MotionSource("cycles")),
+                SkillParamSpec("period", "s", 0.8, 0.3, 5.0, "time of one stroke along the target",
+                               MotionSource("period_s")),
+                # not from the demonstration: the composer retargets a length to the target's
+                # narrow side (a container's inner radius), and a stroke goes along its long one
+                SkillParamSpec("length", "m", 0.08, 0.01, 0.40,
+                               "how far each stroke goes (at most the target's length allows)"),
+                SkillParamSpec("press", "m", 0.004, 0.0, 0.02, "how far the tool is pressed into the target"),
+                SkillParamSpec("force", "N", 15.0, 3.0, 40.0,
+                               "wrist force on the way down that means something else is in the way"),
+            ),
+        ),
+        SkillSignature(
+            "twist",
+            "turn the held object about its own axis on another one, regrasping between strokes"
+            " (a lid screwed onto or off a bottle)",
+            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("t", ANY)),
+            (
+                SkillParamSpec(
+                    "angle", "rad", math.pi, -6 * math.pi, 6 * math.pi,
+                    "how far it turns, counterclockwise seen from above (negative: clockwise, screwing on)",
+                    MotionSource("twist_rad"),
+                ),
+                SkillParamSpec("duration", "s", 3.0, 0.5, 20.0, "time for the whole turn, regrasps included",
+                               MotionSource("duration_s")),
+                SkillParamSpec("stroke", "rad", _deg(40.0), _deg(10.0), _deg(120.0),
+                               "most the hand turns before it lets go and takes the object again"),
+                SkillParamSpec("lift", "m", 0.0, 0.0, 0.20,
+                               "how far it is raised off the target afterwards (0: it stays on)"),
             ),
         ),
         SkillSignature(

@@ -26,7 +26,8 @@ def oacc(*args, cwd=None, stdin=None):
 
 def copy_library(tmp_path):
     lib = tmp_path / "library"
-    shutil.copytree(ROOT / "library", lib, ignore=shutil.ignore_patterns("learned", "drafts", "kit"))
+    ignore = shutil.ignore_patterns("learned", "drafts", "kit", "examples")  # libraries of their own
+    shutil.copytree(ROOT / "library", lib, ignore=ignore)
     return lib
 
 

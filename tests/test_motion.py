@@ -95,6 +95,39 @@ def test_a_tilt_gives_its_angle_and_time():
     assert f.path_length_m == 0.0
 
 
+def _turning(t, angle, wobble_rad=0.0):
+    """(N, 4, 4): an object turning by ``angle`` (rad, per frame) about z, leaning ``wobble_rad``
+    about x (a hand turning a lid is not exactly upright)."""
+    T = np.tile(np.eye(4), (t.size, 1, 1))
+    for k, (a, w) in enumerate(zip(angle, wobble_rad * np.sin(7 * t), strict=True)):
+        rz = np.array([[math.cos(a), -math.sin(a), 0], [math.sin(a), math.cos(a), 0], [0, 0, 1]])
+        rx = np.array([[1, 0, 0], [0, math.cos(w), -math.sin(w)], [0, math.sin(w), math.cos(w)]])
+        T[k, :3, :3] = rx @ rz
+    return T
+
+
+def test_a_twist_adds_up_several_turns_with_their_sense():
+    """A lid unscrewed in three strokes of 120° (still between them, as while the hand regrasps),
+    at 10 Hz, a little wobbly, with a gap: 360° in all, counterclockwise seen from above."""
+    t = np.arange(0, 4.5, 0.1)
+    phase = np.clip(t % 1.5, 0, 1.0)  # each stroke: 1 s turning, 0.5 s still
+    angle = np.radians(120) * (t // 1.5 + phase)
+    T = _turning(t, angle, wobble_rad=math.radians(3))
+    T[20:22] = np.nan
+    f = motion_features(t, T)
+    assert math.degrees(f.twist_rad) == pytest.approx(360, abs=6)
+    screwed = motion_features(t, _turning(t, -angle))
+    assert math.degrees(screwed.twist_rad) == pytest.approx(-360, abs=1)
+    assert f.to_json()["twist_rad"] == pytest.approx(f.twist_rad, abs=1e-6)
+
+
+def test_a_tilt_is_no_twist():
+    t = np.arange(0, 3.5, 0.1)
+    tilt = np.radians(100) * np.clip(np.minimum(t, 3.5 - t), 0, 1.0)
+    f = motion_features(t, path_transforms(np.zeros((t.size, 3)), tilt))
+    assert abs(f.twist_rad) < 1e-9
+
+
 def test_no_tilt_no_rise():
     t = np.arange(0, 2.0, 0.1)
     f = motion_features(t, path_transforms(np.zeros((t.size, 3)), np.radians(2.0) * np.ones(t.size)))

@@ -238,6 +238,7 @@ class MotionFeaturesDoc(_Doc):
     tilt_max_rad: Annotated[float, Field(ge=0.0)]
     tilt_time_s: Seconds
     tilt_rise_s: Seconds | None = None
+    twist_rad: float = 0.0
 
 
 class MotionRow(_Doc):

@@ -180,7 +180,8 @@ def build_model(layout: Layout, seed: int | None = None) -> BuiltModel:
     _add_sensors(spec)
     rng = np.random.default_rng(seed if seed is not None else 0)
     for p in layout.placements:
-        add_object(spec, p.name, p.body, (p.x, p.y, TABLE_TOP), p.yaw)
+        base = TABLE_TOP + (layout.placement(p.on).body.height if p.on else 0.0)  # on top of another
+        add_object(spec, p.name, p.body, (p.x, p.y, base), p.yaw)
     balls: dict[str, tuple[str, ...]] = {}
     for i, (liquid, container) in enumerate(sorted(layout.liquids.items())):
         p = layout.placement(container)

@@ -9,7 +9,9 @@ most specific class's), hands are mapped to the robot's right/left hand by their
 2. the scene's ``OBJECT at (x, y)``, unless the caller gives a layout (``--layout``),
 3. the demonstration's first frame mapped into reach (``layout demonstrated`` of the
    caller or the scene, when the caller gives the recording's positions;
-   :mod:`oacdsl.runtime.demo_layout`),
+   :mod:`oacdsl.runtime.demo_layout`); an object that starts on top of another there (a lid
+   on its bottle: its centre within the other's footprint and above the other's centre,
+   see :func:`stacked_on`) starts on top of it on the robot's table too,
 4. the first free slot of a fixed list (``layout auto``), in the order of the objects' names.
 
 A liquid starts in the container given by the caller's ``contents`` (``--fill``, or the
@@ -42,6 +44,9 @@ __all__ = ["Placement", "Layout", "plan_layout", "MAX_SHIFT_M", "MIN_GAP_M", "BA
 MAX_SHIFT_M = 0.10
 #: Free space kept between two objects' footprints, metres (room for the fingers).
 MIN_GAP_M = 0.05
+#: How far outside an object's footprint another's centre may be and still count as on top
+#: of it at the demonstration's first frame, metres (markers sit on stalks, off the axis).
+STACK_SLACK_M = 0.02
 #: Number of balls of one liquid when the scene does not say (``balls N``).
 BALLS_PER_LIQUID = 10
 
@@ -63,13 +68,15 @@ _Y_LIMIT = 0.60
 
 @dataclass(frozen=True)
 class Placement:
-    """A free object built from ``body`` standing at (x, y) on the table, rotated by ``yaw`` (rad)."""
+    """A free object built from ``body`` standing at (x, y) on the table, rotated by ``yaw`` (rad),
+    or, with ``on``, standing on top of that object (at its x, y)."""
 
     name: str
     body: Body
     x: float
     y: float
     yaw: float = 0.0
+    on: str | None = None
 
 
 @dataclass(frozen=True)
@@ -147,15 +154,23 @@ def plan_layout(
     hands = _hands(kinds)
     liquids, counts = _liquids(scene, bodies, dict(contents or {}), dict(balls or {}))
     names = sorted(n for n, k in kinds.items() if k == ROLE_OBJECT)
-    wanted, sources = _wanted(scene, names, bodies, hands, places or {}, layout, demonstrated)
-    nominal = _nominal(names, bodies, wanted)
+    stacks: dict[str, str] = {}
+    if (layout or scene.layout) == "demonstrated" and demonstrated:
+        given = set(places or {}) | ({p.instance for p in scene.places} if layout is None else set())
+        first = {n: demonstrated[n] for n in names if n in demonstrated and n not in given}
+        stacks = stacked_on(first, bodies)
+    free = [n for n in names if n not in stacks]
+    wanted, sources = _wanted(scene, free, bodies, hands, places or {}, layout, demonstrated)
+    nominal = _nominal(free, bodies, wanted)
     placed = nominal if seed is None else _shuffle(nominal, bodies, np.random.default_rng(seed))
     for name, source in sources.items():
         if source == "given":  # exactly where the caller said, even with a seed
             placed[name] = wanted[name]
+    for name, support in stacks.items():
+        placed[name], sources[name] = placed[support], "demonstrated"
     for name in names:
         sources.setdefault(name, "auto")
-    placements = tuple(Placement(n, bodies[n], placed[n][0], placed[n][1]) for n in names)
+    placements = tuple(Placement(n, bodies[n], placed[n][0], placed[n][1], on=stacks.get(n)) for n in names)
     return Layout(
         scene.name,
         placements,
@@ -167,6 +182,25 @@ def plan_layout(
         balls=counts,
         sources=sources,
     )
+
+
+def stacked_on(first: Mapping[str, np.ndarray], bodies: Mapping[str, Body]) -> dict[str, str]:
+    """object → the object it stands on at the demonstration's first frame (``first``: each
+    object's position, m, z up): its centre within the other's footprint (radius plus
+    :data:`STACK_SLACK_M`) and higher than the other's centre by more than half the other's
+    height. One level: what stands on a stacked object is not stacked again."""
+    out: dict[str, str] = {}
+    for name, p in sorted(first.items()):
+        below = [
+            (float(q[2]), other)
+            for other, q in first.items()
+            if other != name
+            and math.dist(p[:2], q[:2]) < bodies[other].radius + STACK_SLACK_M
+            and p[2] - q[2] > 0.5 * bodies[other].height
+        ]
+        if below:
+            out[name] = max(below)[1]  # the highest one below it
+    return {n: s for n, s in out.items() if s not in out}
 
 
 def _wanted(

@@ -34,6 +34,11 @@ Definitions (all in the target's frame):
   tilt: from the last frame at or below 10 % of the largest tilt before it is first reached
   (the span's start when there is none) to the first frame at or above 90 % of it (None below
   :data:`MIN_TILT_RAD`; a constant-rate tilt over *T* seconds rises in 0.8 *T*).
+- **twist**: the object's net rotation about the target's z axis, radians, signed
+  (positive counterclockwise seen from above the target: a right-hand thread's lid
+  unscrewed; negative: screwed on): the sum of the frame-to-frame rotations' components
+  along that axis, so several turns (a lid regrasped and turned again) add up past 180°;
+  a gap is bridged by the rotation across it. 0 when fewer than two frames are posed.
 """
 
 from __future__ import annotations
@@ -56,6 +61,7 @@ __all__ = [
     "dominant_period",
     "motion_features",
     "tilt_rise",
+    "twist_angle",
 ]
 
 #: Smallest autocorrelation (0..1) at the period's lag for an oscillation to count.
@@ -91,6 +97,7 @@ class MotionFeatures:
     tilt_max_rad: float
     tilt_time_s: float
     tilt_rise_s: float | None = None
+    twist_rad: float = 0.0
 
     def to_json(self) -> dict[str, Any]:
         return {
@@ -104,6 +111,7 @@ class MotionFeatures:
             "tilt_max_rad": round(self.tilt_max_rad, 6),
             "tilt_time_s": round(self.tilt_time_s, 6),
             "tilt_rise_s": None if self.tilt_rise_s is None else round(self.tilt_rise_s, 6),
+            "twist_rad": round(self.twist_rad, 6),
         }
 
 
@@ -228,7 +236,24 @@ def motion_features(times_s: np.ndarray, T_target_object: np.ndarray) -> MotionF
         tilt_max,
         tilt_time,
         tilt_rise(t[ok], tilt) if tilt_max >= MIN_TILT_RAD else None,
+        twist_angle(T[ok, :3, :3]),
     )
+
+
+def twist_angle(R_target_object: np.ndarray) -> float:
+    """The net rotation (rad, signed, counterclockwise about +z positive) of (N, 3, 3) rotations
+    about the target's z axis: the sum of each step's rotation vector's z component (module doc)."""
+    R = np.asarray(R_target_object, dtype=np.float64)
+    if len(R) < 2:
+        return 0.0
+    step = R[1:] @ np.transpose(R[:-1], (0, 2, 1))  # R_{k+1} R_k^T: the step in the target's frame
+    cos = np.clip((np.trace(step, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
+    angle = np.arccos(cos)
+    axis = np.stack([step[:, 2, 1] - step[:, 1, 2], step[:, 0, 2] - step[:, 2, 0],
+                     step[:, 1, 0] - step[:, 0, 1]], axis=1)
+    norm = np.linalg.norm(axis, axis=1)
+    z = np.where(norm > 1e-12, axis[:, 2] / np.maximum(norm, 1e-12), 0.0)
+    return float((angle * z).sum())
 
 
 def tilt_rise(times_s: np.ndarray, tilt_rad: np.ndarray) -> float:

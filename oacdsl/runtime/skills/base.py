@@ -217,11 +217,12 @@ class SkillContext:
         res = self.ctl.ik.try_reach(side, target)
         return res.position_m + 0.1 * res.angle_rad
 
-    def support_height(self, xy: np.ndarray, exclude: str) -> float:
-        """Height (m) of the first surface below ``xy`` (a ray cast down), ignoring ``exclude``."""
+    def support_height(self, xy: np.ndarray, exclude: str, below: float = 2.0) -> float:
+        """Height (m) of the first surface under ``xy`` below height ``below`` (a ray cast down),
+        ignoring ``exclude``: from an object's base, what it stands on, not a lid on top of it."""
         m, d = self.world.model, self.world.data
         geomid = np.array([-1], dtype=np.int32)
-        start = np.array([xy[0], xy[1], 2.0])
+        start = np.array([xy[0], xy[1], below])
         groups = np.array([1, 0, 0, 0, 0, 0], dtype=np.uint8)  # group 0: table and objects only
         dist = mujoco.mj_ray(m, d, start, np.array([0.0, 0.0, -1.0]), groups, 1, m.body(exclude).id, geomid)
         if dist < 0:

@@ -111,11 +111,11 @@ def _pair(ctx: SkillContext, a: tuple[str, str], b: tuple[str, str]) -> tuple[Gr
     shapes = (_preshape(ctx, a[1]), _preshape(ctx, b[1]))
     for hand, obj in (a, b):
         side = ctx.side(hand)
-        reachable = [
-            p for p in grasp_candidates(ctx, hand, obj) if ctx.reach_error(side, p.grasp) < REACH_TOLERANCE_M
-        ]
+        shared = a[1] == b[1]  # one object in both hands: each takes it on its own side
+        candidates = grasp_candidates(ctx, hand, obj, shared)
+        reachable = [p for p in candidates if ctx.reach_error(side, p.grasp) < REACH_TOLERANCE_M]
         if not reachable:  # the usual out-of-reach failure, naming the closest miss
-            ctx.first_reachable(side, [(p.grasp, p) for p in grasp_candidates(ctx, hand, obj)], obj)
+            ctx.first_reachable(side, [(p.grasp, p) for p in candidates], obj)
         options.append((side, reachable[:PAIR_CANDIDATES]))
     (s1, c1), (s2, c2) = options
     pairs = sorted(((i, j) for i in range(len(c1)) for j in range(len(c2))), key=lambda ij: (sum(ij), ij))

@@ -85,13 +85,25 @@ class GraspMotion:
         )
 
 
-def grasp_candidates(ctx: SkillContext, hand: str, obj: str) -> list[GraspPlan]:
+def grasp_candidates(ctx: SkillContext, hand: str, obj: str, shared: bool = False) -> list[GraspPlan]:
     """The grasps of ``obj`` by ``hand`` its declaration allows, most natural first, those
-    whose approach corridor is free of other objects before the others."""
+    whose approach corridor is free of other objects before the others.
+
+    ``shared``: both hands take the object (a rolling pin). One that is not round is then
+    taken at its declared grasp point or at that point mirrored through its axis (offset
+    ``(-x, -y, z)``), whichever lies on the hand's own side of the object."""
     side = ctx.side(hand)
     t_obj = ctx.world.body_pose(obj)
-    support = ctx.support_height(t_obj[:2, 3], exclude=obj)
-    plans = plan_grasps(ctx.grasp_for(obj), ctx.body(obj).round, t_obj, side, support_z=support)
+    support = ctx.support_height(t_obj[:2, 3], exclude=obj, below=float(t_obj[2, 3]) + 0.01)
+    grasp = ctx.grasp_for(obj)
+    plans = plan_grasps(grasp, ctx.body(obj).round, t_obj, side, support_z=support)
+    if shared and not ctx.body(obj).round:
+        x, y, z = grasp.offset
+        mirrored = grasp.model_copy(update={"offset": (-x, -y, z)})
+        plans += plan_grasps(mirrored, False, t_obj, side, support_z=support)
+        left = ctx.world.frame_pose("grasp_l")[:3, 3] - ctx.world.frame_pose("grasp_r")[:3, 3]
+        own = left if side == "l" else -left
+        plans = [p for p in plans if float((p.grasp[:3, 3] - t_obj[:3, 3]) @ own) > 0] or plans
     free = [ctx.clearance(p.pre_grasp[:3, 3], p.grasp[:3, 3], {obj}) >= HAND_HALF_WIDTH_M for p in plans]
     return [p for p, ok in zip(plans, free, strict=True) if ok] + [
         p for p, ok in zip(plans, free, strict=True) if not ok
