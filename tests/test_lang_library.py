@@ -2,6 +2,8 @@
 
 from pathlib import Path
 
+import pytest
+
 from oacdsl.compiler import compile_paths, compile_sources, load_library, print_module
 from oacdsl.skills import SKILLS
 
@@ -17,8 +19,15 @@ def test_library_compiles_without_errors_or_warnings():
     assert len(result.modules) >= 3  # spread over several files that use each other's names
 
 
-def test_library_files_are_in_canonical_form():
-    result = compile_paths(LIBRARY)
+#: The libraries of their own beside it (a LIBRARY file each): the KIT clips' and the examples'.
+OWN_LIBRARIES = [ROOT / "library" / "kit", ROOT / "library" / "examples"]
+
+
+@pytest.mark.parametrize("files", [LIBRARY] + [sorted(d.glob("*.oac")) for d in OWN_LIBRARIES],
+                         ids=["library", "kit", "examples"])
+def test_library_files_are_in_canonical_form(files):
+    result = compile_paths(files)
+    assert len(result.modules) == len(files) >= 2
     for module in result.modules:
         assert print_module(module) == result.sources[module.path], (
             f"{module.path} is not canonical (oacc fmt)"
