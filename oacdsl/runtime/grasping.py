@@ -49,16 +49,14 @@ PRE_GRASP_M = 0.20
 OVERSHOOT_M = 0.06
 #: How far the sideways hand reaches below its grasp centre (the little finger's edge), metres.
 HAND_BELOW_CENTRE_M = 0.064
-#: Free space kept between a sideways hand and the support its object stands on, metres:
-#: more than the closed loop's 15 mm (``oacdsl.pipeline.markers.ROBOT_DISTANCE_M``), so that
-#: a hand holding an object on a board is not seen touching the board (issue 11: KIT Cut).
+#: Free space kept between a sideways hand and its object's support, m: more than the closed
+#: loop's 15 mm (``pipeline.markers.ROBOT_DISTANCE_M``): a hand holding an object on a board
+#: is not seen touching the board (issue 11, KIT Cut).
 CLEARANCE_M = 0.020
-#: The least free space under the hand when the object is too low for :data:`CLEARANCE_M`
-#: (a hand that low would grip too little of it), metres: the space kept before issue 11.
+#: The least free space under the hand for an object too low for :data:`CLEARANCE_M`, m.
 MIN_CLEARANCE_M = 0.012
-#: How far the sideways hand's lower edge stays below the object's top, metres, when that
-#: takes it lower than :data:`CLEARANCE_M` over the support: the least grip that held a
-#: 4.5 cm cucumber by the hand's lowest 2.5 cm (KIT Cut).
+#: How far the sideways hand's lower edge stays below the object's top, m (its lowest
+#: 2.5 cm held the 4.5 cm cucumber of KIT Cut).
 GRIP_HEIGHT_M = 0.025
 #: Rim grasp from above, fingers pointing down, palm facing the container's centre: where
 #: the wall's middle goes, relative to the grasp centre, along -x_H (the palm normal),
@@ -112,12 +110,9 @@ def hand_rotation_for(palm_normal: np.ndarray, fingers: np.ndarray) -> np.ndarra
 
 
 def side_clearance(height_m: float | None) -> float:
-    """Free space (m) kept between a sideways hand's lower edge and the support, for an
-    object whose top is ``height_m`` above that support (None: unknown).
-
-    :data:`CLEARANCE_M` when the object is tall enough for the hand to keep
-    :data:`GRIP_HEIGHT_M` of it below its top, less (down to :data:`MIN_CLEARANCE_M`)
-    when it is lower."""
+    """Free space (m) kept under a sideways hand's lower edge for an object whose top is
+    ``height_m`` above its support (None: unknown): :data:`CLEARANCE_M`, less (down to
+    :data:`MIN_CLEARANCE_M`) when the hand would keep under :data:`GRIP_HEIGHT_M` of it."""
     if height_m is None:
         return CLEARANCE_M
     return min(CLEARANCE_M, max(MIN_CLEARANCE_M, height_m - GRIP_HEIGHT_M))
