@@ -33,7 +33,7 @@ from oacdsl.runtime.skills.base import SkillContext
 from oacdsl.runtime.skills.bimanual import move_both
 from oacdsl.runtime.skills.grasp import SQUEEZE_RAD
 from oacdsl.runtime.skills.place import MIN_JERK_PEAK
-from oacdsl.runtime.skills.shapes import lowest_z, world_corners
+from oacdsl.runtime.skills.shapes import corners, lowest_z, world_corners
 from oacdsl.runtime.skills.touch import HOVER_M, TOUCH_FORCE_N, TOUCH_SPEED_M_S, approach_pose
 from oacdsl.runtime.transforms import make_T, rot_axis
 
@@ -130,8 +130,12 @@ def put_on(
 
 
 def _off_axis(ctx: SkillContext, obj: str, target: str, axis: np.ndarray) -> np.ndarray:
-    """Where ``obj``'s origin is off ``target``'s axis, across ``axis`` (world, m)."""
-    off = ctx.world.body_pose(obj)[:3, 3] - ctx.world.body_pose(target)[:3, 3]
+    """Where ``obj``'s origin (the middle of its base) is off the middle of ``target``'s top,
+    across ``axis`` (world, m). The top's middle, not the target's origin: a bottle held in a
+    hand leans a few degrees, and 18 cm up that is 1–2 cm."""
+    t_target = ctx.world.body_pose(target)
+    top = t_target[:3, 3] + t_target[:3, 2] * float(corners(ctx.body(target))[:, 2].max())
+    off = ctx.world.body_pose(obj)[:3, 3] - top
     return off - float(off @ axis) * axis
 
 
@@ -223,11 +227,11 @@ def twist(
     def retake() -> None:
         """Let go of the object (on the target), and take it again from the first pose."""
         ctl.activity = f"taking {obj} again"
-        here = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
-        if not world.touching(obj, target):  # set it down on the target before letting go
-            go(_raised(here, -SEAT_M), 0.3, guard=lambda: world.touching(obj, target))
         centre(ctx, side, obj, target, axis, go)
         ctl.activity = f"taking {obj} again"
+        if not world.touching(obj, target):  # set it down on the target before letting go
+            here = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+            go(_raised(here, -SEAT_M), 0.3, guard=lambda: world.touching(obj, target))
         world.release(side)
         # the palm holds it down while only the fingers open; the thumb stays where it is
         # (opened, or turned back to a folded thumb, it pushed a light object off the target;
@@ -261,8 +265,7 @@ def twist(
         step = left / max(1, math.ceil(abs(left) / max(stroke, 1e-6) - 1e-9))
         # turned about its own axis, and brought back onto the target's (it drifts a little
         # with each regrasp)
-        off = t_now[:3, 3] - world.body_pose(target)[:3, 3]
-        off -= float(off @ axis) * axis
+        off = _off_axis(ctx, obj, target, axis)
         goal = _turned(here, axis, t_now[:3, 3], step)
         goal[:3, 3] -= off
         # and kept on the target: its lowest point pressed a little below the target's top
