@@ -8,7 +8,10 @@ unscrewed; negative: screwed on), in ``duration`` (at least what its strokes and
 need, about :data:`REGRASP_S` each). Each stroke also brings the object's axis back onto the
 target's and keeps it pressed lightly on the target's top. A hand turns at most ``stroke``
 at a time, as a person's does: between strokes it lets go (the fingers open, the thumb
-stays), rises, turns back and takes the object again, which stays on the target. While the other
+stays), rises, turns back and takes the object again, which stays on the target. Before it
+lets go, the hand slides the object, still held and pressed on, onto the middle of the
+target's top (:func:`centre`: the arm lags a turning hand by centimetres, and an object
+let go off the middle tipped over the edge). While the other
 hand holds something (the bottle), its goal stays fixed, as strong a task as the turning
 hand's. With ``lift`` the object is then raised that far off the target (a lid unscrewed
 and taken off); without, it stays on the target, touching it (the OAC's effect ``o <-> t``).
