@@ -72,7 +72,7 @@ def reproduce_once(recording: Path, seed: int, work: Path) -> tuple[bool, str]:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument(
-        "--clips", default="Pour,Stir,Scoop,Mix,Wipe", help="development clips, comma-separated"
+        "--clips", default=",".join(DEV), help="development clips, comma-separated (default: all six)"
     )
     parser.add_argument("--seeds", default="0,1,2,3,4,5", help="0 = the scene's own places")
     parser.add_argument("--repeats", type=int, default=3, help="runs of the baseline")

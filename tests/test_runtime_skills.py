@@ -265,3 +265,26 @@ def test_a_jug_is_taken_by_its_handle_poured_from_and_put_back():
     assert "fingers" in held["parts"]
     assert run.world.balls_inside("basin", "water") >= 9
     assert run.world.held["l"] is None and run.world.body_pose("jug")[2, 2] > 0.99
+
+
+def test_a_failing_skill_is_named_once_when_its_step_has_its_name(monkeypatch):
+    # "stir: stir: the spoon lost contact" read twice the same word; a step named otherwise keeps
+    # its own name in front ("stir_in: stir: …": which step, then which skill)
+    from types import SimpleNamespace
+
+    from oacdsl.errors import RuntimeFailure
+    from oacdsl.runtime import executor
+
+    def failing(ctx, *args, **params):
+        raise RuntimeFailure("stir: spoon lost contact with cup while stirring")
+
+    monkeypatch.setitem(executor.IMPLEMENTATIONS, "stir", failing)
+    ctx = SimpleNamespace(world=SimpleNamespace(warnings=dict))
+
+    def step(name):
+        return SimpleNamespace(oac=SimpleNamespace(name=name, skill="stir"), args=(), params={})
+
+    assert executor._run_skill(ctx, step("stir")) == "stir: spoon lost contact with cup while stirring"
+    assert executor._run_skill(ctx, step("stir_in")) == (
+        "stir_in: stir: spoon lost contact with cup while stirring"
+    )

@@ -276,7 +276,9 @@ def _run_skill(ctx: SkillContext, step: Step) -> str | None:
     try:
         skill(ctx, *step.args, **step.params)
     except RuntimeFailure as failure:
-        return f"{step.oac.name}: {failure}"
+        # a skill names itself ("stir: …"): a step of the same name does not say it twice
+        text, prefix = str(failure), f"{step.oac.name}: "
+        return text if text.startswith(prefix) else prefix + text
     except mujoco.FatalError as failure:
         return f"{step.oac.name}: the simulation failed: {failure}"
     unstable = {k: v for k, v in ctx.world.warnings().items() if k in _UNSTABLE}

@@ -40,7 +40,7 @@ from oacdsl.errors import RuntimeFailure
 from oacdsl.model import Grasp
 from oacdsl.runtime.transforms import make_T, rot_axis
 
-__all__ = ["GraspPlan", "plan_grasps", "APPROACHES", "hand_rotation_for", "RIM_GAP_H"]
+__all__ = ["GraspPlan", "plan_grasps", "side_clearance", "APPROACHES", "hand_rotation_for", "RIM_GAP_H"]
 
 APPROACHES = ("side", "top", "front")
 #: Distance of the pre-grasp pose from the grasp point, along the approach, metres.
@@ -49,8 +49,15 @@ PRE_GRASP_M = 0.20
 OVERSHOOT_M = 0.06
 #: How far the sideways hand reaches below its grasp centre (the little finger's edge), metres.
 HAND_BELOW_CENTRE_M = 0.064
-#: Free space kept between the hand and the support, metres.
-CLEARANCE_M = 0.012
+#: Free space kept between a sideways hand and its object's support, m: more than the closed
+#: loop's 15 mm (``pipeline.markers.ROBOT_DISTANCE_M``): a hand holding an object on a board
+#: is not seen touching the board (issue 11, KIT Cut).
+CLEARANCE_M = 0.020
+#: The least free space under the hand for an object too low for :data:`CLEARANCE_M`, m.
+MIN_CLEARANCE_M = 0.012
+#: How far the sideways hand's lower edge stays below the object's top, m (its lowest
+#: 2.5 cm held the 4.5 cm cucumber of KIT Cut).
+GRIP_HEIGHT_M = 0.025
 #: Rim grasp from above, fingers pointing down, palm facing the container's centre: where
 #: the wall's middle goes, relative to the grasp centre, along -x_H (the palm normal),
 #: metres. The finger plate's face is at x_H = -14 mm, the folded thumb's at -45 mm: the
@@ -102,6 +109,15 @@ def hand_rotation_for(palm_normal: np.ndarray, fingers: np.ndarray) -> np.ndarra
     return np.column_stack([-n, y, a])
 
 
+def side_clearance(height_m: float | None) -> float:
+    """Free space (m) kept under a sideways hand's lower edge for an object whose top is
+    ``height_m`` above its support (None: unknown): :data:`CLEARANCE_M`, less (down to
+    :data:`MIN_CLEARANCE_M`) when the hand would keep under :data:`GRIP_HEIGHT_M` of it."""
+    if height_m is None:
+        return CLEARANCE_M
+    return min(CLEARANCE_M, max(MIN_CLEARANCE_M, height_m - GRIP_HEIGHT_M))
+
+
 def _unit(v: np.ndarray) -> np.ndarray:
     return v / np.linalg.norm(v)
 
@@ -113,14 +129,16 @@ def plan_grasps(
     side: str,
     forward: np.ndarray | None = None,
     support_z: float | None = None,
+    top_z: float | None = None,
 ) -> list[GraspPlan]:
     """Candidate grasps of an object (rotationally ``symmetric`` or not) at ``t_world_object``
     by hand ``side``, most natural first (the skill takes the first the whole-body IK can reach).
 
     ``forward``: the robot's forward direction in the world (default +x). ``support_z``:
-    height of the surface the object stands on; a side or front grasp is raised so that
+    height of the surface the object stands on (m); a side or front grasp is raised so that
     the hand (which reaches :data:`HAND_BELOW_CENTRE_M` below its grasp centre when it
-    is held sideways) stays clear of it.
+    is held sideways) keeps :func:`side_clearance` over it. ``top_z``: height of the
+    object's top (m; None: unknown, as if tall enough).
     """
     if grasp.approach not in APPROACHES:
         raise RuntimeFailure(
@@ -169,10 +187,11 @@ def plan_grasps(
         point = p_obj + (np.array([0.0, 0.0, offset[2]]) - radius * fwd if symmetric else r_obj @ offset)
         plans.append((point, hand_rotation_for(d, up), d))
     out = []
+    clear = side_clearance(None if top_z is None or support_z is None else top_z - support_z)
     for point, rot, d in plans:
         point = point.copy()
         if support_z is not None and grasp.approach != "top":
-            point[2] = max(point[2], support_z + HAND_BELOW_CENTRE_M + CLEARANCE_M)
+            point[2] = max(point[2], support_z + HAND_BELOW_CENTRE_M + clear)
         out.append(
             GraspPlan(
                 make_T(rot, point),

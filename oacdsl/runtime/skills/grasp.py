@@ -98,12 +98,13 @@ def grasp_candidates(ctx: SkillContext, hand: str, obj: str, shared: bool = Fals
     side = ctx.side(hand)
     t_obj = ctx.world.body_pose(obj)
     support = ctx.support_height(t_obj[:2, 3], exclude=obj, below=float(t_obj[2, 3]) + 0.01)
+    top = float(t_obj[2, 3] + t_obj[2, 2] * ctx.body(obj).height)  # upright: its base + height, m
     grasp = ctx.grasp_for(obj)
-    plans = plan_grasps(grasp, ctx.body(obj).round, t_obj, side, support_z=support)
+    plans = plan_grasps(grasp, ctx.body(obj).round, t_obj, side, support_z=support, top_z=top)
     if shared and not ctx.body(obj).round:
         x, y, z = grasp.offset
         mirrored = grasp.model_copy(update={"offset": (-x, -y, z)})
-        plans += plan_grasps(mirrored, False, t_obj, side, support_z=support)
+        plans += plan_grasps(mirrored, False, t_obj, side, support_z=support, top_z=top)
         left = ctx.world.frame_pose("grasp_l")[:3, 3] - ctx.world.frame_pose("grasp_r")[:3, 3]
         own = left if side == "l" else -left
         plans = [p for p in plans if float((p.grasp[:3, 3] - t_obj[:3, 3]) @ own) > 0] or plans
