@@ -101,6 +101,50 @@ def test_a_lid_on_its_bottle_at_the_first_frame_starts_on_it_and_is_unscrewed():
     assert lid.on is None and lid.y > bottle.y + 0.1
 
 
+def test_the_hand_lets_go_of_the_lid_only_on_the_middle_of_the_bottle_top():
+    # the arm lags the turning hand by up to 3 cm sideways, and the bottle in the right hand
+    # leans: a lid let go 4 cm off the top's middle tipped over its edge as the hand rose
+    # (seed 2 lost it so); each time the hand lets go, the lid's base is within 1 cm of the
+    # middle of the bottle's top (18 cm up its own, leaning axis)
+    run = prepare(library(), "open_bottle", seed=2, layout="demonstrated", demonstrated=FIRST_FRAME)
+    world, offs = run.world, []
+    release = world.release
+
+    def spy(side):
+        t_bottle, t_lid = world.body_pose("bottle"), world.body_pose("lid")
+        off = t_lid[:3, 3] - (t_bottle[:3, 3] + 0.18 * t_bottle[:3, 2])  # m
+        axis = t_lid[:3, 2]
+        if world.held.get(side) == "lid" and world.touching("lid", "bottle"):
+            offs.append(float(np.linalg.norm(off - (off @ axis) * axis)))
+        release(side)
+
+    world.release = spy
+    result = run_prepared(run)
+    assert result.success, result.error
+    assert len(offs) >= 6  # 240° in strokes of 25°: a regrasp between each two
+    assert max(offs) < 0.01, [round(o * 100, 1) for o in offs]
+
+
+def test_a_top_grasp_that_came_down_beside_the_lid_comes_down_again():
+    # seed 4 puts the lid low and close to the robot: the arm lagged its descending target
+    # 3 cm aside, the thumb knocked the lid and the fingers closed off it ("left_hand touches
+    # nothing"); the hand now goes up and comes down again, and the whole task succeeds
+    run = prepare(library(), "close_and_open", seed=4)
+    activities = []
+    tick = run.controller.tick
+
+    def spy():
+        if not activities or activities[-1] != run.controller.activity:
+            activities.append(run.controller.activity)
+        tick()
+
+    run.controller.tick = spy
+    result = run_prepared(run)
+    assert result.success, result.error
+    assert "approaching lid again" in activities
+    assert "approaching bottle again" not in activities  # the bottle's side grasp: never
+
+
 def test_oacc_run_closes_and_opens_the_bottle_from_the_command_line():
     args = [a for p in LIBRARIES for a in ("--library", str(p))]
     out = subprocess.run(

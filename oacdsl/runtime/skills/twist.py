@@ -8,7 +8,10 @@ unscrewed; negative: screwed on), in ``duration`` (at least what its strokes and
 need, about :data:`REGRASP_S` each). Each stroke also brings the object's axis back onto the
 target's and keeps it pressed lightly on the target's top. A hand turns at most ``stroke``
 at a time, as a person's does: between strokes it lets go (the fingers open, the thumb
-stays), rises, turns back and takes the object again, which stays on the target. While the other
+stays), rises, turns back and takes the object again, which stays on the target. Before it
+lets go, the hand slides the object, still held and pressed on, onto the middle of the
+target's top (:func:`centre`: the arm lags a turning hand by centimetres, and an object
+let go off the middle tipped over the edge). While the other
 hand holds something (the bottle), its goal stays fixed, as strong a task as the turning
 hand's. With ``lift`` the object is then raised that far off the target (a lid unscrewed
 and taken off); without, it stays on the target, touching it (the OAC's effect ``o <-> t``).
@@ -33,7 +36,7 @@ from oacdsl.runtime.skills.base import SkillContext
 from oacdsl.runtime.skills.bimanual import move_both
 from oacdsl.runtime.skills.grasp import SQUEEZE_RAD
 from oacdsl.runtime.skills.place import MIN_JERK_PEAK
-from oacdsl.runtime.skills.shapes import lowest_z, world_corners
+from oacdsl.runtime.skills.shapes import corners, lowest_z, world_corners
 from oacdsl.runtime.skills.touch import HOVER_M, TOUCH_FORCE_N, TOUCH_SPEED_M_S, approach_pose
 from oacdsl.runtime.transforms import make_T, rot_axis
 
@@ -72,6 +75,14 @@ RISE_M = 0.05
 PRESS_M = 0.003
 #: How far down an object that lost the target is set on it before the hand lets go, m.
 SEAT_M = 0.01
+#: How far the object's axis may be off the target's when the hand lets go of it, m (the
+#: arm lags a turning hand by up to 3 cm sideways: a lid let go 4 cm off its bottle's axis
+#: tipped over the edge as the hand rose).
+CENTRE_M = 0.005
+#: Most moves that bring the held object back onto the target's axis before it is let go.
+CENTRE_TRIES = 4
+#: Time of each such move, s.
+CENTRE_S = 0.25
 
 
 def _angle_about(axis: np.ndarray, r_from: np.ndarray, r_to: np.ndarray) -> float:
@@ -119,6 +130,39 @@ def put_on(
         raise RuntimeFailure(f"twist: {obj} did not reach {target} (the wrist felt {felt:.0f} N)")
     now = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
     go(_raised(now, -PRESS_M), 0.2)
+
+
+def _off_axis(ctx: SkillContext, obj: str, target: str, axis: np.ndarray) -> np.ndarray:
+    """Where ``obj``'s origin (the middle of its base) is off the middle of ``target``'s top,
+    across ``axis`` (world, m). The top's middle, not the target's origin: a bottle held in a
+    hand leans a few degrees, and 18 cm up that is 1–2 cm."""
+    t_target = ctx.world.body_pose(target)
+    top = t_target[:3, 3] + t_target[:3, 2] * float(corners(ctx.body(target))[:, 2].max())
+    off = ctx.world.body_pose(obj)[:3, 3] - top
+    return off - float(off @ axis) * axis
+
+
+def centre(
+    ctx: SkillContext, side: str, obj: str, target: str, axis: np.ndarray, go: Callable[..., None]
+) -> float:
+    """Slide the held ``obj`` back onto ``target``'s axis, its lowest point kept pressed on
+    ``target``'s top (closed loop: the arm's own error is measured on the object and made up
+    for, move after move); returns how far off the axis it stays, m."""
+    world, ctl = ctx.world, ctx.ctl
+    for _ in range(CENTRE_TRIES):
+        off = _off_axis(ctx, obj, target, axis)
+        if float(np.linalg.norm(off)) <= CENTRE_M and world.touching(obj, target):
+            break
+        ctl.activity = f"setting {obj} on the middle of {target}"
+        low = lowest_z(ctx.body(obj), world.body_pose(obj))
+        top = float(world_corners(ctx.body(target), world.body_pose(target))[:, 2].max())
+        here = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+        goal = make_T(here[:3, :3], here[:3, 3] - off)
+        # down from where the hand really is (not from its target, which may be lower already)
+        goal[2, 3] = world.frame_pose(f"grasp_{side}")[2, 3] - (low - top) - PRESS_M
+        go(goal, CENTRE_S)
+        ctl.wait(0.1)
+    return float(np.linalg.norm(_off_axis(ctx, obj, target, axis)))
 
 
 def _close_on(ctx: SkillContext, side: str, hand: str, obj: str, closed: dict[str, float]) -> None:
@@ -186,8 +230,10 @@ def twist(
     def retake() -> None:
         """Let go of the object (on the target), and take it again from the first pose."""
         ctl.activity = f"taking {obj} again"
-        here = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+        centre(ctx, side, obj, target, axis, go)
+        ctl.activity = f"taking {obj} again"
         if not world.touching(obj, target):  # set it down on the target before letting go
+            here = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
             go(_raised(here, -SEAT_M), 0.3, guard=lambda: world.touching(obj, target))
         world.release(side)
         # the palm holds it down while only the fingers open; the thumb stays where it is
@@ -222,8 +268,7 @@ def twist(
         step = left / max(1, math.ceil(abs(left) / max(stroke, 1e-6) - 1e-9))
         # turned about its own axis, and brought back onto the target's (it drifts a little
         # with each regrasp)
-        off = t_now[:3, 3] - world.body_pose(target)[:3, 3]
-        off -= float(off @ axis) * axis
+        off = _off_axis(ctx, obj, target, axis)
         goal = _turned(here, axis, t_now[:3, 3], step)
         goal[:3, 3] -= off
         # and kept on the target: its lowest point pressed a little below the target's top
