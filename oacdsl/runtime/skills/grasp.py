@@ -38,9 +38,6 @@ GRASP_POSE_TOLERANCE_M = 0.07
 #: Height an object is lifted after grasping, m.
 LIFT_M = 0.10
 APPROACH_SPEED_M_S = 0.15
-#: How far beside its grasp point a top approach may stop on the object, m (farther, it goes
-#: up and comes down again, slower), and how far up it goes first, m.
-ASIDE_M, RETRY_UP_M = 0.02, 0.06
 #: Half the hand's width across the fingers, plus a margin: the free corridor an approach needs, m.
 HAND_HALF_WIDTH_M = 0.07
 #: How far a hand that came down onto an object is raised again before it closes, m.
@@ -169,13 +166,6 @@ def ease_off(ctx: SkillContext, m: GraspMotion) -> np.ndarray | None:
     return eased
 
 
-def _aside(ctx: SkillContext, m: GraspMotion) -> float:
-    """How far (m, horizontally) the hand's grasp centre is from the grasp point, moved with the object."""
-    moved = ctx.world.body_pose(m.obj)[:3, 3] - m.t_obj[:3, 3]
-    d = ctx.world.frame_pose(f"grasp_{m.side}")[:3, 3] - (m.plan.grasp[:3, 3] + moved)
-    return float(np.hypot(d[0], d[1]))
-
-
 def secure(ctx: SkillContext, m: GraspMotion) -> None:
     """After closing: check the hand is at the grasp and touches the object as needed, weld
     it, keep the fingers pressing lightly and remember the pick."""
@@ -223,18 +213,6 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str, *, lift: float = LIF
             ctl.move(side, pose, seconds)
     ctl.activity = f"approaching {obj}"
     ctl.move(side, m.plan.end, m.approach_s, guard=lambda: m.arrived(world))
-    on_held = bool(m.supports & {o for o in world.held.values() if o is not None})
-    if m.stop is not None and not on_held and _aside(ctx, m) > ASIDE_M:
-        # a top approach that came down beside the grasp point (the arm lagged its descending
-        # target, 3 cm aside reaching low and close to the body): up, and down again. Not on
-        # what the other hand holds (a lid on a held bottle: coming down again pressed it into
-        # that hand, over 60 N; `twist` sets a hand that took a lid off its axis on it)
-        ctl.activity = f"approaching {obj} again"
-        ctl.move(side, lifted(ctx, side, RETRY_UP_M), 0.5)
-        ctl.wait(0.3)
-        m = plan_grasp(ctx, hand, obj)
-        ctl.move(side, m.plan.pre_grasp, 0.6)
-        ctl.move(side, m.plan.end, 2 * m.approach_s, guard=lambda: m.arrived(world))
     eased = ease_off(ctx, m)
     if eased is not None:
         ctl.move(side, eased, 0.2)
