@@ -114,7 +114,7 @@ class Controller:
 
         Returns True when ``guard`` ended the motion early. The other hand holds still.
         """
-        start = self.ik.target(side) if self.ik.active[side] else self.ik.frame(f"grasp_{side}")
+        start = self.ik.goal(side)
         other = "l" if side == "r" else "r"
         if self.ik.active[other]:
             self.ik.hold_hand(other, weight=0.5)

@@ -176,6 +176,11 @@ class WholeBodyIK:
     def target(self, side: str) -> np.ndarray:
         return np.array(self.hand_tasks[side].T_world_frame)
 
+    def goal(self, side: str) -> np.ndarray:
+        """T_world_grasp hand ``side`` is commanded to: its target while a skill drives it
+        (:meth:`set_hand_target`), else where the IK model has it now (an idle hand)."""
+        return self.target(side) if self.active[side] else self.frame(f"grasp_{side}")
+
     def residual(self, side: str) -> Residual:
         t = self.frame(f"grasp_{side}")
         goal = self.target(side)

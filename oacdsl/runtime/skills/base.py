@@ -195,7 +195,7 @@ class SkillContext:
         """The three (T_world_grasp, seconds) of :meth:`carry`: a climb (0 s when none is
         needed), a point over the middle of the way, the goal."""
         ctl = self.ctl
-        now = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+        now = ctl.ik.goal(side)
         hanging = HAND_BELOW_CENTRE_M
         held = self.world.held[side]
         if held is not None:

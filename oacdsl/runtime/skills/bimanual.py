@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from functools import partial
+from typing import Protocol
 
 import numpy as np
 
@@ -33,7 +34,7 @@ from oacdsl.runtime.skills.place import (
 )
 from oacdsl.runtime.transforms import interpolate, make_T, min_jerk
 
-__all__ = ["grasp_both", "place_both", "move_both", "reach_both", "HANDS_APART_M"]
+__all__ = ["grasp_both", "place_both", "move_both", "mover", "reach_both", "HANDS_APART_M"]
 
 #: Room kept between two hands that grasp at once, m: the smallest distance between their
 #: collision boxes (palm, fingers, the thumb held out) at the two grasp poses
@@ -41,6 +42,27 @@ __all__ = ["grasp_both", "place_both", "move_both", "reach_both", "HANDS_APART_M
 HANDS_APART_M = 0.03
 #: How many of each hand's reachable grasps are paired up.
 PAIR_CANDIDATES = 4
+
+
+class Move(Protocol):
+    """Move a hand to T_world_grasp in ``seconds``; a true ``guard`` stops it."""
+
+    def __call__(self, pose: np.ndarray, seconds: float, guard: Callable[[], bool] | None = None) -> None: ...
+
+
+def mover(ctl: Controller, side: str, keep: np.ndarray | None) -> Move:
+    """A move of hand ``side`` (``go(T_world_grasp, seconds, guard=None)``): alone when ``keep``
+    is None, else with the other hand's goal fixed at ``keep`` (T_world_grasp) throughout, as
+    strong a task as this hand's (the whole-body IK would let what it holds drift with the torso)."""
+    other = "l" if side == "r" else "r"
+
+    def go(pose: np.ndarray, seconds: float, guard: Callable[[], bool] | None = None) -> None:
+        if keep is None:
+            ctl.move(side, pose, seconds, guard=guard)
+        else:
+            move_both(ctl, {side: pose, other: keep}, seconds, {side: guard} if guard else None)
+
+    return go
 
 
 def move_both(
@@ -53,7 +75,7 @@ def move_both(
     together. A hand whose guard becomes true stops where it really is; the motion ends when it is
     over or every guarded hand stopped. Returns, per side, whether its guard stopped it."""
     guards = dict(guards or {})
-    starts = {s: ctl.ik.target(s) if ctl.ik.active[s] else ctl.ik.frame(f"grasp_{s}") for s in goals}
+    starts = {s: ctl.ik.goal(s) for s in goals}
     for s in goals:
         ctl.tare(s)
     stopped = {s: False for s in goals}
@@ -210,7 +232,7 @@ def place_both(
     ctl.activity = f"carrying {o1} and {o2}"
     hover: dict[str, np.ndarray] = {}
     if o1 == o2:  # one object in both hands: straight down from where it is
-        hover = {s: ctl.ik.target(s) if ctl.ik.active[s] else ctl.ik.frame(f"grasp_{s}") for s in sides}
+        hover = {s: ctl.ik.goal(s) for s in sides}
     else:
         paths = {}
         for side, obj in zip(sides, (o1, o2), strict=True):

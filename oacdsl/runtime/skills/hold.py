@@ -37,7 +37,7 @@ def hold(ctx: SkillContext, hand: str, obj: str, *, duration: float = HOLD_S) ->
     side = ctx.require_held(hand, obj)
     ctl.activity = f"holding {obj}"
     start = world.body_pose(obj)[:3, 3].copy()
-    here = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+    here = ctl.ik.goal(side)
     ctl.ik.set_hand_target(side, here)
     ctl.wait(duration)
     if world.held[side] != obj:
@@ -68,7 +68,7 @@ def retreat(ctx: SkillContext, hand: str, *, duration: float = RETREAT_S) -> Non
         raise RuntimeFailure(f"retreat: {hand} still holds {world.held[side]} (place it first)")
     goal = home_pose(ctx, side)
     ctl.activity = f"taking {hand} back"
-    now = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+    now = ctl.ik.goal(side)
     up = make_T(now[:3, :3], now[:3, 3] + np.array([0.0, 0.0, RISE_M]))
     ctl.move(side, up, 0.25 * duration)
     ctx.carry(side, goal, set(), 0.75 * duration)

@@ -53,7 +53,7 @@ def hold_up(
     if ctx.other_holder(side, obj) is not None:  # a hand-over: the other hand holds it too
         return
     goal_mid = np.array([forward, aside if side == "l" else -aside])
-    now = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+    now = ctl.ik.goal(side)
     shift = goal_mid - _middle(ctx, obj)
     goal = make_T(now[:3, :3], now[:3, 3] + np.array([shift[0], shift[1], 0.0]))
     ctl.activity = f"holding {obj} up"

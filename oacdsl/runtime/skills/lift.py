@@ -29,7 +29,7 @@ def lift(ctx: SkillContext, hand: str, obj: str, target: str, *, height: float =
     side = ctx.require_held(hand, obj)
     if target not in world.layout.bodies:
         raise RuntimeFailure(f"lift: {target!r} is no object of the scene")
-    now = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+    now = ctl.ik.goal(side)
     up = make_T(now[:3, :3], now[:3, 3] + np.array([0.0, 0.0, height]))
     ctl.activity = f"lifting {obj} off {target}"
     ctx.check_reachable(side, up, f"{height * 100:.0f} cm above {obj}'s place")

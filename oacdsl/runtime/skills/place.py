@@ -132,7 +132,7 @@ def set_down_pose(
         xy, where = origin[:2, 3], "its place"  # back where it was picked up (it stood there)
     elif world.touching(obj, support):  # on the support already (a wipe, a ladle in a bowl): set it down here
         ctl = ctx.ctl
-        here = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+        here = ctl.ik.goal(side)
         return here, support, support
     else:
         xy, where = world.body_pose(support)[:2, 3], support
@@ -153,7 +153,7 @@ def _set_down(
         return
     ctl.activity = f"carrying {obj} to {where}"
     ctx.check_reachable(side, hover, f"the place of {obj} on {where}")
-    now = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+    now = ctl.ik.goal(side)
     far = float(np.linalg.norm(hover[:3, 3] - now[:3, 3]))
     ctx.carry(side, hover, {obj} if support is None else {obj, support}, max(CARRY_S, far / CARRY_SPEED_M_S))
     ctl.wait(0.2)

@@ -78,7 +78,7 @@ def roll(
         raise RuntimeFailure(f"roll needs two different hands ({h1} given twice)")
     if target not in world.layout.bodies or not ctx.body(target).solids:
         raise RuntimeFailure(f"roll: {target!r} is no object of the scene")
-    starts = {s: ctl.ik.target(s) if ctl.ik.active[s] else ctl.ik.frame(f"grasp_{s}") for s in sides}
+    starts = {s: ctl.ik.goal(s) for s in sides}
 
     def shifted(dx: np.ndarray) -> dict[str, np.ndarray]:
         return {s: make_T(t[:3, :3], t[:3, 3] + dx) for s, t in starts.items()}

@@ -19,13 +19,11 @@ the stroking hand's (as ``touch`` does).
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.skills.base import SkillContext
-from oacdsl.runtime.skills.bimanual import move_both
+from oacdsl.runtime.skills.bimanual import mover
 from oacdsl.runtime.skills.place import MIN_JERK_PEAK
 from oacdsl.runtime.skills.shapes import lowest_z, world_corners
 from oacdsl.runtime.transforms import make_T
@@ -96,15 +94,7 @@ def stroke(
     if target not in world.layout.bodies or not ctx.body(target).solids:
         raise RuntimeFailure(f"stroke: {target!r} is no object of the scene")
     other = "l" if side == "r" else "r"
-    keep = None
-    if world.held.get(other) is not None:
-        keep = ctl.ik.target(other) if ctl.ik.active[other] else ctl.ik.frame(f"grasp_{other}")
-
-    def go(pose: np.ndarray, seconds: float, guard: Callable[[], bool] | None = None) -> None:
-        if keep is None:
-            ctl.move(side, pose, seconds, guard=guard)
-        else:
-            move_both(ctl, {side: pose, other: keep}, seconds, {side: guard} if guard else None)
+    go = mover(ctl, side, ctl.ik.goal(other) if world.held.get(other) is not None else None)
 
     u = stroke_direction(ctx, side, target)
     t_tgt = world.body_pose(target)

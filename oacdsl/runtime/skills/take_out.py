@@ -48,7 +48,7 @@ def _against_far_wall(ctx: SkillContext, side: str, obj: str, container: str) ->
     base = world.body_pose(obj)[:2, 3]
     room = ctx.body(container).inner_radius - ctx.body(obj).radius - WALL_GAP_M
     goal = centre + away * max(room, 0.0)
-    now = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+    now = ctl.ik.goal(side)
     shift = np.array([*(goal - base), 0.0])
     ctl.activity = f"resting {obj} against the far wall of {container}"
     ctl.move(side, make_T(now[:3, :3], now[:3, 3] + shift), 0.6)
@@ -67,7 +67,7 @@ def take_out(ctx: SkillContext, hand: str, obj: str, container: str, *,
     base = float(world.body_pose(obj)[2, 3])
     rise = max(top + clear - base, clear)
     ctl.activity = f"taking {obj} out of {container}"
-    now = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+    now = ctl.ik.goal(side)
     up = now[:3, 3] + np.array([0.0, 0.0, rise])
     ctl.move(side, make_T(now[:3, :3], up), duration)
     aside = up + np.array([0.0, -ASIDE_M if side == "r" else ASIDE_M, 0.0])

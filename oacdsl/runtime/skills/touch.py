@@ -18,13 +18,11 @@ goal made the whole-body IK push the plate onto the rack with 61-74 N.
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.skills.base import SkillContext
-from oacdsl.runtime.skills.bimanual import move_both
+from oacdsl.runtime.skills.bimanual import mover
 from oacdsl.runtime.skills.place import MIN_JERK_PEAK
 from oacdsl.runtime.skills.shapes import lowest_z, world_corners
 from oacdsl.runtime.transforms import make_T
@@ -101,15 +99,11 @@ def touch(
         # the other hand holds a knife, or a solid this one works on (a cucumber on the board):
         # its goal stays fixed while this one moves; a held container (a cup) keeps the
         # controller's usual hold of the idle hand
-        keep = ctl.ik.target(other) if ctl.ik.active[other] else ctl.ik.frame(f"grasp_{other}")
+        keep = ctl.ik.goal(other)
         if held_target:  # the far end of the solid from that hand is touched
             away = world.frame_pose(f"grasp_{other}")[:3, 3]
 
-    def go(pose: np.ndarray, seconds: float, guard: Callable[[], bool] | None = None) -> None:
-        if keep is None:
-            ctl.move(side, pose, seconds, guard=guard)
-            return
-        move_both(ctl, {side: pose, other: keep}, seconds, {side: guard} if guard else None)
+    go = mover(ctl, side, keep)
 
     above, depth = approach_pose(ctx, side, obj, target, hover, away)
     ctl.activity = f"bringing {obj} over {target}"
@@ -127,7 +121,7 @@ def touch(
     )
     if ctl.wait(0.3, until=lambda: world.touching(obj, target)) or world.touching(obj, target):
         # a light press (``press`` further down), so that the contact lasts while the hand keeps still
-        now = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+        now = ctl.ik.goal(side)
         go(make_T(now[:3, :3], now[:3, 3] - np.array([0.0, 0.0, press])), 0.2)
         return
     felt = float(np.linalg.norm(ctl.force_change(side)))

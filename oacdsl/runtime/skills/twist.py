@@ -33,7 +33,7 @@ from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.control import CONTROL_DT_S
 from oacdsl.runtime.hands import CLOSED, OPEN, PINCH_CLOSED, finger_joint_names
 from oacdsl.runtime.skills.base import SkillContext
-from oacdsl.runtime.skills.bimanual import move_both
+from oacdsl.runtime.skills.bimanual import mover
 from oacdsl.runtime.skills.grasp import SQUEEZE_RAD
 from oacdsl.runtime.skills.place import MIN_JERK_PEAK
 from oacdsl.runtime.skills.shapes import corners, lowest_z, world_corners
@@ -128,7 +128,7 @@ def put_on(
     if not (ctl.wait(0.3, until=lambda: world.touching(obj, target)) or world.touching(obj, target)):
         felt = float(np.linalg.norm(ctl.force_change(side)))
         raise RuntimeFailure(f"twist: {obj} did not reach {target} (the wrist felt {felt:.0f} N)")
-    now = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+    now = ctl.ik.goal(side)
     go(_raised(now, -PRESS_M), 0.2)
 
 
@@ -156,7 +156,7 @@ def centre(
         ctl.activity = f"setting {obj} on the middle of {target}"
         low = lowest_z(ctx.body(obj), world.body_pose(obj))
         top = float(world_corners(ctx.body(target), world.body_pose(target))[:, 2].max())
-        here = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+        here = ctl.ik.goal(side)
         goal = make_T(here[:3, :3], here[:3, 3] - off)
         # down from where the hand really is (not from its target, which may be lower already)
         goal[2, 3] = world.frame_pose(f"grasp_{side}")[2, 3] - (low - top) - PRESS_M
@@ -198,15 +198,7 @@ def twist(
     if target not in world.layout.bodies or not ctx.body(target).solids:
         raise RuntimeFailure(f"twist: {target!r} is no object of the scene")
     other = "l" if side == "r" else "r"
-    keep = None
-    if world.held.get(other) is not None:
-        keep = ctl.ik.target(other) if ctl.ik.active[other] else ctl.ik.frame(f"grasp_{other}")
-
-    def go(pose: np.ndarray, seconds: float, guard: Callable[[], bool] | None = None) -> None:
-        if keep is None:
-            ctl.move(side, pose, seconds, guard=guard)
-        else:
-            move_both(ctl, {side: pose, other: keep}, seconds, {side: guard} if guard else None)
+    go = mover(ctl, side, ctl.ik.goal(other) if world.held.get(other) is not None else None)
 
     if not world.touching(obj, target):
         put_on(ctx, side, obj, target, go)
@@ -221,7 +213,7 @@ def twist(
     # every stroke starts from the hand's first pose over the object, moved with the object:
     # a hand that did not quite follow a stroke would otherwise turn back too far, stroke after
     # stroke; that pose has the hand's grasp centre on the object's axis
-    first = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+    first = ctl.ik.goal(side)
     origin = world.body_pose(obj)[:3, 3].copy()
     aside = world.frame_pose(f"grasp_{side}")[:3, 3] - origin
     aside -= float(aside @ axis) * axis
@@ -233,7 +225,7 @@ def twist(
         centre(ctx, side, obj, target, axis, go)
         ctl.activity = f"taking {obj} again"
         if not world.touching(obj, target):  # set it down on the target before letting go
-            here = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+            here = ctl.ik.goal(side)
             go(_raised(here, -SEAT_M), 0.3, guard=lambda: world.touching(obj, target))
         world.release(side)
         # the palm holds it down while only the fingers open; the thumb stays where it is
@@ -260,7 +252,7 @@ def twist(
     last = world.body_pose(obj)[:3, :3].copy()
     for k in range(MAX_STROKES * n):
         ctl.activity = f"turning {obj} on {target} (stroke {k + 1})"
-        here = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+        here = ctl.ik.goal(side)
         t_now = world.body_pose(obj)
         turned += _angle_about(axis, last, t_now[:3, :3])  # what the regrasp turned it (back)
         # what is left, in equal strokes of at most ``stroke``
@@ -290,7 +282,7 @@ def twist(
         )
     if lift > 0:
         ctl.activity = f"taking {obj} off {target}"
-        here = ctl.ik.target(side) if ctl.ik.active[side] else ctl.ik.frame(f"grasp_{side}")
+        here = ctl.ik.goal(side)
         go(make_T(here[:3, :3], here[:3, 3] + np.array([0.0, 0.0, lift])), 1.0)
         ctl.wait(0.3)
         if world.touching(obj, target):

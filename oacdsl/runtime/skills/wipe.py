@@ -110,7 +110,7 @@ def _wipe_held(
     """Wipe ``surface`` held by hand ``other`` (see the module docstring)."""
     world, ctl = ctx.world, ctx.ctl
     ik = ctl.ik
-    keep = ik.target(other) if ik.active[other] else ik.frame(f"grasp_{other}")
+    keep = ik.goal(other)
     _, tool_in_hand = ctx.held_pose(side, tool)
     r_tool = world.body_pose(tool)[:3, :3].copy()
     t_surface = world.body_pose(surface)
@@ -154,7 +154,7 @@ def _wipe_held(
     def stroke_s(distance: float) -> float:
         return MIN_JERK_PEAK * abs(distance) / HELD_STROKE_SPEED_M_S
 
-    start = ik.target(side) if ik.active[side] else ik.frame(f"grasp_{side}")
+    start = ik.goal(side)
     ctl.activity = f"bringing {tool} over {surface}"
     ctx.check_reachable(side, spot(0.0, 0.0), f"the middle of {surface}")
     go(lambda s: interpolate(start, spot(0.0, -CLIMB_M * (1.0 - s)), s), CARRY_S)
