@@ -386,3 +386,29 @@ def test_a_mirrored_kit_clip_composes_with_the_hands_exchanged(tmp_path, capsys)
     assert "scene kit_pour" in (tmp_path / "1.oac").read_text()
     assert steps[1] == [(oac, [swap.get(a, a) for a in args]) for oac, args in steps[0]]
     assert {"left_hand", "right_hand"} <= {a for _, args in steps[0] for a in args}
+
+
+def test_the_standard_gap_skips_the_subjects_body():
+    rec = synthetic()
+    torso = [i for i, n in enumerate(rec.marker_names) if n in _TORSO]
+    knee = rec.positions_m.copy()
+    knee[:, torso[0]] += np.linspace(0.0, 3.0, rec.n_frames)[:, None]  # the subject walks far
+    body = Recording(
+        "body", rec.rate_hz, rec.times_s, rec.marker_names, knee, {**rec.groups, "subject_1723": tuple(torso)}
+    )
+    assert gap_marker(body, 0.5)[0] == "cup_1"
+
+
+@pytest.mark.parametrize("clip", ["dough", "Pour"])
+def test_mirroring_a_real_recording_twice_gives_it_back(clip):
+    path = DOUGH if clip == "dough" else next(mocap_file("kit_bimanual").glob(f"{clip}_*.mmm.xml"))
+    rec = read_recording(path)
+    take, _ = mirrored(rec)
+    assert sagittal_plane(rec)[2] == ("hands" if clip == "dough" else "torso")
+    assert np.allclose(mirrored(take)[0].positions_m, rec.positions_m, atol=1e-9, equal_nan=True)
+    assert np.array_equal(np.isnan(take.positions_m), np.isnan(rec.positions_m[:, _partners(rec)]))
+
+
+def _partners(rec: Recording) -> list[int]:
+    index = {n: i for i, n in enumerate(rec.marker_names)}
+    return [index.get(mirror_label(n), i) for i, n in enumerate(rec.marker_names)]

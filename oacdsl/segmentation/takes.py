@@ -202,12 +202,17 @@ def with_gap(rec: Recording, marker: str, start_s: float, duration_s: float) -> 
 
 
 def gap_marker(rec: Recording, duration_s: float) -> tuple[str, float]:
-    """Where the standard gap goes: (marker label, start s). The object (a group that is not a
-    hand nor the subject's body) whose markers' centroid travels farthest, its first marker with
-    the fewest gaps, during the ``duration_s`` window in which that object moves most."""
+    """Where the standard gap goes: (marker label, start s).
+
+    The object (a group that holds no marker of a hand or of the subject's torso, and is not
+    named for a hand or a subject) whose markers' centroid travels farthest; its first marker
+    with the fewest gaps; the ``duration_s`` window in which that object moves most."""
     skip = set(subject_indices(rec)) | {i for side in HANDS for i in hand_indices(rec, side)}
-    objects = [(g, [i for i in idx if i not in skip]) for g, idx in sorted(rec.groups.items())]
-    objects = [(g, idx) for g, idx in objects if idx and "hand" not in g.lower()]
+    objects = [
+        (g, list(idx))
+        for g, idx in sorted(rec.groups.items())
+        if not skip.intersection(idx) and "hand" not in g.lower() and not g.startswith("subject")
+    ]
     if not objects:
         raise RecordingError(
             "no object marker for a gap (every group is a hand or the subject)", location=rec.source
