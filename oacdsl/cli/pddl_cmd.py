@@ -22,9 +22,13 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         " (the scene's instances and initial relations, the goal). Sorted, so the same input gives"
         " the same files. Exit 2 for usage or I/O errors, 1 for an invalid library.",
     )
-    p.add_argument("paths", nargs="+", metavar="LIBRARY", help=".oac file or folder (several form one library)")
+    p.add_argument(
+        "paths", nargs="+", metavar="LIBRARY", help=".oac file or folder (several form one library)"
+    )
     add_state_options(p)
-    p.add_argument("-o", "--out", required=True, metavar="DIR", help="folder for domain.pddl and problem.pddl")
+    p.add_argument(
+        "-o", "--out", required=True, metavar="DIR", help="folder for domain.pddl and problem.pddl"
+    )
     p.set_defaults(func=run)
 
 

@@ -35,7 +35,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         help="OAC library folder or file (repeatable; default: library/)",
     )
     add_state_options(p)
-    p.add_argument("--engine", choices=ENGINES, default="fast-downward", help="the planner (default: %(default)s)")
+    p.add_argument(
+        "--engine", choices=ENGINES, default="fast-downward", help="the planner (default: %(default)s)"
+    )
     p.add_argument("--optimal", action="store_true", help="a shortest plan (slower on large tasks)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
     p.set_defaults(func=run)

@@ -7,8 +7,8 @@ plan by the matcher's semantics; :mod:`~oacdsl.planning.explain` says why a goal
 """
 
 from oacdsl.planning.engines import ENGINES, PlannedStep, solve
-from oacdsl.planning.planner import PlanResult, goal_task, plan_goal
 from oacdsl.planning.pddl import domain_text, problem_text
+from oacdsl.planning.planner import PlanResult, goal_task, plan_goal
 from oacdsl.planning.replay import replay
 from oacdsl.planning.state import parse_atoms, scene_state, stated
 from oacdsl.planning.task import Action, Task, make_task, primitive_actions

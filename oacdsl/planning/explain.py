@@ -86,7 +86,8 @@ class _Relaxed:
 
     def blocked(self, g: Ground) -> Atom | None:
         """The first precondition of ``g`` that is not reachable, else None."""
-        return next((a for a in (bind_atom(p, g.binding) for p in g.action.oac.pre) if not self.holds(a)), None)
+        bound = (bind_atom(p, g.binding) for p in g.action.oac.pre)
+        return next((a for a in bound if not self.holds(a)), None)
 
     def adds(self, g: Ground) -> list[Literal]:
         out: list[Literal] = []
@@ -118,7 +119,10 @@ def unreachable(task: Task) -> list[tuple[Atom, str]]:
             continue
         makers = relaxed.makers(atom)
         if not makers:
-            out.append((atom, f"no OAC of the library makes {atom_text(atom)} true"))
+            unbound = "".join(
+                f"; {oac} needs a {cls}, which the scene has none of" for oac, cls in task.left_out
+            )
+            out.append((atom, f"no OAC of the library makes {atom_text(atom)} true{unbound}"))
             continue
         shown = []
         for g in makers[:3]:

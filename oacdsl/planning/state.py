@@ -118,7 +118,9 @@ def state_from_result(path: str, instances: Iterable[str]) -> WorldState:
             continue
         for name in (a, b):
             if name not in known:
-                raise InputError(f"observed relation {index}: no instance {name!r} in the scene", location=path)
+                raise InputError(
+                    f"observed relation {index}: no instance {name!r} in the scene", location=path
+                )
         if a != b:
             pairs.append(relation(a, b))
     return WorldState.of(known, pairs)

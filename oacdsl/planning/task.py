@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from oacdsl.errors import PlanningError
 from oacdsl.library import Library
 from oacdsl.model import Atom, Oac
-from oacdsl.world import NOTHING, WorldState
+from oacdsl.world import WorldState
 
 __all__ = ["Action", "Task", "make_task", "primitive_actions"]
 
@@ -61,6 +61,7 @@ class Task:
     costs: bool = False  # write action costs (a :metric minimising total-cost)
     pddl_names: dict[str, str] = field(default_factory=dict)  # instance → PDDL name
     class_names: dict[str, str] = field(default_factory=dict)  # class → its predicate (is-cup)
+    left_out: tuple[tuple[str, str], ...] = ()  # (OAC, a parameter class no instance has)
 
     def pddl(self, name: str) -> str:
         return self.pddl_names[name]
@@ -106,6 +107,9 @@ def make_task(
     class no instance has are left out (nothing could bind it)."""
     have = set().union(*classes.values()) if classes else set()
     usable = tuple(a for a in actions if all(c in have for _, c in a.free()))
+    left_out = tuple(
+        (a.oac.name, next(c for _, c in a.free() if c not in have)) for a in actions if a not in usable
+    )
     names = _names(classes)
     predicates = {c: f"is-{p}" for c, p in _names(have).items()}
     if len({a.name for a in usable}) != len(usable):
@@ -113,4 +117,4 @@ def make_task(
     missing = init.instances - set(classes)
     if missing:
         raise PlanningError(f"the state names instances without classes: {', '.join(sorted(missing))}")
-    return Task(name, usable, dict(classes), init, tuple(goal), costs, names, predicates)
+    return Task(name, usable, dict(classes), init, tuple(goal), costs, names, predicates, left_out)
