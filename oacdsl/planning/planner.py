@@ -92,10 +92,9 @@ def plan_goal(
     task = goal_task(library, scene, state, goal)
     if all(holds(a, state) for a in goal):
         return PlanResult(tuple(goal), engine, [], states=[state], time_s=time.perf_counter() - t0)
-    blocked = unreachable(task)  # unreachable when relaxed: no plan, no planner asked
-    steps = None if blocked else solve(task, engine, optimal=optimal)
+    steps = solve(task, engine, optimal=optimal)
     if steps is None:
-        return PlanResult(tuple(goal), engine, None, blocked, time_s=time.perf_counter() - t0)
+        return PlanResult(tuple(goal), engine, None, unreachable(task), time_s=time.perf_counter() - t0)
     states = replay(library, state, steps)
     missed = [atom_text(a) for a in goal if not holds(a, states[-1])]
     if missed:  # the encoding and the matcher disagree: say so rather than print a wrong plan
