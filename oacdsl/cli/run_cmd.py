@@ -81,7 +81,21 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         help="leave self-collision avoidance out of the IK (faster)",
     )
     add_scene_options(p)
+    add_adaptive_options(p)
     p.set_defaults(func=run)
+
+
+def add_adaptive_options(p: argparse.ArgumentParser) -> None:
+    """``--strict`` and ``--max-repairs`` (``oacc run`` and ``oacc reproduce``)."""
+    p.add_argument(
+        "--strict",
+        action="store_true",
+        help="run the demonstrated steps as they are and stop at the first one that fails (default:"
+        " adaptive: skip a step whose effects hold, replan from the observed state when one fails)",
+    )
+    p.add_argument(
+        "--max-repairs", type=int, default=3, metavar="N", help="adaptive: replan at most N times (default 3)"
+    )
 
 
 def _pairs(items: list[str], flag: str) -> dict[str, str]:
@@ -185,6 +199,8 @@ def _check_outputs(args: argparse.Namespace) -> None:
 
 def run(args: argparse.Namespace) -> int:
     bindings = _pairs(args.bind, "--bind")
+    if args.max_repairs < 0:
+        raise UsageError("--max-repairs: a whole number ≥ 0")
     overrides = scene_overrides(args)
     library, scene = load_inputs(args.library or ["library"], args.scene)
     db = None
@@ -244,13 +260,13 @@ def run(args: argparse.Namespace) -> int:
             viewer = Viewer(run_.world.model, run_.world.data)
             closers.append(viewer)
             run_.controller.add_observer(viewer)
-        total = len(run_.steps)
+        total = f"/{len(run_.steps)}" if args.strict or not run_.oac.composed else ""
 
         def on_step(index: int, step: Any, world: Any) -> None:
             args_text = ", ".join(step.binding.values())
             status = "ok" if step.success else "FAILED"
             print(
-                f"step {index + 1}/{total} {step.oac}({args_text}): {status} ({step.duration_s:.1f} s)",
+                f"step {index + 1}{total} {step.oac}({args_text}): {status} ({step.duration_s:.1f} s)",
                 file=out,
             )
             if frames is not None:
@@ -263,7 +279,14 @@ def run(args: argparse.Namespace) -> int:
             args_text = ", ".join(call.binding.values())
             print(f"composed {call.oac}({args_text}) of steps {call.first}-{call.last}: {status}", file=out)
 
-        result = run_prepared(run_, on_step=on_step, on_call=on_call)
+        if args.strict or not run_.oac.composed:  # a primitive OAC is one step: nothing to adapt
+            result = run_prepared(run_, on_step=on_step, on_call=on_call)
+        else:
+            from oacdsl.runtime.adaptive import describe, run_adaptive
+
+            result = run_adaptive(run_, on_step=on_step, on_call=on_call, max_repairs=args.max_repairs)
+            for line in describe(result.adaptations):
+                print(f"adapted: {line}", file=out)
     except OSError as error:  # a picture could not be written after all (disk full, folder removed)
         from oacdsl.errors import InputError
 

@@ -19,7 +19,7 @@ DOMAIN = "oacs"
 _TYPE = "instance"
 _REQUIREMENTS = (
     ":typing :negative-preconditions :equality :existential-preconditions"
-    " :universal-preconditions :conditional-effects"
+    " :universal-preconditions :conditional-effects :disjunctive-preconditions"
 )
 
 
@@ -79,6 +79,8 @@ def _action(task: Task, action: Action) -> str:
     terms = [term(p.name) for p in action.oac.params]
     pre += [f"(not (= {a} {b}))" for i, a in enumerate(terms) for b in terms[i + 1 :]
             if a.startswith("?") or b.startswith("?")]
+    for binding in action.banned:
+        pre.append("(not (and " + " ".join(f"(= {term(p)} {task.pddl(i)})" for p, i in binding) + "))")
     for atom in action.oac.pre:
         pre += _condition(atom, term)
     eff: list[str] = []
@@ -96,7 +98,9 @@ def _action(task: Task, action: Action) -> str:
 
 
 def _constants(task: Task) -> list[str]:
-    return sorted({task.pddl(i) for a in task.actions for _, i in a.fixed})
+    named = {i for a in task.actions for _, i in a.fixed}
+    named |= {i for a in task.actions for binding in a.banned for _, i in binding}
+    return sorted(task.pddl(i) for i in named)
 
 
 def domain_text(task: Task) -> str:

@@ -42,6 +42,8 @@ class Action:
     oac: Oac
     fixed: tuple[tuple[str, str], ...] = ()  # (parameter, instance), in parameter order
     cost: int = 1
+    #: Bindings the planner may not choose (a step that failed): each (parameter, instance) pairs.
+    banned: tuple[tuple[tuple[str, str], ...], ...] = ()
 
     def free(self) -> list[tuple[str, str]]:
         """The parameters left to the planner: (name, class)."""
