@@ -140,6 +140,32 @@ class _Adaptive:
         return True
 
 
+def _recover(run: Run, step: Step) -> str:
+    """After a failed skill: each empty hand of the step opens, goes back to its home pose and
+    takes its wrist force as zero again (a safety stop leaves it pressing on something).
+    Returns a note for the adaptation's text ("" when nothing was done)."""
+    from oacdsl.runtime.skills import IMPLEMENTATIONS
+
+    ctx, world = run.context, run.world
+    done = []
+    for name in step.binding.values():
+        if "Hand" not in ctx.classes.get(name, ()):
+            continue
+        side = ctx.side(name)
+        if world.held.get(side) is not None:
+            continue
+        try:
+            ctx.ctl.tare(side)
+            ctx.ctl.open_hand(side)
+            IMPLEMENTATIONS["retreat"](ctx, name)
+        except OacError:
+            pass  # the repair plans from wherever the hand is
+        for s in ("l", "r"):
+            ctx.ctl.tare(s)
+        done.append(name)
+    return f" ({', '.join(done)} taken back)" if done else ""
+
+
 def run_adaptive(
     run: Run,
     *,
@@ -198,7 +224,8 @@ def run_adaptive(
             a.done(step)
             continue
         a.banned.add(_key(step))
-        a.repair(executed, f"step {executed} {label} failed: {error}")
+        recovered = _recover(run, step)
+        a.repair(executed, f"step {executed} {label} failed: {error}{recovered}")
     final = world.relations()
     judged = []
     if run.oac.composed and run.calls:
