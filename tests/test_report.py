@@ -325,7 +325,8 @@ def test_oacc_report_through_a_published_folder_writes_into_the_run_and_keeps_th
 def test_an_adaptive_runs_adaptations_are_listed_escaped(work):
     out, result = work
     result["run"]["adaptations"] = [
-        {"kind": "skipped", "step": 0, "text": "skipped pour(left_hand, red_cup, liquid_one, orange_bowl): <x>"},
+        {"kind": "skipped", "step": 0,
+         "text": "skipped pour(left_hand, red_cup, liquid_one, orange_bowl): <x>"},
         {"kind": "replanned", "step": 2, "text": "replanned after step 2 failed", "plan": ["grasp(a, b)"]},
     ]
     page, _ = render_html(result, out)
