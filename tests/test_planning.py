@@ -227,3 +227,14 @@ def test_fast_downward_and_pyperplan_plans_have_the_same_length(problem):
         assert len(fd.plan) == len(pp.plan)
         for result in (fd, pp):  # replayed by the matcher's semantics (plan_goal does), the goal holds
             assert all(holds(a, result.states[-1]) for a in goal)
+
+
+def test_oacc_run_state_sets_up_a_liquid_in_a_container_and_refuses_the_rest():
+    from oacdsl.cli.planning_input import state_as_fills
+
+    fills = state_as_fills(library(), kitchen(), "orange_bowl <-> liquid_one, liquid_two <-> red_cup")
+    assert fills == {"liquid_one": "orange_bowl", "liquid_two": "red_cup"}
+    with pytest.raises(UsageError, match=r"^--state:1:25: the simulation can start a liquid in a container"):
+        state_as_fills(library(), kitchen(), "liquid_one <-> red_cup, mixer <-> right_hand")
+    with pytest.raises(UsageError, match="did you mean 'orange_bowl'"):
+        state_as_fills(library(), kitchen(), "liquid_one <-> orange_bow")

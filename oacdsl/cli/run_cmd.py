@@ -18,7 +18,7 @@ from oacdsl.cli import seed_arg
 from oacdsl.cli.backend import NONE_FOUND, prepare_backend
 from oacdsl.cli.run_many import add_many_options
 from oacdsl.cli.scene_options import add_scene_options, scene_overrides
-from oacdsl.errors import RuntimeFailure, UsageError
+from oacdsl.errors import RuntimeFailure, UsageError, did_you_mean
 from oacdsl.model import Scene
 
 __all__ = ["register", "run", "load_inputs"]
@@ -83,6 +83,12 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     )
     add_scene_options(p)
     add_adaptive_options(p)
+    p.add_argument(
+        "--state",
+        metavar="ATOMS",
+        help='relations at the start, checked against the scene: a liquid in a container ("liquid_one <->'
+        ' orange_bowl"), as --fill',
+    )
     add_many_options(p)
     p.set_defaults(func=run)
 
@@ -205,6 +211,17 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError("--max-repairs: a whole number ≥ 0")
     overrides = scene_overrides(args)
     library, scene = load_inputs(args.library or ["library"], args.scene)
+    if args.state:
+        import dataclasses
+
+        from oacdsl.cli.planning_input import state_as_fills
+        from oacdsl.runtime.binding import choose_scene
+
+        if args.name not in library.oacs:
+            raise UsageError(f"no oac {args.name!r} in the library{did_you_mean(args.name, library.oacs)}")
+        chosen = choose_scene(library, library.oacs[args.name], scene, bindings)
+        fills = {**state_as_fills(library, chosen, args.state), **overrides.fill}
+        overrides = dataclasses.replace(overrides, fill=fills)
     if args.seeds is not None:  # many runs on Dask: the success measure
         from oacdsl.cli.run_many import run_many_cmd
 

@@ -27,14 +27,16 @@ from typing import Any
 from oacdsl.errors import OacError
 from oacdsl.matching.conditions import bind_atoms, holds
 from oacdsl.model import Atom, atom_text
-from oacdsl.planning.engines import solve
+from oacdsl.planning.engines import PlannedStep, solve
 from oacdsl.planning.explain import unreachable
+from oacdsl.planning.replay import replay
 from oacdsl.planning.state import instance_classes
 from oacdsl.planning.task import Action, make_task, primitive_actions
 from oacdsl.runtime.binding import Step, bound_atoms
 from oacdsl.runtime.executor import Run, _check, _judge_call, _label, _pair, _pairs, run_step
 from oacdsl.runtime.intent import predicted_states
 from oacdsl.runtime.results import RunResult, StepResult
+from oacdsl.world import WorldState
 
 __all__ = ["MAX_REPAIRS", "describe", "run_adaptive"]
 
@@ -80,14 +82,18 @@ class _Adaptive:
                 del self.demo[k]
                 return
 
-    def _actions(self) -> list[Action]:
+    def _generic(self, cost: int) -> list[Action]:
+        """The library's primitive OACs at ``cost``, without the bindings that failed."""
         banned: dict[str, list[tuple[tuple[str, str], ...]]] = {}
         for name, binding in sorted(self.banned):
             banned.setdefault(name, []).append(binding)
-        actions = [
-            Action(a.name, a.oac, cost=OTHER_COST, banned=tuple(banned.get(a.oac.name, ())))
+        return [
+            Action(a.name, a.oac, cost=cost, banned=tuple(banned.get(a.oac.name, ())))
             for a in primitive_actions(self.library)
         ]
+
+    def _actions(self) -> list[Action]:
+        actions = self._generic(OTHER_COST)
         seen = set()
         for k, step in enumerate(self.demo):
             if _key(step) in self.banned or _key(step) in seen:
@@ -97,6 +103,43 @@ class _Adaptive:
             name = f"demo-{k + 1}-{step.oac.name.lower()}"
             actions.append(Action(name, step.oac, fixed, DEMONSTRATED_COST))
         return actions
+
+    def _steps(self, plan: Sequence[Any]) -> list[Step]:
+        """Planned steps as runtime steps: a demonstrated one keeps its skill parameters."""
+        by_key = {_key(s): s for s in self.demo}
+        out = []
+        for p in plan:
+            oac = self.library.oacs[p.oac]
+            out.append(by_key.get((oac.name, tuple(sorted(p.binding.items()))), Step(oac, dict(p.binding))))
+        return out
+
+    def _resume(self, state: WorldState, classes: Mapping[str, frozenset[str]]) -> list[Step] | None:
+        """The cheapest way back into the demonstration, in its order: a short plan to the
+        preconditions of a demonstrated step still to come, then the demonstrated steps from it
+        on, when they reach the goal by the matcher's semantics (None: none does)."""
+        best: tuple[int, list[Step]] | None = None
+        for k in range(len(self.demo)):
+            rest = self.demo[k:]
+            if any(_key(s) in self.banned for s in rest):
+                continue
+            pre = bind_atoms(rest[0].oac.pre, rest[0].binding)
+            prefix: list[Step] = []
+            if not all(holds(a, state) for a in pre):
+                task = make_task(self.run.scene.name, self._generic(1), classes, state, pre)
+                plan = solve(task, self.engine, optimal=True)
+                if plan is None:
+                    continue
+                prefix = self._steps(plan)
+            try:
+                after = replay_steps(self.library, state, [*prefix, *rest])
+            except OacError:
+                continue
+            if not all(holds(a, after) for a in self.goal):
+                continue
+            cost = OTHER_COST * len(prefix) + DEMONSTRATED_COST * len(rest)
+            if best is None or cost < best[0]:
+                best = (cost, [*prefix, *rest])
+        return None if best is None else best[1]
 
     def repair(self, index: int, reason: str) -> bool:
         """Plan from the observed state to the goal and queue the plan (False: give up)."""
@@ -112,23 +155,21 @@ class _Adaptive:
         self.repairs += 1
         classes = instance_classes(self.library, self.run.scene)
         classes = {k: v for k, v in classes.items() if k in state.instances}
-        task = make_task(self.run.scene.name, self._actions(), classes, state, self.goal, costs=True)
         try:
-            plan = solve(task, self.engine)
+            steps = self._resume(state, classes)
+            if steps is None:
+                task = make_task(self.run.scene.name, self._actions(), classes, state, self.goal, costs=True)
+                plan = solve(task, self.engine)
+                if plan is None:
+                    why = "; ".join(f"{atom_text(a)}: {w}" for a, w in unreachable(task)) or "no plan exists"
+                    self.failed = f"{reason}; no plan from the observed state: {why}"
+                    self.note("failed", index, self.failed)
+                    return False
+                steps = self._steps(plan)
         except OacError as error:
             self.failed = f"{reason}; planning failed: {error}"
             self.note("failed", index, self.failed)
             return False
-        if plan is None:
-            why = "; ".join(f"{atom_text(a)}: {w}" for a, w in unreachable(task)) or "no plan exists"
-            self.failed = f"{reason}; no plan from the observed state: {why}"
-            self.note("failed", index, self.failed)
-            return False
-        by_key = {_key(s): s for s in self.demo}
-        steps = []
-        for p in plan:
-            oac = self.library.oacs[p.oac]
-            steps.append(by_key.get((oac.name, tuple(sorted(p.binding.items()))), Step(oac, dict(p.binding))))
         self.queue = steps
         self.note("replanned", index, f"replanned after {reason}", steps)
         planned = {_key(s) for s in steps}
@@ -138,6 +179,11 @@ class _Adaptive:
             self.note("skipped", index, f"skipped {label}: not needed from the observed state")
         self.demo = [s for s in self.demo if _key(s) in planned]
         return True
+
+
+def replay_steps(library: Any, state: WorldState, steps: Sequence[Step]) -> WorldState:
+    """The state after ``steps`` by the matcher's semantics (PlanningError at an unmet precondition)."""
+    return replay(library, state, [PlannedStep(s.oac.name, dict(s.binding), s.oac.name) for s in steps])[-1]
 
 
 def _recover(run: Run, step: Step) -> str:
