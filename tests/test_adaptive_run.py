@@ -105,3 +105,11 @@ def test_a_cup_dropped_during_the_carry_is_picked_up_again(dough_library):
     ]
     [replanned] = [a for a in result.adaptations if a["kind"] == "replanned"]
     assert "precondition of pour not met" in replanned["text"]
+
+
+def test_max_repairs_is_checked_before_the_simulation(capsys):
+    from oacdsl.cli import main
+
+    assert main(["run", "dough", "--max-repairs", "-1", "--no-record"]) == 2
+    assert capsys.readouterr().err.strip() == "oacc: error: --max-repairs: a whole number ≥ 0"
+    assert main(["reproduce", "--max-repairs", "-2", "--no-record"]) == 2
