@@ -238,3 +238,11 @@ def test_oacc_run_state_sets_up_a_liquid_in_a_container_and_refuses_the_rest():
         state_as_fills(library(), kitchen(), "liquid_one <-> red_cup, mixer <-> right_hand")
     with pytest.raises(UsageError, match="did you mean 'orange_bowl'"):
         state_as_fills(library(), kitchen(), "liquid_one <-> orange_bow")
+
+
+def test_the_planner_leaves_nothing_in_the_working_folder(tmp_path, monkeypatch):
+    lib, scene = library(), kitchen()  # read before leaving the repository's folder
+    monkeypatch.chdir(tmp_path)
+    result = plan_goal(lib, scene, scene_state(scene), parse_atoms("mixer <-> orange_bowl"))
+    assert result.plan is not None and len(result.plan) == 2
+    assert list(tmp_path.iterdir()) == []  # Fast Downward's output.sas went to a folder of its own

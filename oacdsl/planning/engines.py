@@ -16,7 +16,10 @@ Nothing here searches: a missing package or an engine failure is a
 from __future__ import annotations
 
 import io
-from contextlib import redirect_stdout
+import os
+import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager, redirect_stdout
 from dataclasses import dataclass
 from typing import Any
 
@@ -57,6 +60,20 @@ def _up() -> Any:
     env.credits_stream = None  # the engines' banners stay off stdout
     env.error_used_name = False
     return shortcuts, PDDLReader
+
+
+@contextmanager
+def _scratch_folder() -> Iterator[None]:
+    """Run in a fresh temporary folder: Fast Downward's driver writes its intermediate
+    ``output.sas`` into the working directory, where two planners at once (parallel tests,
+    two commands in one folder) would read each other's, and a user's folder would get it."""
+    old = os.getcwd()
+    with tempfile.TemporaryDirectory(prefix="oacdsl-plan-") as folder:
+        os.chdir(folder)
+        try:
+            yield
+        finally:
+            os.chdir(old)
 
 
 def _problem(task: Task) -> Any:
@@ -120,8 +137,9 @@ def solve(task: Task, engine: str = "fast-downward", *, optimal: bool = False) -
     problem = _problem(task)
     try:
         compiled, back = _compiled(problem, engine)
-        with redirect_stdout(io.StringIO()), shortcuts.OneshotPlanner(name=name, params=params) as planner:
-            result = planner.solve(compiled)
+        with _scratch_folder(), redirect_stdout(io.StringIO()):
+            with shortcuts.OneshotPlanner(name=name, params=params) as planner:
+                result = planner.solve(compiled)
     except PlanningError:
         raise
     except Exception as error:
