@@ -1,0 +1,115 @@
+"""Issue 21, silent wrong reads: a C3D file whose parameters contradict its header was read
+(exit 0) with wrong coordinates. Each is now one line naming the parameter, exit 1."""
+
+from __future__ import annotations
+
+import struct
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from oacdsl.cli import main
+from oacdsl.segmentation.readers import read_recording, write_c3d
+from oacdsl.segmentation.recording import Recording
+
+FRAMES = 40
+
+
+def c3d_file(tmp_path: Path, *, analogs: bool = False) -> Path:
+    """40 frames of 3 markers at 100 Hz (float storage, mm); with 2 analog channels at 1 kHz."""
+    if not analogs:
+        pos = np.random.default_rng(0).uniform(-1.0, 1.0, (FRAMES, 3, 3))
+        rec = Recording("s", 100.0, np.arange(FRAMES) / 100.0, ("a", "b", "c"), pos, {"g": (0, 1, 2)})
+        return write_c3d(rec, tmp_path / "ok.c3d")
+    import ezc3d
+
+    c3d = ezc3d.c3d()
+    c3d["parameters"]["POINT"]["RATE"]["value"] = [100]
+    c3d["parameters"]["POINT"]["LABELS"]["value"] = ("a", "b")
+    c3d["parameters"]["POINT"]["UNITS"]["value"] = ["mm"]
+    c3d["parameters"]["ANALOG"]["RATE"]["value"] = [1000]
+    c3d["parameters"]["ANALOG"]["LABELS"]["value"] = ("c1", "c2")
+    points = np.ones((4, 2, FRAMES))
+    points[:3] = np.random.default_rng(1).uniform(100.0, 900.0, (3, 2, FRAMES))
+    c3d["data"]["points"] = points
+    c3d["data"]["analogs"] = np.zeros((1, 2, FRAMES * 10))
+    path = tmp_path / "analog.c3d"
+    c3d.write(str(path))
+    return path
+
+
+def value_offset(data: bytes, group: str, name: str) -> int:
+    """Byte offset of parameter GROUP:NAME's value (Intel file, scalar parameter)."""
+    pos = (data[0] - 1) * 512 + 4
+    groups: dict[int, str] = {}
+    while True:
+        n_chars, ident = struct.unpack("bb", data[pos : pos + 2])
+        label = data[pos + 2 : pos + 2 + abs(n_chars)].decode()
+        (offset,) = struct.unpack("<h", data[pos + 2 + abs(n_chars) : pos + 4 + abs(n_chars)])
+        value = pos + 4 + abs(n_chars)
+        if ident < 0:
+            groups[-ident] = label
+        elif (groups.get(ident), label) == (group, name):
+            return value + 2 + data[value + 1]
+        pos += 2 + abs(n_chars) + offset
+
+
+def edited(tmp_path: Path, source: Path, edits: dict[tuple[str, str] | int, bytes]) -> Path:
+    """``source`` with parameter values (GROUP, NAME) or header bytes (an offset) replaced."""
+    data = bytearray(source.read_bytes())
+    for where, value in edits.items():
+        at = where if isinstance(where, int) else value_offset(bytes(data), *where)
+        data[at : at + len(value)] = value
+    path = tmp_path / "edited.c3d"
+    path.write_bytes(bytes(data))
+    return path
+
+
+U16 = struct.Struct("<H").pack
+F32 = struct.Struct("<f").pack
+
+CASES = {
+    "point-frames-1": ({("POINT", "FRAMES"): U16(1)},
+                       "header and parameters disagree: POINT:FRAMES is 1 but the header says frames 1..40"),
+    "data-start-0": ({16: U16(0)}, "the header (word 9) puts the data at block 0, inside the header or the"),
+    "point-data-start": ({("POINT", "DATA_START"): U16(9)},
+                         "POINT:DATA_START is 9 but the header (word 9) says block 4"),
+    "point-used-1": ({("POINT", "USED"): U16(1)},
+                     "POINT:USED is 1 but the header (word 2) says 3 points per frame"),
+    "point-scale-nan": ({("POINT", "SCALE"): F32(float("nan"))},
+                        "POINT:SCALE is nan; it must be a finite number"),
+    "point-scale-0": ({("POINT", "SCALE"): F32(0.0), 12: F32(0.0)},
+                      "POINT:SCALE is 0: integer coordinates scaled by 0 would all read as 0"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_c3d_parameters_that_contradict_the_header(case: str, tmp_path: Path, capsys):
+    edits, message = CASES[case]
+    path = edited(tmp_path, c3d_file(tmp_path), edits)
+    code = main(["inspect", str(path)])
+    out, err = capsys.readouterr()
+    assert (code, out) == (1, ""), err
+    assert err.startswith(f"oacc: error: {path}: ") and message in err
+    assert err.count("\n") == 1 and "Traceback" not in err
+
+
+def test_analog_rate_that_contradicts_the_header(tmp_path: Path, capsys):
+    source = c3d_file(tmp_path, analogs=True)
+    assert read_recording(source).n_frames == FRAMES  # the unedited file reads
+    path = edited(tmp_path, source, {("ANALOG", "RATE"): F32(0.0)})
+    code = main(["inspect", str(path)])
+    err = capsys.readouterr().err
+    assert code == 1 and err.count("\n") == 1
+    assert ("ANALOG:RATE is 0 Hz: ANALOG:USED = 2 channels at that rate and POINT:RATE 100 Hz make 0 analog"
+            " values per frame, the header (word 3) says 20") in err
+
+
+def test_agreeing_files_still_read(tmp_path: Path):
+    rec = read_recording(c3d_file(tmp_path))
+    assert (rec.n_frames, len(rec.marker_names), rec.rate_hz) == (FRAMES, 3, 100.0)
+    assert not np.isnan(rec.positions_m).any()
+    # a header that counts 0 points leaves the count to POINT:USED (what ezc3d reads)
+    zero = edited(tmp_path, c3d_file(tmp_path), {2: U16(0)})
+    assert len(read_recording(zero).marker_names) == 3
