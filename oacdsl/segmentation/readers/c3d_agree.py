@@ -18,21 +18,31 @@ from __future__ import annotations
 import math
 import struct
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Protocol
 
 from oacdsl.errors import InvalidRecording
 
-__all__ = ["check_agreement", "param_float", "param_int"]
+__all__ = ["Param", "check_agreement", "param_float", "param_int"]
 
 _BLOCK = 512  # bytes
 _SATURATED = 0xFFFF  # a 16-bit header word that cannot hold the frame count
 
 
-class _Param(Protocol):
-    element: int
+@dataclass(frozen=True)
+class Param:
+    """One parameter record as stored: element size, dimensions, raw value bytes."""
+
+    element: int  # -1 char, 1 byte, 2 int16, 4 float
     dims: tuple[int, ...]
     raw: bytes
+
+    @property
+    def count(self) -> int:
+        n = 1
+        for d in self.dims:
+            n *= d
+        return n
 
 
 def param_float(raw: bytes, processor: int) -> float:
@@ -42,7 +52,7 @@ def param_float(raw: bytes, processor: int) -> float:
     return struct.unpack((">" if processor == 86 else "<") + "f", raw[:4])[0]
 
 
-def param_int(param: _Param | None, endian: str) -> int | None:
+def param_int(param: Param | None, endian: str) -> int | None:
     """An unsigned integer parameter (int16 or byte), or ``None`` when absent or not one."""
     if param is None or param.dims:
         return None
@@ -53,7 +63,7 @@ def param_int(param: _Param | None, endian: str) -> int | None:
     return None
 
 
-def _scalar_float(param: _Param | None, processor: int) -> float | None:
+def _scalar_float(param: Param | None, processor: int) -> float | None:
     if param is None or param.element != 4 or len(param.raw) < 4:
         return None
     return param_float(param.raw, processor)
@@ -66,7 +76,7 @@ def _fail(path: Path, what: str) -> InvalidRecording:
 def check_agreement(
     path: Path,
     data: bytes,
-    params: Mapping[tuple[str, str], _Param],
+    params: Mapping[tuple[str, str], Param],
     processor: int,
     endian: str,
     parameters_end: int,
@@ -105,7 +115,7 @@ def check_agreement(
 
 
 def _check_data_start(
-    path: Path, start_block: int, params: Mapping[tuple[str, str], _Param], endian: str, parameters_end: int
+    path: Path, start_block: int, params: Mapping[tuple[str, str], Param], endian: str, parameters_end: int
 ) -> None:
     first_free = -(-parameters_end // _BLOCK) + 1  # 1-based block after the parameters
     if start_block < first_free:
@@ -122,7 +132,7 @@ def _check_data_start(
 def _check_analog(
     path: Path,
     words: Sequence[int],
-    params: Mapping[tuple[str, str], _Param],
+    params: Mapping[tuple[str, str], Param],
     processor: int,
     endian: str,
     header_rate: float,

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from oacdsl.errors import InvalidRecording, RecordingWarning, TruncatedRecording
+from oacdsl.segmentation.readers.c3d_agree import Param as _Param
 from oacdsl.segmentation.readers.c3d_agree import check_agreement
 from oacdsl.segmentation.readers.limits import check_size
 
@@ -101,20 +102,6 @@ def check_c3d_structure(path: Path, data: bytes) -> C3dLayout:
     )
     check_agreement(path, data, params, processor, endian, end, point_frames)
     return layout
-
-
-@dataclass(frozen=True)
-class _Param:
-    element: int  # -1 char, 1 byte, 2 int16, 4 float
-    dims: tuple[int, ...]
-    raw: bytes
-
-    @property
-    def count(self) -> int:
-        n = 1
-        for d in self.dims:
-            n *= d
-        return n
 
 
 def _walk_parameters(
