@@ -41,6 +41,7 @@ class _Motion:
         self.subject = False
         self.frames: dict[float, dict[str, tuple[float, float, float]]] = {}
         self.markers: dict[str, None] = {}  # insertion-ordered set
+        self.lines: dict[float, int] = {}  # timestep → line of its Measurement, in the current sensor
 
     @property
     def group(self) -> str:
@@ -79,12 +80,19 @@ class _Parser(SafeXmlReader):
             self.motions.append(self.motion)
         elif tag == "Sensor" and self.motion is not None:
             self.sensor = attrs.get("type")
+            self.motion.lines = {}
             if self.sensor == "Kinematic":
                 self.motion.subject = True
         elif tag == "ModelProcessorConfig" and self.motion is not None:
             self.motion.subject = True
-        elif tag == "Measurement" and self.sensor == "MoCapMarker":
+        elif tag == "Measurement" and self.sensor == "MoCapMarker" and self.motion is not None:
             self.timestep = self.parse_timestep(attrs.get("timestep"))
+            if self.timestep in self.motion.lines:  # one would overwrite the other's markers
+                raise self.fail(
+                    f"motion {self.motion.name!r}: Measurement timestep {self.timestep:g} repeats the"
+                    f" one at line {self.motion.lines[self.timestep]} (timesteps within 1 µs are one frame)"
+                )
+            self.motion.lines[self.timestep] = self.expat.CurrentLineNumber
         elif tag == "MarkerPosition" and self.timestep is not None and self.motion is not None:
             self.marker = attrs.get("name") or ""
             self.text = []
@@ -98,7 +106,10 @@ class _Parser(SafeXmlReader):
         if tag == "MarkerPosition" and self.marker is not None and self.motion is not None:
             name, motion, t = self.marker, self.motion, self.timestep or 0.0
             motion.markers.setdefault(name)
-            motion.frames.setdefault(t, {})[name] = self.parse_xyz("".join(self.text), name, t, motion)
+            frame = motion.frames.setdefault(t, {})
+            if name in frame:
+                raise self.fail(f"motion {motion.name!r}, timestep {t:g}: MarkerPosition {name!r} twice")
+            frame[name] = self.parse_xyz("".join(self.text), name, t, motion)
             self.marker = None
             self.points += 1
             if self.points > _MAX_POINTS:

@@ -1,5 +1,6 @@
-"""Issue 21, silent wrong reads: a C3D file whose parameters contradict its header was read
-(exit 0) with wrong coordinates. Each is now one line naming the parameter, exit 1."""
+"""Issue 21, silent wrong reads (exit 0 with wrong data): a C3D file whose parameters contradict
+its header, a TSV or CSV cut inside its last number, a CSV naming a column twice, an MMM motion
+with a repeated timestep. Each is now one line naming the parameter or line, exit 1."""
 
 from __future__ import annotations
 
@@ -113,3 +114,46 @@ def test_agreeing_files_still_read(tmp_path: Path):
     # a header that counts 0 points leaves the count to POINT:USED (what ezc3d reads)
     zero = edited(tmp_path, c3d_file(tmp_path), {2: U16(0)})
     assert len(read_recording(zero).marker_names) == 3
+
+
+def one_line_error(capsys, path: Path) -> str:
+    code = main(["inspect", str(path)])
+    out, err = capsys.readouterr()
+    assert (code, out) == (1, ""), err
+    assert err.startswith(f"oacc: error: {path}: ") and err.count("\n") == 1 and "Traceback" not in err
+    return err
+
+
+def mmm(*measurements: tuple[str, str]) -> str:
+    """An MMM file of one motion; ``measurements``: (timestep, MarkerPosition elements), one per line."""
+    rows = "".join(f'<Measurement timestep="{t}">{markers}</Measurement>\n' for t, markers in measurements)
+    return (f'<MMM>\n<Motion name="true_cup"><Sensors><Sensor type="MoCapMarker"><Data>\n{rows}</Data>'
+            "</Sensor></Sensors></Motion></MMM>\n")
+
+
+A = '<MarkerPosition name="a">1 2 3</MarkerPosition>'
+B = '<MarkerPosition name="b">4 5 6</MarkerPosition>'
+
+
+@pytest.mark.parametrize(("text", "message"), [
+    (mmm(("0", A + B), ("0.1", A + B), ("0.1", A)),
+     "line 5: motion 'true_cup': Measurement timestep 0.1 repeats the one at line 4"),
+    (mmm(("0", A + B), ("0.1000001", A + B), ("0.1", B)), "timestep 0.1 repeats the one at line 4"),
+    (mmm(("0", A + B), ("0.1", A + B + A)), "line 4: motion 'true_cup', timestep 0.1: MarkerPosition 'a' tw"),
+])
+def test_mmm_repeated_measurements_are_refused(text: str, message: str, tmp_path: Path, capsys):
+    path = tmp_path / "m.xml"
+    path.write_text(text)
+    assert message in one_line_error(capsys, path)
+
+
+def test_mmm_motions_share_timesteps(tmp_path: Path):
+    """Two motions measured at the same timesteps are one recording (no repeat)."""
+    one = mmm(("0", A), ("0.1", A), ("0.2", A))
+    lid = "".join(f'<Measurement timestep="{t}">{B}</Measurement>' for t in ("0", "0.1", "0.2"))
+    two = one.replace("</Motion>", '</Motion><Motion name="true_lid"><Sensors><Sensor type="MoCapMarker">'
+                      f"<Data>{lid}</Data></Sensor></Sensors></Motion>")
+    path = tmp_path / "m.xml"
+    path.write_text(two)
+    rec = read_recording(path)
+    assert rec.n_frames == 3 and rec.instances == ("cup", "lid") and not np.isnan(rec.positions_m).any()
