@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from oacdsl.cli import main
+from oacdsl.errors import RecordingWarning
 from oacdsl.segmentation.readers import read_recording, write_c3d
 from oacdsl.segmentation.recording import Recording
 
@@ -157,3 +158,49 @@ def test_mmm_motions_share_timesteps(tmp_path: Path):
     path.write_text(two)
     rec = read_recording(path)
     assert rec.n_frames == 3 and rec.instances == ("cup", "lid") and not np.isnan(rec.positions_m).any()
+
+
+TSV = ("NO_OF_FRAMES\t3\nNO_OF_MARKERS\t1\nFREQUENCY\t50\nMARKER_NAMES\tcup\n"
+       "Frame\tTime\tcup X\tcup Y\tcup Z\t\n"
+       "1\t0.00\t100.0\t200.0\t903.1\t\n2\t0.02\t100.0\t200.0\t903.1\t\n3\t0.04\t100.0\t200.0\t903.1\t\n")
+CSV = ("frame,time,cup_x,cup_y,cup_z\n"
+       "0,0.00,0.1,0.2,0.9031\n1,0.01,0.1,0.2,0.9031\n2,0.02,0.1,0.2,0.9031\n")
+
+
+@pytest.mark.parametrize(("name", "text", "cut"), [
+    ("cut.tsv", TSV, "903.1\t\n"),  # the last row ends "…\t90": every field there, one number short
+    ("cut.csv", CSV, "031\n"),  # the last row ends "…,0.9": a number cut short
+    ("crlf.csv", CSV.replace("\n", "\r\n"), "031\r\n"),
+])
+def test_text_cut_inside_its_last_number(name: str, text: str, cut: str, tmp_path: Path, capsys):
+    path = tmp_path / name
+    path.write_bytes(text[: len(text) - len(cut)].encode())
+    err = one_line_error(capsys, path)
+    last = text.count("\n")
+    assert (f"line {last}: the file ends inside this line (no line end after it): cut short, perhaps inside a"
+            " number; --allow-truncated reads the lines before it") in err
+    with pytest.warns(RecordingWarning, match=f"line {last}: the file ends inside this line"):
+        rec = read_recording(path, allow_truncated=True)
+    assert rec.n_frames == 2  # the complete rows only
+    whole = tmp_path / f"whole{path.suffix}"
+    whole.write_bytes(text.encode())
+    assert read_recording(whole).n_frames == 3
+
+
+def test_a_file_without_its_last_line_end_is_named_even_when_its_numbers_look_whole(tmp_path: Path, capsys):
+    path = tmp_path / "r.csv"
+    path.write_text(CSV.rstrip("\n"))
+    assert "line 4: the file ends inside this line" in one_line_error(capsys, path)
+
+
+@pytest.mark.parametrize(("header", "message"), [
+    ("frame,time,cup_x,cup_y,cup_z,cup_x", "line 1: columns 3 and 6 ('cup_x', 'cup_x') both hold marker"),
+    ("frame,time,cup_x,cup_y,cup_z,cup.X", "columns 3 and 6 ('cup_x', 'cup.X') both hold marker 'cup''s x"),
+    ("frame,time,cup_x,cup_y,cup_z,time", "columns 2 and 6 ('time', 'time') both hold the time"),
+    ("frame,time_s,cup_x,cup_y,cup_z,Time", "columns 2 and 6 ('time_s', 'Time') both hold the time"),
+    ("frame,time,cup_x,cup_y,cup_z,Frame", "columns 1 and 6 ('frame', 'Frame') both hold the frame"),
+])
+def test_csv_column_named_twice(header: str, message: str, tmp_path: Path, capsys):
+    path = tmp_path / "twice.csv"
+    path.write_text(header + "\n" + "".join(f"{r},{r / 100},0.1,0.2,0.3,0.4\n" for r in range(3)))
+    assert message in one_line_error(capsys, path)

@@ -61,8 +61,9 @@ def read_recording(
     """Read a recording; ``fmt`` (c3d, mmm, tsv, csv) overrides the extension.
 
     ``units`` overrides the length unit of a TSV or CSV file (mm, cm, m); C3D and
-    MMM files declare their own. A C3D file that ends before its declared frames is
-    a :class:`~oacdsl.errors.TruncatedRecording` unless ``allow_truncated`` (then a
+    MMM files declare their own. A C3D file that ends before its declared frames, or a
+    TSV or CSV file whose last line has no line end (cut short), is a
+    :class:`~oacdsl.errors.TruncatedRecording` unless ``allow_truncated`` (then a
     :class:`~oacdsl.errors.RecordingWarning` and its complete frames). Every reader
     checks the limits of :mod:`~oacdsl.segmentation.readers.limits`: a bad file is an
     :class:`~oacdsl.errors.InvalidRecording` (exit 1), a missing or special file
@@ -82,4 +83,8 @@ def read_recording(
         )
     if fmt == "c3d":
         return read_c3d(path, allow_truncated=allow_truncated)
-    return _reader(fmt)(path, units=units) if units is not None else _reader(fmt)(path)
+    if fmt == "mmm":
+        return _reader(fmt)(path)
+    if units is not None:
+        return _reader(fmt)(path, units=units, allow_truncated=allow_truncated)
+    return _reader(fmt)(path, allow_truncated=allow_truncated)
