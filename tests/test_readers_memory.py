@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from oacdsl.cli import main
 from oacdsl.errors import SegmentationError
 from oacdsl.segmentation import geometry, segment
 from oacdsl.segmentation.geometry import ChunkGeometry
@@ -121,3 +122,32 @@ def test_a_scratch_buffer_is_the_largest_instance_pair_not_the_largest_instance_
                     np.zeros((4, 1001, 3)), {"big": tuple(range(1000)), "one": (1000,)})
     geo = ChunkGeometry(rec, PairTable.of(rec))
     assert geo.scratch(10).size == 1000 * 10  # was 1000 × 1000 × 10
+
+
+# --- an input value of megabytes is clipped in the one-line error, not echoed whole ---------------
+
+BIG = "x" * 1_000_000
+MMM_ONE = ('<MMM><Motion name="{motion}"><Sensors><Sensor type="MoCapMarker"><Data>'
+           '<Measurement timestep="{t}"><MarkerPosition name="m">{xyz}</MarkerPosition></Measurement>'
+           "</Data></Sensor></Sensors></Motion></MMM>")
+ECHOES = {
+    "name.tsv": f"NO_OF_FRAMES\t1\nNO_OF_MARKERS\t1\nFREQUENCY\t100\nMARKER_NAMES\t{BIG}\n1e9\t2\t3\n",
+    "count.tsv": f"NO_OF_FRAMES\t{BIG}\nNO_OF_MARKERS\t1\nFREQUENCY\t100\nMARKER_NAMES\tcup\n1\t2\t3\n",
+    "column.csv": f"frame,time,{BIG}\n1,2,3\n",
+    "unit.csv": f"# units: {BIG}\nframe,time,a_x,a_y,a_z\n1,2,3,4,5\n",
+    "value.csv": f"# rate_hz: 10\na_x,a_y,a_z\n3,4,{BIG}\n",
+    "position.xml": MMM_ONE.format(motion="a", t="0", xyz=BIG),
+    "timestep.xml": MMM_ONE.format(motion="a", t=BIG, xyz="1 2 3"),
+    "motion.xml": MMM_ONE.format(motion=BIG, t="0", xyz="1 2 x"),
+    "root.xml": f"<{BIG}/>",
+}
+
+
+@pytest.mark.parametrize("name", sorted(ECHOES))
+def test_a_huge_value_is_clipped_in_the_error(name: str, tmp_path: Path, capsys):
+    path = tmp_path / name
+    path.write_text(ECHOES[name])
+    code = main(["inspect", str(path)])
+    out, err = capsys.readouterr()
+    assert (code, out) == (1, "") and err.count("\n") == 1
+    assert len(err) < 300 + len(str(path)) and "(1000000 characters)" in err

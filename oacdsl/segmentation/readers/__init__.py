@@ -13,7 +13,7 @@ from pathlib import Path
 
 from oacdsl.errors import RecordingError, did_you_mean
 from oacdsl.segmentation.readers.c3d import read_c3d, write_c3d
-from oacdsl.segmentation.readers.limits import check_regular
+from oacdsl.segmentation.readers.limits import check_regular, clip
 from oacdsl.segmentation.recording import Recording
 
 __all__ = ["FORMATS", "read_recording", "read_c3d", "write_c3d", "format_of"]
@@ -74,7 +74,7 @@ def read_recording(
         fmt = format_of(path)
     elif fmt not in FORMATS:
         raise RecordingError(
-            f"unknown recording format {fmt!r}{did_you_mean(fmt, FORMATS)}", location=str(path)
+            f"unknown recording format {clip(fmt)}{did_you_mean(fmt, FORMATS)}", location=str(path)
         )
     check_regular(path)  # before anything opens it: /dev/zero or a FIFO would be read for ever
     if units is not None and fmt not in ("tsv", "csv"):

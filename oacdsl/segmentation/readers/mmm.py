@@ -24,7 +24,7 @@ import numpy as np
 
 from oacdsl.errors import InvalidRecording
 from oacdsl.segmentation.readers._common import rate_from_times
-from oacdsl.segmentation.readers.limits import MAX_COORDINATE_M, MAX_POSITION_BYTES, check_size
+from oacdsl.segmentation.readers.limits import MAX_COORDINATE_M, MAX_POSITION_BYTES, check_size, clip
 from oacdsl.segmentation.readers.safexml import SafeXmlReader
 from oacdsl.segmentation.recording import Recording
 
@@ -73,7 +73,8 @@ class _Parser(SafeXmlReader):
         self.depth += 1
         if self.depth == 1 and tag != "MMM":
             raise InvalidRecording(
-                f"not an MMM motion file: the root element is <{tag}>, not <MMM>", location=self.location
+                f"not an MMM motion file: the root element is <{clip(tag, quoted=False)}>, not <MMM>",
+                location=self.location,
             )
         if tag == "Motion" and self.depth == 2:
             self.motion = _Motion(attrs.get("name") or f"motion{len(self.motions) + 1}")
@@ -89,7 +90,7 @@ class _Parser(SafeXmlReader):
             self.timestep = self.parse_timestep(attrs.get("timestep"))
             if self.timestep in self.motion.lines:  # one would overwrite the other's markers
                 raise self.fail(
-                    f"motion {self.motion.name!r}: Measurement timestep {self.timestep:g} repeats the"
+                    f"motion {clip(self.motion.name)}: Measurement timestep {self.timestep:g} repeats the"
                     f" one at line {self.motion.lines[self.timestep]} (timesteps within 1 µs are one frame)"
                 )
             self.motion.lines[self.timestep] = self.expat.CurrentLineNumber
@@ -108,7 +109,8 @@ class _Parser(SafeXmlReader):
             motion.markers.setdefault(name)
             frame = motion.frames.setdefault(t, {})
             if name in frame:
-                raise self.fail(f"motion {motion.name!r}, timestep {t:g}: MarkerPosition {name!r} twice")
+                where = f"motion {clip(motion.name)}, timestep {t:g}"
+                raise self.fail(f"{where}: MarkerPosition {clip(name)} twice")
             frame[name] = self.parse_xyz("".join(self.text), name, t, motion)
             self.marker = None
             self.points += 1
@@ -127,17 +129,17 @@ class _Parser(SafeXmlReader):
         except ValueError:
             value = float("nan")
         if not math.isfinite(value):
-            where = f"motion {self.motion.name!r}: " if self.motion else ""
-            raise self.fail(f"{where}Measurement timestep {text!r} is not a number")
+            where = f"motion {clip(self.motion.name)}: " if self.motion else ""
+            raise self.fail(f"{where}Measurement timestep {clip(text or '')} is not a number")
         return round(value, _TIME_DECIMALS)
 
     def parse_xyz(self, text: str, name: str, t: float, motion: _Motion) -> tuple[float, float, float]:
-        where = f"motion {motion.name!r}, timestep {t:g}: MarkerPosition {name!r}"
+        where = f"motion {clip(motion.name)}, timestep {t:g}: MarkerPosition {clip(name)}"
         parts = text.split()
         try:
             x, y, z = (float(v) for v in parts)
         except ValueError:
-            raise self.fail(f"{where} is {text!r}, expected three numbers (mm)") from None
+            raise self.fail(f"{where} is {clip(text)}, expected three numbers (mm)") from None
         for axis, v in zip("xyz", (x, y, z), strict=True):
             if not (abs(v) * _MM_TO_M <= MAX_COORDINATE_M or math.isnan(v)):
                 raise self.fail(

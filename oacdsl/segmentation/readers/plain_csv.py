@@ -31,7 +31,7 @@ import numpy as np
 
 from oacdsl.errors import InvalidRecording
 from oacdsl.segmentation.grouping import prefix_groups
-from oacdsl.segmentation.readers._common import metres_per_unit, rate_from_times
+from oacdsl.segmentation.readers._common import clip, metres_per_unit, rate_from_times
 from oacdsl.segmentation.readers.limits import (
     check_coordinates,
     check_frame_numbers,
@@ -39,7 +39,7 @@ from oacdsl.segmentation.readers.limits import (
     check_size,
     check_times,
 )
-from oacdsl.segmentation.readers.textrows import Lines, clip, read_rows, scan_text
+from oacdsl.segmentation.readers.textrows import Lines, read_rows, scan_text
 from oacdsl.segmentation.recording import Recording
 
 __all__ = ["read_csv"]

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from oacdsl.errors import InvalidRecording, RecordingError, RecordingWarning, TruncatedRecording
+from oacdsl.segmentation.readers._common import clip
 from oacdsl.segmentation.readers.limits import open_regular
 
 __all__ = ["BLOCK_FIELDS", "Lines", "TextFile", "clip", "read_rows", "scan_text"]
@@ -30,18 +31,6 @@ __all__ = ["BLOCK_FIELDS", "Lines", "TextFile", "clip", "read_rows", "scan_text"
 READ_BYTES = 1 << 20  # bytes read at a time
 BLOCK_FIELDS = 1 << 18  # fields converted at a time: bounds the temporary strings (~20 MB)
 _BOM = codecs.BOM_UTF8
-_SHOWN = 40  # characters of an input value shown in a message
-
-
-def clip(text: str, limit: int = _SHOWN, *, quoted: bool = True) -> str:
-    """``repr(text)`` (or ``text``), clipped to ``limit`` characters, with its length when longer:
-    a 6 MB field is not echoed whole into a message."""
-    show = repr if quoted else str
-    if len(text) <= limit:
-        return show(text)
-    return f"{show(text[:limit])}… ({len(text)} characters)"
-
-
 @dataclass(frozen=True)
 class TextFile:
     """What the first pass learned: encoding, lines holding more than white space, the end."""
