@@ -13,6 +13,7 @@ import argparse
 import functools
 import importlib
 import sys
+from typing import Any
 
 from oacdsl import __version__
 from oacdsl.errors import OacError
@@ -50,6 +51,30 @@ def seed_arg(text: str) -> int:
     return value
 
 
+class _StoreOnce(argparse._StoreAction):
+    """A single-valued option given twice with different values is a usage error, not last-wins."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace,
+                 values: Any, option_string: str | None = None) -> None:
+        given: dict[str, object] = namespace.__dict__.setdefault("_given_once", {})
+        if self.dest in given and given[self.dest] != values:
+            raise argparse.ArgumentError(
+                self, f"given twice with different values ({given[self.dest]!r}, {values!r}); give it once"
+            )
+        given[self.dest] = values
+        super().__call__(parser, namespace, values, option_string)
+
+
+def _store_once(parser: argparse.ArgumentParser) -> None:
+    """Make every single-valued option of ``parser`` and its subcommands a :class:`_StoreOnce`."""
+    for action in parser._actions:
+        if type(action) is argparse._StoreAction and action.option_strings:
+            action.__class__ = _StoreOnce
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in set(action.choices.values()):
+                _store_once(sub)
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The full argument parser with every subcommand registered."""
     parser = argparse.ArgumentParser(
@@ -60,6 +85,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name in COMMANDS:
         importlib.import_module(name).register(sub)
+    _store_once(parser)
     return parser
 
 
@@ -71,9 +97,22 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Run ``oacc`` with ``argv`` (default: ``sys.argv[1:]``); return the exit status."""
-    args = _parser().parse_args(argv)
+    from oacdsl.cli.output import StdoutError, guarded_stdout, silence_stdout
+
     try:
-        status: int = args.func(args)
+        with guarded_stdout():
+            try:
+                args = _parser().parse_args(argv)
+            except SystemExit:  # --help, --version or a usage error: what it printed must reach stdout
+                sys.stdout.flush()
+                raise
+            status: int = args.func(args)
+    except StdoutError as error:
+        silence_stdout()
+        if error.broken_pipe:  # the reader is gone (``oacc … | head``): nobody to tell
+            return 0
+        print(f"oacc: error: {error}", file=sys.stderr)
+        return error.exit_code
     except OacError as error:
         print(f"oacc: error: {error}", file=sys.stderr)
         return error.exit_code
@@ -81,5 +120,6 @@ def main(argv: list[str] | None = None) -> int:
         print("oacc: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:
+        silence_stdout()
         return 0
     return status

@@ -16,7 +16,7 @@ from typing import Any
 
 from oacdsl.cli import seed_arg
 from oacdsl.cli.backend import NONE_FOUND, prepare_backend
-from oacdsl.cli.scene_options import add_scene_options, scene_overrides
+from oacdsl.cli.scene_options import add_scene_options, pairs, scene_overrides
 from oacdsl.errors import RuntimeFailure, UsageError
 from oacdsl.model import Scene
 
@@ -82,16 +82,6 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     )
     add_scene_options(p)
     p.set_defaults(func=run)
-
-
-def _pairs(items: list[str], flag: str) -> dict[str, str]:
-    out: dict[str, str] = {}
-    for item in items:
-        key, sep, value = item.partition("=")
-        if not sep or not key.strip() or not value.strip():
-            raise UsageError(f"{flag} {item!r}: expected NAME=INSTANCE")
-        out[key.strip()] = value.strip()
-    return out
 
 
 def _demonstrated(
@@ -184,7 +174,7 @@ def _check_outputs(args: argparse.Namespace) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    bindings = _pairs(args.bind, "--bind")
+    bindings = pairs(args.bind, "--bind", "NAME=INSTANCE")
     overrides = scene_overrides(args)
     library, scene = load_inputs(args.library or ["library"], args.scene)
     db = None

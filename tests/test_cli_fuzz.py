@@ -1,0 +1,255 @@
+"""Bad inputs found by fuzzing the command line (issue 21): each is one line and an exit status.
+
+Hangs (a FIFO), unbounded reads (``/dev/zero``), stdout on a full disk, malformed option
+values, repeated options with different values, damaged run stores, a scene whose tracked
+instances the demonstration lacks.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import sqlite3
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from oacdsl.cli import main
+from oacdsl.errors import StoreError
+from oacdsl.stats import Outcome, RunStore, ensure_writable
+from tests.kitchen import dough_segmentation
+
+ROOT = Path(__file__).resolve().parents[1]
+OACC = [sys.executable, "-m", "oacdsl"]
+
+
+@pytest.fixture
+def lib_dir(tmp_path: Path) -> Path:
+    skip = shutil.ignore_patterns("learned", "drafts")
+    shutil.copytree(ROOT / "library", tmp_path / "library", ignore=skip)
+    return tmp_path / "library"
+
+
+@pytest.fixture
+def dough_json(tmp_path: Path) -> Path:
+    path = tmp_path / "dough.json"
+    path.write_text(json.dumps(dough_segmentation().to_json()))
+    return path
+
+
+def one_line_error(capsys: pytest.CaptureFixture[str], argv: list[str], code: int, *words: str) -> str:
+    assert main(argv) == code
+    err = capsys.readouterr().err
+    assert err.startswith("oacc: error:") and len(err.strip().splitlines()) == 1, err
+    for word in words:
+        assert word in err, err
+    return err
+
+
+# -- standard output on a full disk ---------------------------------------------------------------
+needs_dev_full = pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full (Linux)")
+
+
+@needs_dev_full
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["skills"],
+        ["skills", "--json"],
+        ["compile", "LIB"],
+        ["inspect", "data/dough.c3d"],
+        ["segment", "SEG", "--json"],
+        ["match", "SEG", "--library", "LIB"],
+        ["match", "SEG", "--library", "LIB", "--json"],
+        ["compose", "SEG", "--library", "LIB", "--name", "d", "--dry-run"],
+        ["stats", "--db", "DB", "--json"],
+        ["--help"],
+    ],
+)
+def test_stdout_on_a_full_disk_is_one_line_exit_2(argv, lib_dir, dough_json, tmp_path, monkeypatch, capsys):
+    names = {"LIB": str(lib_dir), "SEG": str(dough_json), "DB": str(tmp_path / "none.sqlite3")}
+    argv = [names.get(a, str(ROOT / a) if a.startswith("data/") else a) for a in argv]
+    if argv[0] == "segment":  # segment reads a recording, not a segmentation
+        argv[1] = str(ROOT / "data" / "dough.c3d")
+    full = open("/dev/full", "w")  # noqa: SIM115 (closed below; main points it at /dev/null)
+    monkeypatch.setattr(sys, "stdout", full)
+    try:
+        try:
+            code = main(argv)
+        except SystemExit as stop:  # --help
+            code = int(stop.code or 0)
+    finally:
+        monkeypatch.undo()
+        full.close()
+    err = capsys.readouterr().err
+    assert code == 2, err
+    full_disk = "oacc: error: standard output: cannot write: No space left on device"
+    assert err.strip().splitlines()[-1] == full_disk
+    assert "Traceback" not in err
+
+
+@needs_dev_full
+def test_stdout_on_a_full_disk_from_the_shell(tmp_path):
+    with open("/dev/full", "w") as full:
+        proc = subprocess.run([*OACC, "skills"], stdout=full, stderr=subprocess.PIPE, text=True, cwd=ROOT,
+                              timeout=120)
+    assert proc.returncode == 2
+    assert proc.stderr == "oacc: error: standard output: cannot write: No space left on device\n"
+
+
+# -- documents that are not regular files ---------------------------------------------------------
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+@pytest.mark.parametrize("command", [["match"], ["compose", "--name", "d"], ["report"]])
+def test_a_fifo_named_as_a_json_document_is_refused_not_waited_for(command, tmp_path):
+    fifo = tmp_path / "seg.json"
+    os.mkfifo(fifo)
+    argv = [command[0], str(fifo), *command[1:]]
+    proc = subprocess.run([*OACC, *argv], capture_output=True, text=True, cwd=ROOT, timeout=60)
+    assert proc.returncode == 2
+    assert proc.stderr.strip() == f"oacc: error: {fifo}: is a FIFO (named pipe), not a " + (
+        "result document" if command[0] == "report" else "segmentation (oacc segment --json)"
+    )
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/zero"), reason="needs /dev/zero")
+@pytest.mark.parametrize("command", ["match", "report"])
+def test_dev_zero_as_a_json_document_is_refused_unread(command, tmp_path, capsys):
+    link = tmp_path / "zero.json"
+    link.symlink_to("/dev/zero")
+    one_line_error(capsys, [command, str(link)], 2, "is a character device")
+
+
+def test_a_folder_as_a_result_is_refused(tmp_path, capsys):
+    (tmp_path / "r.json").mkdir()
+    one_line_error(capsys, ["report", str(tmp_path / "r.json")], 2, "is a folder")
+
+
+# -- option values ---------------------------------------------------------------------------------
+@pytest.mark.parametrize("value", ["liquid_one=red_cup:²", "liquid_one=red_cup:٣", "liquid_one=red_cup:0x3"])
+def test_ball_counts_are_ascii_whole_numbers(value, capsys):
+    one_line_error(capsys, ["run", "dough", "--fill", value], 2, "the number of balls is a whole number")
+
+
+@pytest.mark.parametrize(
+    "argv, what",
+    [
+        (["run", "x", "--bind", "h=left_hand", "--bind", "h=right_hand"], "--bind h: given twice"),
+        (["run", "x", "--place", "red_cup=60cm,0", "--place", "red_cup=50cm,0"], "--place red_cup: given"),
+        (["reproduce", "--fill", "liquid_one=red_cup", "--fill", "liquid_one=green_cup"], "--fill liquid_"),
+    ],
+)
+def test_a_key_given_twice_with_different_values_is_refused(argv, what, capsys):
+    one_line_error(capsys, argv, 2, what)
+
+
+def test_a_single_option_given_twice_with_different_values_is_refused(capsys, tmp_path):
+    with pytest.raises(SystemExit) as stop:
+        main(["stats", "--db", str(tmp_path / "a"), "--db", str(tmp_path / "b")])
+    assert stop.value.code == 2
+    assert "argument --db: given twice with different values" in capsys.readouterr().err
+    same = str(tmp_path / "a")
+    assert main(["stats", "--db", same, "--db", same, "--json"]) == 0  # the same value twice: fine
+
+
+# -- the run store ----------------------------------------------------------------------------------
+@pytest.fixture
+def store(tmp_path: Path) -> Path:
+    path = tmp_path / "runs.sqlite3"
+    with RunStore(path) as s:
+        for _ in range(40):
+            s.record(Outcome("dough", {"h": "left_hand" * 20}, True, 1.0), [Outcome("grasp", {}, True, 1.0)])
+    conn = sqlite3.connect(path)
+    conn.execute("PRAGMA wal_checkpoint(TRUNCATE)")
+    conn.close()
+    return path
+
+
+def _malformed(path: Path) -> None:
+    data = bytearray(path.read_bytes())
+    page = 4096
+    assert len(data) > 3 * page
+    data[2 * page] = 0x77  # not a b-tree page type
+    data[2 * page + 3 : 2 * page + 5] = b"\xff\xff"
+    path.write_bytes(bytes(data))
+
+
+def _no_table(path: Path) -> None:
+    conn = sqlite3.connect(path)
+    conn.execute("DROP VIEW outcome_rows")
+    conn.execute("DROP TABLE outcomes")
+    conn.commit()
+    conn.close()
+
+
+def _bad_binding(path: Path) -> None:
+    conn = sqlite3.connect(path)
+    conn.execute("UPDATE outcomes SET binding = '{not json' WHERE position = 1")
+    conn.commit()
+    conn.close()
+
+
+@pytest.mark.parametrize(
+    "damage, words",
+    [
+        (_malformed, "malformed"),
+        (_no_table, "no outcome_rows, outcomes"),
+        (_bad_binding, "binding is not a JSON"),
+    ],
+)
+def test_a_damaged_store_is_one_line_in_stats_and_refused_before_a_run(damage, words, store, capsys):
+    damage(store)
+    one_line_error(capsys, ["stats", "--db", str(store)], 2, "damaged run database", words)
+    with pytest.raises(StoreError, match="damaged run database"):
+        ensure_writable(store)
+
+
+def test_a_read_only_store_is_refused_before_a_run(store):
+    store.chmod(0o444)
+    with pytest.raises(StoreError, match=r"read-only \(mode 0444\)"):
+        ensure_writable(store)
+
+
+def test_an_immutable_store_is_refused_before_a_run(store):
+    if shutil.which("chattr") is None or subprocess.run(["chattr", "+i", str(store)]).returncode != 0:
+        pytest.skip("chattr +i is not available here (needs root and a file system that has it)")
+    try:
+        with pytest.raises(StoreError, match="cannot record runs here|not writable"):
+            ensure_writable(store)
+    finally:
+        subprocess.run(["chattr", "-i", str(store)], check=True)
+
+
+def test_reproduce_refuses_a_damaged_store_before_reading_the_recording(store, tmp_path, capsys):
+    _no_table(store)
+    missing = tmp_path / "nothing-here.c3d"  # never read: the store is refused first
+    one_line_error(capsys, ["reproduce", str(missing), "--db", str(store), "--out", str(tmp_path / "o")],
+                   2, "damaged run database")
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("kind", ["folder", "fifo", "under a file"])
+def test_stats_of_a_path_that_cannot_be_a_store_is_an_error(kind, tmp_path, capsys):
+    path = tmp_path / "db"
+    if kind == "folder":
+        path.mkdir()
+    elif kind == "fifo":
+        os.mkfifo(path)
+    else:
+        path.write_text("x")
+        path = path / "runs.sqlite3"
+    err = one_line_error(capsys, ["stats", "--db", str(path)], 2)
+    assert "No runs recorded" not in err
+
+
+# -- the scene and the demonstration --------------------------------------------------------------
+def test_a_tracked_scene_instance_the_demonstration_lacks_is_refused(lib_dir, dough_json, tmp_path, capsys):
+    text = (lib_dir / "kitchen.oac").read_text()
+    scene = text[text.index("scene kitchen {") : text.index("}", text.index("scene kitchen {")) + 1]
+    extra = tmp_path / "extra.oac"
+    extra.write_text(scene.replace("scene kitchen {", "scene kitchen2 {\n    spoon : Mixer"))
+    for command in (["match"], ["compose", "--name", "d", "--dry-run"]):
+        argv = [command[0], str(dough_json), "--library", str(lib_dir), "--scene", str(extra), *command[1:]]
+        one_line_error(capsys, argv, 2, "tracked instance spoon not among")
