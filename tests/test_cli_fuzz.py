@@ -253,3 +253,18 @@ def test_a_tracked_scene_instance_the_demonstration_lacks_is_refused(lib_dir, do
     for command in (["match"], ["compose", "--name", "d", "--dry-run"]):
         argv = [command[0], str(dough_json), "--library", str(lib_dir), "--scene", str(extra), *command[1:]]
         one_line_error(capsys, argv, 2, "tracked instance spoon not among")
+
+
+# -- .oac line ends --------------------------------------------------------------------------------
+@pytest.mark.parametrize("end", ["\x0b", "\x0c", "\x85", "\u2028", "\u2029"])
+def test_a_line_end_other_than_lf_or_cr_is_a_located_error_not_a_comment(end, tmp_path, capsys):
+    path = tmp_path / "odd.oac"
+    path.write_text(f"# a comment{end}class Cup {{}}{end}class Bowl {{}}\n", encoding="utf-8")
+    assert main(["compile", str(path)]) == 1
+    out = capsys.readouterr()
+    first = (out.out + out.err).strip().splitlines()[0]
+    assert first.startswith(f"{path}:1:12: error[E002]:") and "is not a line end" in first
+    assert main(["fmt", "--check", str(path)]) == 1  # not "canonical"
+    assert "E002" in capsys.readouterr().err
+    assert main(["fmt", str(path)]) == 1
+    assert path.read_text(encoding="utf-8").startswith(f"# a comment{end}")  # left alone
