@@ -268,3 +268,140 @@ def test_a_line_end_other_than_lf_or_cr_is_a_located_error_not_a_comment(end, tm
     assert "E002" in capsys.readouterr().err
     assert main(["fmt", str(path)]) == 1
     assert path.read_text(encoding="utf-8").startswith(f"# a comment{end}")  # left alone
+
+
+# -- output paths -----------------------------------------------------------------------------------
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+def test_compose_to_a_fifo_is_refused_before_reading_it(dough_json, lib_dir, tmp_path):
+    fifo = tmp_path / "out.oac"
+    os.mkfifo(fifo)
+    argv = ["compose", str(dough_json), "--library", str(lib_dir), "--name", "d", "-o", str(fifo)]
+    proc = subprocess.run([*OACC, *argv], capture_output=True, text=True, cwd=ROOT, timeout=60)
+    assert proc.returncode == 2
+    why = "is a FIFO (named pipe); not replaced by a regular file (give a file path)"
+    assert proc.stderr.strip() == f"oacc: error: {fifo}: {why}"
+    assert fifo.is_fifo()
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["segment", "data/dough.c3d", "--plot", "DEV"],
+        ["synth", "dough", "-o", "TMP/x.c3d", "--truth", "DEV"],
+        ["compose", "SEG", "--library", "LIB", "--name", "d", "-o", "DEV"],
+    ],
+)
+def test_a_device_as_an_output_file_is_refused_and_kept(argv, dough_json, lib_dir, tmp_path, capsys):
+    names = {"DEV": os.devnull, "SEG": str(dough_json), "LIB": str(lib_dir)}
+    names["data/dough.c3d"] = str(ROOT / "data" / "dough.c3d")
+    argv = [names.get(a, a.replace("TMP", str(tmp_path))) for a in argv]
+    one_line_error(capsys, argv, 2, f"{os.devnull}: is a character device; not replaced")
+    assert not Path(os.devnull).is_file()
+
+
+def test_a_file_name_longer_than_255_bytes_is_one_line(dough_json, lib_dir, tmp_path, capsys):
+    long = "a" * 300
+    one_line_error(capsys, ["compose", str(dough_json), "--library", str(lib_dir), "--name", long], 2,
+                   "a name of 300 characters; at most 251")
+    one_line_error(capsys, ["reproduce", "--name", long, "--no-record"], 2, "at most 251")
+    out = tmp_path / f"{'é' * 130}.oac"  # 264 bytes
+    argv = ["compose", str(dough_json), "--library", str(lib_dir), "--name", "d", "-o", str(out)]
+    one_line_error(capsys, argv, 2, "the file name is 264 bytes, longer than the 255")
+
+
+def test_a_name_of_251_characters_is_written(dough_json, lib_dir, capsys):
+    name = "n" * 251
+    assert main(["compose", str(dough_json), "--library", str(lib_dir), "--name", name]) == 0
+    assert (lib_dir / "learned" / f"{name}.oac").is_file()
+
+
+@pytest.mark.parametrize("file_name", ["Crêpe-1.c3d", "日本.c3d", "Ünïcode test.mmm.xml", f"{'x' * 300}.c3d"])
+def test_the_default_name_of_any_recording_file_name_is_a_valid_oac_name(file_name):
+    from oacdsl.cli import check_oac_name
+    from oacdsl.pipeline.inputs import default_name
+
+    name = default_name(file_name)
+    assert check_oac_name(name) == name and name.isascii()
+
+
+# -- oacc fmt ---------------------------------------------------------------------------------------
+UGLY = "class   Cup{}\n"
+
+
+def test_fmt_leaves_a_read_only_file_alone(tmp_path, capsys):
+    path = tmp_path / "a.oac"
+    path.write_text(UGLY)
+    other = tmp_path / "b.oac"
+    other.write_text(UGLY)
+    path.chmod(0o444)
+    assert main(["fmt", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert f"oacc: error: {path}: read-only (mode 0444); not replaced" in err
+    assert path.read_text() == UGLY and other.read_text() != UGLY  # the others are formatted
+
+
+def test_fmt_keeps_hard_links_together(tmp_path, capsys):
+    path = tmp_path / "a.oac"
+    path.write_text(UGLY)
+    os.link(path, tmp_path / "linked.oac.bak")
+    assert main(["fmt", str(path)]) == 2
+    assert "has 2 hard links; replacing it would split them" in capsys.readouterr().err
+    assert path.read_text() == UGLY and path.stat().st_nlink == 2
+
+
+def test_fmt_does_not_take_another_users_file(tmp_path, capsys, monkeypatch):
+    path = tmp_path / "a.oac"
+    path.write_text(UGLY)
+    mine = os.geteuid()
+    monkeypatch.setattr(os, "geteuid", lambda: mine + 4242)  # as if the file were someone else's
+    assert main(["fmt", str(path)]) == 2
+    assert "owned by another user" in capsys.readouterr().err
+    assert path.read_text() == UGLY
+
+
+@pytest.mark.skipif(os.geteuid() != 0, reason="needs root to give a file to another user")
+def test_fmt_as_root_keeps_the_files_owner(tmp_path, capsys):
+    path = tmp_path / "a.oac"
+    path.write_text(UGLY)
+    os.chown(path, 4242, 4343)
+    assert main(["fmt", str(path)]) == 0
+    assert path.read_text() != UGLY and (path.stat().st_uid, path.stat().st_gid) == (4242, 4343)
+
+
+def test_fmt_does_not_overwrite_an_edit_made_while_it_ran(tmp_path, capsys, monkeypatch):
+    import oacdsl.compiler.printer as printer
+
+    path = tmp_path / "a.oac"
+    path.write_text(UGLY)
+    real = printer.print_module
+
+    def slow_print(module):  # the user saves the file while fmt formats it
+        path.write_text("class Bowl {}\n")
+        return real(module)
+
+    monkeypatch.setattr(printer, "print_module", slow_print)
+    assert main(["fmt", str(path)]) == 2
+    assert "changed while it was being rewritten" in capsys.readouterr().err
+    assert path.read_text() == "class Bowl {}\n"
+
+
+# -- pictures of any group name ---------------------------------------------------------------------
+def test_group_names_with_tex_characters_are_drawn_as_text(tmp_path, capsys):
+    import numpy as np
+
+    from oacdsl.segmentation.readers import write_c3d
+    from oacdsl.segmentation.recording import Recording
+
+    n = 100
+    t = np.arange(n) / 50.0
+    pos = np.zeros((n, 2, 3))
+    pos[:, :, 2] = 0.5
+    pos[:, 1, 0] = np.where((t > 0.6) & (t < 1.4), 0.02, 1.0)  # b touches a for 0.8 s
+    rec = Recording("m.c3d", 50.0, t, ["$x^$:m1", "b_{y}:m1"], pos, {"$x^$": (0,), "b_{y}": (1,)}, 0)
+    path = write_c3d(rec, tmp_path / "m.c3d")
+    argv = ["segment", str(path), "--plot", str(tmp_path / "p.png"), "--graphs", str(tmp_path / "g"),
+            "--plot-motion", str(tmp_path / "m.png")]
+    assert main(argv) == 0, capsys.readouterr().err
+    assert "+ $x^$ <-> b_{y}" in capsys.readouterr().out
+    assert (tmp_path / "p.png").is_file() and (tmp_path / "m.png").is_file()
+    assert len(list((tmp_path / "g").glob("*.png"))) == 3

@@ -75,6 +75,22 @@ def _store_once(parser: argparse.ArgumentParser) -> None:
                 _store_once(sub)
 
 
+#: The longest name of a composed OAC: ``NAME.oac`` must fit a file name (255 bytes).
+MAX_NAME = 251
+
+
+def check_oac_name(name: str, flag: str = "--name") -> str:
+    """A composed OAC's name (it names the file ``NAME.oac``): an ASCII identifier of at most
+    :data:`MAX_NAME` characters; :class:`~oacdsl.errors.UsageError` otherwise."""
+    from oacdsl.errors import UsageError
+
+    if not (name.isidentifier() and name.isascii()):
+        raise UsageError(f"{flag} {name!r}: a name is letters, digits and '_', not starting with a digit")
+    if len(name) > MAX_NAME:
+        raise UsageError(f"{flag}: a name of {len(name)} characters; at most {MAX_NAME} (it names a file)")
+    return name
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The full argument parser with every subcommand registered."""
     parser = argparse.ArgumentParser(

@@ -7,7 +7,7 @@ import shlex
 import sys
 from pathlib import Path
 
-from oacdsl.cli import seed_arg
+from oacdsl.cli import check_oac_name, seed_arg
 from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
 from oacdsl.cli.scene_options import add_scene_options, scene_overrides
 from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
@@ -117,10 +117,8 @@ def run(args: argparse.Namespace) -> int:
     from oacdsl.pipeline import default_name, load_inputs, reproduce
     from oacdsl.pipeline.inputs import BUNDLED_NAME
 
-    if args.name is not None and not (args.name.isidentifier() and args.name.isascii()):
-        raise UsageError(
-            f"--name {args.name!r}: a name is letters, digits and '_', not starting with a digit"
-        )
+    if args.name is not None:
+        check_oac_name(args.name)
     params = params_from_args(args)  # bad units fail before any reading
     overrides = scene_overrides(args)
     db = None

@@ -170,6 +170,9 @@ def _check_outputs(args: argparse.Namespace) -> None:
         elif video.is_dir():
             raise UsageError(f"--video {video}: is a folder; give a file name ending in .mp4")
         else:
+            from oacdsl.atomic import check_target
+
+            check_target(video)
             _writable_folder(video.parent, "--video")
 
 

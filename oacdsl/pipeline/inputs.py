@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import json
 import re
+import unicodedata
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -91,14 +92,17 @@ def default_library() -> Path:
 
 
 def default_name(source: str) -> str:
-    """A name for the composed OAC from the recording's file name: ``Pour-01.c3d`` → ``pour_01``."""
+    """A name for the composed OAC from the recording's file name: ``Pour-01.c3d`` → ``pour_01``,
+    ``Crêpe.c3d`` → ``crepe`` (ASCII letters, digits and ``_``; at most 200 characters)."""
     stem = Path(source.split(" ")[0].split(":")[-1]).name
     for suffix in (".mmm.xml", ".xml", ".c3d", ".tsv", ".csv", ".json"):
         if stem.lower().endswith(suffix):
             stem = stem[: -len(suffix)]
             break
-    name = re.sub(r"\W+", "_", stem.lower()).strip("_") or "demonstration"
-    return name if name[0].isalpha() else f"demo_{name}"
+    ascii_stem = unicodedata.normalize("NFKD", stem.lower()).encode("ascii", "ignore").decode("ascii")
+    name = re.sub(r"[^a-z0-9]+", "_", ascii_stem).strip("_") or "demonstration"
+    name = name if name[0].isalpha() else f"demo_{name}"
+    return name[:200].rstrip("_")  # an ASCII identifier, and NAME.oac a file name of any file system
 
 
 @dataclass(frozen=True)
