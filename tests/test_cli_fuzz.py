@@ -405,3 +405,32 @@ def test_group_names_with_tex_characters_are_drawn_as_text(tmp_path, capsys):
     assert "+ $x^$ <-> b_{y}" in capsys.readouterr().out
     assert (tmp_path / "p.png").is_file() and (tmp_path / "m.png").is_file()
     assert len(list((tmp_path / "g").glob("*.png"))) == 3
+
+
+# -- reproduce: the report folder ------------------------------------------------------------------
+def test_sigterm_during_a_run_removes_its_staging_folder(tmp_path, monkeypatch, capsys):
+    import signal
+    import time
+
+    import oacdsl.pipeline.run as pipeline_run
+
+    def terminated(*args, **kwargs):  # the run is under way: its staging folder exists
+        assert [p for p in (tmp_path / "out").iterdir() if p.name.startswith(".reproduce-")]
+        os.kill(os.getpid(), signal.SIGTERM)
+        time.sleep(5)
+        raise AssertionError("SIGTERM did not stop the run")
+
+    monkeypatch.setattr(pipeline_run, "_stages", terminated)
+    code = main(["reproduce", "--out", str(tmp_path / "out"), "--no-record", "--no-render", "--quiet"])
+    assert code == 143
+    assert capsys.readouterr().err.strip().endswith("oacc: terminated")
+    assert not [p for p in (tmp_path / "out").iterdir() if p.name.startswith(".reproduce-")]
+    assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL  # restored after the command
+
+
+def test_out_as_a_symbolic_link_is_refused(tmp_path, capsys):
+    (tmp_path / "real").mkdir()
+    (tmp_path / "out").symlink_to(tmp_path / "real")
+    one_line_error(capsys, ["reproduce", "--out", str(tmp_path / "out"), "--no-record"], 2,
+                   "--out is a symbolic link")
+    assert not list((tmp_path / "real").iterdir())

@@ -10,9 +10,13 @@ so that ``oacc compile`` starts fast. Errors derived from
 from __future__ import annotations
 
 import argparse
+import contextlib
 import functools
 import importlib
+import signal
 import sys
+import threading
+from collections.abc import Iterator
 from typing import Any
 
 from oacdsl import __version__
@@ -105,6 +109,28 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+class Terminated(BaseException):
+    """SIGTERM arrived: raised in the main thread so that ``finally`` blocks run (a staging
+    folder, a temporary file are removed) before ``oacc`` exits with status 143."""
+
+
+def _raise_terminated(signum: int, frame: object) -> None:
+    raise Terminated
+
+
+@contextlib.contextmanager
+def _terminated_cleanly() -> Iterator[None]:
+    """SIGTERM becomes :class:`Terminated` for the block (main thread only; the old handler after)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, _raise_terminated)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
 @functools.cache
 def _parser() -> argparse.ArgumentParser:
     """The parser :func:`main` uses, built once per process (building it takes ~50 ms)."""
@@ -116,7 +142,7 @@ def main(argv: list[str] | None = None) -> int:
     from oacdsl.cli.output import StdoutError, guarded_stdout, silence_stdout
 
     try:
-        with guarded_stdout():
+        with guarded_stdout(), _terminated_cleanly():
             try:
                 args = _parser().parse_args(argv)
             except SystemExit:  # --help, --version or a usage error: what it printed must reach stdout
@@ -135,6 +161,9 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("oacc: interrupted", file=sys.stderr)
         return 130
+    except Terminated:
+        print("oacc: terminated", file=sys.stderr)
+        return 128 + signal.SIGTERM
     except BrokenPipeError:
         silence_stdout()
         return 0

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import shlex
 import sys
 from pathlib import Path
@@ -127,6 +128,8 @@ def run(args: argparse.Namespace) -> int:
 
         db = ensure_writable(resolve_db_path(args.db))  # a foreign, newer or unwritable store: now
     out = Path(args.out)
+    if out.is_symlink():  # publishing replaces links inside --out; --out itself must be the folder
+        raise UsageError(f"--out is a symbolic link (to {os.readlink(out)}); give the folder itself")
     if out.exists() and not out.is_dir():
         raise InputError("--out must be a folder; this is a file", location=str(out))
     try:
