@@ -434,3 +434,28 @@ def test_out_as_a_symbolic_link_is_refused(tmp_path, capsys):
     one_line_error(capsys, ["reproduce", "--out", str(tmp_path / "out"), "--no-record"], 2,
                    "--out is a symbolic link")
     assert not list((tmp_path / "real").iterdir())
+
+
+# -- --place and --fill, checked before any work ---------------------------------------------------
+@pytest.mark.parametrize(
+    "flags, words",
+    [
+        (["--place", "nosuch=60cm,0"], "--place nosuch: not an object on the table of scene kitchen"),
+        (["--place", "red_cup=2m,0"], "is off the table"),
+        (["--fill", "liquid_one=mixer"], "--fill liquid_one=mixer: not a container"),
+        (["--fill", "nope=red_cup"], "--fill nope: not a liquid"),
+        (["--place", "red_cup=64cm,2cm"], "overlaps orange_bowl at (0.64, 0.00) m (the scene's 'at')"),
+        (["--place", "red_cup=1m,40cm", "--place", "mixer=1m,41cm"],
+         "--place mixer: at (1.00, 0.41) m it overlaps red_cup at (1.00, 0.40) m (--place)"),
+    ],
+)
+def test_reproduce_refuses_bad_places_and_fills_before_writing_anything(flags, words, tmp_path, capsys):
+    out = tmp_path / "out"
+    one_line_error(capsys, ["reproduce", "--out", str(out), "--no-record", "--no-render", *flags], 2, words)
+    assert not out.exists()
+
+
+def test_run_refuses_overlapping_places(capsys):
+    argv = ["run", "grasp", "--scene", "kitchen", "--no-record", "--place", "red_cup=60cm,0",
+            "--place", "green_cup=62cm,1cm"]
+    one_line_error(capsys, argv, 2, "overlaps")

@@ -156,6 +156,9 @@ def run(args: argparse.Namespace) -> int:
         import placo  # noqa: F401
     except ImportError as error:
         raise UsageError(f"reproduce needs the 'robot' extra (pip install -e '.[robot]'): {error}") from None
+    from oacdsl.cli.scene_check import check_overrides
+
+    check_overrides(inputs.library, inputs.scene, overrides)  # before anything is composed or written
 
     def warn(text: str) -> None:
         print(f"oacc: warning: {text}", file=sys.stderr)

@@ -186,6 +186,11 @@ def run(args: argparse.Namespace) -> int:
 
         db = ensure_writable(resolve_db_path(args.db))
     _check_outputs(args)
+    if args.name in library.oacs and (overrides.places or overrides.fill):  # else prepare() names the problem
+        from oacdsl.cli.scene_check import check_overrides
+        from oacdsl.runtime.binding import choose_scene
+
+        check_overrides(library, choose_scene(library, library.oacs[args.name], scene, bindings), overrides)
     demonstrated = _demonstrated(args, library, scene, bindings, overrides.layout)
     note = prepare_backend(bool(args.video or args.frames))  # before MuJoCo is imported
     if note:
