@@ -11,6 +11,7 @@ import json
 import os
 import shutil
 import sqlite3
+import stat
 import subprocess
 import sys
 from pathlib import Path
@@ -283,20 +284,37 @@ def test_compose_to_a_fifo_is_refused_before_reading_it(dough_json, lib_dir, tmp
     assert fifo.is_fifo()
 
 
+def a_device(tmp_path: Path) -> Path:
+    """A character device of the test's own (a null device made in ``tmp_path`` as root): code
+    that replaces its target must never be pointed at the system's ``/dev/null``."""
+    if os.geteuid() != 0:
+        return Path(os.devnull)  # not root: /dev cannot be written, /dev/null cannot be replaced
+    node = tmp_path / "null-device"
+    try:
+        os.mknod(node, 0o666 | stat.S_IFCHR, os.makedev(1, 3))
+    except OSError as error:
+        pytest.skip(f"cannot make a device node here: {error}")
+    return node
+
+
 @pytest.mark.parametrize(
     "argv",
     [
-        ["segment", "data/dough.c3d", "--plot", "DEV"],
+        ["segment", "DOUGH", "--plot", "DEV"],
         ["synth", "dough", "-o", "TMP/x.c3d", "--truth", "DEV"],
         ["compose", "SEG", "--library", "LIB", "--name", "d", "-o", "DEV"],
+        ["take", "DOUGH", "-o", "DEV.c3d", "--speed", "0.5"],
     ],
 )
 def test_a_device_as_an_output_file_is_refused_and_kept(argv, dough_json, lib_dir, tmp_path, capsys):
-    names = {"DEV": os.devnull, "SEG": str(dough_json), "LIB": str(lib_dir)}
-    names["data/dough.c3d"] = str(ROOT / "data" / "dough.c3d")
+    device = a_device(tmp_path)
+    link = tmp_path / "dev.c3d"
+    link.symlink_to(device)
+    names = {"DEV": str(device), "DEV.c3d": str(link), "SEG": str(dough_json), "LIB": str(lib_dir),
+             "DOUGH": str(ROOT / "data" / "dough.c3d")}
     argv = [names.get(a, a.replace("TMP", str(tmp_path))) for a in argv]
-    one_line_error(capsys, argv, 2, f"{os.devnull}: is a character device; not replaced")
-    assert not Path(os.devnull).is_file()
+    one_line_error(capsys, argv, 2, "is a character device; not replaced")
+    assert device.is_char_device()
 
 
 def test_a_file_name_longer_than_255_bytes_is_one_line(dough_json, lib_dir, tmp_path, capsys):
