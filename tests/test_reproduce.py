@@ -336,7 +336,7 @@ def test_a_closed_loop_that_differs_fails_the_run(short_demo: Path, library: Pat
         assert conn.execute("SELECT success, edit_distance FROM runs").fetchall() == [(1, 1)]
     assert "Not reproduced" in (out / "report.html").read_text()
     assert sorted(p.name for p in out.iterdir()) == [
-        "current", "figures", "first_pour.oac", "report.html", "result.json", "runs"
+        ".oacdsl-report", "current", "figures", "first_pour.oac", "report.html", "result.json", "runs"
     ]
     assert sorted(p.name for p in (library / "learned").iterdir()) == ["first_pour.oac"]
     first = (out / "current").resolve()

@@ -172,8 +172,8 @@ def _check_outputs(args: argparse.Namespace) -> None:
         else:
             from oacdsl.atomic import check_target
 
-            check_target(video)
             _writable_folder(video.parent, "--video")
+            check_target(video)
 
 
 def run(args: argparse.Namespace) -> int:

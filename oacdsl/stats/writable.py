@@ -15,15 +15,16 @@ from oacdsl.stats.store import RunStore
 __all__ = ["check_store_path", "ensure_writable", "read_only"]
 
 
-def check_store_path(db: Path) -> None:
+def check_store_path(db: Path, what: str = "no run database here") -> None:
     """Refuse, as a :class:`StoreError`, a path that cannot be a run database: an existing entry
-    that is not a regular file (a folder, a FIFO, a device), or one under something not a folder."""
+    that is not a regular file (a folder, a FIFO, a device), or one under something not a folder
+    (``what`` begins that message)."""
     try:
         info = os.stat(db)
     except FileNotFoundError:
         return
     except NotADirectoryError:
-        raise StoreError("a parent of this path is not a folder", location=str(db)) from None
+        raise StoreError(f"{what}: a parent of this path is not a folder", location=str(db)) from None
     except OSError as error:
         raise StoreError(f"cannot read: {error.strerror or error}", location=str(db)) from None
     if stat.S_ISDIR(info.st_mode):
@@ -70,7 +71,7 @@ def ensure_writable(path: str | os.PathLike[str]) -> Path:
         finally:
             store.close()
     else:
-        check_store_path(db)
+        check_store_path(db, "cannot record runs here")
     try:
         db.parent.mkdir(parents=True, exist_ok=True)
     except (FileExistsError, NotADirectoryError):
