@@ -16,6 +16,7 @@ from typing import Any
 
 from oacdsl.cli import seed_arg
 from oacdsl.cli.backend import NONE_FOUND, prepare_backend
+from oacdsl.cli.run_many import add_many_options
 from oacdsl.cli.scene_options import add_scene_options, pairs, scene_overrides
 from oacdsl.errors import RuntimeFailure, UsageError
 from oacdsl.model import Scene
@@ -81,6 +82,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         help="leave self-collision avoidance out of the IK (faster)",
     )
     add_scene_options(p)
+    add_many_options(p)
     p.set_defaults(func=run)
 
 
@@ -180,17 +182,24 @@ def run(args: argparse.Namespace) -> int:
     bindings = pairs(args.bind, "--bind", "NAME=INSTANCE")
     overrides = scene_overrides(args)
     library, scene = load_inputs(args.library or ["library"], args.scene)
+    if args.name in library.oacs and (overrides.places or overrides.fill):  # else prepare() names the problem
+        from oacdsl.cli.scene_check import check_overrides
+        from oacdsl.runtime.binding import choose_scene
+
+        check_overrides(library, choose_scene(library, library.oacs[args.name], scene, bindings), overrides)
+    if args.seeds is not None:  # many runs on Dask: the success measure
+        from oacdsl.cli.run_many import run_many_cmd
+
+        paths = [*(args.library or ["library"]), *([args.scene] if scene != args.scene else [])]
+        return run_many_cmd(args, paths, scene, bindings, overrides)
+    if args.workers is not None or args.scheduler is not None or args.place_samples != 1:
+        raise UsageError("--workers, --scheduler and --place-samples go with --seeds A:B")
     db = None
     if not args.no_record:  # an unusable store fails now, before the simulation
         from oacdsl.stats import ensure_writable, resolve_db_path
 
         db = ensure_writable(resolve_db_path(args.db))
     _check_outputs(args)
-    if args.name in library.oacs and (overrides.places or overrides.fill):  # else prepare() names the problem
-        from oacdsl.cli.scene_check import check_overrides
-        from oacdsl.runtime.binding import choose_scene
-
-        check_overrides(library, choose_scene(library, library.oacs[args.name], scene, bindings), overrides)
     demonstrated = _demonstrated(args, library, scene, bindings, overrides.layout)
     note = prepare_backend(bool(args.video or args.frames))  # before MuJoCo is imported
     if note:
