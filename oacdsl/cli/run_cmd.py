@@ -17,7 +17,7 @@ from typing import Any
 from oacdsl.cli import seed_arg
 from oacdsl.cli.backend import NONE_FOUND, prepare_backend
 from oacdsl.cli.run_many import add_many_options
-from oacdsl.cli.scene_options import add_scene_options, scene_overrides
+from oacdsl.cli.scene_options import add_scene_options, pairs, scene_overrides
 from oacdsl.errors import RuntimeFailure, UsageError, did_you_mean
 from oacdsl.model import Scene
 
@@ -106,16 +106,6 @@ def add_adaptive_options(p: argparse.ArgumentParser) -> None:
     )
 
 
-def _pairs(items: list[str], flag: str) -> dict[str, str]:
-    out: dict[str, str] = {}
-    for item in items:
-        key, sep, value = item.partition("=")
-        if not sep or not key.strip() or not value.strip():
-            raise UsageError(f"{flag} {item!r}: expected NAME=INSTANCE")
-        out[key.strip()] = value.strip()
-    return out
-
-
 def _demonstrated(
     args: argparse.Namespace, library: Any, scene: str | None, bindings: dict[str, str], layout: str | None
 ) -> dict[str, Any] | None:
@@ -202,11 +192,14 @@ def _check_outputs(args: argparse.Namespace) -> None:
         elif video.is_dir():
             raise UsageError(f"--video {video}: is a folder; give a file name ending in .mp4")
         else:
+            from oacdsl.atomic import check_target
+
             _writable_folder(video.parent, "--video")
+            check_target(video)
 
 
 def run(args: argparse.Namespace) -> int:
-    bindings = _pairs(args.bind, "--bind")
+    bindings = pairs(args.bind, "--bind", "NAME=INSTANCE")
     if args.max_repairs < 0:
         raise UsageError("--max-repairs: a whole number ≥ 0")
     overrides = scene_overrides(args)
@@ -222,6 +215,11 @@ def run(args: argparse.Namespace) -> int:
         chosen = choose_scene(library, library.oacs[args.name], scene, bindings)
         fills = {**state_as_fills(library, chosen, args.state), **overrides.fill}
         overrides = dataclasses.replace(overrides, fill=fills)
+    if args.name in library.oacs and (overrides.places or overrides.fill):  # else prepare() names the problem
+        from oacdsl.cli.scene_check import check_overrides
+        from oacdsl.runtime.binding import choose_scene
+
+        check_overrides(library, choose_scene(library, library.oacs[args.name], scene, bindings), overrides)
     if args.seeds is not None:  # many runs on Dask: the success measure
         from oacdsl.cli.run_many import run_many_cmd
 
