@@ -230,7 +230,7 @@ def test_fast_downward_and_pyperplan_plans_have_the_same_length(problem):
 
 
 def test_oacc_run_state_sets_up_a_liquid_in_a_container_and_refuses_the_rest():
-    from oacdsl.cli.planning_input import state_as_fills
+    from oacdsl.planning.state import state_as_fills
 
     fills = state_as_fills(library(), kitchen(), "orange_bowl <-> liquid_one, liquid_two <-> red_cup")
     assert fills == {"liquid_one": "orange_bowl", "liquid_two": "red_cup"}

@@ -81,33 +81,3 @@ def read_input(args: argparse.Namespace, paths: list[str], *, need_goal: bool) -
     check_atoms(goal, state.instances, "--goal")
     return PlanningInput(library, scene, state, goal)
 
-
-def state_as_fills(library: Any, scene: Any, text: str) -> dict[str, str]:
-    """``oacc run --state``: stated relations the simulation can set up before a run, as
-    ``--fill`` entries — a liquid in a container (UsageError, located, for any other)."""
-    from oacdsl.geometry import ROLE_LIQUID, resolve_scene
-    from oacdsl.planning.state import check_atoms, parse_atoms, scene_state
-
-    atoms = parse_atoms(text, "--state")
-    check_atoms(atoms, scene_state(scene).instances, "--state")
-    shapes = {name: geo for name, geo in resolve_scene(library, scene).items() if geo is not None}
-    fills: dict[str, str] = {}
-    for atom in atoms:
-        pair = (atom.left, atom.right)
-        for liquid, container in (pair, pair[::-1]):
-            if (
-                not atom.negated
-                and liquid in shapes
-                and container in shapes
-                and shapes[liquid].role == ROLE_LIQUID
-                and shapes[container].container
-            ):
-                fills[liquid] = container
-                break
-        else:
-            col = max(1, atom.span.column - 4) if atom.span is not None else 1
-            raise UsageError(
-                f"--state:1:{col}: the simulation can start a liquid in a container ('liquid_one <->"
-                " orange_bowl'); other relations are not set up before a run yet"
-            )
-    return fills

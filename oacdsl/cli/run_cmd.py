@@ -207,7 +207,7 @@ def run(args: argparse.Namespace) -> int:
     if args.state:
         import dataclasses
 
-        from oacdsl.cli.planning_input import state_as_fills
+        from oacdsl.planning.state import state_as_fills
         from oacdsl.runtime.binding import choose_scene
 
         if args.name not in library.oacs:

@@ -22,7 +22,15 @@ from oacdsl.matching.conditions import apply_effects, holds
 from oacdsl.model import Atom, Oac, Scene
 from oacdsl.world import NOTHING, WorldState, relation
 
-__all__ = ["scene_state", "parse_atoms", "check_atoms", "stated", "state_from_result", "instance_classes"]
+__all__ = [
+    "check_atoms",
+    "instance_classes",
+    "parse_atoms",
+    "scene_state",
+    "state_as_fills",
+    "state_from_result",
+    "stated",
+]
 
 _HEAD = "oac goal() {\npre "  # the goal's text starts line 2, column 5
 
@@ -130,3 +138,33 @@ def instance_classes(library: Library, scene: Scene) -> dict[str, frozenset[str]
     """Each related instance's classes, inherited included."""
     every = library.instance_classes(scene)
     return {i.name: every[i.name] for i in scene.instances if not (i.environment or i.ignored)}
+
+
+def state_as_fills(library: Any, scene: Any, text: str) -> dict[str, str]:
+    """``oacc run --state``: stated relations the simulation can set up before a run, as
+    ``--fill`` entries — a liquid in a container (UsageError, located, for any other)."""
+    from oacdsl.geometry import ROLE_LIQUID, resolve_scene
+
+    atoms = parse_atoms(text, "--state")
+    check_atoms(atoms, scene_state(scene).instances, "--state")
+    shapes = {name: geo for name, geo in resolve_scene(library, scene).items() if geo is not None}
+    fills: dict[str, str] = {}
+    for atom in atoms:
+        pair = (atom.left, atom.right)
+        for liquid, container in (pair, pair[::-1]):
+            if (
+                not atom.negated
+                and liquid in shapes
+                and container in shapes
+                and shapes[liquid].role == ROLE_LIQUID
+                and shapes[container].container
+            ):
+                fills[liquid] = container
+                break
+        else:
+            col = max(1, atom.span.column - 4) if atom.span is not None else 1
+            raise UsageError(
+                f"--state:1:{col}: the simulation can start a liquid in a container ('liquid_one <->"
+                " orange_bowl'); other relations are not set up before a run yet"
+            )
+    return fills
