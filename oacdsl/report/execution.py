@@ -179,17 +179,21 @@ def verification_section(r: Result, images: Images) -> str:
         if not st.equal:
             out.append(f'<p><b>{name} world states differ.</b> Demonstration: {rel_list(st.demonstration)};'
                        f" robot: {rel_list(st.robot)}.</p>")
-    ops = {"match": ("same", "ok"), "split": ("split", "ok"), "substitute": ("different", "warn"),
+    ops = {"match": ("same", "ok"), "split": ("split", "ok"), "merge": ("merged", "ok"),
+           "substitute": ("different", "warn"),
            "missing": ("missing", "bad"), "extra": ("extra", "bad")}
     rows = []
     for i, a in enumerate(v.alignment, 1):
-        d = v.demonstration[a.demonstration] if a.demonstration is not None else None
+        dl = a.demonstration_last if a.demonstration_last is not None else a.demonstration
+        ds = [v.demonstration[k] for k in range(a.demonstration, dl + 1)] if a.demonstration is not None \
+            and dl is not None else []
+        demo = "<br>".join(_change(x) for x in ds) if ds else _change(None)
         last = a.robot_last if a.robot_last is not None else a.robot
         parts = [v.robot[k] for k in range(a.robot, last + 1)] if a.robot is not None and last is not None \
             else []
         robot = "<br>".join(_change(b) for b in parts) if parts else _change(None)
         text, kind = ops[a.op]
-        rows.append(f'<tr class="op-{a.op}"><td class=num>{i}</td><td class="side">{_change(d)}</td>'
+        rows.append(f'<tr class="op-{a.op}"><td class=num>{i}</td><td class="side">{demo}</td>'
                     f'<td class="op">{badge(text, kind)}</td><td class="side">{robot}</td></tr>')
     out.append('<table class="align"><thead><tr><th class=num>#</th><th>demonstration</th><th></th>'
                "<th>robot</th></tr></thead><tbody>" + "".join(rows) + "</tbody></table>")

@@ -175,10 +175,11 @@ class ChangeDoc(_Doc):
 
 
 class AlignDoc(_Doc):
-    op: Literal["match", "split", "substitute", "missing", "extra"]
+    op: Literal["match", "split", "merge", "substitute", "missing", "extra"]
     demonstration: Count | None
     robot: Count | None
     robot_last: Count | None = None  # a split: the robot's changes robot … robot_last
+    demonstration_last: Count | None = None  # a merge: demonstration … demonstration_last at once
 
 
 class StatesDoc(_Doc):

@@ -1,0 +1,201 @@
+"""End state: where each tracked object ends, and how it is turned, against the demonstration.
+
+Per object that is not an agent (a hand), in each recording:
+
+- **support** at the last frame: ``held`` by a hand (touching it in the final world state);
+  ``in``/``on`` another tracked object x (touching x in the final world state, its centre
+  horizontally within x's footprint — x's markers' horizontal radius plus
+  ``footprint_margin_m`` — and its lowest point not below x's; ``in`` when x's class is an
+  open container); else ``table`` (its lowest marker at most ``table_band_m`` above where it
+  was at the first frame — or above the *table level*, the lowest marker of any object at the
+  first frame, when it started higher up, in or on something), ``fell`` (more than ``fell_m``
+  below that) or ``air`` (higher, touching nothing that holds it).
+- **orientation** relative to its start (rigid fit of ≥ 3 markers,
+  :mod:`oacdsl.segmentation.poses`): the angle between the axis that pointed up at the first
+  frame and the vertical at the end; ``upright`` below ``upright_max_rad``, ``upside down``
+  above π minus it, ``on its side`` between.
+- **moved**: its horizontal distance from start to end.
+
+Everything is relative (heights to the table level, distances start to end, supports by
+name), so a take rotated about the vertical, translated, slower or faster compares equal.
+An object passes when its support matches the demonstration's (held by the same hand, or
+the mapped one under ``hand_map``), its orientation class matches with the end tilts within
+``tilt_rad``, and it is not left within ``moved_share`` of its demonstrated displacement of
+its start when the demonstration moved it ``moved_min_m`` or more ("returned to its pick-up
+spot").
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from oacdsl.segmentation.poses import MIN_MARKERS, fit_instance
+from oacdsl.segmentation.recording import Recording
+from oacdsl.verify_tolerances import VerifyTolerances
+from oacdsl.world import WorldState
+
+__all__ = ["EndState", "ObjectEnd", "end_state"]
+
+#: Frames averaged at each end (robust to one bad frame).
+_ENDS = 5
+
+
+@dataclass(frozen=True)
+class ObjectEnd:
+    """One object's end (see the module docstring); SI units."""
+
+    support: str  # held, in, on, table, fell, air
+    supporter: str | None  # the hand or object (held/in/on)
+    tilt_rad: float | None  # None: fewer than three markers
+    moved_m: float
+
+    @property
+    def orientation(self) -> str | None:
+        return None if self.tilt_rad is None else _orientation_name(self.tilt_rad)
+
+    def place(self) -> str:
+        return f"{self.support} {self.supporter}" if self.supporter else self.support
+
+    def describe(self) -> str:
+        turned = "" if self.tilt_rad is None else f", {self.orientation} ({math.degrees(self.tilt_rad):.0f}°)"
+        return f"{self.place()}{turned}, {self.moved_m * 100:.0f} cm from its start"
+
+
+@dataclass(frozen=True)
+class EndState:
+    objects: dict[str, ObjectEnd]
+    table_level_m: float
+
+
+def _orientation_name(tilt_rad: float, upright_max_rad: float = math.radians(45.0)) -> str:
+    if tilt_rad < upright_max_rad:
+        return "upright"
+    if tilt_rad > math.pi - upright_max_rad:
+        return "upside down"
+    return "on its side"
+
+
+def _ends(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(first, last): the median over the first/last few frames with a value, per column."""
+    ok = np.isfinite(x).all(axis=tuple(range(1, x.ndim)))
+    idx = np.flatnonzero(ok)
+    if idx.size == 0:
+        nan = np.full(x.shape[1:], np.nan)
+        return nan, nan
+    return np.median(x[idx[:_ENDS]], axis=0), np.median(x[idx[-_ENDS:]], axis=0)
+
+
+def _tilt(recording: Recording, name: str) -> float | None:
+    """Angle between the start's up axis and the vertical at the end, radians."""
+    if len(recording.groups[name]) < MIN_MARKERS:
+        return None
+    poses = fit_instance(recording, name)
+    ok = np.flatnonzero(poses.valid)
+    if ok.size < 2:
+        return None
+    R0 = poses.T_world_object[ok[0], :3, :3]
+    R1 = poses.T_world_object[ok[-1], :3, :3]
+    up_in_object = R0.T @ np.array([0.0, 0.0, 1.0])
+    return float(np.arccos(np.clip((R1 @ up_in_object)[2], -1.0, 1.0)))
+
+
+def end_state(
+    recording: Recording,
+    final: WorldState,
+    is_agent: Callable[[str], bool],
+    is_container: Callable[[str], bool],
+    tolerances: VerifyTolerances,
+) -> EndState:
+    """Every non-agent instance's end (module docstring); ``final``: the last world state."""
+    start: dict[str, np.ndarray] = {}
+    end: dict[str, np.ndarray] = {}
+    for name in recording.instances:
+        start[name], end[name] = _ends(recording.group_positions(name))  # (k, 3) each
+    objects = [n for n in recording.instances if not is_agent(n)]
+    lows = [float(np.nanmin(start[n][:, 2])) for n in objects if np.isfinite(start[n]).any()]
+    table = min(lows) if lows else 0.0
+    out: dict[str, ObjectEnd] = {}
+    for o in objects:
+        pts = end[o]
+        if not np.isfinite(pts).any():
+            continue
+        centre = np.nanmean(pts, axis=0)
+        low = float(np.nanmin(pts[:, 2]))
+        moved = float(np.linalg.norm(np.nanmean(end[o], axis=0)[:2] - np.nanmean(start[o], axis=0)[:2]))
+        hands = sorted(h for h in final.instances if is_agent(h) and final.touches(h, o))
+        support, by = "", None
+        if hands:
+            support, by = "held", hands[0]
+        else:
+            under = []
+            for x in objects:
+                if x == o or not final.touches(o, x) or not np.isfinite(end[x]).any():
+                    continue
+                xc = np.nanmean(end[x], axis=0)
+                radius = float(np.nanmax(np.linalg.norm(end[x][:, :2] - xc[:2], axis=1)))
+                x_low = float(np.nanmin(end[x][:, 2]))
+                inside = np.linalg.norm(centre[:2] - xc[:2]) <= radius + tolerances.footprint_margin_m
+                if inside and low >= x_low - 0.01 and centre[2] > x_low:
+                    under.append((x_low, x))
+            if under:
+                by = max(under)[1]
+                support = "in" if is_container(by) else "on"
+            else:
+                # its own lowest point as it stood at the start (when that was on the table
+                # level), else the table level: markers sit at different heights on each object
+                own = float(np.nanmin(start[o][:, 2]))
+                ref = own if own - table <= tolerances.table_band_m * 2 else table
+                if low < min(ref, table) - tolerances.fell_m:
+                    support = "fell"
+                elif low <= ref + tolerances.table_band_m:
+                    support = "table"
+                else:
+                    support = "air"
+        out[o] = ObjectEnd(support, by, _tilt(recording, o), moved)
+    return EndState(out, table)
+
+
+def compare_object(
+    name: str,
+    demo: ObjectEnd,
+    run: ObjectEnd,
+    tolerances: VerifyTolerances,
+    hand_map: Mapping[str, str],
+) -> list[tuple[str, bool, str, str, str, str]]:
+    """The checks of one object: (aspect, passed, demonstration, execution, tolerance, detail)."""
+    out = []
+    want = demo.supporter
+    if demo.support == "held" and want is not None:
+        want = hand_map.get(want, want)
+    same_kind = {demo.support, run.support} <= {"in", "on"} or demo.support == run.support
+    ok = same_kind and (want == run.supporter)
+    detail = "" if ok else f"{name} ends {run.place()}, the demonstration's {demo.place()}"
+    if not ok and run.support == "fell":
+        detail = f"{name} fell: it ends below the table, the demonstration's {demo.place()}"
+    out.append(("support", ok, demo.place(), run.place(), "same support", detail))
+    if demo.tilt_rad is not None and run.tilt_rad is not None:
+        up = tolerances.upright_max_rad
+        dc, rc = _orientation_name(demo.tilt_rad, up), _orientation_name(run.tilt_rad, up)
+        diff = abs(demo.tilt_rad - run.tilt_rad)
+        ok = dc == rc and diff <= tolerances.tilt_rad
+        detail = "" if ok else (
+            f"{name} ends {rc} ({math.degrees(run.tilt_rad):.0f}° from how it stood),"
+            f" the demonstration's {dc} ({math.degrees(demo.tilt_rad):.0f}°)"
+        )
+        out.append(("orientation", ok, f"{dc} {math.degrees(demo.tilt_rad):.0f}°",
+                    f"{rc} {math.degrees(run.tilt_rad):.0f}°",
+                    f"same class, tilt within {math.degrees(tolerances.tilt_rad):.0f}°", detail))
+    if demo.moved_m >= tolerances.moved_min_m and demo.support != "held":
+        least = tolerances.moved_share * demo.moved_m
+        ok = run.moved_m >= least
+        detail = "" if ok else (
+            f"{name} ends {run.moved_m * 100:.0f} cm from where it started (back at its pick-up spot);"
+            f" the demonstration put it {demo.moved_m * 100:.0f} cm away"
+        )
+        out.append(("placed", ok, f"{demo.moved_m:.3f} m", f"{run.moved_m:.3f} m",
+                    f">= {tolerances.moved_share:g} x demonstrated", detail))
+    return out
