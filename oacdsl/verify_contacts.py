@@ -10,8 +10,10 @@ is reported beside it, as a segmentation finding).
 
 The keyframes: per relation, a change counts once the new value has held
 :attr:`~oacdsl.verify_tolerances.VerifyTolerances.contact_hold_s` (a contact flickering
-for a step or two is no change); changes closer than ``contact_merge_s`` are one
-keyframe, at the last of them (as the AAS merges).
+for a step or two is no change); a contact that lifts off for less than ``contact_gap_s``
+and comes back is held on (a stirring tool that rises off the bowl's floor between two
+touches); changes closer than ``contact_merge_s`` are one keyframe, at the last of them
+(as the AAS merges).
 """
 
 from __future__ import annotations
@@ -92,7 +94,9 @@ class SimContacts:
                 if p in rels:
                     on[start:stop, j] = True
         hold = max(1, int(round(tolerances.contact_hold_s * self.rate_hz)))
-        on = np.stack([_debounced(on[:, j], hold) for j in range(len(pairs))], axis=1) if pairs else on
+        gap = int(round(tolerances.contact_gap_s * self.rate_hz))
+        on = np.stack([_bridged(_debounced(on[:, j], hold), gap) for j in range(len(pairs))], axis=1) \
+            if pairs else on
         change_frames = [0] + [int(i) + 1 for i in np.flatnonzero((on[1:] != on[:-1]).any(axis=1))]
         merge = tolerances.contact_merge_s * self.rate_hz
         kept: list[int] = [0]
@@ -124,6 +128,17 @@ def _debounced(x: np.ndarray, hold: int) -> np.ndarray:
             return y
         _, a, b = min(inner)
         y[a:b] = y[a - 1]
+
+
+def _bridged(x: np.ndarray, gap: int) -> np.ndarray:
+    """``x`` with every run of False shorter than ``gap`` frames between two True runs set True."""
+    y = x.copy()
+    edges = np.flatnonzero(y[1:] != y[:-1]) + 1
+    starts, stops = np.r_[0, edges], np.r_[edges, len(y)]
+    for a, b in zip(starts[1:-1], stops[1:-1], strict=True):
+        if not y[a] and b - a < gap:
+            y[a:b] = True
+    return y
 
 
 def contacts_path(recording: str | Path) -> Path:

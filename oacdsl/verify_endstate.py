@@ -3,8 +3,8 @@
 Per object that is not an agent (a hand), in each recording:
 
 - **support** at the last frame: ``held`` by a hand (touching it in the final world state);
-  ``in``/``on`` another tracked object x (touching x in the final world state, its centre
-  horizontally within x's footprint — x's markers' horizontal radius plus
+  ``in``/``on`` another tracked object x, neither a liquid nor held by a hand (touching x in
+  the final world state, its centre horizontally within x's footprint — x's markers' horizontal radius plus
   ``footprint_margin_m`` — and its lowest point not below x's; ``in`` when x's class is an
   open container); else ``table`` (its lowest marker at most ``table_band_m`` above where it
   was at the first frame — or above the *table level*, the lowest marker of any object at the
@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from oacdsl.segmentation.poses import MIN_MARKERS, fit_instance
+from oacdsl.segmentation.poses import MIN_MARKERS, fit_constellation
 from oacdsl.segmentation.recording import Recording
 from oacdsl.verify_tolerances import VerifyTolerances
 from oacdsl.world import WorldState
@@ -90,17 +90,22 @@ def _ends(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _tilt(recording: Recording, name: str) -> float | None:
-    """Angle between the start's up axis and the vertical at the end, radians."""
+    """Angle between the start's up axis and the vertical at the end, radians: the rigid fit
+    (:func:`~oacdsl.segmentation.poses.fit_constellation`) of the last frame that shows three
+    of its markers to the first such frame's constellation."""
     if len(recording.groups[name]) < MIN_MARKERS:
         return None
-    poses = fit_instance(recording, name)
-    ok = np.flatnonzero(poses.valid)
+    pts = recording.group_positions(name)
+    seen = np.isfinite(pts).all(axis=2)
+    ok = np.flatnonzero(seen.sum(axis=1) >= MIN_MARKERS)
     if ok.size < 2:
         return None
-    R0 = poses.T_world_object[ok[0], :3, :3]
-    R1 = poses.T_world_object[ok[-1], :3, :3]
-    up_in_object = R0.T @ np.array([0.0, 0.0, 1.0])
-    return float(np.arccos(np.clip((R1 @ up_in_object)[2], -1.0, 1.0)))
+    first = np.where(seen[ok[0]][:, None], pts[ok[0]], np.nan)
+    constellation = first - np.nanmean(first, axis=0)
+    T, _ = fit_constellation(constellation, pts[[ok[-1]]])
+    if not np.isfinite(T[0, 2, 2]):
+        return None
+    return float(np.arccos(np.clip(T[0, 2, 2], -1.0, 1.0)))  # the start's up axis is the world's z
 
 
 def end_state(
@@ -109,6 +114,7 @@ def end_state(
     is_agent: Callable[[str], bool],
     is_container: Callable[[str], bool],
     tolerances: VerifyTolerances,
+    is_liquid: Callable[[str], bool] = lambda _: False,
 ) -> EndState:
     """Every non-agent instance's end (module docstring); ``final``: the last world state."""
     start: dict[str, np.ndarray] = {}
@@ -133,8 +139,10 @@ def end_state(
         else:
             under = []
             for x in objects:
-                if x == o or not final.touches(o, x) or not np.isfinite(end[x]).any():
+                if x == o or is_liquid(x) or not final.touches(o, x) or not np.isfinite(end[x]).any():
                     continue
+                if any(final.touches(h, x) for h in final.instances if is_agent(h)):
+                    continue  # held up by a hand: it holds nothing up
                 xc = np.nanmean(end[x], axis=0)
                 radius = float(np.nanmax(np.linalg.norm(end[x][:, :2] - xc[:2], axis=1)))
                 x_low = float(np.nanmin(end[x][:, 2]))

@@ -39,7 +39,7 @@ from oacdsl.verify import Verification, verify
 from oacdsl.verify_contacts import SimContacts
 from oacdsl.verify_tolerances import DEFAULT_TOLERANCES, VerifyTolerances
 
-__all__ = ["Check", "VerifyOutcome", "normalised", "verify_execution"]
+__all__ = ["Check", "LazyPoses", "VerifyOutcome", "normalised", "verify_execution"]
 
 KINDS = ("relations", "end_state", "motion")
 
@@ -113,6 +113,36 @@ class VerifyOutcome:
         }
 
 
+class LazyPoses(Mapping[str, Any]):
+    """The rigid fits of a recording's instances (≥ 3 markers), each fitted when first asked for:
+    a robot's hands carry ~90 markers each and most checks need two or three instances."""
+
+    def __init__(self, recording: Recording) -> None:
+        from oacdsl.segmentation.poses import MIN_MARKERS
+
+        self.recording = recording
+        self.names = [n for n in recording.instances if len(recording.groups[n]) >= MIN_MARKERS]
+        self._fitted: dict[str, Any] = {}
+
+    def __getitem__(self, name: str) -> Any:
+        if name not in self.names:
+            raise KeyError(name)
+        if name not in self._fitted:
+            from oacdsl.segmentation.poses import fit_instance
+
+            self._fitted[name] = fit_instance(self.recording, name)
+        return self._fitted[name]
+
+    def __iter__(self) -> Any:
+        return iter(self.names)
+
+    def __len__(self) -> int:
+        return len(self.names)
+
+    def __contains__(self, name: object) -> bool:
+        return name in self.names
+
+
 def _renamed(rec: Recording, names: Mapping[str, str]) -> Recording:
     if not names:
         return rec
@@ -146,23 +176,25 @@ def verify_execution(
     params: AasParams,
     contacts: SimContacts | None = None,
     demo_segmentation: Segmentation | None = None,
+    execution_aas: Segmentation | None = None,
     any_hands: bool = False,
     tolerances: VerifyTolerances = DEFAULT_TOLERANCES,
 ) -> VerifyOutcome:
     """Judge ``execution`` against ``demonstration`` (module docstring). Both are grouped by
     the scene's instances; ``params`` segment the demonstration (and a recorded execution
-    without contacts, its time windows scaled by the ratio of the two durations)."""
+    without contacts); ``execution_aas``: the execution's AAS segmentation when the caller has
+    it already (a simulated run's, for the findings)."""
     from oacdsl.geometry import resolve_scene
     from oacdsl.matching.transient import agents_of, stable_segmentation
     from oacdsl.segmentation import segment
-    from oacdsl.segmentation.poses import fit_poses
 
     agents = agents_of(library.instance_classes(scene))
     shapes = resolve_scene(library, scene)
     containers = {n for n, g in shapes.items() if g is not None and g.container}
+    liquids = {n for n, g in shapes.items() if g is not None and g.role == "liquid"}
     demo_seg = demo_segmentation if demo_segmentation is not None else segment(demonstration, params)
     demo_seg = stable_segmentation(demo_seg, agents.__contains__)[0]
-    demo_posed = fit_poses(demonstration)
+    demo_posed = LazyPoses(demonstration)
     best: VerifyOutcome | None = None
     if contacts is None:  # a recorded take: to the demonstration's pace and frame rate
         span = float(demonstration.times_s[-1] - demonstration.times_s[0])
@@ -171,8 +203,9 @@ def verify_execution(
     for swap in _hand_swaps(agents) if any_hands else [{}]:
         rec = _renamed(execution, swap)
         sim = _renamed_contacts(contacts, swap) if contacts is not None else None
-        outcome = _judge(demonstration, demo_seg, demo_posed, rec, sim, params, agents, containers,
-                         tolerances, any_hands, swap, fit_poses, segment, stable_segmentation)
+        aas = execution_aas if not swap else None
+        outcome = _judge(demonstration, demo_seg, demo_posed, rec, sim, aas, params, agents,
+                         (containers, liquids), tolerances, any_hands, swap, segment, stable_segmentation)
         rank = (outcome.verified, outcome.faithful, -len(outcome.failed()))
         if best is None or rank > (best.verified, best.faithful, -len(best.failed())):
             best = outcome
@@ -199,8 +232,9 @@ def normalised(rec: Recording, tempo: float, rate_hz: float) -> Recording:
 
 
 def _judge(demo_rec: Recording, demo_seg: Segmentation, demo_posed: Any, rec: Recording,
-           sim: SimContacts | None, params: AasParams, agents: frozenset[str], containers: set[str],
-           tol: VerifyTolerances, any_hands: bool, swap: Mapping[str, str], fit_poses: Any, segment: Any,
+           sim: SimContacts | None, aas_seg: Segmentation | None, params: AasParams, agents: frozenset[str],
+           kinds: tuple[set[str], set[str]],
+           tol: VerifyTolerances, any_hands: bool, swap: Mapping[str, str], segment: Any,
            stable: Any) -> VerifyOutcome:
     from oacdsl.verify_endstate import compare_object, end_state
     from oacdsl.verify_motion import motion_checks
@@ -221,7 +255,7 @@ def _judge(demo_rec: Recording, demo_seg: Segmentation, demo_posed: Any, rec: Re
         source = "simulation contacts"
         known = AasParams.__dataclass_fields__
         aas = AasParams(**{k: v for k, v in sim.aas.items() if k in known}) if sim.aas else params
-        seen = stable(segment(rec, aas), agents.__contains__)[0]
+        seen = stable(aas_seg if aas_seg is not None else segment(rec, aas), agents.__contains__)[0]
         findings += _disagreements(seen, stable(run_seg, agents.__contains__)[0], rec_instances)
     else:
         source = "aas"
@@ -235,8 +269,9 @@ def _judge(demo_rec: Recording, demo_seg: Segmentation, demo_posed: Any, rec: Re
     checks.append(_relations_check(v, source))
     # end state, per object
     is_agent = agents.__contains__
-    demo_end = end_state(demo_rec, dk[-1].state, is_agent, containers.__contains__, tol)
-    run_end = end_state(rec, rk[-1].state, is_agent, containers.__contains__, tol)
+    containers, liquids = kinds
+    demo_end = end_state(demo_rec, dk[-1].state, is_agent, containers.__contains__, tol, liquids.__contains__)
+    run_end = end_state(rec, rk[-1].state, is_agent, containers.__contains__, tol, liquids.__contains__)
     for name, d in sorted(demo_end.objects.items()):
         r = run_end.objects.get(name)
         if r is None:
@@ -248,7 +283,7 @@ def _judge(demo_rec: Recording, demo_seg: Segmentation, demo_posed: Any, rec: Re
     # motion, per sub-action
     demo_subs = list(demo_seg.sub_actions())
     spans = _aligned_spans(v, dk, rk, rec)
-    mchecks, notes = motion_checks(demo_rec, demo_subs, demo_posed, rec, spans, fit_poses(rec), {}, tol,
+    mchecks, notes = motion_checks(demo_rec, demo_subs, demo_posed, rec, spans, LazyPoses(rec), {}, tol,
                                    any_hands)
     for m in mchecks:
         checks.append(Check(f"motion.{m.sub_action}.{m.feature}", "motion", m.passed, m.demonstration,

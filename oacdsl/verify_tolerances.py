@@ -24,6 +24,10 @@ class VerifyTolerances:
     #: A simulated contact (or its end) counts once it has held this long, seconds: MuJoCo's
     #: contacts flicker for a step or two when a body bounces or slides.
     contact_hold_s: float = 0.05
+    #: A simulated contact that lifts off for less than this and comes back is held on,
+    #: seconds: a stirring or wiping tool rises off its target for a moment between two
+    #: touches, which the demonstration's AAS (150 mm, markers off the surfaces) never sees.
+    contact_gap_s: float = 0.5
     #: Simulated changes closer than this are one keyframe, seconds (the demonstration's
     #: default merge window; the split rule pairs a demonstrated change with several).
     contact_merge_s: float = 0.3

@@ -60,6 +60,9 @@ class Verdict(_Doc):
     success: bool
     summary: str
     failed_stage: str | None = None
+    verified: bool | None = None  # oacc verify's verdict: relations and end state hold
+    faithful: bool | None = None  # ... and the motion too
+    failed_checks: list[str] = []  # the names of the checks that failed
 
 
 class Stage(_Doc):
