@@ -7,9 +7,9 @@ Per object that is not an agent (a hand), in each recording:
   the final world state, its centre horizontally within x's footprint — x's markers' horizontal radius plus
   ``footprint_margin_m`` — and its lowest point not below x's; ``in`` when x's class is an
   open container); else ``table`` (its lowest marker at most ``table_band_m`` above where it
-  was at the first frame — or above the *table level*, the lowest marker of any object at the
-  first frame, when it started higher up, in or on something), ``fell`` (more than ``fell_m``
-  below that) or ``air`` (higher, touching nothing that holds it).
+  was at the first frame: markers sit at different heights on each object), ``fell`` (more
+  than ``fell_m`` below that and below the *table level*, the lowest marker of any object at
+  the first frame) or ``air`` (higher, touching nothing that holds it).
 - **orientation** relative to its start (rigid fit of ≥ 3 markers,
   :mod:`oacdsl.segmentation.poses`): the angle between the axis that pointed up at the first
   frame and the vertical at the end; ``upright`` below ``upright_max_rad``, ``upside down``
@@ -153,10 +153,9 @@ def end_state(
                 by = max(under)[1]
                 support = "in" if is_container(by) else "on"
             else:
-                # its own lowest point as it stood at the start (when that was on the table
-                # level), else the table level: markers sit at different heights on each object
-                own = float(np.nanmin(start[o][:, 2]))
-                ref = own if own - table <= tolerances.table_band_m * 2 else table
+                # its own lowest marker as it stood at the start: markers sit at different
+                # heights on each object (the table level is the lowest of them all)
+                ref = float(np.nanmin(start[o][:, 2]))
                 if low < min(ref, table) - tolerances.fell_m:
                     support = "fell"
                 elif low <= ref + tolerances.table_band_m:

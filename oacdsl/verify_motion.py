@@ -22,7 +22,8 @@ A sub-action that *makes* the moved object's relation with its target (brings it
 not judged: a transport carries the object however the executor holds it; the work on the
 target happens while the relation holds and ends when it is broken (those are judged, and so
 are paths in the world's frame). A hand's own motion (reaching for an object, leaving it) is
-not judged: how a robot's hand approaches is its own business. Cycles, turns and tilts do not
+not judged: how a robot's hand approaches is its own business; nor is a liquid's (its balls
+are no rigid body). Cycles, turns and tilts do not
 depend on speed, frame rate or the room's frame.
 """
 
@@ -87,6 +88,7 @@ def motion_checks(
     name_map: Mapping[str, str],
     tolerances: VerifyTolerances,
     any_hands: bool,
+    liquids: frozenset[str] = frozenset(),
 ) -> tuple[list[MotionCheck], list[str]]:
     """The checks, and a note per demonstrated sub-action whose features are not judged.
 
@@ -100,8 +102,8 @@ def motion_checks(
         if d.moved is None or d.features is None:
             continue
         label = f"{d.moved} → {d.target or 'world'}"
-        if d.moved == d.hand:  # a hand reaching or leaving: how a hand comes is the robot's own
-            continue
+        if d.moved == d.hand or d.moved in liquids:  # a hand reaching or leaving; a liquid's balls
+            continue  # are no rigid body
         if d.relation == "made":
             notes.append(f"sub-action {k + 1} ({label}): not judged, it brings the object to its target")
             continue

@@ -69,9 +69,16 @@ def test_reproduce_first_pour(short_demo: Path, library: Path, tmp_path: Path, g
     code = run(short_demo, "--library", library, "--out", out, "--db", db, "--quiet", "--mode", "paper")
     printed = capsys.readouterr().out
     assert code == 0, printed
-    assert printed.startswith("verified: ")
+    assert printed.startswith("verified, faithful: ")
     doc = json.loads((out / "result.json").read_text())
     assert doc["verdict"]["success"] is True
+    assert doc["verdict"]["verified"] is True and doc["verdict"]["faithful"] is True
+    # the robot's recording and its contacts are files of the run, read back by oacc verify
+    assert (out / "execution.c3d").is_file() and (out / "execution.contacts.json").is_file()
+    assert doc["verification"]["relations_source"] == "simulation contacts"
+    assert {c["kind"] for c in doc["verification"]["checks"]} >= {"relations", "end_state"}
+    assert main(["verify", str(short_demo), str(out / "execution.c3d"), "--library", str(library),
+                        "--mode", "paper"]) == 0
     stages = {s["name"]: s["status"] for s in doc["stages"]}
     assert stages == dict.fromkeys(["segment", "match", "compose", "execute", "verify", "record"], "ok")
     # segmentation: the initial state and the three changes of the first pour
@@ -129,7 +136,8 @@ def test_reproduce_first_pour(short_demo: Path, library: Path, tmp_path: Path, g
     if r.get("frame"):  # a rendering backend was available: each step after it, and as predicted
         assert all((out / s["frame"]).is_file() and (out / s["moment"]).is_file() for s in r["steps"])
     names = sorted(p.name for p in out.iterdir())
-    assert names == ["current", "figures", "first_pour.oac", "report.html", "result.json", "runs"]
+    assert names == ["current", "execution.c3d", "execution.contacts.json", "figures", "first_pour.oac",
+                     "report.html", "result.json", "runs"]
     assert all((out / n).is_symlink() for n in names if n != "runs")  # one run, published at once
 
 
@@ -309,7 +317,7 @@ def test_a_closed_loop_that_differs_fails_the_run(short_demo: Path, library: Pat
         doc = {"oac": oac.name, "success": True, "steps": steps, "metrics": {"sim_time_s": 13.5}}
         return robot.ExecuteStage(SimpleNamespace(success=True), None, doc)  # type: ignore[arg-type]
 
-    def fake_verify(demonstration, params, markers, library_, scene):  # noqa: ANN001, ANN202
+    def fake_verify(demonstration, params, markers, library_, scene, **_):  # noqa: ANN001, ANN003, ANN202
         states = [k.state for k in demonstration.keyframes]
         v = verify(states, states[:-1])
         rec = read_recording(short_demo)
@@ -327,7 +335,7 @@ def test_a_closed_loop_that_differs_fails_the_run(short_demo: Path, library: Pat
     (library / "learned" / f".first_pour.oac.{gone.pid}.abcdefgh.tmp").write_text("half")
     assert run(short_demo, "--library", library, "--out", out, "--db", db, "--quiet", "--no-render") == 1
     printed = capsys.readouterr().out
-    assert printed.startswith("FAILED: The robot executed first_pour, but the closed loop differs")
+    assert printed.startswith("FAILED: The robot executed first_pour, but the outcome differs")
     doc = json.loads((out / "result.json").read_text())
     assert (doc["verdict"]["success"], doc["verdict"]["failed_stage"]) == (False, "verify")
     assert doc["verification"]["verified"] is False and doc["verification"]["counts"]["missing"] == 1

@@ -60,8 +60,16 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p.add_argument(
         "--demonstration",
         metavar="RECORDING",
-        help="a recording whose first frame lays out a scene with 'layout demonstrated'"
-        " (marker groups named after the scene's instances)",
+        help="the demonstration: its first frame lays out a scene with 'layout demonstrated'"
+        " (marker groups named after the scene's instances), and the run is judged against it"
+        " as `oacc verify` does (verified, faithful; exit 1 when not verified)",
+    )
+    p.add_argument(
+        "--execution",
+        metavar="OUT.c3d",
+        default="execution.c3d",
+        help="with --demonstration: where the robot's virtual-marker recording goes (its contacts"
+        " beside it, OUT.contacts.json; default: execution.c3d)",
     )
     p.add_argument(
         "--db",
@@ -193,6 +201,8 @@ def run(args: argparse.Namespace) -> int:
 
         db = ensure_writable(resolve_db_path(args.db))
     _check_outputs(args)
+    if args.demonstration is not None:
+        _writable_folder(Path(args.execution).parent, "--execution")
     demonstrated = _demonstrated(args, library, scene, bindings, overrides.layout)
     note = prepare_backend(bool(args.video or args.frames))  # before MuJoCo is imported
     if note:
@@ -220,6 +230,7 @@ def run(args: argparse.Namespace) -> int:
         **overrides.kwargs(),
     )
     out = sys.stderr if args.json else sys.stdout
+    judge = _Judge(run_) if args.demonstration is not None else None
     closers: list[Any] = []
     frames: Any = None
     try:
@@ -284,4 +295,42 @@ def run(args: argparse.Namespace) -> int:
             store.record_run_json(result.to_json(), seed=args.seed, command="run")
     if not result.success:
         raise RuntimeFailure(result.error or f"{result.oac} failed")
+    if judge is not None:
+        return judge.verdict(args, library, run_.scene, sys.stderr if args.json else sys.stdout)
     return 0
+
+
+class _Judge:
+    """With --demonstration: records the robot's virtual markers and the simulation's contacts,
+    writes them (--execution) and judges the run as `oacc verify` and `oacc reproduce` do
+    (:func:`oacdsl.verify_execution.verify_execution`)."""
+
+    def __init__(self, run: Any) -> None:
+        from oacdsl.pipeline.markers import VirtualMarkers
+        from oacdsl.runtime.recorder import ContactRecorder
+
+        self.markers = VirtualMarkers(run.world)
+        self.contacts = ContactRecorder(self.markers.rate_hz)
+        run.controller.add_observer(self.markers)
+        run.controller.add_observer(self.contacts)
+
+    def verdict(self, args: argparse.Namespace, library: Any, scene: Any, out: Any) -> int:
+        from oacdsl.cli.verify_cmd import format_outcome
+        from oacdsl.pipeline.robot import sim_contacts, write_execution
+        from oacdsl.segmentation.grouping import apply_scene_groups, group_recording
+        from oacdsl.segmentation.params import AasParams
+        from oacdsl.segmentation.readers import read_recording
+        from oacdsl.verify_execution import verify_execution
+
+        demo, _ = group_recording(read_recording(args.demonstration), None)
+        if any(i.markers or i.ignored for i in scene.instances):
+            demo = apply_scene_groups(demo, scene)
+        params = AasParams()
+        recording = self.markers.to_recording("robot (virtual markers)", instances=list(demo.instances))
+        contacts = sim_contacts(self.contacts, params)
+        written = write_execution(recording, contacts, Path(args.execution))
+        outcome = verify_execution(demo, recording, scene=scene, library=library, params=params,
+                                   contacts=contacts)
+        print(format_outcome(outcome), file=out)
+        print(f"execution: {written[0]} (contacts: {written[-1]})", file=out)
+        return 0 if outcome.verified else 1

@@ -158,12 +158,11 @@ def sim_contacts(recorder: Any, demo_params: AasParams, instances: list[str] | N
                        robot_params(demo_params).to_dict())
 
 
-def write_execution(recording: Recording, contacts: Any, folder: Path) -> list[Path]:
-    """Write the robot's recording (C3D) and its contacts file into ``folder``."""
+def write_execution(recording: Recording, contacts: Any, path: Path) -> list[Path]:
+    """Write the robot's recording (C3D) to ``path`` and its contacts file beside it."""
     from oacdsl.segmentation.readers.c3d import write_c3d
     from oacdsl.verify_contacts import contacts_path, write_contacts
 
-    path = folder / EXECUTION_FILE
     written = [write_c3d(recording, path)]
     if contacts is not None:
         written.append(write_contacts(contacts, contacts_path(path)))
@@ -201,7 +200,7 @@ def verify_stage(
     robot_matches = match_segmentation(seg, matcher)
     agents = agents_of(matcher.instance_classes)
     sim = sim_contacts(contacts, demo_params) if contacts is not None else None
-    files = write_execution(recording, sim, folder) if folder is not None else []
+    files = write_execution(recording, sim, folder / EXECUTION_FILE) if folder is not None else []
     outcome = None
     if demo_recording is not None:
         from oacdsl.verify_execution import verify_execution
@@ -222,13 +221,15 @@ def verify_stage(
             robot_times_s=[k.time_s for k in robot_kfs],
             instances=instances,
         )
+    if outcome is not None and outcome.relations_source != "aas" and outcome.execution_segmentation:
+        # the robot's sub-actions as the simulation's contacts delimit them (the relations check's)
+        robot_matches = match_segmentation(outcome.execution_segmentation, matcher)
     doc = v.to_json()
     by_index = {m.index + 1: m for m in robot_matches}
-    if outcome is None or outcome.relations_source == "aas":
-        for change in doc["robot"]:  # the robot's own sub-action leading to each change, as matched
-            m = by_index.get(change["index"])
-            chosen = m.result.chosen if m is not None else None
-            change["oac"] = chosen.text() if chosen is not None else None
+    for change in doc["robot"]:  # the robot's own sub-action leading to each change, as matched
+        m = by_index.get(change["index"])
+        chosen = m.result.chosen if m is not None else None
+        change["oac"] = chosen.text() if chosen is not None else None
     doc["segment"] = seg.to_json()
     doc["markers"] = len(recording.marker_names)
     doc["robot_match"] = match_doc(robot_matches)
