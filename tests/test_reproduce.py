@@ -139,6 +139,16 @@ def test_reproduce_first_pour(short_demo: Path, library: Path, tmp_path: Path, g
     assert names == ["current", "execution.c3d", "execution.contacts.json", "figures", "first_pour.oac",
                      "report.html", "result.json", "runs"]
     assert all((out / n).is_symlink() for n in names if n != "runs")  # one run, published at once
+    # oacc run --demonstration: the composed OAC again, its recording kept and judged the same way
+    capsys.readouterr()
+    execution = tmp_path / "again" / "run.c3d"
+    code = main(["run", "first_pour", "--library", str(library), "--demonstration", str(short_demo),
+                 "--execution", str(execution), "--no-record"])
+    printed = capsys.readouterr().out
+    assert execution.is_file() and (tmp_path / "again" / "run.contacts.json").is_file()
+    verdict = next(x for x in printed.splitlines() if "verified" in x)
+    assert code == (0 if verdict.startswith("verified") else 1), printed
+    assert f"execution: {execution}" in printed
 
 
 def test_rerunning_compose_does_not_duplicate_the_learned_oac(short_demo: Path, library: Path) -> None:
