@@ -37,29 +37,12 @@ from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import Segmentation
 from oacdsl.verify import Verification, verify
 from oacdsl.verify_contacts import SimContacts
+from oacdsl.verify_relations import Check
 from oacdsl.verify_tolerances import DEFAULT_TOLERANCES, VerifyTolerances
 
 __all__ = ["Check", "LazyPoses", "VerifyOutcome", "normalised", "verify_execution"]
 
 KINDS = ("relations", "end_state", "motion")
-
-
-@dataclass(frozen=True)
-class Check:
-    """One judged item: ``kind`` is relations, end_state or motion."""
-
-    name: str
-    kind: str
-    passed: bool
-    demonstration: str
-    execution: str
-    tolerance: str
-    detail: str = ""
-
-    def to_json(self) -> dict[str, Any]:
-        return {"name": self.name, "kind": self.kind, "passed": self.passed,
-                "demonstration": self.demonstration, "execution": self.execution,
-                "tolerance": self.tolerance, "detail": self.detail}
 
 
 @dataclass(frozen=True)
@@ -238,6 +221,7 @@ def _judge(demo_rec: Recording, demo_seg: Segmentation, demo_posed: Any, rec: Re
            stable: Any) -> VerifyOutcome:
     from oacdsl.verify_endstate import compare_object, end_state
     from oacdsl.verify_motion import motion_checks
+    from oacdsl.verify_relations import aligned_spans, disagreements, relations_check
 
     instances = tuple(demo_seg.instances)
     missing = sorted(set(instances) - set(rec.instances))
@@ -256,7 +240,7 @@ def _judge(demo_rec: Recording, demo_seg: Segmentation, demo_posed: Any, rec: Re
         known = AasParams.__dataclass_fields__
         aas = AasParams(**{k: v for k, v in sim.aas.items() if k in known}) if sim.aas else params
         seen = stable(aas_seg if aas_seg is not None else segment(rec, aas), agents.__contains__)[0]
-        findings += _disagreements(seen, stable(run_seg, agents.__contains__)[0], rec_instances)
+        findings += disagreements(seen, stable(run_seg, agents.__contains__)[0], rec_instances)
     else:
         source = "aas"
         run_seg = segment(rec, params)
@@ -266,7 +250,7 @@ def _judge(demo_rec: Recording, demo_seg: Segmentation, demo_posed: Any, rec: Re
                demonstration_frames=[k.frame for k in dk], robot_frames=[k.frame for k in rk],
                demonstration_times_s=[k.time_s for k in dk], robot_times_s=[k.time_s for k in rk],
                instances=rec_instances, tolerance=tol.relations_distance, merge=True)
-    checks.append(_relations_check(v, source))
+    checks.append(relations_check(v, source))
     # end state, per object
     is_agent = agents.__contains__
     containers, liquids = kinds
@@ -282,7 +266,7 @@ def _judge(demo_rec: Recording, demo_seg: Segmentation, demo_posed: Any, rec: Re
             checks.append(Check(f"end_state.{name}.{aspect}", "end_state", ok, dv, rv, tv, detail))
     # motion, per sub-action
     demo_subs = list(demo_seg.sub_actions())
-    spans = _aligned_spans(v, dk, rk, rec)
+    spans = aligned_spans(v, dk, rk, rec)
     mchecks, notes = motion_checks(demo_rec, demo_subs, demo_posed, rec, spans, LazyPoses(rec), {}, tol,
                                    any_hands, frozenset(liquids))
     for m in mchecks:
@@ -291,65 +275,3 @@ def _judge(demo_rec: Recording, demo_seg: Segmentation, demo_posed: Any, rec: Re
     if not mchecks:
         notes.append("no demonstrated sub-action has a reliable oscillation, turn or tilt to judge")
     return VerifyOutcome(tuple(checks), v, tuple(findings), tuple(notes), dict(swap), source, tol, run_seg)
-
-
-def _relations_check(v: Verification, source: str) -> Check:
-    c = v.counts()
-    detail = ""
-    if not v.verified:
-        parts = [v.verdict()]
-        for s in v.alignment:
-            if s.op == "missing" and s.demonstration is not None:
-                parts.append(f"missing {v.demonstration[s.demonstration].label()}")
-            elif s.op == "extra" and s.robot is not None:
-                parts.append(f"extra {v.robot[s.robot].label()}")
-            elif s.op == "substitute" and s.robot is not None and s.demonstration is not None:
-                made, wanted = v.robot[s.robot].label(), v.demonstration[s.demonstration].label()
-                parts.append(f"{made} instead of {wanted}")
-        detail = "; ".join(parts)
-    split = f" ({c['split']} split)" if c["split"] else ""
-    return Check("relations", "relations", v.verified, f"{len(v.demonstration)} changes",
-                 f"{len(v.robot)} changes{split}, from {source}", f"edit distance <= {v.tolerance}",
-                 detail)
-
-
-def _disagreements(aas: Segmentation, sim: Segmentation, instances: list[str]) -> list[str]:
-    """Where the AAS of the markers and the simulation's contacts see different changes."""
-    a, s = aas.keyframes, sim.keyframes
-    v = verify([k.state for k in s], [k.state for k in a], demonstration_times_s=[k.time_s for k in s],
-               robot_times_s=[k.time_s for k in a], instances=instances)
-    out = []
-    if v.initial[0] != v.initial[1]:
-        out.append("the AAS of the virtual markers starts from another world state than the contacts")
-    for st in v.alignment:
-        if st.op == "missing" and st.demonstration is not None:
-            ch = v.demonstration[st.demonstration]
-            out.append(f"the AAS misses {ch.label()} (contacts, {ch.time_s or 0:.1f} s)")
-        elif st.op == "extra" and st.robot is not None:
-            ch = v.robot[st.robot]
-            out.append(f"the AAS sees {ch.label()} that the contacts do not ({ch.time_s or 0:.1f} s)")
-        elif st.op == "substitute" and st.robot is not None and st.demonstration is not None:
-            ch, cs = v.robot[st.robot], v.demonstration[st.demonstration]
-            out.append(f"the AAS sees {ch.label()} where the contacts have {cs.label()}"
-                       f" ({cs.time_s or 0:.1f} s)")
-    return out
-
-
-def _aligned_spans(v: Verification, dk: Any, rk: Any, rec: Recording) -> dict[int, tuple[int, int]]:
-    """Demonstration sub-action → the execution's recording frames aligned with it."""
-    times = np.asarray(rec.times_s, dtype=np.float64) - float(rec.times_s[0])
-    last = rec.n_frames - 1
-
-    def frame(k: Any) -> int:
-        return int(min(last, np.searchsorted(times, k.time_s - 1e-9)))
-
-    out: dict[int, tuple[int, int]] = {}
-    for s in v.alignment:
-        if s.demonstration is None or s.robot is None:
-            continue
-        first = v.robot[s.robot].index
-        end = v.robot[s.robot_last if s.robot_last is not None else s.robot].index
-        dl = s.demonstration_last if s.demonstration_last is not None else s.demonstration
-        for k in range(s.demonstration, dl + 1):
-            out.setdefault(v.demonstration[k].index - 1, (frame(rk[first - 1]), frame(rk[end])))
-    return out
