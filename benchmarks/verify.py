@@ -7,8 +7,9 @@
    wall and CPU seconds over ``--repeats``, against the baseline `oacc segment D` in the same
    process (reading and the AAS). Target: < 2 s for a 10 s pair.
 2. `oacc reproduce` of the bundled demonstration (``--runs`` times, no pictures, no run store):
-   the verify stage's wall seconds over the other stages' (from the run's own stage timings),
-   median. Target: < 15 %.
+   the verify stage's seconds over the rest of the run's, wall (the run's own stage timings)
+   and CPU (this process's CPU time in the stage against the whole run's: on a shared machine
+   the wall clock measures the load), medians. Target: < 15 %.
 """
 
 from __future__ import annotations
@@ -69,24 +70,40 @@ def verify_pair(clip: str, repeats: int) -> None:
 
 
 def reproduce_share(runs: int) -> None:
-    from oacdsl.pipeline import load_inputs, reproduce
+    from oacdsl.pipeline import load_inputs, reproduce, robot
     from oacdsl.segmentation import AasParams
 
-    shares, totals = [], []
+    stage = robot.verify_stage
+    spent: list[float] = []
+
+    def timed_stage(*args, **kwargs):  # type: ignore[no-untyped-def]
+        cpu = time.process_time()
+        try:
+            return stage(*args, **kwargs)
+        finally:
+            spent.append(time.process_time() - cpu)
+
+    robot.verify_stage = timed_stage  # type: ignore[assignment]
+    shares, cpu_shares, totals = [], [], []
     with tempfile.TemporaryDirectory() as tmp:
         for k in range(runs):
+            spent.clear()
             inputs = load_inputs(None, None, None, AasParams())
-            outcome = reproduce(inputs, name="dough", out=Path(tmp) / f"out{k}", db=None, render=False,
-                                quiet=True, force=True)
+            out = Path(tmp) / f"out{k}"
+            outcome, _, cpu = timed(lambda i=inputs, o=out: reproduce(i, name="dough", out=o, db=None,
+                                                                      render=False, quiet=True, force=True))
             stages = {s["name"]: s.get("duration_s") or 0.0 for s in outcome.result["stages"]}
             verify = stages.get("verify", 0.0)
             rest = sum(stages.values()) - verify
             shares.append(verify / rest)
+            cpu_shares.append(sum(spent) / (cpu - sum(spent)))
             totals.append(rest + verify)
-            print(f"  run {k}: verify {verify:.1f} s of {rest + verify:.1f} s"
-                  f" ({outcome.result['verdict'].get('faithful')})", flush=True)
-    print(f"oacc reproduce (dough, {runs} runs): median total {statistics.median(totals):.1f} s; the verify"
-          f" stage adds {statistics.median(shares):.0%} to the other stages; target < 15 %")
+            print(f"  run {k}: verify {verify:.1f} s of {rest + verify:.1f} s wall, {sum(spent):.1f} s of"
+                  f" {cpu:.1f} s CPU (faithful: {outcome.result['verdict'].get('faithful')})", flush=True)
+    robot.verify_stage = stage  # type: ignore[assignment]
+    wall, cpu_share = statistics.median(shares), statistics.median(cpu_shares)
+    print(f"oacc reproduce (dough, {runs} runs): median total {statistics.median(totals):.1f} s wall; the"
+          f" verify stage adds {wall:.0%} (wall), {cpu_share:.0%} (CPU) to the other stages; target < 15 %")
 
 
 def main() -> int:

@@ -171,6 +171,7 @@ def reproduce(
                 **({"scene_overrides": overrides.to_json()} if overrides and overrides.to_json() else {}),
             },
         )
+        late: list[Callable[[], None]] = []  # the report's pictures of earlier stages
         failure = _stages(
             inputs,
             record,
@@ -184,11 +185,15 @@ def reproduce(
             warn=note_warning,
             overrides=overrides,
             demo_params=demo_params,
+            late=late,
         )
-        verdict = _verdict(record, failure, name)
-        result = record.to_json(verdict, progress.records(), warnings)
         with progress.stage("report"):
             from oacdsl.report import write_report
+
+            for draw in late:
+                draw()
+            verdict = _verdict(record, failure, name)
+            result = record.to_json(verdict, progress.records(), warnings)
 
             report = write_report(result, staging, source="result")
             for w in report.warnings:
@@ -219,9 +224,10 @@ def _stages(
     warn: Callable[[str], None],
     overrides: SceneOverrides | None = None,
     demo_params: bool = True,
+    late: list[Callable[[], None]] | None = None,
 ) -> tuple[str, OacError] | None:
     """Fill ``result`` stage by stage, each part checked as it is set; the first failed stage and
-    its error, or None."""
+    its error, or None. ``late`` collects what the report stage draws (the robot's AAS plot)."""
     from oacdsl.pipeline import analyse, figures, robot
 
     failed: list[tuple[str, OacError]] = []
@@ -287,9 +293,18 @@ def _stages(
             seg.segmentation, inputs.params, executed.markers, inputs.library, inputs.scene,
             demo_recording=seg.recording, contacts=executed.contacts, folder=staging,
         )
-        done.doc["plot"] = figures.distance_plot(
-            figures.decimated(done.recording), done.segmentation, figs, "robot_aas.png"
-        )
+
+        def plot() -> None:  # a picture for the report, drawn in its stage
+            done.doc["plot"] = figures.distance_plot(
+                figures.decimated(done.recording, max_markers=figures.PLOT_MARKERS), done.segmentation,
+                figs, "robot_aas.png",
+            )
+            result.put("verification", done.doc)
+
+        if late is not None:
+            late.append(plot)
+        else:
+            plot()
         return done
 
     def motion() -> dict[str, Any] | None:
