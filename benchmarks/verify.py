@@ -45,8 +45,7 @@ def quiet(argv: list[str]) -> int:
 
 
 def verify_pair(clip: str, repeats: int) -> None:
-    import _verify_takes as takes
-
+    from oacdsl.segmentation import takes
     from oacdsl.segmentation.grouping import group_recording
     from oacdsl.segmentation.readers import read_recording
     from oacdsl.segmentation.readers.c3d import write_c3d

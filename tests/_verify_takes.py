@@ -1,9 +1,7 @@
-"""Other takes and corrupted copies of a recording, for the verifier's tests.
-
-The takes (rotated, translated, stretched, resampled, mirrored) follow the names of the
-take generator (``oacdsl/segmentation/takes.py``); the corruptions change one thing of a
-demonstration that ``oacc verify`` must reject by the right check. Every function returns
-a new :class:`Recording`.
+"""Corrupted copies of a recording, for the verifier's tests: each changes one thing of a
+demonstration that ``oacc verify`` must reject by the right check (other takes, which it must
+accept, come from the take generator, ``oacdsl/segmentation/takes.py``). Every function
+returns a new :class:`Recording`.
 """
 
 from __future__ import annotations
@@ -13,64 +11,6 @@ from dataclasses import replace
 import numpy as np
 
 from oacdsl.segmentation.recording import Recording
-
-# --- takes -------------------------------------------------------------------------------
-
-
-def _centre_xy(rec: Recording) -> np.ndarray:
-    pts = rec.positions_m.reshape(-1, 3)
-    return np.nanmean(pts[:, :2], axis=0)
-
-
-def rotated(rec: Recording, angle_rad: float, about_xy_m: np.ndarray | None = None) -> Recording:
-    """Rotated about the vertical through ``about_xy_m`` (default: the markers' mean xy)."""
-    c = _centre_xy(rec) if about_xy_m is None else np.asarray(about_xy_m, dtype=float)
-    cos, sin = np.cos(angle_rad), np.sin(angle_rad)
-    p = rec.positions_m.copy()
-    x, y = p[..., 0] - c[0], p[..., 1] - c[1]
-    p[..., 0], p[..., 1] = c[0] + cos * x - sin * y, c[1] + sin * x + cos * y
-    return replace(rec, positions_m=p)
-
-
-def translated(rec: Recording, offset_m: tuple[float, float, float]) -> Recording:
-    return replace(rec, positions_m=rec.positions_m + np.asarray(offset_m, dtype=float))
-
-
-def _interpolated(rec: Recording, old_t: np.ndarray, new_t: np.ndarray, rate_hz: float) -> Recording:
-    """Positions linearly interpolated at ``new_t`` (on the old time axis ``old_t``); a sample
-    next to a gap is a gap."""
-    p = rec.positions_m
-    idx = np.clip(np.searchsorted(old_t, new_t, side="right") - 1, 0, len(old_t) - 2)
-    w = ((new_t - old_t[idx]) / (old_t[idx + 1] - old_t[idx]))[:, None, None]
-    out = (1 - w) * p[idx] + w * p[idx + 1]
-    times = np.arange(len(new_t)) / rate_hz
-    return replace(rec, rate_hz=rate_hz, times_s=times, positions_m=out)
-
-
-def stretched(rec: Recording, factor: float) -> Recording:
-    """Time × ``factor`` (2 = twice as slow), the same frame rate."""
-    t = rec.times_s - rec.times_s[0]
-    n = int(np.floor(t[-1] * factor * rec.rate_hz)) + 1
-    new_t = np.arange(n) / rec.rate_hz / factor
-    return _interpolated(rec, t, np.minimum(new_t, t[-1]), rec.rate_hz)
-
-
-def resampled(rec: Recording, rate_hz: float) -> Recording:
-    """The same motion sampled at ``rate_hz``."""
-    t = rec.times_s - rec.times_s[0]
-    n = int(np.floor(t[-1] * rate_hz)) + 1
-    return _interpolated(rec, t, np.arange(n) / rate_hz, rate_hz)
-
-
-def mirrored(rec: Recording, left: str = "left_hand", right: str = "right_hand") -> Recording:
-    """Reflected across the vertical plane x = mean x; the two hands' groups exchanged."""
-    c = _centre_xy(rec)
-    p = rec.positions_m.copy()
-    p[..., 0] = 2 * c[0] - p[..., 0]
-    groups = dict(rec.groups)
-    groups[left], groups[right] = rec.groups[right], rec.groups[left]
-    return replace(rec, positions_m=p, groups=groups)
-
 
 # --- corruptions ---------------------------------------------------------------------------
 

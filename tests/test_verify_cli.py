@@ -7,7 +7,7 @@ import json
 from pathlib import Path
 from types import SimpleNamespace
 
-import _verify_takes as takes
+import _verify_takes as corrupt
 import numpy as np
 import pytest
 
@@ -46,7 +46,7 @@ def test_a_cup_left_on_its_side_fails_with_one_line_per_failed_check(
     rec = read_recording(DOUGH)
     bad = tmp_path / "tipped.c3d"
     last = rec.n_frames - 1
-    write_c3d(takes.turned_on_side(rec, "red_cup", last - 50), bad)
+    write_c3d(corrupt.turned_on_side(rec, "red_cup", last - 50), bad)
     code, out, _ = verify(capsys, DOUGH, bad, "--library", LIBRARY)
     lines = out.splitlines()
     assert code == 1

@@ -1,7 +1,8 @@
 """``verify_execution`` on the bundled demonstration and the six KIT development clips: the
 demonstration against itself and other takes of it (verified and faithful), and corrupted
 copies (rejected by the right check). The corruptions are built here from each clip
-(tests/_verify_takes.py); which apply depends on what the clip shows (an object moved
+(tests/_verify_takes.py), the other takes by the take generator
+(oacdsl/segmentation/takes.py); which apply depends on what the clip shows (an object moved
 elsewhere, an oscillation, a tilt), and every kind occurs on some clip."""
 
 from __future__ import annotations
@@ -11,14 +12,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import _verify_takes as takes
+import _verify_takes as corrupt
 import numpy as np
 import pytest
 from _mocap import mocap_file
 
 from oacdsl.matching.transient import agents_of, stable_segmentation
 from oacdsl.pipeline import load_inputs
-from oacdsl.segmentation import AasParams, segment
+from oacdsl.segmentation import AasParams, segment, takes
 from oacdsl.segmentation.motion import sub_action_motions
 from oacdsl.verify_execution import VerifyOutcome, normalised, verify_execution
 
@@ -83,12 +84,12 @@ def test_demonstration_and_its_takes_verify(clip: str) -> None:
 @pytest.mark.parametrize("clip", ["Pour", "Wipe"])
 def test_mirrored_take_needs_any_hands(clip: str) -> None:
     case = _case(clip)
-    left_handed = takes.mirrored(case.demo)
+    left_handed, hand_map = takes.mirrored(case.demo)
     strict = case.verify(left_handed)
     assert not strict.verified and "relations" in _failed(strict)
     free = case.verify(left_handed, any_hands=True)
     assert free.verified and free.faithful, _failed(free)
-    assert free.hand_map == {"left_hand": "right_hand", "right_hand": "left_hand"}
+    assert free.hand_map == hand_map == {"left_hand": "right_hand", "right_hand": "left_hand"}
 
 
 def _corruptions(case: Case) -> dict[str, tuple[Any, str, bool]]:
@@ -109,13 +110,13 @@ def _corruptions(case: Case) -> dict[str, tuple[Any, str, bool]]:
                     released[o] = b.frame
     out: dict[str, tuple[Any, str, bool]] = {}
     obj, frame = max(released.items(), key=lambda x: (x[1], x[0]))
-    side = takes.turned_on_side(rec, obj, min(frame + 2, rec.n_frames - 1))
+    side = corrupt.turned_on_side(rec, obj, min(frame + 2, rec.n_frames - 1))
     out[f"{obj} turned onto its side"] = (side, f"end_state.{obj}.orientation", False)
     same = case.verify(rec)
     for c in same.checks:  # an object the demonstration put elsewhere
         if c.name.endswith(".placed") and c.name.split(".")[1] in released:
             o = c.name.split(".")[1]
-            out[f"{o} moved back"] = (takes.moved_back(rec, o, released[o]), f"end_state.{o}.", False)
+            out[f"{o} moved back"] = (corrupt.moved_back(rec, o, released[o]), f"end_state.{o}.", False)
             break
     judged = {int(c.name.split(".")[1]): c.name for c in same.checks if c.kind == "motion"}
     for m in sub_action_motions(rec, seg):
@@ -124,14 +125,14 @@ def _corruptions(case: Case) -> dict[str, tuple[Any, str, bool]]:
             continue
         if m.target is not None:  # the tool taken off its target while it works on it
             out[f"{m.moved} lifted off {m.target}"] = (
-                takes.lifted(rec, [m.moved, m.hand], m.start_frame, m.end_frame), "relations", False)
+                corrupt.lifted(rec, [m.moved, m.hand], m.start_frame, m.end_frame), "relations", False)
         if judged[k].endswith("cycles"):
             a, b = (int(round(t * rec.rate_hz)) for t in m.features.core_s)
             out[f"{m.moved}'s strokes straightened"] = (
-                takes.straightened(rec, [m.moved, m.hand], a, b + 1), judged[k], True)
+                corrupt.straightened(rec, [m.moved, m.hand], a, b + 1), judged[k], True)
         if judged[k].endswith(("tilt", "turn")):
             out[f"{m.moved}'s turn removed"] = (
-                takes.unturned(rec, [m.moved], m.start_frame, m.end_frame + 1), judged[k], True)
+                corrupt.unturned(rec, [m.moved], m.start_frame, m.end_frame + 1), judged[k], True)
     return out
 
 
