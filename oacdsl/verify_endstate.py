@@ -4,12 +4,14 @@ Per object that is not an agent (a hand), in each recording:
 
 - **support** at the last frame: ``held`` by a hand (touching it in the final world state);
   ``in``/``on`` another tracked object x, neither a liquid nor held by a hand (touching x in
-  the final world state, its centre horizontally within x's footprint — x's markers' horizontal radius plus
-  ``footprint_margin_m`` — and its lowest point not below x's; ``in`` when x's class is an
-  open container); else ``table`` (its lowest marker at most ``table_band_m`` above where it
-  was at the first frame: markers sit at different heights on each object), ``fell`` (more
-  than ``fell_m`` below that and below the *table level*, the lowest marker of any object at
-  the first frame) or ``air`` (higher, touching nothing that holds it).
+  the final world state, its centre horizontally within x's footprint — x's markers'
+  horizontal radius plus ``footprint_margin_m`` — and its lowest point not below x's by more
+  than 1 cm; when each of two objects could hold the other up, the wider one does: a bowl,
+  not the ladle standing in it; ``in`` when x's class is an open container); else ``table``
+  (its lowest marker at most ``table_band_m`` above where it was at the first frame: markers
+  sit at different heights on each object), ``fell`` (more than ``fell_m`` below that and
+  below the *table level*, the lowest marker of any object at the first frame) or ``air``
+  (higher, touching nothing that holds it).
 - **orientation** relative to its start (rigid fit of ≥ 3 markers,
   :mod:`oacdsl.segmentation.poses`): the angle between the axis that pointed up at the first
   frame and the vertical at the end; ``upright`` below ``upright_max_rad``, ``upside down``
@@ -108,6 +110,27 @@ def _tilt(recording: Recording, name: str) -> float | None:
     return float(np.arccos(np.clip(T[0, 2, 2], -1.0, 1.0)))  # the start's up axis is the world's z
 
 
+def _radius(pts: np.ndarray) -> float:
+    """Horizontal radius of an object's markers about their centre, metres (its footprint)."""
+    c = np.nanmean(pts, axis=0)
+    return float(np.nanmax(np.linalg.norm(pts[:, :2] - c[:2], axis=1)))
+
+
+def _holds_up(x: str, o: str, end: Mapping[str, np.ndarray], final: WorldState,
+              is_agent: Callable[[str], bool], is_liquid: Callable[[str], bool],
+              tolerances: VerifyTolerances) -> bool:
+    """Whether ``x`` may hold ``o`` up at the end (module docstring)."""
+    if is_liquid(x) or not final.touches(o, x) or not np.isfinite(end[x]).any():
+        return False
+    if any(final.touches(h, x) for h in final.instances if is_agent(h)):
+        return False  # held up by a hand: it holds nothing up
+    pts = end[o]
+    centre, low = np.nanmean(pts, axis=0), float(np.nanmin(pts[:, 2]))
+    xc, x_low = np.nanmean(end[x], axis=0), float(np.nanmin(end[x][:, 2]))
+    inside = np.linalg.norm(centre[:2] - xc[:2]) <= _radius(end[x]) + tolerances.footprint_margin_m
+    return bool(inside and low >= x_low - 0.01 and centre[2] > x_low)
+
+
 def end_state(
     recording: Recording,
     final: WorldState,
@@ -129,7 +152,6 @@ def end_state(
         pts = end[o]
         if not np.isfinite(pts).any():
             continue
-        centre = np.nanmean(pts, axis=0)
         low = float(np.nanmin(pts[:, 2]))
         moved = float(np.linalg.norm(np.nanmean(end[o], axis=0)[:2] - np.nanmean(start[o], axis=0)[:2]))
         hands = sorted(h for h in final.instances if is_agent(h) and final.touches(h, o))
@@ -137,18 +159,10 @@ def end_state(
         if hands:
             support, by = "held", hands[0]
         else:
-            under = []
-            for x in objects:
-                if x == o or is_liquid(x) or not final.touches(o, x) or not np.isfinite(end[x]).any():
-                    continue
-                if any(final.touches(h, x) for h in final.instances if is_agent(h)):
-                    continue  # held up by a hand: it holds nothing up
-                xc = np.nanmean(end[x], axis=0)
-                radius = float(np.nanmax(np.linalg.norm(end[x][:, :2] - xc[:2], axis=1)))
-                x_low = float(np.nanmin(end[x][:, 2]))
-                inside = np.linalg.norm(centre[:2] - xc[:2]) <= radius + tolerances.footprint_margin_m
-                if inside and low >= x_low - 0.01 and centre[2] > x_low:
-                    under.append((x_low, x))
+            under = [(float(np.nanmin(end[x][:, 2])), x) for x in objects
+                     if x != o and _holds_up(x, o, end, final, is_agent, is_liquid, tolerances)
+                     and not (_radius(end[o]) > _radius(end[x])
+                              and _holds_up(o, x, end, final, is_agent, is_liquid, tolerances))]
             if under:
                 by = max(under)[1]
                 support = "in" if is_container(by) else "on"
