@@ -33,6 +33,7 @@ COMMANDS: list[str] = [
     "oacdsl.cli.match_cmd",
     "oacdsl.cli.compose_cmd",
     "oacdsl.cli.run_cmd",
+    "oacdsl.cli.verify_cmd",
     "oacdsl.cli.mine_cmd",
     "oacdsl.cli.stats_cmd",
     "oacdsl.cli.report_cmd",

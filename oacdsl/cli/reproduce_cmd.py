@@ -184,7 +184,9 @@ def run(args: argparse.Namespace) -> int:
         demo_params=not args.no_demo_params,
     )
     verdict = outcome.result["verdict"]
-    mark = "verified" if verdict["success"] else "FAILED"
+    mark = "FAILED"
+    if verdict["success"]:
+        mark = "verified, faithful" if verdict.get("faithful", True) else "verified, not faithful"
     report = out / "report.html"
     print(f"{mark}: {verdict['summary']}")
     print(f"report: {report}  (data: {out / 'result.json'})")
