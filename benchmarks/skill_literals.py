@@ -8,7 +8,9 @@ The rule (issue 19): every numeric literal in the Python source of ``DIR`` (defa
 f-string's arithmetic), except
 
 - the neutral values ``0`` and ``1`` (``0.0``, ``1.0``; so ``-1`` too, whose literal is ``1``):
-  indices, ``max(0, …)``, unit vectors and ``1 - s`` are not tuning;
+  ``max(0, …)``, unit vectors and ``1 - s`` are not tuning;
+- indices: a literal inside a subscript's brackets (``t[:3, 3]``, ``t[2, 3]``, ``d["radius"]``):
+  which element of a 4×4 transform is read is not tuning (it would otherwise be half the count);
 - booleans (``True``/``False`` are constants, not numbers).
 
 Docstrings and comments hold no numeric literals (text). Everything else counts: ``0.5``,
@@ -45,7 +47,8 @@ def _is_counted(node: ast.AST) -> bool:
 def count_file(path: Path) -> int:
     """Numeric literals of ``path`` by the module docstring's rule."""
     tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
-    return sum(1 for node in ast.walk(tree) if _is_counted(node))
+    indices = {id(n) for sub in ast.walk(tree) if isinstance(sub, ast.Subscript) for n in ast.walk(sub.slice)}
+    return sum(1 for node in ast.walk(tree) if _is_counted(node) and id(node) not in indices)
 
 
 def count_tree(folder: Path = SKILLS) -> dict[str, int]:

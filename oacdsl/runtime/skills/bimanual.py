@@ -18,21 +18,16 @@ from typing import Protocol
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.control import CONTROL_DT_S, Controller
+from oacdsl.runtime.control import Controller
 from oacdsl.runtime.grasping import GraspPlan
 from oacdsl.runtime.handgap import hands_gap
 from oacdsl.runtime.hands import OPEN, TOP_PRESHAPE
+from oacdsl.runtime.motion import TUNING, down, withdrawal
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
-from oacdsl.runtime.skills.grasp import LIFT_M, ease_off, grasp_candidates, lifted, plan_grasp, secure
-from oacdsl.runtime.skills.place import (
-    CONTACT_FORCE_N,
-    DESCENT_SPEED_M_S,
-    HOVER_M,
-    MIN_JERK_PEAK,
-    set_down_pose,
-    withdrawal,
-)
-from oacdsl.runtime.transforms import interpolate, make_T, min_jerk
+from oacdsl.runtime.skills.grasp import ease_off, grasp_candidates, lifted, plan_grasp, secure
+from oacdsl.runtime.skills.place import set_down_pose
+from oacdsl.runtime.transforms import MIN_JERK_PEAK, interpolate
+from oacdsl.skills import SIGNATURES
 
 __all__ = ["grasp_both", "place_both", "move_both", "mover", "reach_both", "HANDS_APART_M"]
 
@@ -40,6 +35,7 @@ __all__ = ["grasp_both", "place_both", "move_both", "mover", "reach_both", "HAND
 #: collision boxes (palm, fingers, the thumb held out) at the two grasp poses
 #: (:func:`~oacdsl.runtime.handgap.hands_gap`), for the IK's tracking error and the approach.
 HANDS_APART_M = 0.03
+GRASP_BOTH, PLACE_BOTH = SIGNATURES["grasp_both"].defaults(), SIGNATURES["place_both"].defaults()
 #: How many of each hand's reachable grasps are paired up.
 PAIR_CANDIDATES = 4
 
@@ -72,28 +68,16 @@ def move_both(
     guards: Mapping[str, Callable[[], bool]] | None = None,
 ) -> dict[str, bool]:
     """Move each hand of ``goals`` (side → T_world_grasp) there in ``duration_s`` (min-jerk),
-    together. A hand whose guard becomes true stops where it really is; the motion ends when it is
-    over or every guarded hand stopped. Returns, per side, whether its guard stopped it."""
-    guards = dict(guards or {})
+    together, through the controller's loop (:meth:`~oacdsl.runtime.control.Controller.drive`):
+    a hand whose guard becomes true stops where it really is. Returns, per side, whether its
+    guard stopped it."""
     starts = {s: ctl.ik.goal(s) for s in goals}
-    for s in goals:
-        ctl.tare(s)
-    stopped = {s: False for s in goals}
-    n = max(1, round(duration_s / CONTROL_DT_S))
-    for k in range(1, n + 1):
-        for s, goal in goals.items():
-            if not stopped[s]:
-                ctl.ik.set_hand_target(s, interpolate(starts[s], goal, min_jerk(k / n)))
-        ctl.tick()
-        for s, guard in guards.items():
-            if not stopped[s] and guard():
-                # stay where the hand really is (the arm lags its command): a hand waiting
-                # for the other one would otherwise keep pressing on what it touched
-                stopped[s] = True
-                ctl.ik.set_hand_target(s, ctl.world.frame_pose(f"grasp_{s}"))
-        if guards and all(stopped[s] for s in guards):
-            break
-    return stopped
+    paths = {s: partial(_towards, starts[s], goal) for s, goal in goals.items()}
+    return ctl.drive(paths, duration_s, guards)
+
+
+def _towards(start: np.ndarray, goal: np.ndarray, s: float) -> np.ndarray:
+    return interpolate(start, goal, s)
 
 
 def _lockstep(ctl: Controller, paths: Mapping[str, list[tuple[np.ndarray, float]]]) -> None:
@@ -172,7 +156,9 @@ def _sides(ctx: SkillContext, h1: str, h2: str, what: str) -> tuple[str, str]:
     return s1, s2
 
 
-def grasp_both(ctx: SkillContext, h1: str, o1: str, h2: str, o2: str, *, lift: float = LIFT_M) -> None:
+def grasp_both(
+    ctx: SkillContext, h1: str, o1: str, h2: str, o2: str, *, lift: float = GRASP_BOTH["lift"]
+) -> None:
     """Grasp ``o1`` with ``h1`` and ``o2`` with ``h2`` at the same time, then lift both by ``lift`` (m)."""
     world, ctl = ctx.world, ctx.ctl
     _sides(ctx, h1, h2, "grasp_both")
@@ -196,30 +182,31 @@ def grasp_both(ctx: SkillContext, h1: str, o1: str, h2: str, o2: str, *, lift: f
     )
     eased = {m.side: e for m in motions if (e := ease_off(ctx, m)) is not None}
     if eased:
-        move_both(ctl, eased, 0.2)
+        move_both(ctl, eased, TUNING.press_s)
     ctl.activity = f"closing {h1} on {o1} and {h2} on {o2}"
     for m in motions:
         ctl.set_fingers(m.side, m.closed)
     # each hand is welded the moment its fingers touch (a closing finger pushes a light object away)
     pending = list(motions)
-    for _ in range(round(0.6 / CONTROL_DT_S)):
-        ctl.tick()
+
+    def weld_touching() -> bool:
         for m in [m for m in pending if m.holding(world)]:
             secure(ctx, m)
             pending.remove(m)
-        if not pending:
-            break
+        return not pending
+
+    ctl.wait(TUNING.close_s, until=weld_touching)
     for m in pending:
         secure(ctx, m)  # raises with the reason
-    ctl.wait(0.3)
+    ctl.wait(TUNING.settle_s)
     up = {m.side: lifted(ctx, m.side, lift) for m in motions if not m.handover}
     if up:
         ctl.activity = f"lifting {o1} and {o2}"
-        move_both(ctl, up, 1.0)
+        move_both(ctl, up, TUNING.lift_s)
 
 
 def place_both(
-    ctx: SkillContext, h1: str, o1: str, h2: str, o2: str, *, force: float = CONTACT_FORCE_N
+    ctx: SkillContext, h1: str, o1: str, h2: str, o2: str, *, force: float = PLACE_BOTH["force"]
 ) -> None:
     """Set down ``o1`` held by ``h1`` and ``o2`` held by ``h2`` at the same time (where each
     step's predicted effect says, as ``place``); each descent stops when its wrist feels
@@ -242,13 +229,13 @@ def place_both(
             exclude = {o1, o2} | ({support} if support else set())
             paths[side] = ctx.carry_path(side, pose, exclude)
         _lockstep(ctl, paths)
-        ctl.wait(0.2)
+        ctl.wait(TUNING.settle_s)
     ctl.activity = f"setting {o1} and {o2} down"
-    depth = HOVER_M + 0.03
+    depth = TUNING.hover_m + TUNING.support_search_m
     felt = move_both(
         ctl,
-        {s: make_T(t[:3, :3], t[:3, 3] - np.array([0.0, 0.0, depth])) for s, t in hover.items()},
-        MIN_JERK_PEAK * depth / DESCENT_SPEED_M_S,
+        {s: down(t, depth) for s, t in hover.items()},
+        MIN_JERK_PEAK * depth / TUNING.set_down_speed_m_s,
         {s: partial(_felt, ctl, s, force) for s in sides},
     )
     if o1 == o2 and any(felt.values()):
@@ -256,19 +243,17 @@ def place_both(
     missing = [h for h, s in ((h1, sides[0]), (h2, sides[1])) if not felt[s]]
     if missing:
         raise RuntimeFailure(
-            f"the wrist of {' and '.join(missing)} felt no support after lowering"
-            f" {depth * 100:.0f} cm"
+            f"the wrist of {' and '.join(missing)} felt no support after lowering {depth * 100:.0f} cm"
         )
     ctl.activity = f"releasing {o1} and {o2}"
     for s in sides:
         world.release(s)
     for s in sides:
         ctl.set_fingers(s, OPEN)
-    ctl.wait(0.4)
+    ctl.wait(TUNING.open_s)
     ctl.activity = "withdrawing"
-    up = np.array([0.0, 0.0, -1.0])
     paths = {
-        s: withdrawal(ctl.ik.frame(f"grasp_{s}"), p.approach if p is not None else up)
+        s: withdrawal(ctl.ik.frame(f"grasp_{s}"), p.approach if p is not None else None)
         for s, p in picks.items()
     }
     for s in sides:

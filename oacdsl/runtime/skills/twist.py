@@ -30,14 +30,12 @@ from collections.abc import Callable
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.control import CONTROL_DT_S
 from oacdsl.runtime.hands import CLOSED, OPEN, PINCH_CLOSED, finger_joint_names
+from oacdsl.runtime.motion import TUNING, Motion, OtherHand
 from oacdsl.runtime.skills.base import SkillContext
-from oacdsl.runtime.skills.bimanual import mover
 from oacdsl.runtime.skills.grasp import SQUEEZE_RAD
-from oacdsl.runtime.skills.place import MIN_JERK_PEAK
 from oacdsl.runtime.skills.shapes import corners, lowest_z, world_corners
-from oacdsl.runtime.skills.touch import HOVER_M, TOUCH_FORCE_N, TOUCH_SPEED_M_S, approach_pose
+from oacdsl.runtime.skills.touch import bring_onto
 from oacdsl.runtime.transforms import make_T, rot_axis
 
 __all__ = ["twist", "TWIST_RAD", "TWIST_S", "STROKE_RAD", "MIN_TURNED"]
@@ -104,32 +102,12 @@ def _turned(pose: np.ndarray, axis: np.ndarray, centre: np.ndarray, angle: float
     return make_T(r @ pose[:3, :3], centre + r @ (pose[:3, 3] - centre))
 
 
-def put_on(
-    ctx: SkillContext, side: str, obj: str, target: str, go: Callable[..., None]
-) -> None:
+def put_on(ctx: SkillContext, m: Motion, obj: str, target: str) -> None:
     """Bring the held ``obj`` over the middle of ``target`` (the axes in line: a lid over a
-    bottle's neck, wherever the other hand holds the bottle) and down until they touch."""
-    world, ctl = ctx.world, ctx.ctl
-    above, depth = approach_pose(ctx, side, obj, target, HOVER_M)
-    ctl.activity = f"bringing {obj} over {target}"
-    ctx.check_reachable(side, above, f"the top of {target}")
-    for pose, seconds in ctx.carry_path(side, above, {obj, target}, 1.6):
-        if seconds > 0:
-            go(pose, seconds)
-    ctl.wait(0.1)
-    ctl.activity = f"putting {obj} on {target}"
-    go(
-        make_T(above[:3, :3], above[:3, 3] - np.array([0.0, 0.0, depth])),
-        MIN_JERK_PEAK * depth / TOUCH_SPEED_M_S,
-        guard=lambda: (
-            world.touching(obj, target) or float(np.linalg.norm(ctl.force_change(side))) > TOUCH_FORCE_N
-        ),
-    )
-    if not (ctl.wait(0.3, until=lambda: world.touching(obj, target)) or world.touching(obj, target)):
-        felt = float(np.linalg.norm(ctl.force_change(side)))
-        raise RuntimeFailure(f"twist: {obj} did not reach {target} (the wrist felt {felt:.0f} N)")
-    now = ctl.ik.goal(side)
-    go(_raised(now, -PRESS_M), 0.2)
+    bottle's neck, wherever the other hand holds the bottle) and down until they touch; press."""
+    if not bring_onto(ctx, m, obj, target, TUNING.hover_m, TUNING.obstacle_force_n):
+        raise RuntimeFailure(f"twist: {obj} did not reach {target} (the wrist felt {m.force_n():.0f} N)")
+    m.press()
 
 
 def _off_axis(ctx: SkillContext, obj: str, target: str, axis: np.ndarray) -> np.ndarray:
@@ -143,7 +121,7 @@ def _off_axis(ctx: SkillContext, obj: str, target: str, axis: np.ndarray) -> np.
 
 
 def centre(
-    ctx: SkillContext, side: str, obj: str, target: str, axis: np.ndarray, go: Callable[..., None]
+    ctx: SkillContext, side: str, obj: str, target: str, axis: np.ndarray, go: Callable[..., object]
 ) -> float:
     """Slide the held ``obj`` back onto ``target``'s axis, its lowest point kept pressed on
     ``target``'s top (closed loop: the arm's own error is measured on the object and made up
@@ -169,10 +147,7 @@ def _close_on(ctx: SkillContext, side: str, hand: str, obj: str, closed: dict[st
     """Close hand ``side`` until its fingers touch ``obj``, then keep them pressing lightly."""
     world, ctl = ctx.world, ctx.ctl
     ctl.set_fingers(side, closed)
-    for _ in range(round(0.7 / CONTROL_DT_S)):
-        ctl.tick()
-        if world.fingers_touch(side, obj):
-            break
+    ctl.wait(TUNING.close_s, until=lambda: world.fingers_touch(side, obj))
     if not world.fingers_touch(side, obj):
         raise RuntimeFailure(f"twist: {hand} could not take {obj} again after turning it")
     names = finger_joint_names(side)
@@ -198,10 +173,11 @@ def twist(
     if target not in world.layout.bodies or not ctx.body(target).solids:
         raise RuntimeFailure(f"twist: {target!r} is no object of the scene")
     other = "l" if side == "r" else "r"
-    go = mover(ctl, side, ctl.ik.goal(other) if world.held.get(other) is not None else None)
+    m = Motion(ctx, side, OtherHand.STEADY if world.held.get(other) is not None else OtherHand.IDLE)
+    go = m.go
 
     if not world.touching(obj, target):
-        put_on(ctx, side, obj, target, go)
+        put_on(ctx, m, obj, target)
 
     t_obj = world.body_pose(obj)
     axis = t_obj[:3, 2].copy()
@@ -226,7 +202,7 @@ def twist(
         ctl.activity = f"taking {obj} again"
         if not world.touching(obj, target):  # set it down on the target before letting go
             here = ctl.ik.goal(side)
-            go(_raised(here, -SEAT_M), 0.3, guard=lambda: world.touching(obj, target))
+            go(_raised(here, -SEAT_M), 0.3, lambda: world.touching(obj, target))
         world.release(side)
         # the palm holds it down while only the fingers open; the thumb stays where it is
         # (opened, or turned back to a folded thumb, it pushed a light object off the target;
