@@ -83,19 +83,27 @@ class Motion:
         self._rel = np.linalg.inv(ik.goal(side)) @ self._keep
 
     # --- the loop -----------------------------------------------------------------------------
-    def along(self, path: Path, seconds: float, until: Guard | None = None) -> bool:
+    def along(
+        self, path: Path, seconds: float, until: Guard | None = None, orientation_weight: float | None = None
+    ) -> bool:
         """Drive the hand along ``path`` in ``seconds``, the other hand by the policy; True when
-        ``until`` stopped it (where it then is)."""
+        ``until`` stopped it (where it then is). ``orientation_weight``: how much the hand's
+        orientation counts (a hand's position counts 1 per metre; 0.3 otherwise)."""
         ctl, side = self.ctx.ctl, self.side
         guards = {side: until} if until is not None else None
+        weights = {side: orientation_weight} if orientation_weight is not None else None
         if self.policy is OtherHand.IDLE:
             if ctl.ik.active[self.other]:
                 ctl.ik.hold_hand(self.other, weight=IDLE_HOLD_WEIGHT)
-            return ctl.drive({side: path}, seconds, guards, stop_at_model=True)[side]
+            return ctl.drive({side: path}, seconds, guards, weights=weights, stop_at_model=True)[side]
         keep, rel = self._keep, self._rel
         if self.policy is OtherHand.STEADY:
-            return ctl.drive({side: path, self.other: lambda _s: keep}, seconds, guards)[side]
-        return ctl.drive({side: path, self.other: lambda s: path(s) @ rel}, seconds, guards)[side]
+            return ctl.drive({side: path, self.other: lambda _s: keep}, seconds, guards, weights=weights)[
+                side
+            ]
+        return ctl.drive({side: path, self.other: lambda s: path(s) @ rel}, seconds, guards, weights=weights)[
+            side
+        ]
 
     def go(self, goal: np.ndarray, seconds: float, until: Guard | None = None) -> bool:
         """Move the hand from its goal now to ``goal`` (T_world_grasp) in ``seconds``."""

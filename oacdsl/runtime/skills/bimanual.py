@@ -11,9 +11,8 @@ both sides): it is then lifted and set down by both together.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from functools import partial
-from typing import Protocol
 
 import numpy as np
 
@@ -23,13 +22,14 @@ from oacdsl.runtime.grasping import GraspPlan
 from oacdsl.runtime.handgap import hands_gap
 from oacdsl.runtime.hands import OPEN, TOP_PRESHAPE
 from oacdsl.runtime.motion import TUNING, down, withdrawal
+from oacdsl.runtime.motion.both import lockstep, move_both
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
 from oacdsl.runtime.skills.grasp import ease_off, grasp_candidates, lifted, plan_grasp, secure
 from oacdsl.runtime.skills.place import set_down_pose
-from oacdsl.runtime.transforms import MIN_JERK_PEAK, interpolate
+from oacdsl.runtime.transforms import MIN_JERK_PEAK
 from oacdsl.skills import SIGNATURES
 
-__all__ = ["grasp_both", "place_both", "move_both", "mover", "reach_both", "HANDS_APART_M"]
+__all__ = ["grasp_both", "place_both", "reach_both", "HANDS_APART_M"]
 
 #: Room kept between two hands that grasp at once, m: the smallest distance between their
 #: collision boxes (palm, fingers, the thumb held out) at the two grasp poses
@@ -40,69 +40,15 @@ GRASP_BOTH, PLACE_BOTH = SIGNATURES["grasp_both"].defaults(), SIGNATURES["place_
 PAIR_CANDIDATES = 4
 
 
-class Move(Protocol):
-    """Move a hand to T_world_grasp in ``seconds``; a true ``guard`` stops it."""
-
-    def __call__(self, pose: np.ndarray, seconds: float, guard: Callable[[], bool] | None = None) -> None: ...
-
-
-def mover(ctl: Controller, side: str, keep: np.ndarray | None) -> Move:
-    """A move of hand ``side`` (``go(T_world_grasp, seconds, guard=None)``): alone when ``keep``
-    is None, else with the other hand's goal fixed at ``keep`` (T_world_grasp) throughout, as
-    strong a task as this hand's (the whole-body IK would let what it holds drift with the torso)."""
-    other = "l" if side == "r" else "r"
-
-    def go(pose: np.ndarray, seconds: float, guard: Callable[[], bool] | None = None) -> None:
-        if keep is None:
-            ctl.move(side, pose, seconds, guard=guard)
-        else:
-            move_both(ctl, {side: pose, other: keep}, seconds, {side: guard} if guard else None)
-
-    return go
-
-
-def move_both(
-    ctl: Controller,
-    goals: Mapping[str, np.ndarray],
-    duration_s: float,
-    guards: Mapping[str, Callable[[], bool]] | None = None,
-) -> dict[str, bool]:
-    """Move each hand of ``goals`` (side → T_world_grasp) there in ``duration_s`` (min-jerk),
-    together, through the controller's loop (:meth:`~oacdsl.runtime.control.Controller.drive`):
-    a hand whose guard becomes true stops where it really is. Returns, per side, whether its
-    guard stopped it."""
-    starts = {s: ctl.ik.goal(s) for s in goals}
-    paths = {s: partial(_towards, starts[s], goal) for s, goal in goals.items()}
-    return ctl.drive(paths, duration_s, guards)
-
-
-def _towards(start: np.ndarray, goal: np.ndarray, s: float) -> np.ndarray:
-    return interpolate(start, goal, s)
-
-
-def _lockstep(ctl: Controller, paths: Mapping[str, list[tuple[np.ndarray, float]]]) -> None:
-    """Follow each side's list of (pose, seconds) together, phase by phase (equal lengths)."""
-    for phase in zip(*paths.values(), strict=True):
-        seconds = max(t for _, t in phase)
-        if seconds > 0:
-            move_both(ctl, {s: pose for s, (pose, _) in zip(paths, phase, strict=True)}, seconds)
-
-
 def _felt(ctl: Controller, side: str, force: float) -> bool:
     """The wrist of ``side`` felt more than ``force`` (N) since its motion began."""
     return float(np.linalg.norm(ctl.force_change(side))) > force
 
 
-def reach_both(ctx: SkillContext, targets: Mapping[str, np.ndarray], iterations: int = 150) -> float:
+def reach_both(ctx: SkillContext, targets: Mapping[str, np.ndarray]) -> float:
     """The larger residual (m, angle weighted 0.1 m/rad) of a static whole-body solve
     with both hands at ``targets`` (side → T_world_grasp); the IK is left as it was."""
-    ik = ctx.ctl.ik
-    with ik.trial():
-        for s, t in targets.items():
-            ik.set_hand_target(s, t)
-        for _ in range(iterations):
-            ik.step()
-        return max((res := ik.residual(s)).position_m + 0.1 * res.angle_rad for s in targets)
+    return ctx.ctl.ik.try_reach_both(targets)
 
 
 def _preshape(ctx: SkillContext, obj: str) -> dict[str, float]:
@@ -172,7 +118,7 @@ def grasp_both(
     for m in motions:
         if m.grasp.approach == "top":
             ctl.set_fingers(m.side, TOP_PRESHAPE)
-    _lockstep(ctl, {m.side: m.waypoints for m in motions})
+    lockstep(ctl, {m.side: m.waypoints for m in motions})
     ctl.activity = f"approaching {o1} and {o2}"
     move_both(
         ctl,
@@ -228,7 +174,7 @@ def place_both(
             hover[side] = pose
             exclude = {o1, o2} | ({support} if support else set())
             paths[side] = ctx.carry_path(side, pose, exclude)
-        _lockstep(ctl, paths)
+        lockstep(ctl, paths)
         ctl.wait(TUNING.settle_s)
     ctl.activity = f"setting {o1} and {o2} down"
     depth = TUNING.hover_m + TUNING.support_search_m
@@ -258,4 +204,4 @@ def place_both(
     }
     for s in sides:
         ctx.picked.pop(s, None)
-    _lockstep(ctl, paths)
+    lockstep(ctl, paths)

@@ -25,9 +25,10 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import TUNING
+from oacdsl.runtime.motion.both import move_both
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
-from oacdsl.runtime.skills.bimanual import move_both, reach_both
+from oacdsl.runtime.skills.bimanual import reach_both
 from oacdsl.runtime.skills.tooltip import HeldTool, held_tool, pointing
 from oacdsl.runtime.transforms import MIN_JERK_PEAK
 from oacdsl.skills import SIGNATURES

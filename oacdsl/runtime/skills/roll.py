@@ -15,8 +15,8 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import TUNING
+from oacdsl.runtime.motion.both import move_both
 from oacdsl.runtime.skills.base import SkillContext
-from oacdsl.runtime.skills.bimanual import move_both
 from oacdsl.runtime.skills.shapes import long_axis, lowest_z, world_corners
 from oacdsl.runtime.transforms import MIN_JERK_PEAK, make_T
 

@@ -26,7 +26,7 @@ from functools import partial
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.motion import TUNING, Motion, other_side
+from oacdsl.runtime.motion import TUNING, Motion, OtherHand, other_side
 from oacdsl.runtime.skills.base import SkillContext
 from oacdsl.runtime.transforms import MIN_JERK_PEAK, interpolate, make_T
 from oacdsl.skills import SIGNATURES
@@ -110,7 +110,6 @@ def _wipe_held(
     """Wipe ``surface`` held by hand ``other`` (see the module docstring)."""
     world, ctl = ctx.world, ctx.ctl
     ik = ctl.ik
-    keep = ik.goal(other)
     _, tool_in_hand = ctx.held_pose(side, tool)
     r_tool = world.body_pose(tool)[:3, :3].copy()
     t_surface = world.body_pose(surface)
@@ -131,17 +130,14 @@ def _wipe_held(
     def touching() -> bool:
         return world.touching(tool, surface)
 
+    m = Motion(ctx, side, OtherHand.STEADY)
+
     def go(
         goal: Callable[[float], np.ndarray], seconds: float, guard: Callable[[], bool] | None = None
     ) -> bool:
-        """Follow ``goal(s)``, s from 0 to 1 (min-jerk), the other hand's goal fixed;
-        True when ``guard`` stopped it (where the hand really is)."""
-        return ctl.drive(
-            {side: goal, other: lambda _s: keep},
-            seconds,
-            {side: guard} if guard else None,
-            weights={side: HELD_ORIENTATION_WEIGHT},
-        )[side]
+        """Follow ``goal(s)``, s from 0 to 1 (min-jerk), the other hand's goal fixed; True when
+        ``guard`` stopped it (where the hand really is). The tool may tilt on the surface."""
+        return m.along(goal, seconds, guard, HELD_ORIENTATION_WEIGHT)
 
     def stroke_s(distance: float) -> float:
         return MIN_JERK_PEAK * abs(distance) / HELD_STROKE_SPEED_M_S
