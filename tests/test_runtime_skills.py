@@ -13,8 +13,8 @@ from runtime_lib import task_library  # noqa: E402
 from oacdsl.runtime.control import FORCE_LIMIT_N  # noqa: E402
 from oacdsl.runtime.executor import execute, prepare, run_prepared  # noqa: E402
 from oacdsl.runtime.layout import BALLS_PER_LIQUID  # noqa: E402
-from oacdsl.runtime.objects import TABLE_TOP  # noqa: E402
 from oacdsl.runtime.motion import TUNING  # noqa: E402
+from oacdsl.runtime.objects import TABLE_TOP  # noqa: E402
 
 
 class ForceLog:

@@ -12,7 +12,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 #: Ceiling of numeric literals in runtime/skills/ (341 before issue 19; lower it, never raise it).
-CEILING = 236
+CEILING = 170
 
 
 def _counter():  # type: ignore[no-untyped-def]
@@ -26,7 +26,9 @@ def _counter():  # type: ignore[no-untyped-def]
 
 def test_rule_counts_numbers_but_not_neutral_ones(tmp_path):
     src = tmp_path / "s.py"
-    src.write_text('"""Doc 12."""\nA = 0.04\nB = -1\nC = 0.0\nD = True\nE = f"{A * 100:.0f}"\nF = [2, 1.0]\nG = t[:3, 3] * 0.5\n')
+    lines = ['"""Doc 12."""', "A = 0.04", "B = -1", "C = 0.0", "D = True", 'E = f"{A * 100:.0f}"']
+    lines.append("F = [2, 1.0]")
+    src.write_text("\n".join([*lines, "G = t[:3, 3] * 0.5", ""]))
     assert _counter().count_file(src) == 4  # 0.04, 100, 2, 0.5 (not the indices 3, 3)
 
 

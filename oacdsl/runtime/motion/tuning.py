@@ -70,6 +70,31 @@ class Tuning:
     #: how far below a rim a tool's tip must reach to work in a container, m
     min_inside_m: float = 0.02
 
+    # --- rotate about an axis, regrasping ---------------------------------------------------
+    #: close enough to the wanted turn to stop, rad
+    turn_enough_rad: float = 0.14
+    #: most strokes, as a multiple of those the turn needs (a stroke turns the object some 10 %
+    #: less than the hand, a regrasp turns it back a few degrees: more strokes make it up)
+    turn_strokes_factor: int = 2
+    #: shortest time of one stroke, s
+    turn_min_stroke_s: float = 0.6
+    #: about what a regrasp takes (open, rise, turn back, come down, close), s
+    turn_regrasp_s: float = 2.1
+    #: time to turn the open hand back, s
+    turn_back_s: float = 0.5
+    #: how far below where it let go the palm is aimed while the fingers open, m
+    turn_hold_down_m: float = 0.005
+    #: how far the grasp centre may be off the object's axis before the first stroke, m
+    #: (farther, the hand first retakes it on the axis: a lid taken 4 cm off swung the hand round)
+    turn_off_axis_m: float = 0.015
+    #: how far down an object that lost the target is set on it before the hand lets go, m
+    turn_seat_m: float = 0.01
+    #: how far the object's axis may be off the target's when the hand lets go of it, m
+    turn_centred_m: float = 0.005
+    #: most moves that bring the object back onto the target's axis, and the time of each, s
+    turn_centre_tries: int = 4
+    turn_centre_s: float = 0.25
+
     # --- press -----------------------------------------------------------------------------
     #: how far a held object is pressed on once it touches, m
     press_m: float = 0.003
