@@ -99,7 +99,7 @@ def close_on(ctx: SkillContext, m: Motion, obj: str, closed: dict[str, float], w
 
     world, ctl, side = ctx.world, ctx.ctl, m.side
     ctl.set_fingers(side, closed)
-    ctl.wait(m.tuning.close_s, until=lambda: world.fingers_touch(side, obj))
+    ctl.wait(m.tuning.reclose_s, until=lambda: world.fingers_touch(side, obj))
     if not world.fingers_touch(side, obj):
         raise RuntimeFailure(f"{what}: the hand could not take {obj} again after turning it")
     names = finger_joint_names(side)

@@ -30,6 +30,10 @@ class Tuning:
     over_m: float = 0.03
     #: a still moment after a carry, before a guarded approach starts, s
     pause_s: float = 0.1
+    #: a still moment after carrying something to where it is set down, s
+    carry_pause_s: float = 0.2
+    #: time of a carry to where a tool starts working (over a container or surface), s
+    work_carry_s: float = 1.8
 
     # --- guarded approach: until contact or force ------------------------------------------
     #: height above what is approached before the approach, m
@@ -113,6 +117,8 @@ class Tuning:
     # --- grasp, release and withdrawal -----------------------------------------------------
     #: longest time for the fingers to close on an object, s
     close_s: float = 0.6
+    #: longest time for the fingers to close again on an object being turned, s
+    reclose_s: float = 0.7
     #: time for the fingers to open, s
     open_s: float = 0.4
     #: how far an open hand backs off along its grasp's approach, m, and rises meanwhile, m
@@ -139,7 +145,7 @@ class Tuning:
 
     # --- slide along a surface -------------------------------------------------------------
     #: mean speed of a slide (a stroke of a tool on a surface), m/s, and its shortest time, s
-    slide_speed_m_s: float = 0.086
+    slide_speed_m_s: float = 0.06 / 0.7
     slide_min_s: float = 0.7
 
 

@@ -34,6 +34,7 @@ __all__ = ["SkillContext", "Skill", "Pick", "fmt_xyz"]
 
 T = TypeVar("T")
 
+
 def fmt_xyz(p: np.ndarray) -> str:
     return f"({p[0]:.2f}, {p[1]:.2f}, {p[2]:.2f}) m"
 

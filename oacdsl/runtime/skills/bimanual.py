@@ -175,7 +175,7 @@ def place_both(
             exclude = {o1, o2} | ({support} if support else set())
             paths[side] = ctx.carry_path(side, pose, exclude)
         lockstep(ctl, paths)
-        ctl.wait(TUNING.settle_s)
+        ctl.wait(TUNING.carry_pause_s)
     ctl.activity = f"setting {o1} and {o2} down"
     depth = TUNING.hover_m + TUNING.support_search_m
     felt = move_both(

@@ -64,7 +64,7 @@ def retreat(ctx: SkillContext, hand: str, *, duration: float = RETREAT["duration
     ctx.ctl.activity = f"taking {hand} back"
     m.go(raised(m.here(), t.retreat_rise_m), t.retreat_rise_share * duration)
     m.carry(goal, set(), (1 - t.retreat_rise_share) * duration)
-    m.hold_still()
+    m.hold_still(t.carry_pause_s)
     off = float(np.linalg.norm(world.frame_pose(f"grasp_{side}")[:3, 3] - goal[:3, 3]))
     if off > t.arrive_tolerance_m:
         raise RuntimeFailure(

@@ -54,7 +54,7 @@ def hold_up(
     ctl.activity = f"holding {obj} up"
     ctx.check_reachable(side, goal, f"the place in front of the robot to hold {obj} up")
     m.carry(goal, {obj}, m.tuning.carry_s)
-    m.hold_still()
+    m.hold_still(m.tuning.carry_pause_s)
     if world.held[side] != obj:
         raise RuntimeFailure(f"hold_up: {hand} lost {obj}")
     off = float(np.linalg.norm(_middle(ctx, obj) - goal_mid))

@@ -25,6 +25,12 @@ D = SIGNATURE.defaults()
 
 #: Points per circle of the stirring path.
 CIRCLE_POINTS = 24
+#: Time back to the middle after the circles, s.
+CENTRE_S = 0.4
+#: How long a tool that went down without touching the container may still find it, s.
+FIND_S = 0.5
+#: While stirring the tool is held this far below the floor: a light press (about 10 N through the arm), m.
+STIR_PRESS_M = 0.002
 
 
 def mix(
@@ -57,16 +63,17 @@ def mix(
     above = np.array([centre[0], centre[1], centre[2] + bowl.height + t.hover_m])
     ctl.activity = f"bringing {tool} over {container}"
     ctx.check_reachable(side, hand_for(above), f"the inside of {container}")
-    m.carry(hand_for(above), {tool, container})
+    m.carry(hand_for(above), {tool, container}, t.work_carry_s)
     ctl.activity = f"lowering {tool} into {container}"
     # the container's inner floor; the tool is aimed a little below it, pushing the
     # (frictionless) balls aside, until it touches the container itself
     floor = centre[2] + bowl.floor
     bottom = raised(hand_for(np.array([centre[0], centre[1], floor])), -t.press_m)
-    touched = m.approach(bottom, m.contact_or_force(tool, container, force))
-    if not touched and not m.hold_still(t.contact_wait_s, m.touching(tool, container)):
+    depth = float(m.here()[2, 3] - bottom[2, 3])
+    touched = m.go(bottom, depth / t.set_down_speed_m_s, m.contact_or_force(tool, container, force))
+    if not touched and not m.hold_still(FIND_S, m.touching(tool, container)):
         raise RuntimeFailure(f"mix: {tool} went down into {container} without touching it")
-    level = min(float(world.body_pose(tool)[2, 3]), floor) - t.press_m
+    level = min(float(world.body_pose(tool)[2, 3]), floor) - STIR_PRESS_M
     ctl.activity = f"stirring {container} with {tool}"
     n = CIRCLE_POINTS
     for k in range(1, int(round(turns)) * n + 1):
@@ -74,8 +81,8 @@ def mix(
         r = radius * min(1.0, k / n)
         p = np.array([centre[0] + r * math.sin(a), centre[1] + r * (1 - math.cos(a)) / 2, level])
         m.go(hand_for(p), period / n)
-    m.go(hand_for(np.array([centre[0], centre[1], level])), t.settle_s)
-    m.hold_still(t.contact_wait_s, m.touching(tool, container))
+    m.go(hand_for(np.array([centre[0], centre[1], level])), CENTRE_S)
+    m.hold_still(2 * t.settle_s, m.touching(tool, container))
 
 
 def _upright(r: np.ndarray) -> np.ndarray:

@@ -180,7 +180,7 @@ def mix_both(
                 f"mix_both: {what} {container} is out of reach of {h1} and {h2} together: the best"
                 f" whole-body IK solution leaves a hand off by {err * 100:.0f} cm"
             )
-    paths = {s: ctx.carry_path(s, above[s], {t1, t2, container}) for s in sides}
+    paths = {s: ctx.carry_path(s, above[s], {t1, t2, container}, TUNING.work_carry_s) for s in sides}
     _path(
         ctx,
         [{s: paths[s][k][0] for s in sides} for k in range(3)],

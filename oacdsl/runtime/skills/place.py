@@ -77,6 +77,6 @@ def _set_down(ctx: SkillContext, m: Motion, obj: str, pick: Pick | None, force: 
     ctl.activity = f"carrying {obj} to {where}"
     ctx.check_reachable(m.side, hover, f"the place of {obj} on {where}")
     m.carry(hover, {obj} if support is None else {obj, support})
-    m.hold_still()
+    m.hold_still(t.carry_pause_s)
     ctl.activity = f"setting {obj} down"
     m.lower_onto_support(hover, t.hover_m + t.support_search_m, f"placing {obj}", force)

@@ -205,7 +205,7 @@ def pour(
         m.hold_still()
     ctl.activity = f"bringing {source} over {target}"
     start = hand_at(u, 0.0, extra + LIP_START_EXTRA_M)
-    m.carry(start, {source, target})
+    m.carry(start, {source, target}, TUNING.work_carry_s)
     ctl.activity = f"pouring {liquid} into {target}"
     steps = 40
     for k in range(1, steps + 1):

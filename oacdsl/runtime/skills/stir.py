@@ -33,6 +33,10 @@ SIGNATURE = SIGNATURES["stir"]
 D = SIGNATURE.defaults()
 #: Points per circle.
 CIRCLE_POINTS = 16
+#: Time of the move sideways to the wall (a contact stops it), s.
+TO_WALL_S = 0.8
+#: Room kept between the tool's side at the tip and the container's inner wall, m.
+WALL_MARGIN_M = 0.004
 
 
 def dip_poses(
@@ -82,7 +86,7 @@ def stir(
         raise RuntimeFailure(f"stir: {container!r} is no container (its shape has no shell)")
     m = Motion(ctx, side)
     held, r_work, floor, up, toward, above = dip_poses(ctx, side, tool, container, tilt)
-    room = max(0.0, body.inner_radius - held.half_width - t.wall_margin_m)
+    room = max(0.0, body.inner_radius - held.half_width - WALL_MARGIN_M)
     # two axes across the container's axis for the circles
     e1 = np.cross(up, (1.0, 0.0, 0.0) if abs(up[0]) < 0.9 else (0.0, 1.0, 0.0))
     e1 /= np.linalg.norm(e1)
@@ -121,13 +125,13 @@ def stir(
         ctx.check_reachable(
             side, at(start_angle + k * math.pi / 2, beyond), f"the stirring circle in {container}"
         )
-    m.carry(above, {tool, container})
+    m.carry(above, {tool, container}, t.work_carry_s)
     ctl.activity = f"dipping {tool} into {container}"
     m.approach(at(start_angle, 0.0), guard)
     if not world.touching(tool, container):
         # into contact: sideways to the wall (aimed a little beyond it), or down onto the floor
         ctl.activity = f"bringing {tool} against {container}"
-        m.approach(at(start_angle, beyond), guard)
+        m.go(at(start_angle, beyond), TO_WALL_S, guard)
     if not m.hold_still(t.contact_wait_s, m.touching(tool, container)) and not world.touching(
         tool, container
     ):
@@ -136,7 +140,7 @@ def stir(
     # it) or, on the floor, pressed onto it: the tool touches the container all the while
     tip = held_tool(ctx, side, tool).tip_world()
     out = float(np.linalg.norm((tip - floor) - float((tip - floor) @ up) * up))
-    on_wall = out > wall - t.wall_margin_m
+    on_wall = out > wall - WALL_MARGIN_M
     height = floor + float((tip - floor) @ up) * up - (0.0 if on_wall else t.aim_beyond_m) * up
     rr = out + t.aim_beyond_m if on_wall else max(min(radius, room), out)
     m.go(at(start_angle, rr, height), t.press_s)  # pressed on where it touches

@@ -22,6 +22,7 @@ __all__ = ["take_out", "SIGNATURE"]
 SIGNATURE = SIGNATURES["take_out"]
 D = SIGNATURE.defaults()
 
+
 def _against_far_wall(ctx: SkillContext, m: Motion, obj: str, container: str) -> None:
     """Slide the held object's base against the container's wall on the side away from the
     other hand (a cup held by it): the contact is then with the container, not that hand."""

@@ -38,6 +38,8 @@ D = SIGNATURE.defaults()
 
 #: How far below the surface's top the descent may go before it counts as a miss, m.
 DESCENT_M = 0.08
+#: Time back to the middle after the last stroke, s.
+RETURN_S = 0.4
 #: How far from the held surface's middle, away from the holding hand, the tool wipes, m.
 FAR_M = 0.05
 #: Weight of the wiping hand's orientation while it wipes a held surface (a hand's position
@@ -76,7 +78,7 @@ def wipe(
     )
     ctx.ctl.activity = f"bringing {tool} over {surface}"
     ctx.check_reachable(side, above, f"the middle of {surface}")
-    m.carry(above, {tool, surface})
+    m.carry(above, {tool, surface}, t.work_carry_s)
     ctx.ctl.activity = f"pressing {tool} onto {surface}"
     m.lower_onto_support(above, DESCENT_M, f"wiping {surface}")
     m.press(press, t.settle_s)
@@ -86,7 +88,7 @@ def wipe(
     seconds = max(t.slide_min_s, length / t.slide_speed_m_s)
     for sign in (1.0, -1.0) * int(round(strokes)):
         m.go(make_T(pressed[:3, :3], pressed[:3, 3] + sign * sideways), seconds)
-    m.go(pressed, seconds)
+    m.go(pressed, RETURN_S)
     m.hold_still()
 
 
