@@ -29,10 +29,15 @@ from oacdsl.runtime.motion.tuning import TUNING
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.world import WorldState
 
-__all__ = ["SkillContext", "Skill", "Pick", "fmt_xyz"]
+__all__ = ["SkillContext", "Skill", "Pick", "cm", "fmt_xyz"]
 
 
 T = TypeVar("T")
+
+
+def cm(length_m: float) -> str:
+    """A length for a message: 0.123 → ``12 cm``."""
+    return f"{length_m * 100:.0f} cm"
 
 
 def fmt_xyz(p: np.ndarray) -> str:
@@ -121,7 +126,7 @@ class SkillContext:
             hand = next(h for h, s in self.world.layout.hands.items() if s == side)
             raise RuntimeFailure(
                 f"{what} at {fmt_xyz(target[:3, 3])} is out of reach of {hand}: the best whole-body IK"
-                f" solution leaves the hand {res.position_m * 100:.0f} cm and"
+                f" solution leaves the hand {cm(res.position_m)} and"
                 f" {np.degrees(res.angle_rad):.0f}° from the target"
             )
 
@@ -140,7 +145,7 @@ class SkillContext:
         hand = next(h for h, s in self.world.layout.hands.items() if s == side)
         raise RuntimeFailure(
             f"{what} at {fmt_xyz(best[2][:3, 3])} is out of reach of {hand}: the best whole-body IK"
-            f" solution leaves the hand {best[0] * 100:.0f} cm and {np.degrees(best[1]):.0f}° from the target"
+            f" solution leaves the hand {cm(best[0])} and {np.degrees(best[1]):.0f}° from the target"
         )
 
     def obstacles(self, exclude: set[str]) -> list[tuple[np.ndarray, float, float]]:

@@ -23,7 +23,7 @@ from oacdsl.runtime.handgap import hands_gap
 from oacdsl.runtime.hands import OPEN, TOP_PRESHAPE
 from oacdsl.runtime.motion import TUNING, down, withdrawal
 from oacdsl.runtime.motion.both import lockstep, move_both
-from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
+from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext, cm
 from oacdsl.runtime.skills.grasp import ease_off, grasp_candidates, lifted, plan_grasp, secure
 from oacdsl.runtime.skills.place import set_down_pose
 from oacdsl.runtime.transforms import MIN_JERK_PEAK
@@ -86,9 +86,9 @@ def _pair(ctx: SkillContext, a: tuple[str, str], b: tuple[str, str]) -> tuple[Gr
             best = (err, p1, p2)
     if best is None or best[0] > 2 * REACH_TOLERANCE_M:
         why = (
-            f"the best whole-body IK solution for both leaves a hand off by {best[0] * 100:.0f} cm"
+            f"the best whole-body IK solution for both leaves a hand off by {cm(best[0])}"
             if best is not None
-            else f"no pair of their grasps leaves {HANDS_APART_M * 100:.0f} cm between the hands"
+            else f"no pair of their grasps leaves {cm(HANDS_APART_M)} between the hands"
             f" (at most {widest * 100:.1f} cm)"
         )
         raise RuntimeFailure(f"{a[0]} cannot grasp {a[1]} while {b[0]} grasps {b[1]}: {why}")
@@ -189,7 +189,7 @@ def place_both(
     missing = [h for h, s in ((h1, sides[0]), (h2, sides[1])) if not felt[s]]
     if missing:
         raise RuntimeFailure(
-            f"the wrist of {' and '.join(missing)} felt no support after lowering {depth * 100:.0f} cm"
+            f"the wrist of {' and '.join(missing)} felt no support after lowering {cm(depth)}"
         )
     ctl.activity = f"releasing {o1} and {o2}"
     for s in sides:

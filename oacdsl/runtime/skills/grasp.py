@@ -18,7 +18,7 @@ from oacdsl.model import Grasp
 from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M, GraspPlan, plan_grasps
 from oacdsl.runtime.hands import CLOSED, PINCH_CLOSED, TOP_PRESHAPE, finger_joint_names
 from oacdsl.runtime.simworld import SimWorld
-from oacdsl.runtime.skills.base import Pick, SkillContext, fmt_xyz
+from oacdsl.runtime.skills.base import Pick, SkillContext, cm, fmt_xyz
 from oacdsl.runtime.transforms import make_T
 
 __all__ = [
@@ -175,7 +175,7 @@ def secure(ctx: SkillContext, m: GraspMotion) -> None:
     off = float(np.linalg.norm(centre - m.plan.grasp[:3, 3]))
     if off > GRASP_POSE_TOLERANCE_M:
         raise RuntimeFailure(
-            f"could not grasp {obj}: {hand} ended {off * 100:.0f} cm from the grasp point"
+            f"could not grasp {obj}: {hand} ended {cm(off)} from the grasp point"
             f" {fmt_xyz(m.plan.grasp[:3, 3])}"
         )
     if not world.fingers_touch(side, obj):

@@ -13,7 +13,7 @@ import numpy as np
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.build import home_posture
 from oacdsl.runtime.motion import Motion, raised
-from oacdsl.runtime.skills.base import SkillContext, fmt_xyz
+from oacdsl.runtime.skills.base import SkillContext, cm, fmt_xyz
 from oacdsl.skills import SIGNATURES
 
 __all__ = ["hold", "retreat", "home_pose", "SIGNATURES_HERE"]
@@ -37,7 +37,7 @@ def hold(ctx: SkillContext, hand: str, obj: str, *, duration: float = HOLD["dura
     allowed = m.tuning.still_m
     if moved > allowed:
         raise RuntimeFailure(
-            f"hold: {obj} moved {moved * 100:.0f} cm while {hand} held it (allowed {allowed * 100:.0f} cm)"
+            f"hold: {obj} moved {cm(moved)} while {hand} held it (allowed {cm(allowed)})"
         )
 
 
@@ -68,5 +68,5 @@ def retreat(ctx: SkillContext, hand: str, *, duration: float = RETREAT["duration
     off = float(np.linalg.norm(world.frame_pose(f"grasp_{side}")[:3, 3] - goal[:3, 3]))
     if off > t.arrive_tolerance_m:
         raise RuntimeFailure(
-            f"retreat: {hand} stopped {off * 100:.0f} cm from its home pose {fmt_xyz(goal[:3, 3])}"
+            f"retreat: {hand} stopped {cm(off)} from its home pose {fmt_xyz(goal[:3, 3])}"
         )

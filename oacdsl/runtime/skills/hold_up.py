@@ -18,7 +18,7 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import Motion
-from oacdsl.runtime.skills.base import SkillContext, fmt_xyz
+from oacdsl.runtime.skills.base import SkillContext, cm, fmt_xyz
 from oacdsl.runtime.skills.grasp import reach_and_grasp
 from oacdsl.runtime.skills.shapes import world_corners
 from oacdsl.runtime.transforms import make_T
@@ -61,7 +61,7 @@ def hold_up(
     if off > m.tuning.arrive_tolerance_m:
         spot = np.array([goal_mid[0], goal_mid[1], world.body_pose(obj)[2, 3]])
         raise RuntimeFailure(
-            f"hold_up: {obj} ended {off * 100:.0f} cm from where it is held up, {fmt_xyz(spot)}"
+            f"hold_up: {obj} ended {cm(off)} from where it is held up, {fmt_xyz(spot)}"
         )
 
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import Motion, raised
-from oacdsl.runtime.skills.base import SkillContext
+from oacdsl.runtime.skills.base import SkillContext, cm
 from oacdsl.skills import SIGNATURES
 
 __all__ = ["lift", "SIGNATURE"]
@@ -34,10 +34,10 @@ def lift(
         raise RuntimeFailure(f"lift: {target!r} is no object of the scene")
     m = Motion(ctx, side)
     ctx.ctl.activity = f"lifting {obj} off {target}"
-    ctx.check_reachable(side, raised(m.here(), height), f"{height * 100:.0f} cm above {obj}'s place")
+    ctx.check_reachable(side, raised(m.here(), height), f"{cm(height)} above {obj}'s place")
     m.rise(height, duration)
     m.hold_still()
     if world.held[side] != obj:
         raise RuntimeFailure(f"lift: {hand} lost {obj}")
     if world.touching(obj, target):
-        raise RuntimeFailure(f"lift: {obj} still touches {target} after rising {height * 100:.0f} cm")
+        raise RuntimeFailure(f"lift: {obj} still touches {target} after rising {cm(height)}")

@@ -27,7 +27,7 @@ from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import TUNING
 from oacdsl.runtime.motion.both import move_both
 from oacdsl.runtime.simworld import SimWorld
-from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
+from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext, cm
 from oacdsl.runtime.skills.bimanual import reach_both
 from oacdsl.runtime.skills.tooltip import HeldTool, held_tool, pointing
 from oacdsl.runtime.transforms import MIN_JERK_PEAK
@@ -163,7 +163,7 @@ def mix_both(
     if short(worst, 0.0) > 0:
         raise RuntimeFailure(
             f"mix_both: {tools[worst]} is too short to reach the floor of {container} with the hand"
-            f" clear of its rim (its tip stays {short(worst, 0.0) * 100:.0f} cm above the floor);"
+            f" clear of its rim (its tip stays {cm(short(worst, 0.0))} above the floor);"
             f" a grasp farther up its handle (a larger grasp offset) reaches deeper"
         )
     # the tips' height while circling: raised as far as both hands need to stay clear of the rim
@@ -181,7 +181,7 @@ def mix_both(
         if err > REACH_TOLERANCE_M:
             raise RuntimeFailure(
                 f"mix_both: {what} {container} is out of reach of {h1} and {h2} together: the best"
-                f" whole-body IK solution leaves a hand off by {err * 100:.0f} cm"
+                f" whole-body IK solution leaves a hand off by {cm(err)}"
             )
     paths = {s: ctx.carry_path(s, above[s], {t1, t2, container}, TUNING.work_carry_s) for s in sides}
     _path(

@@ -16,7 +16,7 @@ import numpy as np
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import TUNING
 from oacdsl.runtime.motion.both import move_both
-from oacdsl.runtime.skills.base import SkillContext
+from oacdsl.runtime.skills.base import SkillContext, cm
 from oacdsl.runtime.skills.shapes import long_axis, lowest_z, world_corners
 from oacdsl.runtime.transforms import MIN_JERK_PEAK, make_T
 
@@ -108,7 +108,7 @@ def roll(
     seconds = MIN_JERK_PEAK * depth / TUNING.set_down_speed_m_s
     stopped = move_both(ctl, shifted(np.array([0.0, 0.0, -depth])), seconds, dict.fromkeys(sides, felt))
     if not any(stopped.values()):
-        raise RuntimeFailure(f"roll: {obj} did not reach {target} after going down {depth * 100:.0f} cm")
+        raise RuntimeFailure(f"roll: {obj} did not reach {target} after going down {cm(depth)}")
     # where the hands stopped; the arms spring back a few mm when they stop, and a wrist may
     # have felt the motion rather than the target: down again (guarded) by the gap left under
     # the object, then ``press``

@@ -22,7 +22,7 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import TUNING, Motion
-from oacdsl.runtime.skills.base import SkillContext
+from oacdsl.runtime.skills.base import SkillContext, cm
 from oacdsl.runtime.skills.shapes import hand_reach_below
 from oacdsl.runtime.skills.tooltip import HeldTool, held_tool, pointing
 from oacdsl.skills import SIGNATURES
@@ -107,7 +107,7 @@ def stir(
     if inside < t.min_inside_m:
         raise RuntimeFailure(
             f"stir: {tool} is too short to reach into {container}: with {hand} clear of the rim its"
-            f" tip gets {inside * 100:.0f} cm below the rim (needs {t.min_inside_m * 100:.0f} cm)"
+            f" tip gets {cm(inside)} below the rim (needs {cm(t.min_inside_m)})"
         )
 
     def at(angle: float, rr: float, height: np.ndarray = level) -> np.ndarray:

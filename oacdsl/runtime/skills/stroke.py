@@ -23,7 +23,7 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import TUNING, Motion, OtherHand, raised
-from oacdsl.runtime.skills.base import SkillContext
+from oacdsl.runtime.skills.base import SkillContext, cm
 from oacdsl.runtime.skills.shapes import lowest_z, world_corners
 from oacdsl.runtime.transforms import make_T
 from oacdsl.skills import SIGNATURES
@@ -99,7 +99,7 @@ def stroke(
     if run < t.end_margin_m:
         raise RuntimeFailure(
             f"stroke: {target} is too short for strokes of {tool} along it"
-            f" ({2 * half * 100:.0f} cm long, {tool} {2 * tool_half * 100:.0f} cm)"
+            f" ({cm(2 * half)} long, {tool} {cm(2 * tool_half)})"
         )
     end = mid + half - tool_half - t.end_margin_m  # where the tool's middle stops, along u
 

@@ -30,7 +30,7 @@ from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.hands import CLOSED, PINCH_CLOSED
 from oacdsl.runtime.motion import TUNING, Motion, OtherHand
 from oacdsl.runtime.motion.rotate import close_on, rotate_on
-from oacdsl.runtime.skills.base import SkillContext
+from oacdsl.runtime.skills.base import SkillContext, cm
 from oacdsl.runtime.skills.touch import bring_onto
 from oacdsl.skills import SIGNATURES
 
@@ -84,7 +84,7 @@ def twist(
         m.rise(lift)
         m.hold_still()
         if world.touching(obj, target):
-            raise RuntimeFailure(f"twist: {obj} still touches {target} after rising {lift * 100:.0f} cm")
+            raise RuntimeFailure(f"twist: {obj} still touches {target} after rising {cm(lift)}")
         if not world.touching(hand, obj):
             close_on(ctx, m, obj, closed, "twist")
         return
