@@ -10,9 +10,8 @@ apart and above the rim). Both arms move together (the lockstep of
 ``turns`` circles of ``radius`` (m) in ``period`` (s) each — both tips in phase, so that
 the distance between them never changes; the radius is clamped so that each tool stays
 clear of the wall — and then down onto the floor until each tool touches the container
-(the OAC's effect: both tools touch it). They are kept there :data:`REST_S`, longer than
-the closed loop's 1 s merge window, so that the robot's recording shows the contacts
-apart from the hands letting go. The container is read where it is when the skill starts.
+(the OAC's effect: both tools touch it), pressed on a moment. The container is read
+where it is when the skill starts.
 """
 
 from __future__ import annotations
@@ -33,14 +32,12 @@ from oacdsl.runtime.skills.tooltip import HeldTool, held_tool, pointing
 from oacdsl.runtime.transforms import MIN_JERK_PEAK
 from oacdsl.skills import SIGNATURES
 
-__all__ = ["mix_both", "MIX_SPREAD", "REST_S", "SIGNATURE"]
+__all__ = ["mix_both", "MIX_SPREAD", "SIGNATURE"]
 
 SIGNATURE = SIGNATURES["mix_both"]
 D = SIGNATURE.defaults()
 #: Each tip's spot: this fraction of the inner radius from the middle.
 MIX_SPREAD = 0.5
-#: How long both tools rest on the floor at the end, s (over the closed loop's 1 s merge window).
-REST_S = 1.2
 #: Points per circle.
 CIRCLE_POINTS = 16
 #: How far below the floor the tips are aimed at the end (a contact stops them), m.
@@ -213,7 +210,7 @@ def mix_both(
     for t in pressed.values():
         t[2, 3] -= REST_PRESS_M
     move_both(ctl, pressed, TUNING.settle_s)
-    ctl.wait(REST_S)
+    ctl.wait(TUNING.settle_s)
     missing = [tools[s] for s in sides if not world.touching(tools[s], container)]
     if missing:
         raise RuntimeFailure(f"mix_both: {' and '.join(missing)} in {container} but not touching it")

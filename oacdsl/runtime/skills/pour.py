@@ -52,11 +52,6 @@ NARROW_TARGET_M = 0.05
 NARROW_LIP_ABOVE_RIM_M = 0.015
 SLOW_FROM_RAD = math.radians(85.0)
 NARROW_SLOWDOWN = 4.0
-#: A source resting on the target when the pour begins (a carton put onto the cup) is slid
-#: outwards onto the target's near rim and stays there this long first (s): longer than the
-#: closed loop's 1 s merge window, so that the robot's recording shows the contact (as the
-#: demonstrator's did) before the pour lifts it.
-REST_S = 1.2
 
 
 def _cup_pose(
@@ -64,30 +59,6 @@ def _cup_pose(
 ) -> np.ndarray:
     r = rot_axis(axis, angle) @ base_r
     return make_T(r, lip_world - r @ lip_local)
-
-
-def _resting_spot(
-    t_world_target: np.ndarray, target: Body, t_world_source: np.ndarray, source: Body, u: np.ndarray
-) -> np.ndarray:
-    """Where (world x, y, m) the source's base centre goes to rest on the target's rim, as far
-    towards ``u`` (away from the hand holding the target) as it can while it still rests there:
-    one of the points of the source's floor on which the closed loop's virtual markers sit
-    (its centre, and four at half its inner radius; ``oacdsl/pipeline/markers.py``) right over
-    one of the twelve on the target's rim, so that the robot's recording shows the contact."""
-    floor = [np.zeros(2)] + [
-        0.5 * source.inner_radius * np.array([math.cos(a), math.sin(a)]) for a in np.arange(4) * math.pi / 2
-    ]
-    rim = [target.rim_radius * np.array([math.cos(a), math.sin(a)]) for a in np.arange(12) * math.pi / 6]
-    centre = t_world_target[:2, 3]
-    best, best_d = centre + u[:2] * target.rim_radius, -1.0
-    for p in rim:
-        p_world = centre + t_world_target[:2, :2] @ p
-        for f in floor:
-            spot = p_world - t_world_source[:2, :2] @ f
-            d = float((spot - centre) @ u[:2])
-            if d > best_d and np.linalg.norm(spot - centre) <= target.rim_radius + 0.5 * source.rim_radius:
-                best, best_d = spot, d
-    return best
 
 
 def spout_direction(body: Body) -> np.ndarray | None:
@@ -225,15 +196,13 @@ def pour(
     go = m.go
 
     if world.touching(source, target):
-        # slid outwards (towards the pouring side) until it rests on the near rim only, out
-        # of the way of the other hand, and kept there a moment
+        # slid outwards (towards the pouring side), its base's middle over the near rim, out of
+        # the way of the other hand, before the pour lifts it
         ctl.activity = f"resting {source} on {target}"
         t_src = world.body_pose(source)
-        t_src[:2, 3] = _resting_spot(t_bowl, bowl, t_src, cup, u)
-        t_src[2, 3] += 0.002  # m
-        aside = t_src @ np.linalg.inv(cup_in_hand)
-        go(aside, TUNING.shift_s)
-        m.hold_still(REST_S)
+        t_src[:2, 3] = centre[:2] + u[:2] * bowl.rim_radius
+        go(t_src @ np.linalg.inv(cup_in_hand), TUNING.shift_s)
+        m.hold_still()
     ctl.activity = f"bringing {source} over {target}"
     start = hand_at(u, 0.0, extra + LIP_START_EXTRA_M)
     m.carry(start, {source, target}, TUNING.work_carry_s)

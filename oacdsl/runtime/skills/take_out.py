@@ -1,7 +1,7 @@
 """``take_out(h, o, c)``: lift the held object straight up until it clears the container.
 
 A stir ends with the spoon touching the cup; a person then takes it out. Composition: slide
-against the wall away from the other hand (which may hold the container), rest there, rise
+against the wall away from the other hand (which may hold the container), hold still, rise
 until the object's base is ``clear`` above the top of ``c`` (read now, a container held by
 the other hand included) in ``duration``, slide aside to the hand's own side (so that it no
 longer hangs over the container when both are put down), hold still. It fails when the hand
@@ -21,10 +21,6 @@ __all__ = ["take_out", "SIGNATURE"]
 
 SIGNATURE = SIGNATURES["take_out"]
 D = SIGNATURE.defaults()
-
-#: How long the object first rests where it is (touching the container), s: longer than the
-#: closed loop's merge window (1 s), so that an observer sees the contact start and end apart.
-SETTLE_S = 1.2
 
 
 def _against_far_wall(ctx: SkillContext, m: Motion, obj: str, container: str) -> None:
@@ -58,8 +54,7 @@ def take_out(
     side = ctx.require_held(hand, obj)
     m = Motion(ctx, side)
     _against_far_wall(ctx, m, obj, container)
-    ctl.activity = f"resting {obj} in {container}"
-    m.hold_still(SETTLE_S)  # still where the stir left it, touching: the contact is seen before it ends
+    m.hold_still()
     top = float(world.body_pose(container)[2, 3] + ctx.body(container).height)
     rise = max(top + clear - float(world.body_pose(obj)[2, 3]), clear)
     ctl.activity = f"taking {obj} out of {container}"

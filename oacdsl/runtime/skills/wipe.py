@@ -48,13 +48,6 @@ FAR_M = 0.05
 HELD_ORIENTATION_WEIGHT = 0.02
 #: Time to carry the tool over a held surface, s.
 CARRY_S = 2.0
-#: Peak speed of the strokes on a held surface, m/s: below the closed loop's distance
-#: change (0.1 m/s), so that the robot's own recording sees the tool touch the surface all
-#: along (faster, every pair of virtual markers changes distance too fast to count).
-HELD_STROKE_SPEED_M_S = 0.05
-#: How long the tool rests on a held surface before its strokes, s: longer than the closed
-#: loop's merge window (1 s), so that the contact's start is a change of its own.
-REST_S = 1.2
 
 
 def wipe(
@@ -142,7 +135,7 @@ def _wipe_held(
         return m.along(goal, seconds, guard, HELD_ORIENTATION_WEIGHT)
 
     def stroke_s(distance: float) -> float:
-        return MIN_JERK_PEAK * abs(distance) / HELD_STROKE_SPEED_M_S
+        return max(TUNING.slide_min_s, abs(distance) / TUNING.slide_speed_m_s)
 
     start = ik.goal(side)
     ctl.activity = f"bringing {tool} over {surface}"
@@ -159,7 +152,6 @@ def _wipe_held(
     reached = float(spot(0.0, 0.0)[2, 3] - world.frame_pose(f"grasp_{side}")[2, 3])
     pressed = reached + press
     go(lambda s: spot(0.0, reached + press * s), TUNING.settle_s)
-    ctl.wait(REST_S)  # the contact begins, still, long enough for the closed loop to see it
     ctl.activity = f"wiping {surface} with {tool}"
     last = 0.0
     for sign in (1.0, -1.0) * strokes:
@@ -170,7 +162,7 @@ def _wipe_held(
     if not touching():  # the strokes lifted it: down again until it touches
         again = MIN_JERK_PEAK * DESCENT_M / TUNING.set_down_speed_m_s
         go(lambda s: spot(0.0, pressed + DESCENT_M * s), again, touching)
-    ctl.wait(REST_S)
+    m.hold_still()
     if not touching():
         raise RuntimeFailure(f"wipe: {tool} no longer touches {surface} after the strokes")
     # the next skill starts from the hand as it is, tool tilted and all (from the upright goal,
