@@ -99,6 +99,11 @@ class Tuning:
     turn_centre_tries: int = 4
     turn_centre_s: float = 0.25
 
+    # --- free spots on the table ------------------------------------------------------------
+    #: spacing of the candidate spots, m, and the room kept between footprints there, m
+    spot_step_m: float = 0.04
+    spot_gap_m: float = 0.04
+
     # --- press -----------------------------------------------------------------------------
     #: how far a held object is pressed on once it touches, m
     press_m: float = 0.003
