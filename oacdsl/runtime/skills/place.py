@@ -75,12 +75,13 @@ def set_down_pose(
 
 
 def _origin_free(ctx: SkillContext, obj: str, pick: Pick | None) -> bool:
-    """Whether ``obj`` may go back where it was picked up: not when it stood on an object it is
-    no longer predicted to touch (a lid taken off a bottle), nor when another object's footprint
-    now overlaps that spot."""
+    """Whether ``obj`` may go back where it was picked up: not when what it stood on there is
+    now held by a hand (a lid taken off the bottle the other hand holds up), nor when another
+    object's footprint now overlaps that spot."""
     if pick is None:
         return True
-    if ctx.expected is not None and pick.supports - ctx.expected.partners(obj):
+    held = {o for o in ctx.world.held.values() if o is not None}
+    if pick.supports & held:
         return False
     room = ctx.body(obj).radius  # footprints that overlap it: something else stands there now
     here = pick.origin[:2, 3]
