@@ -110,3 +110,21 @@ def test_a_guarded_approach_stops_on_its_guard_and_a_press_goes_down(run):
     before = m.here()[2, 3]
     m.press(0.004)
     assert before - m.here()[2, 3] == pytest.approx(0.004, abs=1e-6)
+
+
+def test_a_slide_that_loses_its_contact_is_lowered_until_it_touches_again(run):
+    from oacdsl.runtime.control import CONTROL_DT_S
+    from oacdsl.runtime.motion import TUNING, Motion
+
+    m = Motion(run.context, "r")
+    pose = m.here()
+    touching = [False]
+    path = m._pressed(lambda s: pose, lambda: touching[0])
+    depths = [float(pose[2, 3] - path(0.0)[2, 3]) for _ in range(5)]
+    assert depths == pytest.approx([TUNING.seek_speed_m_s * CONTROL_DT_S * k for k in range(1, 6)])
+    touching[0] = True
+    assert float(pose[2, 3] - path(0.0)[2, 3]) == pytest.approx(depths[-1])  # kept, not raised
+    touching[0] = False
+    for _ in range(1000):
+        lowest = path(0.0)
+    assert float(pose[2, 3] - lowest[2, 3]) == pytest.approx(TUNING.seek_max_m)

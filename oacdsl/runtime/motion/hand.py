@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.control import IDLE_HOLD_WEIGHT
+from oacdsl.runtime.control import CONTROL_DT_S, IDLE_HOLD_WEIGHT
 from oacdsl.runtime.hands import OPEN, TOP_PRESHAPE
 from oacdsl.runtime.motion.paths import carry_path
 from oacdsl.runtime.motion.tuning import TUNING, Tuning
@@ -81,17 +81,29 @@ class Motion:
         #: the other hand's goal when the skill began, and its pose relative to this hand's
         self._keep = ik.goal(self.other) if keep is None else keep
         self._rel = np.linalg.inv(ik.goal(side)) @ self._keep
+        #: how far a slide on a surface has been lowered to keep its contact, m (kept from one
+        #: slide to the next of the same skill)
+        self._seek = 0.0
 
     # --- the loop -----------------------------------------------------------------------------
     def along(
-        self, path: Path, seconds: float, until: Guard | None = None, orientation_weight: float | None = None
+        self,
+        path: Path,
+        seconds: float,
+        until: Guard | None = None,
+        orientation_weight: float | None = None,
+        keep_contact: Guard | None = None,
     ) -> bool:
         """Drive the hand along ``path`` in ``seconds``, the other hand by the policy; True when
         ``until`` stopped it (where it then is). ``orientation_weight``: how much the hand's
-        orientation counts (a hand's position counts 1 per metre; 0.3 otherwise)."""
+        orientation counts (a hand's position counts 1 per metre; 0.3 otherwise).
+        ``keep_contact``: sliding on a surface, the path is lowered (at the tuning's seek speed,
+        at most its seek depth) while this is false, so that the tool stays on the surface."""
         ctl, side = self.ctx.ctl, self.side
         guards = {side: until} if until is not None else None
         weights = {side: orientation_weight} if orientation_weight is not None else None
+        if keep_contact is not None:
+            path = self._pressed(path, keep_contact)
         if self.policy is OtherHand.IDLE:
             if ctl.ik.active[self.other]:
                 ctl.ik.hold_hand(self.other, weight=IDLE_HOLD_WEIGHT)
@@ -104,6 +116,20 @@ class Motion:
         return ctl.drive({side: path, self.other: lambda s: path(s) @ rel}, seconds, guards, weights=weights)[
             side
         ]
+
+    def _pressed(self, path: Path, touching: Guard) -> Path:
+        """``path`` lowered by a depth that grows, tick by tick, while ``touching`` is false."""
+        t = self.tuning
+        step = t.seek_speed_m_s * CONTROL_DT_S
+        depth = [self._seek]
+
+        def lowered(s: float) -> np.ndarray:
+            if not touching():
+                depth[0] = min(t.seek_max_m, depth[0] + step)
+            self._seek = depth[0]
+            return down(path(s), depth[0])
+
+        return lowered
 
     def go(self, goal: np.ndarray, seconds: float, until: Guard | None = None) -> bool:
         """Move the hand from its goal now to ``goal`` (T_world_grasp) in ``seconds``."""

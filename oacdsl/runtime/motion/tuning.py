@@ -99,6 +99,11 @@ class Tuning:
     turn_centre_tries: int = 4
     turn_centre_s: float = 0.25
 
+    # --- free spots on the table ------------------------------------------------------------
+    #: spacing of the candidate spots, m, and the room kept between footprints there, m
+    spot_step_m: float = 0.04
+    spot_gap_m: float = 0.04
+
     # --- press -----------------------------------------------------------------------------
     #: how far a held object is pressed on once it touches, m
     press_m: float = 0.003
@@ -147,6 +152,9 @@ class Tuning:
     #: mean speed of a slide (a stroke of a tool on a surface), m/s, and its shortest time, s
     slide_speed_m_s: float = 0.06 / 0.7
     slide_min_s: float = 0.7
+    #: a slide that loses its contact is lowered at this speed, m/s, at most this far, m
+    seek_speed_m_s: float = 0.02
+    seek_max_m: float = 0.03
 
 
 #: The defaults every primitive uses unless told otherwise.

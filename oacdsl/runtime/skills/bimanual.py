@@ -29,7 +29,7 @@ from oacdsl.runtime.skills.place import set_down_pose
 from oacdsl.runtime.transforms import MIN_JERK_PEAK
 from oacdsl.skills import SIGNATURES
 
-__all__ = ["grasp_both", "place_both", "reach_both", "HANDS_APART_M"]
+__all__ = ["grasp_both", "place_both", "reach_both", "preshape", "HANDS_APART_M"]
 
 #: Room kept between two hands that grasp at once, m: the smallest distance between their
 #: collision boxes (palm, fingers, the thumb held out) at the two grasp poses
@@ -51,7 +51,7 @@ def reach_both(ctx: SkillContext, targets: Mapping[str, np.ndarray]) -> float:
     return ctx.ctl.ik.try_reach_both(targets)
 
 
-def _preshape(ctx: SkillContext, obj: str) -> dict[str, float]:
+def preshape(ctx: SkillContext, obj: str) -> dict[str, float]:
     """The fingers of a hand coming to grasp ``obj`` (the thumb folded for a grasp from above)."""
     return TOP_PRESHAPE if ctx.grasp_for(obj).approach == "top" else OPEN
 
@@ -60,7 +60,7 @@ def _pair(ctx: SkillContext, a: tuple[str, str], b: tuple[str, str]) -> tuple[Gr
     """The first pair of grasps (each among its hand's first reachable few) that the
     whole-body IK reaches together with :data:`HANDS_APART_M` between the two hands."""
     options = []
-    shapes = (_preshape(ctx, a[1]), _preshape(ctx, b[1]))
+    shapes = (preshape(ctx, a[1]), preshape(ctx, b[1]))
     for hand, obj in (a, b):
         side = ctx.side(hand)
         shared = a[1] == b[1]  # one object in both hands: each takes it on its own side

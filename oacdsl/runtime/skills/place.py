@@ -11,11 +11,15 @@ onto the support (guarded by the wrist force), hold still, release, withdraw.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
+from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import TUNING, Motion
+from oacdsl.runtime.motion.spots import free_spots
 from oacdsl.runtime.skills.base import Pick, SkillContext
-from oacdsl.runtime.transforms import make_T
+from oacdsl.runtime.transforms import make_T, rot_z
 from oacdsl.skills import SIGNATURES
 
 __all__ = ["place", "target_support", "set_down_pose", "SIGNATURE"]
@@ -55,15 +59,52 @@ def set_down_pose(
     t_obj, t_obj_in_hand = ctx.held_pose(side, obj)
     origin = pick.origin if pick is not None else t_obj
     support = target_support(ctx, obj)
-    if support is None or (pick is not None and support in pick.supports):
+    r_obj = origin[:3, :3]  # standing as it stood when it was picked up
+    if support is None and not _origin_free(ctx, obj, pick):
+        r_obj = rot_z(math.atan2(t_obj[1, 0], t_obj[0, 0]))  # upright, turned as it is held now
+        xy, where = _free_spot(ctx, side, obj, t_obj_in_hand, r_obj), "a free spot of the table"
+    elif support is None or (pick is not None and support in pick.supports):
         xy, where = origin[:2, 3], "its place"  # back where it was picked up (it stood there)
     elif world.touching(obj, support):  # on the support already (a wipe, a ladle in a bowl): set it down here
         return ctx.ctl.ik.goal(side), support, support
     else:
         xy, where = world.body_pose(support)[:2, 3], support
     height = ctx.support_height(xy, exclude=obj)
-    target_obj = make_T(origin[:3, :3], (xy[0], xy[1], height + TUNING.hover_m))
+    target_obj = make_T(r_obj, (xy[0], xy[1], height + TUNING.hover_m))
     return target_obj @ np.linalg.inv(t_obj_in_hand), where, support
+
+
+def _origin_free(ctx: SkillContext, obj: str, pick: Pick | None) -> bool:
+    """Whether ``obj`` may go back where it was picked up: not when what it stood on there is
+    now held by a hand (a lid taken off the bottle the other hand holds up), nor when another
+    object's footprint now overlaps that spot."""
+    if pick is None:
+        return True
+    held = {o for o in ctx.world.held.values() if o is not None}
+    if pick.supports & held:
+        return False
+    room = ctx.body(obj).radius  # footprints that overlap it: something else stands there now
+    here = pick.origin[:2, 3]
+    return all(
+        float(np.linalg.norm(xy - here)) >= room + r for xy, r, _ in ctx.obstacles({obj} | set(pick.supports))
+    )
+
+
+def _free_spot(
+    ctx: SkillContext, side: str, obj: str, t_obj_in_hand: np.ndarray, r_obj: np.ndarray
+) -> np.ndarray:
+    """The first free spot of the table (:func:`~oacdsl.runtime.motion.spots.free_spots`) the hand
+    reaches with ``obj`` turned as ``r_obj`` (as it stood when picked up) over it; raises when
+    none is free or reachable."""
+    spots = free_spots(ctx.world, side, obj, ctx.body(obj).radius)
+    if not spots:
+        raise RuntimeFailure(f"place: no free spot on the table for {obj}")
+    options = []
+    for xy in spots:
+        height = ctx.support_height(xy, exclude=obj)
+        t_obj = make_T(r_obj, (xy[0], xy[1], height + TUNING.hover_m))
+        options.append((t_obj @ np.linalg.inv(t_obj_in_hand), xy))
+    return ctx.first_reachable(side, options, f"a free spot of the table for {obj}")
 
 
 def _set_down(ctx: SkillContext, m: Motion, obj: str, pick: Pick | None, force: float) -> None:

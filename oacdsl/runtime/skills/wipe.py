@@ -154,11 +154,15 @@ def _wipe_held(
     go(lambda s: spot(0.0, reached + press * s), TUNING.settle_s)
     ctl.activity = f"wiping {surface} with {tool}"
     last = 0.0
-    for sign in (1.0, -1.0) * strokes:
+    for sign in (1.0, -1.0) * strokes:  # slides that keep the tool on the surface
         a, b = last, sign * length
-        go(partial(_between, spot, a, b, pressed), stroke_s(b - a))
+        m.along(
+            partial(_between, spot, a, b, pressed), stroke_s(b - a), None, HELD_ORIENTATION_WEIGHT, touching
+        )
         last = b
-    go(lambda s: spot(last * (1.0 - s), pressed), stroke_s(last))
+    m.along(
+        lambda s: spot(last * (1.0 - s), pressed), stroke_s(last), None, HELD_ORIENTATION_WEIGHT, touching
+    )
     if not touching():  # the strokes lifted it: down again until it touches
         again = MIN_JERK_PEAK * DESCENT_M / TUNING.set_down_speed_m_s
         go(lambda s: spot(0.0, pressed + DESCENT_M * s), again, touching)
