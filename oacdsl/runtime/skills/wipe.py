@@ -154,15 +154,11 @@ def _wipe_held(
     go(lambda s: spot(0.0, reached + press * s), TUNING.settle_s)
     ctl.activity = f"wiping {surface} with {tool}"
     last = 0.0
-    for sign in (1.0, -1.0) * strokes:  # slides that keep the tool on the surface
+    for sign in (1.0, -1.0) * strokes:
         a, b = last, sign * length
-        m.along(
-            partial(_between, spot, a, b, pressed), stroke_s(b - a), None, HELD_ORIENTATION_WEIGHT, touching
-        )
+        go(partial(_between, spot, a, b, pressed), stroke_s(b - a))
         last = b
-    m.along(
-        lambda s: spot(last * (1.0 - s), pressed), stroke_s(last), None, HELD_ORIENTATION_WEIGHT, touching
-    )
+    go(lambda s: spot(last * (1.0 - s), pressed), stroke_s(last))
     if not touching():  # the strokes lifted it: down again until it touches
         again = MIN_JERK_PEAK * DESCENT_M / TUNING.set_down_speed_m_s
         go(lambda s: spot(0.0, pressed + DESCENT_M * s), again, touching)
