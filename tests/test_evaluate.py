@@ -10,7 +10,7 @@ from _mocap import mocap_file
 
 from oacdsl.errors import RecordingError
 from oacdsl.segmentation import AasParams, segment
-from oacdsl.segmentation.evaluate import (
+from segeval.evaluate import (
     Event,
     Score,
     contact_from_labels,

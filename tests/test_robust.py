@@ -15,7 +15,7 @@ from test_adaptive import carry_scene
 from oacdsl.errors import SegmentationError
 from oacdsl.segmentation import AasParams, segment
 from oacdsl.segmentation.recording import Recording
-from oacdsl.segmentation.reference import segment_reference
+from segeval.reference import segment_reference
 from oacdsl.segmentation.slope import windowed_slope, windowed_slope_at
 
 

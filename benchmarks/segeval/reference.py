@@ -9,7 +9,7 @@ Modes: ``paper`` (Eq. 1 / Eq. 2 as printed), ``robust`` (the distance change as 
 least-squares slope over the frames within ``±half`` of each frame, summed frame by
 frame), and ``adaptive``: the robust rule per marker pair at each instance pair's own
 distance, OR the co-motion and tool intervals, AND NOT the cross-hand vetoes; co-motion
-frame by frame in :func:`~oacdsl.segmentation.reference_comotion.comotion_reference`, the
+frame by frame in :func:`~segeval.reference_comotion.comotion_reference`, the
 tool rule (:func:`~oacdsl.segmentation.tooluse.tool_contacts`, interval logic over those
 per-frame signals) shared with the detector.
 """
@@ -111,7 +111,7 @@ def _robust_reference(recording: Recording, params: AasParams) -> Segmentation:
     """Modes ``robust`` and ``adaptive``, frame by frame (see the module docstring)."""
     from oacdsl.segmentation.comotion import AdaptiveSettings
     from oacdsl.segmentation.pairs import PairTable
-    from oacdsl.segmentation.reference_comotion import comotion_reference
+    from segeval.reference_comotion import comotion_reference
     from oacdsl.segmentation.tooluse import agents_of, tool_contacts
 
     v, n, half = params.speed_m_s, params.n, params.half_window(recording.rate_hz)
