@@ -32,7 +32,6 @@ from typing import Any
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from oacdsl.segmentation import AasParams, segment  # noqa: E402
 from segeval.evaluate import (  # noqa: E402
     ClipScore,
     Score,
@@ -41,9 +40,11 @@ from segeval.evaluate import (  # noqa: E402
     read_labels,
     score_clip,
 )
+from segeval.toolscore import KIT_TOOL_TARGETS, ToolScore, cross_hand_frames, score_tools  # noqa: E402
+
+from oacdsl.segmentation import AasParams, segment  # noqa: E402
 from oacdsl.segmentation.grouping import recognise_preset  # noqa: E402
 from oacdsl.segmentation.readers import read_recording  # noqa: E402
-from segeval.toolscore import KIT_TOOL_TARGETS, ToolScore, cross_hand_frames, score_tools  # noqa: E402
 from oacdsl.units import parse_quantity  # noqa: E402
 
 DEVELOPMENT = ("Pour", "Stir", "Mix", "Wipe", "Scoop", "Cut")

@@ -7,9 +7,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 from _mocap import mocap_file
-
-from oacdsl.errors import RecordingError
-from oacdsl.segmentation import AasParams, segment
 from segeval.evaluate import (
     Event,
     Score,
@@ -20,6 +17,9 @@ from segeval.evaluate import (
     read_labels,
     score_clip,
 )
+
+from oacdsl.errors import RecordingError
+from oacdsl.segmentation import AasParams, segment
 from oacdsl.segmentation.grouping import apply_preset
 from oacdsl.segmentation.readers import read_recording
 from oacdsl.segmentation.result import Keyframe, Segmentation

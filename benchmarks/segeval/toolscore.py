@@ -32,8 +32,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from segeval.evaluate import CONTACT_LABELS, Score, states_per_frame
 from oacdsl.segmentation.result import Segmentation
+from segeval.evaluate import CONTACT_LABELS, Score, states_per_frame
 
 __all__ = ["KIT_TOOL_TARGETS", "MAIN_ACTIONS", "ToolScore", "cross_hand_frames", "score_tools"]
 

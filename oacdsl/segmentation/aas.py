@@ -84,9 +84,9 @@ def segment(
     total)`` is called after each chunk with frame counts. The result does not
     depend on ``chunk_frames``.
     """
-    params = params or AasParams()
-    check_work(recording, params.frames)
-    params = params.resolved(recording.rate_hz)
+    given = params or AasParams()
+    check_work(recording, given.frames)
+    params = given.resolved(recording.rate_hz)
     if chunk_frames < 1:
         raise SegmentationError(f"chunk size must be at least 1 frame, got {chunk_frames}")
     times = np.asarray(recording.times_s, dtype=np.float64)
@@ -97,18 +97,30 @@ def segment(
             location=recording.source,
         )
     det = detector if detector is not None else make_detector(params)
+    prepare = getattr(det, "prepare", None)  # optional: the detector mends the recording first
+    if prepare is not None:
+        recording = prepare(recording)
+    effective = getattr(det, "effective_params", None)  # optional: the detector rescales them
+    run = effective(recording, given) if effective is not None else params
     table = PairTable.of(recording)
     frames, which, values = _changes(recording, table, det, chunk_frames, progress)
     relations = [table.relation(q) for q in range(table.n_instance_pairs)]
     raw = keyframes_from_changes(table.instances, relations, frames - det.delay_frames, which, values, times)
-    keyframes = merge_keyframes(raw, params.merge_s)
+    if getattr(det, "merges_at_onset", False):  # a merged group keeps its first frame
+        keyframes = merge_keyframes(raw, run.merge_s, at_onset=True, connected=True)
+    else:
+        keyframes = merge_keyframes(raw, run.merge_s)
+    reported = params.to_dict()
+    scale = getattr(det, "scale", None)
+    if scale is not None:
+        reported["scale"] = scale.to_dict()
     return Segmentation(
         recording=recording.source,
         rate_hz=float(recording.rate_hz),
         frames=recording.n_frames,
         instances=recording.instances,
         keyframes=tuple(keyframes),
-        parameters=params.to_dict(),
+        parameters=reported,
     )
 
 

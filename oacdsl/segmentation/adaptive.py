@@ -51,8 +51,10 @@ from oacdsl.segmentation.detectors import DistanceChunk, PairChanges
 from oacdsl.segmentation.geometry import BOUND_MARGIN_M
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
+from oacdsl.segmentation.poses import fill_rigid_gaps
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.robust import RobustDetector
+from oacdsl.segmentation.scales import DemoScale, measure, scale_params, scale_settings
 from oacdsl.segmentation.tooluse import agents_of, tool_contacts
 
 __all__ = ["AdaptiveDetector", "AdaptiveSettings", "comotion"]
@@ -63,9 +65,14 @@ _NEAR_BIN = 64  # frames per bin of the near-frame index built from the co-motio
 class AdaptiveDetector:
     """Co-motion episodes with per-pair thresholds, OR the paper's rule at each pair's distance."""
 
+    #: a group of merged keyframes stands at its first frame (``merge_keyframes(at_onset=True)``)
+    merges_at_onset = True
+
     def __init__(self, params: AasParams, settings: AdaptiveSettings | None = None) -> None:
         self.settings = settings or AdaptiveSettings()
         self.params = params
+        self.scale: DemoScale | None = None  # the recording's scales, once effective_params() ran
+        self._run = self.settings  # the settings in force: rescaled by effective_params()
         template = RobustDetector(params)  # frames of history and delay: set again in begin()
         self.history_frames = template.history_frames
         self.delay_frames = template.delay_frames
@@ -83,6 +90,27 @@ class AdaptiveDetector:
         self._managed = np.zeros(0, dtype=bool)
         self._near_bins: np.ndarray | None = None  # (Q, bins) bool: some frame of the bin within reach
 
+    def prepare(self, recording: Recording) -> Recording:
+        """``recording`` with the gaps of its rigid objects' markers filled by their rigid fit
+        (:func:`~oacdsl.segmentation.poses.fill_rigid_gaps`; agents are not rigid), unless
+        ``settings.fill_gaps`` is off."""
+        if not self.settings.fill_gaps:
+            return recording
+        agents = set(agents_of(recording.instances, self.settings.agent_pattern))
+        return fill_rigid_gaps(recording, [g for i, g in enumerate(recording.instances) if i not in agents])
+
+    def effective_params(self, recording: Recording, params: AasParams) -> AasParams:
+        """``params`` (unresolved: ``frames`` may be automatic) resolved for ``recording``, every
+        length, speed and duration rescaled by its scales (:mod:`oacdsl.segmentation.scales`)
+        unless ``settings.rescale`` is off; the detector runs with them from :meth:`begin` on."""
+        if self.settings.rescale:
+            agents = agents_of(recording.instances, self.settings.agent_pattern)
+            self.scale = measure(recording, tuple(recording.instances[i] for i in agents))
+            self._run = scale_settings(self.settings, self.scale)
+            params = scale_params(params, self.scale)
+        self.params = params.resolved(recording.rate_hz)
+        return self.params
+
     def begin(self, recording: Recording, table: PairTable) -> None:
         template = RobustDetector(self.params, recording.rate_hz)
         self.history_frames, self.delay_frames = template.history_frames, template.delay_frames
@@ -93,7 +121,7 @@ class AdaptiveDetector:
         self._pair_state = np.zeros(table.n_pairs, dtype=bool)
         self._flags = np.zeros((n_q, 4), dtype=bool)
         self._combined = np.zeros(n_q, dtype=bool)
-        found = comotion(recording, table, self.params, self.settings)
+        found = comotion(recording, table, self.params, self._run)
         learned = found.learned
         # the paper's rule per pair: at the pair's learned distance, else at the static distance
         by_distance: dict[float, np.ndarray] = {}
@@ -102,8 +130,8 @@ class AdaptiveDetector:
             key = round(threshold, 4)  # 0.1 mm: pairs with the same distance share a detector
             by_distance.setdefault(key, np.zeros(n_q, dtype=bool))[q] = True
             default[q] = False
-        by_distance.setdefault(self.settings.static_distance_m, np.zeros(n_q, dtype=bool))
-        by_distance[self.settings.static_distance_m] |= default
+        by_distance.setdefault(self._run.static_distance_m, np.zeros(n_q, dtype=bool))
+        by_distance[self._run.static_distance_m] |= default
         # one detector, each marker pair at its instance pair's distance (float32, as a detector's own d)
         block_d = np.zeros(n_q, dtype=np.float32)
         for distance, blocks in by_distance.items():
@@ -120,8 +148,9 @@ class AdaptiveDetector:
             found.closest,
             agents_of(table.instances, self.settings.agent_pattern),
             self.params.distance_m,
-            self.settings.tool_dwell_s,
-            self.settings.tool_bridge_s,
+            self._run.tool_dwell_s,
+            self._run.tool_bridge_s,
+            self._run.rest_m,
         )
         last = recording.n_frames - 1
         collected: dict[int, list[tuple[int, int, int]]] = {}
@@ -157,7 +186,7 @@ class AdaptiveDetector:
         beyond its distance there: the paper's rule cannot find it close, and the broad phase of
         the main pass need not be run again.
         """
-        scan_reach = self.params.distance_m * (1 + self.settings.margin)  # metres, as in comotion._scan
+        scan_reach = self.params.distance_m * (1 + self._run.margin)  # metres, as in comotion._scan
         if self.reach_m is None or self.reach_m > scan_reach:
             return None
         n_bins = -(-n_frames // _NEAR_BIN)

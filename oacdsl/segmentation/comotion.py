@@ -56,6 +56,14 @@ class AdaptiveSettings:
             stirring, wiping, cutting take seconds).
         tool_bridge_s: seconds beyond ``d`` that do not end a tool contact (0.2 s: a
             stroke of a whisk or a knife lifting between cuts).
+        rest_m: metres a distance may vary and still be "at rest" (the tool roles of
+            :mod:`oacdsl.segmentation.toolroles`; 5 mm: marker jitter and a hand's tremor).
+        rescale: every speed and duration above (and ``AasParams``' ``v``, ``n``, change
+            and merge windows) is the reference demonstration's and is rescaled by the
+            recording's own pace (:mod:`oacdsl.segmentation.scales`) before segmenting;
+            ``False`` takes them as they are. Lengths are never rescaled.
+        fill_gaps: a rigid object's marker missing while three of its markers are seen is
+            put where the object's rigid fit places it (:mod:`oacdsl.segmentation.poses`).
 
     The defaults sit inside the range that scores best on the KIT development
     clips (``docs/segmentation-adaptive.md`` lists the sensitivity).
@@ -70,6 +78,9 @@ class AdaptiveSettings:
     agent_pattern: str = "*hand*"
     tool_dwell_s: float = 0.5
     tool_bridge_s: float = 0.2
+    rest_m: float = 0.005
+    rescale: bool = True
+    fill_gaps: bool = True
 
     def __post_init__(self) -> None:
         for name in ("static_distance_m", "move_speed_m_s", "rigid_ratio", "lag_s", "tool_dwell_s"):

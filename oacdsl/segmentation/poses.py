@@ -30,6 +30,7 @@ __all__ = [
     "MIN_MARKERS",
     "ObjectPoses",
     "agreement",
+    "fill_rigid_gaps",
     "fit_constellation",
     "fit_instance",
     "fit_poses",
@@ -217,3 +218,42 @@ def agreement(poses: ObjectPoses, T_world_model: np.ndarray) -> tuple[np.ndarray
     position = np.linalg.norm(predicted[:, :3, 3] - T_fit[:, :3, 3], axis=1)
     angle = rotation_angle(np.swapaxes(predicted[:, :3, :3], 1, 2) @ T_fit[:, :3, :3])
     return position, angle
+
+
+def fill_rigid_gaps(recording: Recording, instances: Iterable[str]) -> Recording:
+    """``recording`` with the missing markers of each of ``instances`` put where its rigid fit
+    (:func:`fit_instance`) places them, at the frames where at least :data:`MIN_MARKERS` of its
+    markers are seen; everything else unchanged (the same object when nothing is filled).
+
+    A marker hidden for a moment does not move the object: without this the closest marker
+    distance of its pairs jumps to the next marker's for the length of the gap.
+    """
+    positions: np.ndarray | None = None
+    for name in instances:
+        idx = list(recording.groups.get(name, ()))
+        if len(idx) <= MIN_MARKERS:
+            continue
+        pts = recording.positions_m[:, idx, :]
+        seen = np.isfinite(pts).all(axis=2)
+        count = seen.sum(axis=1)
+        rows = np.flatnonzero((count >= MIN_MARKERS) & (count < len(idx)))
+        if rows.size == 0:
+            continue
+        full = np.flatnonzero(count == len(idx))
+        if full.size == 0:
+            continue
+        ref = pts[full[0]] - pts[full[0]].mean(axis=0)  # a constellation with every marker
+        T, _ = fit_constellation(ref, pts[rows])
+        placed = np.einsum("fij,kj->fki", T[:, :3, :3], ref) + T[:, None, :3, 3]  # (R, k, 3)
+        if positions is None:
+            positions = recording.positions_m.copy()
+        sub = positions[rows][:, idx, :]
+        missing = ~seen[rows]
+        sub[missing] = placed[missing]
+        block = positions[rows]
+        block[:, idx, :] = sub
+        positions[rows] = block
+    if positions is None:
+        return recording
+    return Recording(recording.source, recording.rate_hz, recording.times_s, recording.marker_names,
+                     positions, recording.groups, recording.first_frame)
