@@ -31,6 +31,7 @@ COMMANDS: list[str] = [
     "oacdsl.cli.stats_cmd",
     "oacdsl.cli.report_cmd",
     "oacdsl.cli.synth_cmd",
+    "oacdsl.cli.take_cmd",
     "oacdsl.cli.skills_cmd",
 ]
 

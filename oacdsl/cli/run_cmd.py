@@ -219,6 +219,10 @@ def run(args: argparse.Namespace) -> int:
         demonstrated=demonstrated,
         **overrides.kwargs(),
     )
+    from oacdsl.runtime.layout import seed_note
+
+    if (moved := seed_note(run_.world.layout)) is not None:
+        print(f"oacc: warning: {moved}", file=sys.stderr)
     out = sys.stderr if args.json else sys.stdout
     closers: list[Any] = []
     frames: Any = None
@@ -273,10 +277,9 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps(result.to_json(), indent=2))
     else:
         verdict = "success" if result.success else f"failed at {result.failed_step or 'the start'}"
-        print(
-            f"{result.oac}: {verdict} — {m['balls_in_bowl']}/{m['balls_total']} balls in a bowl,"
-            f" {m['sim_time_s']:.1f} s simulated in {m['wall_time_s']:.1f} s"
-        )
+        poured = f" {m['balls_in_bowl']}/{m['balls_total']} balls in a bowl," if m.get("balls_total") else ""
+        timing = f"{m['sim_time_s']:.1f} s simulated in {m['wall_time_s']:.1f} s"
+        print(f"{result.oac}: {verdict} —{poured} {timing}")
     if db is not None:
         from oacdsl.stats import RunStore
 
