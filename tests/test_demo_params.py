@@ -116,17 +116,17 @@ def test_compose_writes_the_demonstrated_pours_and_no_demo_params_does_not(capsy
     doc = json.loads(capsys.readouterr().out)
     params = [s.get("params") for s in doc["steps"]]
     pours = [p for s, p in zip(doc["steps"], params, strict=True) if s["oac"] == "pour"]
-    # the dough's cups tilt 109deg and 108deg over their sub-actions (raised to the robot's 125deg),
-    # rising (10-90 %) in 0.63 s and 0.59 s (each pour's sub-action ends where the liquid leaves its cup)
+    # the dough's cups tilt 110deg and 109deg (raised to the robot's 125deg), rising (10-90 %)
+    # in 0.65 s and 0.60 s
     assert [round(math.degrees(p["tilt"])) for p in pours] == [125, 125]
     tilts = [r["demonstrated"] for d in doc["demo_params"] for r in d["params"] if r["name"] == "tilt"]
-    assert [round(math.degrees(t)) for t in tilts] == [109, 108]
-    assert [p["duration"] for p in pours] == [0.79, 0.74]
+    assert [round(math.degrees(t)) for t in tilts] == [110, 109]
+    assert [p["duration"] for p in pours] == [0.81, 0.75]
     assert all(p is None for s, p in zip(doc["steps"], params, strict=True) if s["oac"] != "pour")
     text = (lib_dir / "learned" / "dough.oac").read_text()
-    assert "pour(hand1, cup1, liquid1, bowl) { duration 0.79s  tilt 125deg }" in text
-    assert ("# demonstrated (red_cup relative to world, frames 207-498): tilt 125deg from tilt 109deg,"
-            " raised to the robot's least (125deg); duration 0.79s from tilt rise 0.63s, x1.25") in text
+    assert "pour(hand1, cup1, liquid1, bowl) { duration 0.81s  tilt 125deg }" in text
+    assert ("# demonstrated (red_cup relative to world, frames 207-506): tilt 125deg from tilt 110deg,"
+            " raised to the robot's least (125deg); duration 0.81s from tilt rise 0.65s, x1.25") in text
     assert "# skill defaults: the motion has no cycles" in text  # the mix: no oscillation before its keyframe
     learned = load_library([lib_dir]).oacs["dough"]
     plain_path = tmp_path / "plain.oac"

@@ -15,10 +15,9 @@ KIT = ROOT / "library" / "kit"
 
 #: clip → the OAC each sub-action matches, in order (the keyframes: tests/test_toolroles.py).
 STEPS = {
-    # each hand's grasp and release is its own keyframe (merging joins connected changes only)
-    "Mix": ["grasp", "grasp", "mix_both", "place", "place"],
+    "Mix": ["grasp_both", "mix_both", "leave_both_in"],
     "Wipe": ["take_plate", "grasp", "wipe_held", "lift_sponge", "set_into_rack", "leave_in_rack", "place"],
-    "Scoop": ["grasp", "take_and_dip", "scoop_into", "back_into", "leave_ladle", "place"],
+    "Scoop": ["grasp", "take_and_dip", "scoop_into", "back_into", "put_down_and_leave"],
     "Cut": ["grasp", "grasp", "hold_on_board", "cut", "finish_cut", "place", "place"],
 }
 #: clip → what the composed OAC leaves behind (its positive effects).
@@ -69,7 +68,7 @@ def test_mix_both_takes_the_demonstrated_mixing(tmp_path, capsys):
     out = tmp_path / "kit_mix_demo.oac"
     assert main(["compose", str(xml), "--library", str(KIT), "--name", "kit_mix_demo", "-o", str(out)]) == 0
     capsys.readouterr()
-    step = load_library([KIT, out]).oacs["kit_mix_demo"].steps[2]
+    step = load_library([KIT, out]).oacs["kit_mix_demo"].steps[1]
     params = {p.name: p.value for p in step.skill_params}
     assert step.oac == "mix_both" and set(params) == {"period", "radius", "turns"}
     assert 0.7 < params["period"].value < 1.1 and params["period"].unit == "s"

@@ -38,18 +38,14 @@ def test_json_document(demo, capsys):
     assert list(doc) == ["recording", "rate_hz", "frames", "parameters", "instances", "keyframes"]
     assert doc["recording"] == str(demo) and doc["rate_hz"] == 100.0 and doc["frames"] == F
     assert doc["instances"] == ["cup", "hand", "liquid", "wand"]
-    scale = doc["parameters"].pop("scale")  # the recording's own scales (oacdsl.segmentation.scales)
     assert doc["parameters"] == {"distance_m": 0.15, "speed_m_s": 0.1, "frames": 3, "merge_s": 0.3,
                                  "mode": "adaptive", "hold_s": 0.1, "change_window_s": 0.1}  # the default
-    assert set(scale) == {"length", "speed", "time"} and scale["time"] == pytest.approx(
-        scale["length"] / scale["speed"])
-    # the default detector's slope over ±6 frames (the hand's pace, 0.45 m/s, is 0.9 of the
-    # reference's: windows 1.1 times longer) sees the rest two frames after the paper's one-frame
-    # difference (101), and the departure three frames before it (201)
+    # the default detector's slope over ±5 frames sees the rest one frame after the paper's
+    # one-frame difference (101), and the departure two frames before it (201)
     assert doc["keyframes"] == [
         {"frame": 0, "time_s": 0.0, "relations": [["cup", "liquid"]]},
-        {"frame": 103, "time_s": 1.03, "relations": [["cup", "hand"], ["cup", "liquid"], ["hand", "liquid"]]},
-        {"frame": 198, "time_s": 1.98, "relations": [["cup", "liquid"]]},
+        {"frame": 102, "time_s": 1.02, "relations": [["cup", "hand"], ["cup", "liquid"], ["hand", "liquid"]]},
+        {"frame": 199, "time_s": 1.99, "relations": [["cup", "liquid"]]},
     ]
 
 

@@ -30,7 +30,8 @@ from oacdsl.world import WorldState, relation
 __all__ = ["pair_frames", "segment_reference"]
 
 
-def segment_reference(recording: Recording, params: AasParams | None = None) -> Segmentation:
+def segment_reference(recording: Recording, params: AasParams | None = None,
+                      settings: Any = None) -> Segmentation:
     """Keyframes by Eq. 1 / Eq. 2, frame by frame.
 
     Same conventions as :class:`~oacdsl.segmentation.detectors.PaperDetector`.
@@ -40,7 +41,7 @@ def segment_reference(recording: Recording, params: AasParams | None = None) -> 
     if params.mode == "adaptive":  # the same rescaled constants as the detector
         from oacdsl.segmentation.adaptive import AdaptiveDetector
 
-        detector = AdaptiveDetector(params)
+        detector = AdaptiveDetector(params, settings)
         recording = detector.prepare(recording)
         params = detector.effective_params(recording, given)
         return _robust_reference(recording, params, detector._run)
@@ -200,7 +201,7 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
         state_i = WorldState(instances, rels)
         if not keyframes or state_i != keyframes[-1].state:
             keyframes.append(Keyframe(i, times[i], state_i))
-    if params.mode == "adaptive":
+    if params.mode == "adaptive" and settings is not None and settings.merge == "connected":
         merged = merge_keyframes(keyframes, params.merge_s, at_onset=True, connected=True)
     else:
         merged = merge_keyframes(keyframes, params.merge_s)

@@ -106,7 +106,7 @@ def segment(
     frames, which, values = _changes(recording, table, det, chunk_frames, progress)
     relations = [table.relation(q) for q in range(table.n_instance_pairs)]
     raw = keyframes_from_changes(table.instances, relations, frames - det.delay_frames, which, values, times)
-    if getattr(det, "merges_at_onset", False):  # a merged group keeps its first frame
+    if getattr(det, "merges_connected", False):  # connected changes only, at the first frame
         keyframes = merge_keyframes(raw, run.merge_s, at_onset=True, connected=True)
     else:
         keyframes = merge_keyframes(raw, run.merge_s)

@@ -65,9 +65,6 @@ _NEAR_BIN = 64  # frames per bin of the near-frame index built from the co-motio
 class AdaptiveDetector:
     """Co-motion episodes with per-pair thresholds, OR the paper's rule at each pair's distance."""
 
-    #: a group of merged keyframes stands at its first frame (``merge_keyframes(at_onset=True)``)
-    merges_at_onset = True
-
     def __init__(self, params: AasParams, settings: AdaptiveSettings | None = None) -> None:
         self.settings = settings or AdaptiveSettings()
         self.params = params
@@ -89,6 +86,11 @@ class AdaptiveDetector:
         self._combined = np.zeros(0, dtype=bool)
         self._managed = np.zeros(0, dtype=bool)
         self._near_bins: np.ndarray | None = None  # (Q, bins) bool: some frame of the bin within reach
+
+    @property
+    def merges_connected(self) -> bool:
+        """Merge keyframes of connected changes only, at their first frame (``settings.merge``)."""
+        return self.settings.merge == "connected"
 
     def prepare(self, recording: Recording) -> Recording:
         """``recording`` with the gaps of its rigid objects' markers filled by their rigid fit
