@@ -146,7 +146,8 @@ def _kf(frame: int, *rels: tuple[str, str]) -> Keyframe:
 
 
 def test_connected_merge_keeps_independent_changes_and_joins_one_objects():
-    kfs = [_kf(0), _kf(10, ("a", "h")), _kf(11, ("a", "h"), ("a", "c")), _kf(12, ("a", "h"), ("a", "c"), ("b", "k"))]
+    ah, ac, bk = ("a", "h"), ("a", "c"), ("b", "k")
+    kfs = [_kf(0), _kf(10, ah), _kf(11, ah, ac), _kf(12, ah, ac, bk)]
     # the paper's: one chain, at its last frame
     assert [k.frame for k in merge_keyframes(kfs, 0.3)] == [0, 12]
     got = merge_keyframes(kfs, 0.3, at_onset=True, connected=True)
