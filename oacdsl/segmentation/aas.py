@@ -97,9 +97,6 @@ def segment(
             location=recording.source,
         )
     det = detector if detector is not None else make_detector(params)
-    prepare = getattr(det, "prepare", None)  # optional: the detector mends the recording first
-    if prepare is not None:
-        recording = prepare(recording)
     effective = getattr(det, "effective_params", None)  # optional: the detector rescales them
     run = effective(recording, given) if effective is not None else params
     table = PairTable.of(recording)
@@ -132,8 +129,8 @@ def _changes(
     progress: Progress | None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Causal frames, instance pairs and new states of every instance-pair change."""
-    geometry = ChunkGeometry(recording, table)
     det.begin(recording, table)
+    geometry = ChunkGeometry(recording, table, getattr(det, "filler", None))  # optional: rigid gaps filled
     tracker = InstanceTouch(table)
     n_frames, n_q = recording.n_frames, table.n_instance_pairs
     all_blocks = np.arange(n_q, dtype=np.intp)

@@ -51,7 +51,7 @@ from oacdsl.segmentation.detectors import DistanceChunk, PairChanges
 from oacdsl.segmentation.geometry import BOUND_MARGIN_M
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
-from oacdsl.segmentation.poses import fill_rigid_gaps
+from oacdsl.segmentation.poses import RigidFill, fill_rigid_gaps
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.robust import RobustDetector
 from oacdsl.segmentation.scales import DemoScale, measure, scale_params, scale_settings
@@ -69,6 +69,7 @@ class AdaptiveDetector:
         self.settings = settings or AdaptiveSettings()
         self.params = params
         self.scale: DemoScale | None = None  # the recording's scales, once effective_params() ran
+        self.filler: RigidFill | None = None  # rigid gaps, filled chunk by chunk (from begin() on)
         self._run = self.settings  # the settings in force: rescaled by effective_params()
         template = RobustDetector(params)  # frames of history and delay: set again in begin()
         self.history_frames = template.history_frames
@@ -92,14 +93,15 @@ class AdaptiveDetector:
         """Merge keyframes of connected changes only, at their first frame (``settings.merge``)."""
         return self.settings.merge == "connected"
 
-    def prepare(self, recording: Recording) -> Recording:
-        """``recording`` with the gaps of its rigid objects' markers filled by their rigid fit
-        (:func:`~oacdsl.segmentation.poses.fill_rigid_gaps`; agents are not rigid), unless
-        ``settings.fill_gaps`` is off."""
-        if not self.settings.fill_gaps:
-            return recording
+    def _rigid(self, recording: Recording) -> list[str]:
+        """The instances whose gaps are filled: every one but the agents (a hand is not rigid)."""
         agents = set(agents_of(recording.instances, self.settings.agent_pattern))
-        return fill_rigid_gaps(recording, [g for i, g in enumerate(recording.instances) if i not in agents])
+        return [g for i, g in enumerate(recording.instances) if i not in agents]
+
+    def prepare(self, recording: Recording) -> Recording:
+        """``recording`` with its rigid objects' marker gaps filled as :meth:`begin` fills them chunk
+        by chunk (a copy; for references and tests), unless ``settings.fill_gaps`` is off."""
+        return fill_rigid_gaps(recording, self._rigid(recording)) if self.settings.fill_gaps else recording
 
     def effective_params(self, recording: Recording, params: AasParams) -> AasParams:
         """``params`` (unresolved: ``frames`` may be automatic) resolved for ``recording``, every
@@ -123,7 +125,8 @@ class AdaptiveDetector:
         self._pair_state = np.zeros(table.n_pairs, dtype=bool)
         self._flags = np.zeros((n_q, 4), dtype=bool)
         self._combined = np.zeros(n_q, dtype=bool)
-        found = comotion(recording, table, self.params, self._run)
+        self.filler = RigidFill(recording, self._rigid(recording)) if self.settings.fill_gaps else None
+        found = comotion(recording, table, self.params, self._run, self.filler)
         learned = found.learned
         # the paper's rule per pair: at the pair's learned distance, else at the static distance
         by_distance: dict[float, np.ndarray] = {}

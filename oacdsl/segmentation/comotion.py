@@ -17,6 +17,7 @@ from oacdsl.errors import SegmentationError
 from oacdsl.segmentation.geometry import BOUND_MARGIN_M, ChunkGeometry
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
+from oacdsl.segmentation.poses import RigidFill
 from oacdsl.segmentation.recording import Recording
 
 __all__ = ["AdaptiveSettings", "CoMotion", "comotion"]
@@ -119,10 +120,12 @@ class CoMotion(NamedTuple):
 
 
 def comotion(
-    recording: Recording, table: PairTable, params: AasParams, settings: AdaptiveSettings
+    recording: Recording, table: PairTable, params: AasParams, settings: AdaptiveSettings,
+    filler: RigidFill | None = None,
 ) -> CoMotion:
-    """Co-motion episodes, grown into touching intervals, and each pair's learned distance."""
-    signals = _scan(recording, table, params, settings)
+    """Co-motion episodes, grown into touching intervals, and each pair's learned distance
+    (``filler``: rigid gaps filled chunk by chunk, :class:`~oacdsl.segmentation.poses.RigidFill`)."""
+    signals = _scan(recording, table, params, settings, filler)
     _prune_indirect(signals, table)
     min_len = settings.frames(settings.min_episode_s, recording.rate_hz)
     bridge = round(settings.tool_bridge_s * recording.rate_hz)  # frames: a short excursion is no release
@@ -141,13 +144,14 @@ def comotion(
 
 
 def _scan(
-    recording: Recording, table: PairTable, params: AasParams, settings: AdaptiveSettings
+    recording: Recording, table: PairTable, params: AasParams, settings: AdaptiveSettings,
+    filler: RigidFill | None = None,
 ) -> dict[int, tuple[np.ndarray, np.ndarray]]:
     """Per instance pair that comes within reach: closest distance (F,) and co-motion frames (F,)."""
     n_frames, n_q = recording.n_frames, table.n_instance_pairs
     if n_q == 0 or n_frames < 2:
         return {}
-    geometry = ChunkGeometry(recording, table)
+    geometry = ChunkGeometry(recording, table, filler)
     lag = settings.frames(settings.lag_s, recording.rate_hz)
     reach = params.distance_m * (1 + settings.margin)
     times = np.asarray(recording.times_s, dtype=np.float64)
@@ -183,7 +187,7 @@ def _scan_chunk(
     prev[prev == rows] = min(lag, n_frames - 1)
     dt = np.abs(times[rows] - times[prev])
     local_prev = prev - lo
-    speeds = _instance_speeds(recording, groups, rows, prev, dt)
+    speeds = _instance_speeds(recording, groups, rows, prev, dt, geometry.filler)
     out = slice(start - lo, stop - lo)
     sq_buf, tmp = geometry.scratch(x.shape[2]), geometry.scratch(x.shape[2])
     for q in blocks.tolist():
@@ -232,15 +236,22 @@ def _prune_indirect(signals: dict[int, tuple[np.ndarray, np.ndarray]], table: Pa
 
 
 def _instance_speeds(
-    recording: Recording, groups: list[np.ndarray], rows: np.ndarray, prev: np.ndarray, dt: np.ndarray
+    recording: Recording, groups: list[np.ndarray], rows: np.ndarray, prev: np.ndarray, dt: np.ndarray,
+    filler: RigidFill | None = None,
 ) -> list[np.ndarray]:
     """Per instance (table order), the median marker speed at ``rows`` (m/s; NaN in gaps)."""
     lag = int(rows[0] - prev[0])
+    if filler is None:
+        positions = recording.positions_m
+        first = 0
+    else:  # the frames from the earliest ``prev`` on, gaps filled
+        first = int(min(prev.min(), rows[0]))
+        positions = filler.rows(first, int(max(prev.max(), rows[-1])) + 1)
     if rows[0] >= lag > 0 and np.array_equal(prev, rows - lag):  # a plain slice, no gather
-        before = recording.positions_m[rows[0] - lag : rows[-1] + 1 - lag]
+        before = positions[rows[0] - lag - first : rows[-1] + 1 - lag - first]
     else:
-        before = recording.positions_m[prev]
-    diff = recording.positions_m[rows[0]:rows[-1] + 1] - before  # (R, M, 3)
+        before = positions[prev - first]
+    diff = positions[rows[0] - first:rows[-1] + 1 - first] - before  # (R, M, 3)
     step = np.sqrt(diff[..., 0] * diff[..., 0] + diff[..., 1] * diff[..., 1]
                    + diff[..., 2] * diff[..., 2])  # (R, M) metres, as np.linalg.norm(diff, axis=-1)
     by_marker = np.ascontiguousarray(step.T)  # (M, R): one marker's steps contiguous

@@ -20,6 +20,7 @@ from itertools import pairwise
 import numpy as np
 
 from oacdsl.segmentation.pairs import PairTable
+from oacdsl.segmentation.poses import RigidFill
 from oacdsl.segmentation.recording import Recording
 
 __all__ = ["BOUND_BLOCK_FRAMES", "BOUND_MARGIN_M", "ChunkGeometry", "closest_distances"]
@@ -34,9 +35,10 @@ _COORD_SLAB = 1024  # frames converted at a time by ChunkGeometry.coordinates
 class ChunkGeometry:
     """Computes distances for frame ranges of one recording."""
 
-    def __init__(self, recording: Recording, table: PairTable) -> None:
+    def __init__(self, recording: Recording, table: PairTable, filler: RigidFill | None = None) -> None:
         self.recording = recording
         self.table = table
+        self.filler = None if filler is None or filler.empty else filler  # rigid gaps, filled per chunk
         self.centre = _centre(recording.positions_m)
         sizes = np.diff(table.marker_offsets)
         self._kmax = int(sizes.max()) if sizes.size else 0
@@ -47,7 +49,7 @@ class ChunkGeometry:
     def coordinates(self, lo: int, hi: int) -> np.ndarray:
         """(3, M', hi - lo) float32 centred coordinates of frames ``lo:hi``, metres (NaN = gap)."""
         out = np.empty((3, self.table.marker_order.size, hi - lo), dtype=np.float32)
-        rows = self.recording.positions_m[lo:hi]
+        rows = self.recording.positions_m[lo:hi] if self.filler is None else self.filler.rows(lo, hi)
         if not self._in_order:
             rows = rows[:, self.table.marker_order]
         # centre in float64, then round once to float32, (F, M, 3) → (3, M, F) in one pass, in slabs

@@ -29,6 +29,7 @@ from oacdsl.segmentation.recording import Recording
 __all__ = [
     "MIN_MARKERS",
     "ObjectPoses",
+    "RigidFill",
     "agreement",
     "fill_rigid_gaps",
     "fit_constellation",
@@ -220,40 +221,69 @@ def agreement(poses: ObjectPoses, T_world_model: np.ndarray) -> tuple[np.ndarray
     return position, angle
 
 
+
+class RigidFill:
+    """Fills, frame range by frame range, the gaps of rigid instances' markers from their fit.
+
+    For each of ``instances`` with more than :data:`MIN_MARKERS` markers: a missing marker at a
+    frame where at least :data:`MIN_MARKERS` of them are seen is put where the rigid fit
+    (:func:`fit_constellation`) of the constellation of its first frame with every marker seen
+    places it. Memory O(gap frames); :meth:`rows` copies only a range that has something to fill.
+    """
+
+    def __init__(self, recording: Recording, instances: Iterable[str]) -> None:
+        self.recording = recording
+        # per instance: marker indices, constellation (k, 3), frames to fill (sorted)
+        self._items: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+        for name in instances:
+            idx = np.asarray(recording.groups.get(name, ()), dtype=np.intp)
+            if idx.size <= MIN_MARKERS:
+                continue
+            seen = np.isfinite(recording.positions_m[:, idx, :]).all(axis=2)
+            count = seen.sum(axis=1)
+            frames = np.flatnonzero((count >= MIN_MARKERS) & (count < idx.size))
+            full = np.flatnonzero(count == idx.size)
+            if frames.size == 0 or full.size == 0:
+                continue
+            ref = recording.positions_m[full[0], idx, :]
+            self._items.append((idx, ref - ref.mean(axis=0), frames))
+
+    @property
+    def empty(self) -> bool:
+        """Nothing to fill anywhere."""
+        return not self._items
+
+    def rows(self, lo: int, hi: int) -> np.ndarray:
+        """(hi - lo, M, 3) positions of frames ``lo:hi``, metres, gaps filled (a view when none is)."""
+        out = self.recording.positions_m[lo:hi]
+        copied = False
+        for idx, ref, frames in self._items:
+            a, b = np.searchsorted(frames, [lo, hi])
+            if a == b:
+                continue
+            if not copied:
+                out, copied = out.copy(), True
+            local = frames[a:b] - lo
+            pts = out[local][:, idx, :]  # (R, k, 3)
+            T, _ = fit_constellation(ref, pts)
+            placed = np.einsum("fij,kj->fki", T[:, :3, :3], ref) + T[:, None, :3, 3]
+            missing = ~np.isfinite(pts).all(axis=2)
+            pts[missing] = placed[missing]
+            block = out[local]
+            block[:, idx, :] = pts
+            out[local] = block
+        return out
+
+
 def fill_rigid_gaps(recording: Recording, instances: Iterable[str]) -> Recording:
-    """``recording`` with the missing markers of each of ``instances`` put where its rigid fit
-    (:func:`fit_instance`) places them, at the frames where at least :data:`MIN_MARKERS` of its
-    markers are seen; everything else unchanged (the same object when nothing is filled).
+    """``recording`` with the gaps of ``instances``' markers filled as :class:`RigidFill` does
+    (the same object when nothing is filled; else a copy: the segmenter fills chunk by chunk).
 
     A marker hidden for a moment does not move the object: without this the closest marker
     distance of its pairs jumps to the next marker's for the length of the gap.
     """
-    positions: np.ndarray | None = None
-    for name in instances:
-        idx = list(recording.groups.get(name, ()))
-        if len(idx) <= MIN_MARKERS:
-            continue
-        pts = recording.positions_m[:, idx, :]
-        seen = np.isfinite(pts).all(axis=2)
-        count = seen.sum(axis=1)
-        rows = np.flatnonzero((count >= MIN_MARKERS) & (count < len(idx)))
-        if rows.size == 0:
-            continue
-        full = np.flatnonzero(count == len(idx))
-        if full.size == 0:
-            continue
-        ref = pts[full[0]] - pts[full[0]].mean(axis=0)  # a constellation with every marker
-        T, _ = fit_constellation(ref, pts[rows])
-        placed = np.einsum("fij,kj->fki", T[:, :3, :3], ref) + T[:, None, :3, 3]  # (R, k, 3)
-        if positions is None:
-            positions = recording.positions_m.copy()
-        sub = positions[rows][:, idx, :]
-        missing = ~seen[rows]
-        sub[missing] = placed[missing]
-        block = positions[rows]
-        block[:, idx, :] = sub
-        positions[rows] = block
-    if positions is None:
+    filler = RigidFill(recording, instances)
+    if filler.empty:
         return recording
     return Recording(recording.source, recording.rate_hz, recording.times_s, recording.marker_names,
-                     positions, recording.groups, recording.first_frame)
+                     filler.rows(0, recording.n_frames), recording.groups, recording.first_frame)
