@@ -174,3 +174,42 @@ def test_the_options_agree_with_the_per_frame_reference():
 def test_bad_merge_option():
     with pytest.raises(SegmentationError, match="merge must be"):
         AdaptiveSettings(merge="last")
+
+
+# --- holding still ----------------------------------------------------------------------------
+
+BOTTLE = np.array([[0.04, 0.0, 0.0], [-0.04, 0.0, 0.05], [0.0, 0.04, 0.15], [0.0, -0.04, 0.2]])  # 21 cm
+
+
+def bottle_scene() -> dict[str, np.ndarray]:
+    """The left hand comes to the bottle (1 s) and holds it still, its nearest marker 9 cm from the
+    bottle's (beyond the 8 cm of the static rule), while the right hand turns the lid (1.5-4 s);
+    both hands leave (4.5-5 s)."""
+    n, base = 600, np.array([0.5, 0.0, 0.0])
+    bottle = cluster(still(n, tuple(base)), BOTTLE)
+    at = tuple(base + (-0.13, 0.0, 0.05))
+    left = path(n, [(0, (0.2, -0.3, 0.3)), (100, at), (450, at), (500, (0.2, -0.3, 0.3))])
+    top = base + (0.0, 0.0, 0.22)
+    ang = np.interp(np.arange(n), [150, 400], [0.0, 3 * np.pi])
+    lid_layout = np.array([[0.02, 0.0, 0.0], [-0.02, 0.0, 0.0], [0.0, 0.02, 0.01]])
+    rot = np.stack([np.cos(ang), -np.sin(ang), np.sin(ang), np.cos(ang)], axis=1).reshape(n, 2, 2)
+    lid = np.repeat(lid_layout[None], n, axis=0)
+    lid[:, :, :2] = np.einsum("fij,kj->fki", rot, lid_layout[:, :2])
+    lid += top
+    grip = np.array([0.0, 0.0, 0.06])
+    right_at = path(n, [(0, (0.8, 0.3, 0.4)), (140, tuple(top + grip)), (410, tuple(top + grip)),
+                        (480, (0.8, 0.3, 0.4))])
+    right = np.repeat(right_at[:, None, :], 5, axis=1) + HAND[None] * 0.5
+    right[:, :, :2] = right_at[:, None, :2] + np.einsum("fij,kj->fki", rot, HAND[:, :2] * 0.5)
+    back = HAND * (-1.0, 1.0, 1.0)  # the fingers point away from the bottle: markers on the back
+    return {"bottle": bottle, "lid": lid, "left_hand": cluster(left, back), "right_hand": right}
+
+
+def test_a_hand_holding_a_still_bottle_touches_it_when_asked():
+    rec = recording(bottle_scene())
+    without = {r for _, rs in run(rec) for r in rs}
+    assert ("bottle", "left_hand") not in without  # nothing moves with it: co-motion cannot see it
+    with_hold = run(rec, AdaptiveSettings(hold_still=True))
+    on = [f for f, rs in with_hold if ("bottle", "left_hand") in rs]
+    off = [f for f, rs in with_hold if on and f > on[0] and ("bottle", "left_hand") not in rs]
+    assert on and 100 <= on[0] <= 160 and off and 440 <= off[0] <= 470, with_hold

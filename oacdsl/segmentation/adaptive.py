@@ -49,6 +49,7 @@ from oacdsl.errors import SegmentationError
 from oacdsl.segmentation.comotion import AdaptiveSettings, comotion
 from oacdsl.segmentation.detectors import DistanceChunk, PairChanges
 from oacdsl.segmentation.geometry import BOUND_MARGIN_M
+from oacdsl.segmentation.holding import resting_holds
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.poses import RigidFill, fill_rigid_gaps
@@ -159,7 +160,20 @@ class AdaptiveDetector:
         )
         last = recording.n_frames - 1
         collected: dict[int, list[tuple[int, int, int]]] = {}
-        sources = [(1, {q: spans for q, (spans, _) in learned.items()}), (2, tools.added), (3, tools.removed)]
+        added = dict(tools.added)
+        if self._run.hold_still:  # a hand at rest on or around a still object (holding.py)
+            holds = resting_holds(recording, table, found.closest,
+                                  agents_of(table.instances, self.settings.agent_pattern), self.params.distance_m,
+                                  self._run.move_speed_m_s, self._run.lag_s, self._run.tool_dwell_s)
+            for q, spans in holds.items():
+                merged: list[tuple[int, int]] = []
+                for a, b in sorted([*added.get(q, []), *spans]):  # union: one flag per kind and pair
+                    if merged and a <= merged[-1][1]:
+                        merged[-1] = (merged[-1][0], max(merged[-1][1], b))
+                    else:
+                        merged.append((a, b))
+                added[q] = merged
+        sources = [(1, {q: spans for q, (spans, _) in learned.items()}), (2, added), (3, tools.removed)]
         for kind, per_pair in sources:
             for q, spans in per_pair.items():
                 events = []

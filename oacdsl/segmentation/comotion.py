@@ -68,6 +68,9 @@ class AdaptiveSettings:
             rescaled.
         fill_gaps: a rigid object's marker missing while three of its markers are seen is
             put where the object's rigid fit places it (:mod:`oacdsl.segmentation.poses`).
+        hold_still: a hand at rest on or around a still object touches it
+            (:mod:`oacdsl.segmentation.holding`; off by default, not yet measured where it
+            matters).
         merge: how keyframes are merged: ``"paper"`` (the paper's chains, at the last
             frame) or ``"connected"`` (only changes sharing an instance, at the first frame:
             :func:`~oacdsl.segmentation.keyframes.merge_keyframes`).
@@ -89,6 +92,7 @@ class AdaptiveSettings:
     rescale: bool = False
     fill_gaps: bool = True
     merge: str = "paper"
+    hold_still: bool = False
 
     def __post_init__(self) -> None:
         for name in ("static_distance_m", "move_speed_m_s", "rigid_ratio", "lag_s", "tool_dwell_s"):

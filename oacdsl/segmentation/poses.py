@@ -233,20 +233,25 @@ class RigidFill:
 
     def __init__(self, recording: Recording, instances: Iterable[str]) -> None:
         self.recording = recording
-        # per instance: marker indices, constellation (k, 3), frames to fill (sorted)
+        # per instance: marker indices, frames to fill (sorted), (R, k, 3) positions there (NaN: seen)
         self._items: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
         for name in instances:
             idx = np.asarray(recording.groups.get(name, ()), dtype=np.intp)
             if idx.size <= MIN_MARKERS:
                 continue
-            seen = np.isfinite(recording.positions_m[:, idx, :]).all(axis=2)
+            seen = ~np.isnan(recording.positions_m[:, idx, 0])  # a gap is NaN in every coordinate
             count = seen.sum(axis=1)
             frames = np.flatnonzero((count >= MIN_MARKERS) & (count < idx.size))
             full = np.flatnonzero(count == idx.size)
             if frames.size == 0 or full.size == 0:
                 continue
             ref = recording.positions_m[full[0], idx, :]
-            self._items.append((idx, ref - ref.mean(axis=0), frames))
+            ref = ref - ref.mean(axis=0)
+            pts = recording.positions_m[frames[:, None], idx]  # (R, k, 3)
+            T, _ = fit_constellation(ref, pts)
+            placed = np.einsum("fij,kj->fki", T[:, :3, :3], ref) + T[:, None, :3, 3]
+            placed[seen[frames]] = np.nan
+            self._items.append((idx, frames, placed))
 
     @property
     def empty(self) -> bool:
@@ -257,23 +262,16 @@ class RigidFill:
         """(hi - lo, M, 3) positions of frames ``lo:hi``, metres, gaps filled (a view when none is)."""
         out = self.recording.positions_m[lo:hi]
         copied = False
-        for idx, ref, frames in self._items:
+        for idx, frames, placed in self._items:
             a, b = np.searchsorted(frames, [lo, hi])
             if a == b:
                 continue
             if not copied:
                 out, copied = out.copy(), True
-            local = frames[a:b] - lo
-            pts = out[local][:, idx, :]  # (R, k, 3)
-            T, _ = fit_constellation(ref, pts)
-            placed = np.einsum("fij,kj->fki", T[:, :3, :3], ref) + T[:, None, :3, 3]
-            missing = ~np.isfinite(pts).all(axis=2)
-            pts[missing] = placed[missing]
-            block = out[local]
-            block[:, idx, :] = pts
-            out[local] = block
+            cells = (frames[a:b, None] - lo, idx)
+            values = placed[a:b]
+            out[cells] = np.where(np.isnan(values), out[cells], values)
         return out
-
 
 def fill_rigid_gaps(recording: Recording, instances: Iterable[str]) -> Recording:
     """``recording`` with the gaps of ``instances``' markers filled as :class:`RigidFill` does
