@@ -162,17 +162,17 @@ class AdaptiveDetector:
         collected: dict[int, list[tuple[int, int, int]]] = {}
         added = dict(tools.added)
         if self._run.hold_still:  # a hand at rest on or around a still object (holding.py)
-            holds = resting_holds(recording, table, found.closest,
-                                  agents_of(table.instances, self.settings.agent_pattern), self.params.distance_m,
+            agents = agents_of(table.instances, self.settings.agent_pattern)
+            holds = resting_holds(recording, table, found.closest, agents, self.params.distance_m,
                                   self._run.move_speed_m_s, self._run.lag_s, self._run.tool_dwell_s)
             for q, spans in holds.items():
-                merged: list[tuple[int, int]] = []
-                for a, b in sorted([*added.get(q, []), *spans]):  # union: one flag per kind and pair
-                    if merged and a <= merged[-1][1]:
-                        merged[-1] = (merged[-1][0], max(merged[-1][1], b))
+                union: list[tuple[int, int]] = []
+                for a, b in sorted([*added.get(q, []), *spans]):  # one flag per kind and pair
+                    if union and a <= union[-1][1]:
+                        union[-1] = (union[-1][0], max(union[-1][1], b))
                     else:
-                        merged.append((a, b))
-                added[q] = merged
+                        union.append((a, b))
+                added[q] = union
         sources = [(1, {q: spans for q, (spans, _) in learned.items()}), (2, added), (3, tools.removed)]
         for kind, per_pair in sources:
             for q, spans in per_pair.items():
