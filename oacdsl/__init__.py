@@ -20,6 +20,7 @@ _API = (
     "load_demonstration",
     "load_library",
     "match",
+    "mine",
     "read_recording",
     "run",
     "segment",
@@ -41,5 +42,5 @@ def __getattr__(name: str) -> Any:
     if name in _API:
         from importlib import import_module
 
-        return getattr(import_module("oacdsl.api"), name)
+        return getattr(import_module("oacdsl.mining" if name == "mine" else "oacdsl.api"), name)
     raise AttributeError(f"module 'oacdsl' has no attribute {name!r}")

@@ -65,3 +65,9 @@ def test_compose_writes_only_when_asked(tmp_path):
     written = oacdsl.compose(demo, "dough_api", write_to=target)
     assert written.path == target and target.read_text(encoding="utf-8") == written.text
     assert oacdsl.load_library(ROOT / "library", target).oacs["dough_api"].composed
+
+
+def test_mine_is_a_function_at_the_top_level():
+    from oacdsl.mining.engine import mine
+
+    assert oacdsl.mine is mine

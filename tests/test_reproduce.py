@@ -129,8 +129,11 @@ def test_reproduce_first_pour(short_demo: Path, library: Path, tmp_path: Path, g
     if r.get("frame"):  # a rendering backend was available: each step after it, and as predicted
         assert all((out / s["frame"]).is_file() and (out / s["moment"]).is_file() for s in r["steps"])
     names = sorted(p.name for p in out.iterdir())
-    assert names == ["current", "figures", "first_pour.oac", "report.html", "result.json", "runs"]
-    assert all((out / n).is_symlink() for n in names if n != "runs")  # one run, published at once
+    assert names == [
+        ".oacdsl-report", "current", "figures", "first_pour.oac", "report.html", "result.json", "runs"
+    ]
+    assert all((out / n).is_symlink() for n in names[1:] if n != "runs")  # one run, published at once
+    assert (out / "current").resolve().stat().st_mode & 0o777 == 0o777 & ~_umask()  # not mkdtemp's 0700
 
 
 def test_rerunning_compose_does_not_duplicate_the_learned_oac(short_demo: Path, library: Path) -> None:
@@ -336,7 +339,7 @@ def test_a_closed_loop_that_differs_fails_the_run(short_demo: Path, library: Pat
         assert conn.execute("SELECT success, edit_distance FROM runs").fetchall() == [(1, 1)]
     assert "Not reproduced" in (out / "report.html").read_text()
     assert sorted(p.name for p in out.iterdir()) == [
-        "current", "figures", "first_pour.oac", "report.html", "result.json", "runs"
+        ".oacdsl-report", "current", "figures", "first_pour.oac", "report.html", "result.json", "runs"
     ]
     assert sorted(p.name for p in (library / "learned").iterdir()) == ["first_pour.oac"]
     first = (out / "current").resolve()
@@ -365,3 +368,9 @@ def test_reproduce_takes_the_scene_overrides_and_the_demonstrated_layout(
     assert (places["red_cup"]["x_m"], places["red_cup"]["y_m"]) != (0.56, 0.28)  # not the scene's 'at'
     assert doc["run"]["layout"]["contents"]["liquid_one"] == {"in": "red_cup", "balls": 8}
     assert doc["run"]["metrics"]["balls_total"] == 8 + 10
+
+
+def _umask() -> int:
+    umask = os.umask(0)
+    os.umask(umask)
+    return umask

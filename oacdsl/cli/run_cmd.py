@@ -16,7 +16,8 @@ from typing import Any
 
 from oacdsl.cli import seed_arg
 from oacdsl.cli.backend import NONE_FOUND, prepare_backend
-from oacdsl.cli.scene_options import add_scene_options, scene_overrides
+from oacdsl.cli.run_many import add_many_options
+from oacdsl.cli.scene_options import add_scene_options, pairs, scene_overrides
 from oacdsl.errors import RuntimeFailure, UsageError
 from oacdsl.model import Scene
 
@@ -81,17 +82,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         help="leave self-collision avoidance out of the IK (faster)",
     )
     add_scene_options(p)
+    add_many_options(p)
     p.set_defaults(func=run)
-
-
-def _pairs(items: list[str], flag: str) -> dict[str, str]:
-    out: dict[str, str] = {}
-    for item in items:
-        key, sep, value = item.partition("=")
-        if not sep or not key.strip() or not value.strip():
-            raise UsageError(f"{flag} {item!r}: expected NAME=INSTANCE")
-        out[key.strip()] = value.strip()
-    return out
 
 
 def _demonstrated(
@@ -180,13 +172,28 @@ def _check_outputs(args: argparse.Namespace) -> None:
         elif video.is_dir():
             raise UsageError(f"--video {video}: is a folder; give a file name ending in .mp4")
         else:
+            from oacdsl.atomic import check_target
+
             _writable_folder(video.parent, "--video")
+            check_target(video)
 
 
 def run(args: argparse.Namespace) -> int:
-    bindings = _pairs(args.bind, "--bind")
+    bindings = pairs(args.bind, "--bind", "NAME=INSTANCE")
     overrides = scene_overrides(args)
     library, scene = load_inputs(args.library or ["library"], args.scene)
+    if args.name in library.oacs and (overrides.places or overrides.fill):  # else prepare() names the problem
+        from oacdsl.cli.scene_check import check_overrides
+        from oacdsl.runtime.binding import choose_scene
+
+        check_overrides(library, choose_scene(library, library.oacs[args.name], scene, bindings), overrides)
+    if args.seeds is not None:  # many runs on Dask: the success measure
+        from oacdsl.cli.run_many import run_many_cmd
+
+        paths = [*(args.library or ["library"]), *([args.scene] if scene != args.scene else [])]
+        return run_many_cmd(args, paths, scene, bindings, overrides)
+    if args.workers is not None or args.scheduler is not None or args.place_samples != 1:
+        raise UsageError("--workers, --scheduler and --place-samples go with --seeds A:B")
     db = None
     if not args.no_record:  # an unusable store fails now, before the simulation
         from oacdsl.stats import ensure_writable, resolve_db_path
