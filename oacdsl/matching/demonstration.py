@@ -24,7 +24,14 @@ from oacdsl.model import Instance, Oac, Scene
 from oacdsl.segmentation.result import Segmentation, SubAction
 from oacdsl.world import Relation
 
-__all__ = ["Demonstration", "SubActionMatch", "compose_demonstration", "find_scene", "match_segmentation"]
+__all__ = [
+    "Demonstration",
+    "SubActionMatch",
+    "compose_demonstration",
+    "find_scene",
+    "match_segmentation",
+    "reaching",
+]
 
 
 def _pairs(relations: Iterable[Relation]) -> list[list[str]]:
@@ -95,6 +102,27 @@ def find_scene(library: Library, instances: Sequence[str], name: str | None = No
         f"no scene of the library has exactly the recording's instances ({', '.join(sorted(wanted))});"
         f" scenes: {known}; give one with --scene NAME or --scene FILE (oacc draft RECORDING drafts one)"
     )
+
+
+def reaching(library: Library, name: str) -> frozenset[str]:
+    """``name`` and every OAC of ``library`` that calls it, directly or through other OACs.
+
+    Composing an OAC called ``name`` leaves these out of matching: an earlier composition of
+    the same name (``learned/NAME.oac``), or a learned OAC that calls it, matched as a step
+    would make the new OAC call itself (E019).
+    """
+    callers: dict[str, set[str]] = {}
+    for oac in library.oacs.values():
+        for call in oac.steps or ():
+            callers.setdefault(call.oac, set()).add(oac.name)
+    found = {name}
+    todo = [name]
+    while todo:
+        for caller in callers.get(todo.pop(), ()):
+            if caller not in found:
+                found.add(caller)
+                todo.append(caller)
+    return frozenset(found)
 
 
 def match_segmentation(

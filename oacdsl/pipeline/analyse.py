@@ -61,7 +61,8 @@ def _match_note(rank: int, m: Any) -> str:
     what = f"explains {m.explained} of {m.changes} changed relations"
     if rank == 0:
         return f"chosen: {what}"
-    return f"rank {rank + 1}: {what}, class specificity {m.specificity}, {m.idle} idle effect(s)"
+    return (f"rank {rank + 1}: {what}, class specificity {m.specificity}, {m.idle} idle effect(s),"
+            f" {m.conditions} conditions")
 
 
 def _primitive_steps(oac: Any, by_name: dict[str, Any]) -> int:
@@ -108,12 +109,15 @@ def match_doc(matches: Sequence[SubActionMatch], matcher: Any = None) -> dict[st
     return {"sub_actions": subs}
 
 
-def match_stage(segmentation: Segmentation, library: Library, scene: Scene) -> MatchStage:
-    """Match every sub-action with the strict rule (the effects account for every change)."""
+def match_stage(
+    segmentation: Segmentation, library: Library, scene: Scene, name: str | None = None
+) -> MatchStage:
+    """Match every sub-action with the strict rule (the effects account for every change);
+    ``name``: the OAC about to be composed, which (like every OAC calling it) is no step of it."""
     from oacdsl.matching import Matcher
-    from oacdsl.matching.demonstration import match_segmentation
+    from oacdsl.matching.demonstration import match_segmentation, reaching
 
-    matcher = Matcher.from_library(library, scene)
+    matcher = Matcher.from_library(library, scene, exclude=reaching(library, name) if name else ())
     matches = match_segmentation(segmentation, matcher)
     return MatchStage(matches, match_doc(matches, matcher))
 

@@ -128,6 +128,8 @@ def reproduce(
         if warn is not None:
             warn(text)
 
+    for text in inputs.warnings:  # learned files left out of the library (they no longer compile)
+        note_warning(text)
     from oacdsl.atomic import remove_stale_temporaries
     from oacdsl.matching.emit import LEARNED
     from oacdsl.pipeline.publish import clean_stale, make_staging, publish
@@ -149,7 +151,7 @@ def reproduce(
             demonstration={
                 "recording": inputs.source,
                 "scene": inputs.scene.name,
-                "library": [str(inputs.library_path)],
+                "library": [str(p) for p in inputs.library_paths or (inputs.library_path,)],
                 "seed": seed,
                 "command": command,
                 **({"scene_overrides": overrides.to_json()} if overrides and overrides.to_json() else {}),
@@ -291,7 +293,7 @@ def _stages(
         seg = attempt("segment", segment)
         result.put("segment", analyse.segment_doc(seg, inputs.source))
         matched = attempt(
-            "match", lambda: analyse.match_stage(seg.segmentation, inputs.library, inputs.scene)
+            "match", lambda: analyse.match_stage(seg.segmentation, inputs.library, inputs.scene, name)
         )
         result.put("match", matched.doc)
         composed = attempt("compose", compose)
