@@ -148,7 +148,7 @@ def run(args: argparse.Namespace) -> int:
     print(f"  pre     {_atoms(comp.pre)}")
     print(f"  effect  {', '.join(f'{a} <-> {b}' for a, b in comp.added) or '(none)'}")
     print(f"  ended   {', '.join(f'{a} <-> {b}' for a, b in comp.ended) or '(none)'}")
-    print(f"  steps   {' '.join(s.oac.name for s in comp.steps)}")
+    print(f"  steps   {' '.join(('& ' if s.together else '') + s.oac.name for s in comp.steps)}")
     return 0
 
 

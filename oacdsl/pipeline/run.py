@@ -283,7 +283,7 @@ def _stages(
 
         try:
             return motion_doc(seg.recording, [m.sub_action for m in matched.matches], checked.recording,
-                              checked.sub_actions, checked.doc, composed.doc.get("steps", []),
+                              checked.sub_actions, checked.doc, analyse.steps_by_sub_action(composed),
                               figs / "motion.png")
         except (OacError, ValueError, FloatingPointError, np.linalg.LinAlgError) as error:
             warn(f"the demonstrated and executed motion could not be compared: {error}")
