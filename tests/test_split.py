@@ -62,6 +62,20 @@ def test_the_fewest_groups_then_the_most_parts(matcher):
                             " place(h=left_hand, o=red_cup) }")
 
 
+def test_parts_on_one_object_run_one_after_the_other_in_the_order_they_happened(matcher):
+    """The left hand lets go of the red cup while the right pours into it: independent, but both
+    about the red cup, so not together; the recording's times order them."""
+    before = state(("left_hand", "red_cup"), ("right_hand", "green_cup"), ("green_cup", "liquid_two"))
+    after = state(("right_hand", "green_cup"), ("liquid_two", "red_cup"))
+    place, pour = ("place(h=left_hand, o=red_cup)",
+                   "pour(h=right_hand, c=green_cup, l=liquid_two, b=red_cup)")
+    let_go = {("left_hand", "red_cup"): 1.0, ("liquid_two", "red_cup"): 1.2, ("green_cup", "liquid_two"): 1.2}
+    split = split_change(matcher.match, before, after, times_s=let_go)
+    assert split is not None and split.text() == f"{place}, then {pour}"
+    poured = {r: 2.4 - t for r, t in let_go.items()}
+    assert split_change(matcher.match, before, after, times_s=poured).text() == f"{pour}, then {place}"
+
+
 def test_a_combination_oac_matches_the_whole_and_nothing_is_split():
     lib = kitchen_library()
     both = GRASP.model_copy(update={

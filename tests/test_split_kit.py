@@ -24,7 +24,8 @@ def composed(clip: str, merge_s: float) -> tuple[list[list[str]], int]:
     """The composed steps, a together block as one sorted list, and how many sub-actions were split."""
     xml = next(mocap_file("kit_bimanual").glob(f"{clip}_*.mmm.xml"))
     inputs = load_inputs(xml, [KIT], None, dataclasses.replace(AasParams(), merge_s=merge_s))
-    matches = match_segmentation(inputs.segmented(), Matcher.from_library(inputs.library, inputs.scene))
+    matches = match_segmentation(inputs.segmented(), Matcher.from_library(inputs.library, inputs.scene),
+                                 unmerged=inputs.unmerged())
     assert all(m.matched for m in matches), [m.explanation for m in matches if not m.matched]
     comp = compose_demonstration(f"kit_{clip.lower()}", matches, inputs.library, inputs.scene).composition
     groups: list[list[str]] = []

@@ -9,7 +9,7 @@ recording's marker groups.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -150,13 +150,17 @@ def reaching(library: Library, name: str) -> frozenset[str]:
 
 
 def match_segmentation(
-    segmentation: Segmentation, matcher: Matcher, mode: Mode | None = None, transient_s: float = TRANSIENT_S
+    segmentation: Segmentation, matcher: Matcher, mode: Mode | None = None, transient_s: float = TRANSIENT_S,
+    unmerged: Callable[[], Segmentation] | None = None,
 ) -> list[SubActionMatch]:
     """Match every sub-action of ``segmentation``, in time order.
 
     Keyframes of transient states (an object in flight for less than ``transient_s``
     seconds, :mod:`oacdsl.matching.transient`) delimit no sub-action; the agents are the
-    matcher's instances of class ``Hand``.
+    matcher's instances of class ``Hand``. A sub-action that matches no OAC is split into
+    parts when it can be (:mod:`oacdsl.matching.split`); ``unmerged`` gives the recording's
+    segmentation without the merge window (called only then), whose keyframes say when each
+    changed relation changed.
     """
     agents = agents_of(matcher.instance_classes)
     stable, dropped = stable_segmentation(segmentation, agents.__contains__, transient_s)
@@ -170,13 +174,19 @@ def match_segmentation(
             return result
         return dataclasses.replace(result, matches=tuple(untracked.original(m) for m in result.matches))
 
-    def split(b: WorldState, a: WorldState) -> Split | None:  # only the strict rule accounts for changes
-        if rule != "strict":
+    raw: list[Segmentation] = []
+
+    def split(b: WorldState, a: WorldState, sub: SubAction) -> Split | None:
+        if rule != "strict":  # only the strict rule accounts for every change
             return None
-        return split_change(match, b, a, untracked.names if untracked is not None else frozenset())
+        if unmerged is not None and not raw:
+            raw.append(unmerged())
+        times = _change_times(raw[0], sub, b, a) if raw else None
+        return split_change(match, b, a, untracked.names if untracked is not None else frozenset(), times)
 
     if untracked is not None:  # relations of untracked instances: predicted along the way
-        done = untracked.match_sequence([(sa.before, sa.after) for sa in subs], match, split)
+        done = untracked.match_sequence([(sa.before, sa.after) for sa in subs], match,
+                                        lambda k, b, a: split(b, a, subs[k]))
         subs = [dataclasses.replace(sa, start=dataclasses.replace(sa.start, state=r.before),
                                     end=dataclasses.replace(sa.end, state=r.after))
                 for sa, (r, _) in zip(subs, done, strict=True)]
@@ -184,12 +194,29 @@ def match_segmentation(
         done = []
         for sa in subs:
             r = match(sa.before, sa.after)
-            done.append((r, split(sa.before, sa.after) if r.chosen is None else None))
+            done.append((r, split(sa.before, sa.after, sa) if r.chosen is None else None))
     out = []
     for sa, (result, parts) in zip(subs, done, strict=True):
         inside = tuple(t for t in dropped if sa.start.frame < t.keyframe.frame < sa.end.frame)
         out.append(SubActionMatch(sa, result, inside, parts))
     return out
+
+
+def _change_times(
+    raw: Segmentation, sub: SubAction, before: WorldState, after: WorldState
+) -> dict[Relation, float]:
+    """When each relation that changed in ``sub`` last changed, by the keyframes of ``raw``
+    (the recording segmented without merging) inside the sub-action."""
+    times: dict[Relation, float] = {}
+    previous: WorldState | None = None
+    for kf in raw.keyframes:
+        if kf.frame > sub.end.frame:
+            break
+        if previous is not None and kf.frame > sub.start.frame:
+            for r in (after.relations ^ before.relations) & (kf.state.relations ^ previous.relations):
+                times[r] = kf.time_s
+        previous = kf.state
+    return times
 
 
 @dataclass(frozen=True)

@@ -21,7 +21,7 @@ combination (``grasp_both``) is matched as before.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -99,7 +99,7 @@ class Split:
 
 
 Change = tuple[Relation, bool]  # the relation, True: it started
-Score = tuple[int, int, tuple[int, ...]]
+Score = tuple[int, int, int, int, tuple[int, ...]]
 
 
 def _apply(state: WorldState, changes: list[Change], mask: int) -> WorldState:
@@ -109,12 +109,15 @@ def _apply(state: WorldState, changes: list[Change], mask: int) -> WorldState:
 
 
 def split_change(
-    match: MatchFn, before: WorldState, after: WorldState, untracked: frozenset[str] = frozenset()
+    match: MatchFn, before: WorldState, after: WorldState, untracked: frozenset[str] = frozenset(),
+    times_s: Mapping[Relation, float] | None = None,
 ) -> Split | None:
     """The split of the sub-action ``before → after`` into matched parts (see the module
     docstring), or None when there is none. ``untracked``: instances whose relations are
     predicted (:mod:`oacdsl.matching.untracked`); each part's state after carries what its
-    effects predict for them."""
+    effects predict for them. ``times_s``: when each changed relation changed (seconds; from
+    the recording without merging), to order parts that the conditions leave unordered."""
+    times = times_s or {}
     changes: list[Change] = sorted([(r, True) for r in after.relations - before.relations]
                                    + [(r, False) for r in before.relations - after.relations])
     n = len(changes)
@@ -122,8 +125,10 @@ def split_change(
         return None
     full = (1 << n) - 1
     # plan[remaining] = (score, the first group's blocks with their matches); the score: fewest
-    # groups, then most parts, then the most parts in the earliest groups (each as early as it can)
-    plan: dict[int, tuple[Score, list[tuple[int, Match]]] | None] = {0: ((0, 0, ()), [])}
+    # groups, then most parts, then the most specific classes (sum over the parts), then the fewest
+    # relations made before ones that changed earlier (times_s), then the most parts in the
+    # earliest groups (each as early as it can)
+    plan: dict[int, tuple[Score, list[tuple[int, Match]]] | None] = {0: ((0, 0, 0, 0, ()), [])}
 
     def solve(remaining: int) -> tuple[Score, list[tuple[int, Match]]] | None:
         if remaining in plan:
@@ -141,8 +146,12 @@ def split_change(
             rest = solve(remaining & ~group)
             if rest is None:
                 continue
-            groups, parts, sizes = rest[0]
-            score = (groups + 1, parts - len(blocks), (-len(blocks), *sizes))
+            groups, parts, specific, late, sizes = rest[0]
+            done = [changes[k][0] for k in range(n) if group >> k & 1]
+            later = [changes[k][0] for k in range(n) if (remaining & ~group) >> k & 1]
+            late += sum(1 for a in done for b in later if a in times and b in times and times[a] > times[b])
+            score = (groups + 1, parts - len(blocks), specific - sum(m.specificity for _, m in blocks),
+                     late, (-len(blocks), *sizes))
             if found is None or score < found[0]:
                 found = (score, blocks)
         plan[remaining] = found
@@ -185,12 +194,20 @@ def _partitions(subs: list[int], matched: dict[int, Match]) -> dict[int, list[tu
                 rest = best.get(group & ~block)
                 if rest is None or (found is not None and len(rest) + 1 <= len(found)):
                     continue
-                if all(conflict(_conds(m), _conds(other)) is None for _, other in rest):
+                if all(_apart(m, other) for _, other in rest):
                     found = [(block, m), *rest]
         if found is not None:
             best[group] = found
     del best[0]
     return best
+
+
+def _apart(a: Match, b: Match) -> bool:
+    """True when ``a`` and ``b`` may run together: they bind different instances (two hands, each
+    with its own objects) and neither changes what the other needs (:mod:`oacdsl.together`)."""
+    if {i for _, i in a.binding} & {i for _, i in b.binding}:
+        return False
+    return conflict(_conds(a), _conds(b)) is None
 
 
 def _conds(m: Match) -> tuple[tuple[tuple[str, str, bool], ...], tuple[tuple[str, str, bool], ...]]:

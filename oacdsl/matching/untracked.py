@@ -120,20 +120,20 @@ class Untracked:
     def match_sequence(
         self, states: Sequence[tuple[WorldState, WorldState]],
         match: Callable[[WorldState, WorldState], MatchResult],
-        split: Callable[[WorldState, WorldState], Split | None] | None = None,
+        split: Callable[[int, WorldState, WorldState], Split | None] | None = None,
     ) -> list[tuple[MatchResult, Split | None]]:
         """Match consecutive sub-actions ``(before, after)`` of tracked states, carrying the
         predicted untracked relations along; each result's states include them (after: as
-        its chosen match predicts). ``split``: for a sub-action that matches nothing, its
-        parts (:mod:`oacdsl.matching.split`), whose effects then predict."""
+        its chosen match predicts). ``split(k, before, after)``: for the sub-action ``k`` that
+        matches nothing, its parts (:mod:`oacdsl.matching.split`), whose effects then predict."""
         out: list[tuple[MatchResult, Split | None]] = []
         predicted = self.initial
-        for before, after in states:
+        for k, (before, after) in enumerate(states):
             b = self.with_predicted(before, predicted)
             result = match(b, self.with_predicted(after, predicted))
             matches = tuple(self.original(m) for m in result.matches)
             chosen = matches[0] if matches else None
-            parts = split(b, self.with_predicted(after, predicted)) if chosen is None and split else None
+            parts = split(k, b, self.with_predicted(after, predicted)) if chosen is None and split else None
             if parts is not None:
                 parts = Split(tuple(dataclasses.replace(p, match=self.original(p.match))
                                     for p in parts.parts))

@@ -9,7 +9,7 @@ the fields the report shows (bound constraints, ranking notes, provenance, the t
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -126,15 +126,18 @@ def match_doc(matches: Sequence[SubActionMatch], matcher: Any = None) -> dict[st
 
 
 def match_stage(
-    segmentation: Segmentation, library: Library, scene: Scene, name: str | None = None
+    segmentation: Segmentation, library: Library, scene: Scene, name: str | None = None,
+    unmerged: Callable[[], Segmentation] | None = None,
 ) -> MatchStage:
     """Match every sub-action with the strict rule (the effects account for every change);
-    ``name``: the OAC about to be composed, which (like every OAC calling it) is no step of it."""
+    ``name``: the OAC about to be composed, which (like every OAC calling it) is no step of it;
+    ``unmerged``: the recording segmented without merging, for split keyframes
+    (:func:`~oacdsl.matching.demonstration.match_segmentation`)."""
     from oacdsl.matching import Matcher
     from oacdsl.matching.demonstration import match_segmentation, reaching
 
     matcher = Matcher.from_library(library, scene, exclude=reaching(library, name) if name else ())
-    matches = match_segmentation(segmentation, matcher)
+    matches = match_segmentation(segmentation, matcher, unmerged=unmerged)
     return MatchStage(matches, match_doc(matches, matcher))
 
 

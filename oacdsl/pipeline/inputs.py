@@ -23,6 +23,7 @@ one-line error (:mod:`oacdsl.errors`).
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import re
 from collections.abc import Callable, Sequence
@@ -132,6 +133,21 @@ class Inputs:
         if self.recording is None:
             raise UsageError(f"{self.source}: a segmentation (.json); this needs the motion capture")
         return self.recording
+
+    def unmerged(self) -> Callable[[], Segmentation] | None:
+        """The recording segmented without the merge window, on demand (None for a segmentation
+        given as .json): when each relation of a merged keyframe changed
+        (:func:`oacdsl.matching.demonstration.match_segmentation`)."""
+        if self.recording is None:
+            return None
+        recording, params = self.recording, dataclasses.replace(self.params, merge_s=0.0)
+
+        def run() -> Segmentation:
+            from oacdsl.segmentation import segment
+
+            return segment(recording, params)
+
+        return run
 
     def segmented(self) -> Segmentation:
         """The segmentation given, or the recording segmented with ``params``."""

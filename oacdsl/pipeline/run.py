@@ -293,7 +293,8 @@ def _stages(
         seg = attempt("segment", segment)
         result.put("segment", analyse.segment_doc(seg, inputs.source))
         matched = attempt(
-            "match", lambda: analyse.match_stage(seg.segmentation, inputs.library, inputs.scene, name)
+            "match", lambda: analyse.match_stage(seg.segmentation, inputs.library, inputs.scene, name,
+                                                 inputs.unmerged())
         )
         result.put("match", matched.doc)
         composed = attempt("compose", compose)
