@@ -420,7 +420,7 @@ class Oac(Node):
 
     @field_validator("steps")
     @classmethod
-    def _sort_together(cls, v: tuple[Call, ...] | None) -> tuple[Call, ...] | None:
+    def _together_flags(cls, v: tuple[Call, ...] | None) -> tuple[Call, ...] | None:
         return canonical_steps(v) if v is not None else None
 
     @field_validator("skill_params")
@@ -457,16 +457,13 @@ def step_groups(steps: Sequence[Call]) -> list[list[Call]]:
     return out
 
 
-def _call_key(call: Call) -> tuple[str, tuple[str, ...], tuple[tuple[str, float, str], ...]]:
-    return call.oac, call.args, tuple((s.name, s.value.value, s.value.unit) for s in call.skill_params)
-
-
 def canonical_steps(steps: Sequence[Call]) -> tuple[Call, ...]:
-    """``steps`` with every ``together`` block sorted (by OAC, arguments, parameters: the
-    order within a block means nothing), its first step ``together=False``, the rest True."""
+    """``steps`` with the ``together`` flags of every block normalised: the first step of a
+    block False, the others True. The order is kept: the runtime runs a block's steps one after
+    the other as written, and the composer writes them in the order they were demonstrated."""
     out: list[Call] = []
     for group in step_groups(steps):
-        for k, call in enumerate(sorted(group, key=_call_key)):
+        for k, call in enumerate(group):
             if call.together != (k > 0):
                 call = call.model_copy(update={"together": k > 0})
             out.append(call)

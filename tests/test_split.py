@@ -10,7 +10,6 @@ import pytest
 
 from oacdsl.compiler import compile_sources, load_library, parse_text, print_module
 from oacdsl.matching import Matcher
-from oacdsl.matching.composer import compose
 from oacdsl.matching.demonstration import compose_demonstration, match_segmentation
 from oacdsl.matching.split import split_change
 from oacdsl.model import Module, Oac
@@ -117,27 +116,32 @@ def test_the_left_hand_letting_go_while_the_right_grasps(dough, delay_s):
     right hand grasps the green cup (one keyframe). It composes to the dough's steps, those two
     in a together block, and the new OAC compiles and prints back to itself."""
     rec, lib, scene = dough
-    seg = segment(shifted(rec, ["left_hand", "red_cup", "liquid_one"], delay_s), AasParams())
-    matches = match_segmentation(seg, Matcher.from_library(lib, scene))
+    take = shifted(rec, ["left_hand", "red_cup", "liquid_one"], delay_s)
+    seg = segment(take, AasParams())
+    unmerged = dataclasses.replace(AasParams(), merge_s=0.0)
+    matches = match_segmentation(seg, Matcher.from_library(lib, scene),
+                                 unmerged=lambda: segment(take, unmerged))
     assert all(m.matched for m in matches)
     split = [m for m in matches if m.split is not None]
     assert len(split) == 1 and split[0].result.chosen is None
-    assert split[0].text() == ("split: together { grasp(h=right_hand, o=green_cup),"
-                               " place(h=left_hand, o=red_cup) }")
+    # the left hand let go at 8.24 s + the delay, the right hand grasped at 11.34 s: in that order
+    first, second = ("place", "grasp") if 8.24 + delay_s < 11.34 else ("grasp", "place")
+    calls = {"grasp": "grasp(h=right_hand, o=green_cup)", "place": "place(h=left_hand, o=red_cup)"}
+    assert split[0].text() == f"split: together {{ {calls[first]}, {calls[second]} }}"
     comp = compose_demonstration("dough_overlap", matches, lib, scene).composition
     names = [s.oac.name for s in comp.steps]
-    assert names == ["grasp", "pour", "grasp", "place", "pour", "place", "grasp", "mix"]
+    assert names == ["grasp", "pour", first, second, "pour", "place", "grasp", "mix"]
     assert [c.together for c in comp.oac.steps] == [False, False, False, True, False, False, False, False]
     assert [c.oac for c in comp.oac.steps] == names  # the OAC's steps and the composition's: one order
     text = print_module(Module(path="d.oac", decls=(comp.oac,)))
-    block = "        together {\n            grasp(hand2, cup2)\n            place(hand1, cup1)\n        }"
-    assert block in text
+    shown = {"grasp": "grasp(hand2, cup2)", "place": "place(hand1, cup1)"}
+    assert f"        together {{\n            {shown[first]}\n            {shown[second]}\n        }}" in text
     assert parse_text(text, "d.oac").decls[0] == comp.oac
     sources = {m.path: Path(m.path).read_text() for m in lib.modules}
     assert compile_sources({**sources, "d.oac": text}).ok
     # notes count steps (8) and keyframes (7) apart: the grasp starts at the split keyframe 2,
     # the pour after it is step 5 but starts at keyframe 3
-    assert "hand2 <-> nothing,  # step 3 grasp, keyframe 2" in text
+    assert f"hand2 <-> nothing,  # step {3 if first == 'grasp' else 4} grasp, keyframe 2" in text
     assert "cup2 <-> liquid2  # step 5 pour, keyframe 3" in text
 
 
@@ -150,7 +154,7 @@ def test_the_bundled_demonstration_is_not_split(dough):
 # ------------------------------------------------------------------ the language
 
 
-def test_together_blocks_are_sorted_and_round_trip():
+def test_together_blocks_keep_their_order_and_round_trip():
     text = ("class Hand\nclass Graspable\n"
             "oac grasp(h: Hand, o: Graspable) {\n  pre h <-> nothing\n  effect h <-> o\n"
             "  execute reach_and_grasp\n}\n"
@@ -160,34 +164,12 @@ def test_together_blocks_are_sorted_and_round_trip():
     module = parse_text(text, "t.oac")
     oac = module.decls[-1]
     assert isinstance(oac, Oac)
-    assert [(c.args, c.together) for c in oac.steps] == [(("a", "x"), False), (("b", "y"), True)]
+    assert [(c.args, c.together) for c in oac.steps] == [(("b", "y"), False), (("a", "x"), True)]
     printed = print_module(module)
-    assert "    steps {\n        together {\n            grasp(a, x)\n            grasp(b, y)\n        }\n" \
+    assert "    steps {\n        together {\n            grasp(b, y)\n            grasp(a, x)\n        }\n" \
         in printed
     assert parse_text(printed, "t.oac") == module
     assert print_module(parse_text(printed, "t.oac")) == printed
     assert compile_sources({"t.oac": text}).ok
-
-
-def test_composer_puts_a_block_in_canonical_order(matcher):
-    """Parts found as place-then-grasp are written in the block's canonical order (grasp first),
-    and the composition's steps follow it, their states too."""
-    from oacdsl.matching.algorithm1 import Step
-
-    lib = kitchen_library()
-    before, after = state(("left_hand", "red_cup")), state(("right_hand", "green_cup"))
-    split = split_change(matcher.match, before, after)
-    assert split is not None and split.text() == ("together { grasp(h=right_hand, o=green_cup),"
-                                                  " place(h=left_hand, o=red_cup) }")
-    grasp, place = (p.match for p in split.parts)
-    middle = state()
-    steps = [Step(place.oac, place.binding, before, middle, 0, keyframe=0),
-             Step(grasp.oac, grasp.binding, middle, after, 1, keyframe=0, together=True)]
-    comp = compose("swap", steps, lib, KITCHEN)
-    assert [(c.oac, c.args, c.together) for c in comp.oac.steps] == [
-        ("grasp", ("hand1", "cup1"), False), ("place", ("hand2", "cup2"), True)]
-    assert [(s.oac.name, s.index, s.together) for s in comp.steps] == [("grasp", 0, False),
-                                                                        ("place", 1, True)]
-    assert comp.steps[0].before == before and comp.steps[-1].after == after
-    assert comp.steps[0].after == state(("left_hand", "red_cup"), ("right_hand", "green_cup"))
-    assert comp.steps[1].before == comp.steps[0].after
+    swapped = text.replace("grasp(b, y)\n      grasp(a, x)", "grasp(a, x)\n      grasp(b, y)")
+    assert parse_text(swapped, "t.oac") != module  # the order is what the runtime runs

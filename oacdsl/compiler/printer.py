@@ -2,7 +2,7 @@
 
 Deterministic: the model already keeps parents, instance classes, instances
 and atoms sorted; the printer keeps declarations, parameters, markers and
-steps in their order (the steps of a ``together { … }`` block sorted). Layout rules:
+steps in their order (a ``together { … }`` block's too: the runtime runs them as written). Layout rules:
 
 * four spaces of indentation, one blank line between declarations except
   between consecutive one-line ``class`` or ``grasp`` declarations;

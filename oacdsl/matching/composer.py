@@ -116,53 +116,11 @@ def compose(
     instance_classes: Mapping[str, frozenset[str]] | None = None,
     paper_effects: bool = False,
 ) -> Composition:
-    """Compose ``steps`` into a new OAC called ``name`` (see the module docstring).
-
-    Steps marked ``together`` (a split keyframe, :mod:`oacdsl.matching.split`) become a
-    ``together { … }`` block; its steps are put in the block's canonical order (by OAC and
-    parameter names, which the lifting gives) so that ``Composition.steps`` and the OAC's
-    steps stay in one order."""
-    comp = _compose(name, steps, library, scene, instance_classes=instance_classes,
+    """Compose ``steps`` into a new OAC called ``name`` (see the module docstring). Steps
+    marked ``together`` (a split keyframe, :mod:`oacdsl.matching.split`) become a
+    ``together { … }`` block, in their order."""
+    return _compose(name, steps, library, scene, instance_classes=instance_classes,
                     paper_effects=paper_effects)
-    for _ in range(3):  # the order within a block decides the parameters' numbering: a fixed point
-        order = _canonical_order(comp.steps, comp.names)
-        if order == list(range(len(steps))):
-            break
-        steps = _reordered(comp.steps, order)
-        comp = _compose(name, steps, library, scene, instance_classes=instance_classes,
-                        paper_effects=paper_effects)
-    return comp
-
-
-def _canonical_order(steps: Sequence[Step], names: Mapping[str, str]) -> list[int]:
-    """The positions of ``steps`` in the order the OAC lists them (each together block sorted)."""
-    order: list[int] = []
-    group: list[int] = []
-
-    def key(k: int) -> tuple[str, tuple[str, ...]]:
-        s = steps[k]
-        return s.oac.name, tuple(names.get(s.mapping[p.name], s.mapping[p.name]) for p in s.oac.params)
-
-    for k, s in enumerate(steps):
-        if not s.together and group:
-            order += sorted(group, key=key)
-            group = []
-        group.append(k)
-    return order + sorted(group, key=key)
-
-
-def _reordered(steps: Sequence[Step], order: list[int]) -> list[Step]:
-    """``steps`` in ``order`` (a permutation within together blocks): the block flags stay in
-    place, and the world states inside a block follow the new order (its steps are independent:
-    each one's change applies to whatever the others did)."""
-    out: list[Step] = []
-    for i, k in enumerate(order):
-        s = steps[k]
-        start = out[-1].after if steps[i].together and out else steps[i].before
-        after = start.with_changes(s.after.relations - s.before.relations,
-                                   s.before.relations - s.after.relations)
-        out.append(dataclasses.replace(s, index=i, together=steps[i].together, before=start, after=after))
-    return out
 
 
 def _compose(

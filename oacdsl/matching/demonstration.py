@@ -205,8 +205,9 @@ def match_segmentation(
 def _change_times(
     raw: Segmentation, sub: SubAction, before: WorldState, after: WorldState
 ) -> dict[Relation, float]:
-    """When each relation that changed in ``sub`` last changed, by the keyframes of ``raw``
-    (the recording segmented without merging) inside the sub-action."""
+    """When each relation that changed in ``sub`` first changed, by the keyframes of ``raw``
+    (the recording segmented without merging) inside the sub-action (a set-down cup that
+    bounces: when it was first let go)."""
     times: dict[Relation, float] = {}
     previous: WorldState | None = None
     for kf in raw.keyframes:
@@ -214,7 +215,7 @@ def _change_times(
             break
         if previous is not None and kf.frame > sub.start.frame:
             for r in (after.relations ^ before.relations) & (kf.state.relations ^ previous.relations):
-                times[r] = kf.time_s
+                times.setdefault(r, kf.time_s)
         previous = kf.state
     return times
 

@@ -10,9 +10,10 @@ into the most blocks that, applied one after the other, are each matched by an O
 library (a block's world states: the state before plus the blocks so far). The order follows
 from the OACs' conditions (``bring_to`` needs the hand on the carton, which the ``grasp``
 makes); parts that are independent of each other (:mod:`oacdsl.together`: neither changes
-what the other needs or changes) form a group that may run together, and the composed OAC
-writes such a group as ``together { … }``. Within a group the parts are in canonical order
-(by OAC name and binding); groups follow one another as early as their conditions allow.
+what the other needs or changes) and bind different instances form a group that may run
+together, and the composed OAC writes such a group as ``together { … }``. Within a group the
+parts are in the order they happened (when the recording says so), else by OAC name and
+binding; the runtime runs them in that order.
 
 A change of more than :data:`MAX_CHANGES` relations is not split (the search visits up to
 3^n blocks). Only a sub-action that matches nothing is split: a library OAC for the
@@ -165,11 +166,20 @@ def split_change(
         step = plan.get(remaining)
         if step is None:
             return None
-        blocks = sorted(step[1], key=lambda b: (b[1].oac.name, tuple(i for _, i in b[1].binding)))
+        # within a group: in the order the parts happened (when their relations changed), else by
+        # OAC and binding; the runtime runs them in this order
+        blocks = sorted(step[1], key=lambda b: (_when(b[0], changes, times),
+                                                b[1].oac.name, tuple(i for _, i in b[1].binding)))
         order += [(block, m, k > 0) for k, (block, m) in enumerate(blocks)]
         for block, _ in blocks:
             remaining &= ~block
     return _walk(match, before, changes, order, untracked)
+
+
+def _when(block: int, changes: list[Change], times: Mapping[Relation, float]) -> float:
+    """When the block's relations changed (the latest of them; infinity when unknown)."""
+    known = [times[r] for k, (r, _) in enumerate(changes) if block >> k & 1 and r in times]
+    return max(known) if known else float("inf")
 
 
 def _submasks(mask: int) -> list[int]:
