@@ -262,6 +262,8 @@ def run_prepared(
         "balls_in_bowl": sum(world.balls_inside(b) for b in targets),
         "sim_time_s": round(world.time_s, 4),
         "wall_time_s": round(time.perf_counter() - wall0, 4),
+        # regrasps internal to a step (a hand retaking what it turns): not changes of the task
+        "regrasps": len(run.controller.regrasps),
     }
     return RunResult(run.oac.name, success, results, metrics, seed, states, judged, failed)
 
