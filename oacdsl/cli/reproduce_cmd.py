@@ -58,7 +58,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p.add_argument(
         "--library",
         metavar="DIR",
-        help="the OAC library: a folder (drafts/ left out) or a file (default: library/)",
+        action="append",
+        help="the OAC library: a folder (drafts/ left out) or a file (default: library/); repeatable:"
+        " several are one library, the first folder given gets the composed OAC (learned/)",
     )
     p.add_argument(
         "--scene",
