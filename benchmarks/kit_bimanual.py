@@ -5,10 +5,10 @@ marker set is recognised: left_hand, right_hand, one group per object), segmente
 
 - the contact starts and ends of each hand are scored against the dataset's own per-frame
   labels (contact = Move, Hold, Place or the main action) within ±3 frames; see
-  :mod:`oacdsl.segmentation.evaluate`;
+  :mod:`segeval.evaluate`;
 - the contacts of the tool with what it works on during the main action are scored
   against the clip's tool–target pairs, and the frames where a hand touches the object
-  the other hand holds are counted; see :mod:`oacdsl.segmentation.toolscore`.
+  the other hand holds are counted; see :mod:`segeval.toolscore`.
 
 Development clips (Pour, Stir, Mix, Wipe, Scoop, Cut) are always scored. The evaluation
 clips (Open, Close, Peel, RollOut, Transfer) are scored only with ``--evaluation``, in
@@ -32,8 +32,7 @@ from typing import Any
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from oacdsl.segmentation import AasParams, segment  # noqa: E402
-from oacdsl.segmentation.evaluate import (  # noqa: E402
+from segeval.evaluate import (  # noqa: E402
     ClipScore,
     Score,
     contact_from_labels,
@@ -41,9 +40,11 @@ from oacdsl.segmentation.evaluate import (  # noqa: E402
     read_labels,
     score_clip,
 )
+from segeval.toolscore import KIT_TOOL_TARGETS, ToolScore, cross_hand_frames, score_tools  # noqa: E402
+
+from oacdsl.segmentation import AasParams, segment  # noqa: E402
 from oacdsl.segmentation.grouping import recognise_preset  # noqa: E402
 from oacdsl.segmentation.readers import read_recording  # noqa: E402
-from oacdsl.segmentation.toolscore import KIT_TOOL_TARGETS, ToolScore, cross_hand_frames, score_tools  # noqa: E402
 from oacdsl.units import parse_quantity  # noqa: E402
 
 DEVELOPMENT = ("Pour", "Stir", "Mix", "Wipe", "Scoop", "Cut")

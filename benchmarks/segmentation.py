@@ -43,12 +43,13 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from segeval.reference import pair_frames, segment_reference  # noqa: E402
+
 from oacdsl.segmentation import AasParams, segment  # noqa: E402
 from oacdsl.segmentation.aas import DEFAULT_CHUNK_FRAMES  # noqa: E402
 from oacdsl.segmentation.pairs import PairTable  # noqa: E402
 from oacdsl.segmentation.params import DEFAULT_MODE  # noqa: E402
 from oacdsl.segmentation.recording import Recording  # noqa: E402
-from oacdsl.segmentation.reference import pair_frames, segment_reference  # noqa: E402
 
 OBJECTS, OBJECT_MARKERS, HANDS, HAND_MARKERS = 12, 4, 2, 5
 RATE_HZ = 100.0

@@ -5,8 +5,15 @@ pytest workers, so wall-clock time per example is noise, not a property of the c
 Performance is measured by the scripts in benchmarks/, not by tests.
 """
 
+import sys
+from pathlib import Path
+
 import pytest
 from hypothesis import HealthCheck, settings
+
+# the segmentation's evaluation oracles (KIT scoring, per-frame references) live in
+# benchmarks/segeval, outside the installed package
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 
 settings.register_profile(
     "oacdsl", deadline=None, suppress_health_check=[HealthCheck.too_slow], print_blob=True

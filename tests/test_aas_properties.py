@@ -4,10 +4,10 @@ import numpy as np
 from _aas_helpers import grid_scene
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from segeval.reference import segment_reference
 
 from oacdsl.segmentation import AasParams, segment
 from oacdsl.segmentation.recording import Recording
-from oacdsl.segmentation.reference import segment_reference
 
 # thresholds that no distance or change of a grid scene comes near (see grid_scene)
 SAFE = {"distance_m": 0.155, "speed_m_s": 0.001, "mode": "paper"}  # the paper's Eq. 1/2 as printed

@@ -7,10 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from _mocap import mocap_file
-
-from oacdsl.errors import RecordingError
-from oacdsl.segmentation import AasParams, segment
-from oacdsl.segmentation.evaluate import (
+from segeval.evaluate import (
     Event,
     Score,
     contact_from_labels,
@@ -20,6 +17,9 @@ from oacdsl.segmentation.evaluate import (
     read_labels,
     score_clip,
 )
+
+from oacdsl.errors import RecordingError
+from oacdsl.segmentation import AasParams, segment
 from oacdsl.segmentation.grouping import apply_preset
 from oacdsl.segmentation.readers import read_recording
 from oacdsl.segmentation.result import Keyframe, Segmentation

@@ -18,8 +18,8 @@ from runtime_lib import ROOT  # noqa: E402
 from oacdsl.compiler import load_library  # noqa: E402
 from oacdsl.pipeline.markers import ROBOT_DISTANCE_M, VirtualMarkers  # noqa: E402
 from oacdsl.runtime.executor import prepare, run_prepared  # noqa: E402
-from oacdsl.runtime.skills.hold_up import HOLD_FORWARD_M  # noqa: E402
 from oacdsl.runtime.skills.shapes import world_corners  # noqa: E402
+from oacdsl.skills import SIGNATURES  # noqa: E402
 
 #: The plate where the demonstrated layout puts it (the recording is not needed here).
 PLATE_AT = (0.71, -0.10)
@@ -40,7 +40,7 @@ def test_hold_up_takes_the_plate_and_holds_it_in_front_of_the_robot_on_the_hands
     corners = world_corners(world.layout.bodies["plate_dish"], world.body_pose("plate_dish"))
     middle = 0.5 * (corners.min(axis=0) + corners.max(axis=0))
     # its middle 50 cm out and 10 cm to the left (the left hand's side), 20 cm off the table
-    assert np.linalg.norm(middle[:2] - [HOLD_FORWARD_M, 0.10]) < 0.05
+    assert np.linalg.norm(middle[:2] - [SIGNATURES["hold_up"].defaults()["forward"], 0.10]) < 0.05
     assert corners[:, 2].min() > world.body_pose("sponge_small")[2, 3] + 0.15
 
 

@@ -10,12 +10,12 @@ import pytest
 from _aas_helpers import path, recording, still, summary
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from segeval.reference import segment_reference
 from test_adaptive import carry_scene
 
 from oacdsl.errors import SegmentationError
 from oacdsl.segmentation import AasParams, segment
 from oacdsl.segmentation.recording import Recording
-from oacdsl.segmentation.reference import segment_reference
 from oacdsl.segmentation.slope import windowed_slope, windowed_slope_at
 
 

@@ -13,8 +13,8 @@ from runtime_lib import task_library  # noqa: E402
 from oacdsl.runtime.control import FORCE_LIMIT_N  # noqa: E402
 from oacdsl.runtime.executor import execute, prepare, run_prepared  # noqa: E402
 from oacdsl.runtime.layout import BALLS_PER_LIQUID  # noqa: E402
+from oacdsl.runtime.motion import TUNING  # noqa: E402
 from oacdsl.runtime.objects import TABLE_TOP  # noqa: E402
-from oacdsl.runtime.skills.place import CONTACT_FORCE_N  # noqa: E402
 
 
 class ForceLog:
@@ -54,7 +54,7 @@ def test_grasp_then_place_puts_the_cup_back_by_force_sensing():
     assert t[2, 2] > 0.99  # upright
     assert world.held["r"] is None
     # the descent was stopped by the wrist sensor: it felt the table, but never came near the limit
-    assert CONTACT_FORCE_N < log.peak["r"] < FORCE_LIMIT_N
+    assert TUNING.support_force_n < log.peak["r"] < FORCE_LIMIT_N
     assert world.warnings() == {}
 
 

@@ -5,14 +5,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from _mocap import mocap_file
+from segeval.evaluate import Score, contact_from_labels, nearest_object, read_labels, score_clip
+from segeval.toolscore import KIT_TOOL_TARGETS, cross_hand_frames, score_tools
 
 from oacdsl.segmentation import segment
-from oacdsl.segmentation.evaluate import Score, contact_from_labels, nearest_object, read_labels, score_clip
 from oacdsl.segmentation.grouping import recognise_preset
 from oacdsl.segmentation.readers import read_recording
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import Keyframe, Segmentation
-from oacdsl.segmentation.toolscore import KIT_TOOL_TARGETS, cross_hand_frames, score_tools
 from oacdsl.world import WorldState
 
 INSTANCES = ("board", "cup", "left_hand", "right_hand", "spoon")

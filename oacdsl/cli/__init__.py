@@ -35,6 +35,7 @@ COMMANDS: list[str] = [
     "oacdsl.cli.plan_cmd",
     "oacdsl.cli.pddl_cmd",
     "oacdsl.cli.run_cmd",
+    "oacdsl.cli.verify_cmd",
     "oacdsl.cli.mine_cmd",
     "oacdsl.cli.stats_cmd",
     "oacdsl.cli.report_cmd",

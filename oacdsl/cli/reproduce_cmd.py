@@ -58,7 +58,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p.add_argument(
         "--library",
         metavar="DIR",
-        help="the OAC library: a folder (drafts/ left out) or a file (default: library/)",
+        action="append",
+        help="the OAC library: a folder (drafts/ left out) or a file (default: library/); repeatable:"
+        " several are one library, the first folder given gets the composed OAC (learned/)",
     )
     p.add_argument(
         "--scene",
@@ -192,7 +194,9 @@ def run(args: argparse.Namespace) -> int:
         demo_params=not args.no_demo_params,
     )
     verdict = outcome.result["verdict"]
-    mark = "verified" if verdict["success"] else "FAILED"
+    mark = "FAILED"
+    if verdict["success"]:
+        mark = "verified, faithful" if verdict.get("faithful", True) else "verified, not faithful"
     report = out / "report.html"
     print(f"{mark}: {verdict['summary']}")
     print(f"report: {report}  (data: {out / 'result.json'})")

@@ -61,8 +61,16 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p.add_argument(
         "--demonstration",
         metavar="RECORDING",
-        help="a recording whose first frame lays out a scene with 'layout demonstrated'"
-        " (marker groups named after the scene's instances)",
+        help="the demonstration: its first frame lays out a scene with 'layout demonstrated'"
+        " (marker groups named after the scene's instances), and the run is judged against it"
+        " as `oacc verify` does (verified, faithful; exit 1 when not verified)",
+    )
+    p.add_argument(
+        "--execution",
+        metavar="OUT.c3d",
+        default="execution.c3d",
+        help="with --demonstration: where the robot's virtual-marker recording goes (its contacts"
+        " beside it, OUT.contacts.json; default: execution.c3d)",
     )
     p.add_argument(
         "--db",
@@ -199,6 +207,8 @@ def _check_outputs(args: argparse.Namespace) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from oacdsl.cli.run_judge import RunJudge
+
     bindings = pairs(args.bind, "--bind", "NAME=INSTANCE")
     if args.max_repairs < 0:
         raise UsageError("--max-repairs: a whole number ≥ 0")
@@ -233,6 +243,8 @@ def run(args: argparse.Namespace) -> int:
 
         db = ensure_writable(resolve_db_path(args.db))
     _check_outputs(args)
+    if args.demonstration is not None:
+        _writable_folder(Path(args.execution).parent, "--execution")
     demonstrated = _demonstrated(args, library, scene, bindings, overrides.layout)
     note = prepare_backend(bool(args.video or args.frames))  # before MuJoCo is imported
     if note:
@@ -264,6 +276,7 @@ def run(args: argparse.Namespace) -> int:
     if (moved := seed_note(run_.world.layout)) is not None:
         print(f"oacc: warning: {moved}", file=sys.stderr)
     out = sys.stderr if args.json else sys.stdout
+    judge = RunJudge(run_) if args.demonstration is not None else None
     closers: list[Any] = []
     frames: Any = None
     try:
@@ -334,4 +347,6 @@ def run(args: argparse.Namespace) -> int:
             store.record_run_json(result.to_json(), seed=args.seed, command="run")
     if not result.success:
         raise RuntimeFailure(result.error or f"{result.oac} failed")
+    if judge is not None:
+        return judge.verdict(args, library, run_.scene, sys.stderr if args.json else sys.stdout)
     return 0

@@ -57,7 +57,7 @@ __all__ = [
 ]
 
 #: The fixed entries of a report folder (the composed ``NAME.oac`` is linked too).
-ENTRIES = ("report.html", "result.json", "figures")
+ENTRIES = ("report.html", "result.json", "figures", "execution.c3d", "execution.contacts.json")
 #: How many runs ``OUT/runs/`` keeps (the current one always).
 KEEP_RUNS = 3
 #: Prefix of a staging folder inside ``OUT``.

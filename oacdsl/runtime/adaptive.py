@@ -292,6 +292,7 @@ def run_adaptive(
         "balls_in_bowl": sum(world.balls_inside(b) for b in targets),
         "sim_time_s": round(world.time_s, 4),
         "wall_time_s": round(time.perf_counter() - wall0, 4),
+        "regrasps": len(run.controller.regrasps),
         "repairs": a.repairs,
     }
     out = RunResult(run.oac.name, success, results, metrics, run.seed, states, judged, failed_step)

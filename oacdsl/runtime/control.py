@@ -10,7 +10,7 @@ interpolations of a hand pose; a *guard* can end a motion early (contact felt).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Protocol
 
 import numpy as np
@@ -27,6 +27,8 @@ __all__ = ["Controller", "Observer", "CONTROL_DT_S", "FORCE_LIMIT_N", "SIDE_NAME
 CONTROL_DT_S = 0.02
 #: Safety limit on the change of a wrist force since the motion started, N.
 FORCE_LIMIT_N = 60.0
+#: Weight of the task that keeps the other hand where it is while one hand moves alone.
+IDLE_HOLD_WEIGHT = 0.5
 SIDE_NAME = {"r": "right", "l": "left"}
 
 
@@ -61,6 +63,9 @@ class Controller:
         self._tare = {s: world.wrist_force(s) for s in ("r", "l")}
         self.fingers: dict[str, dict[str, float]] = {s: dict(OPEN) for s in ("r", "l")}
         self.activity = "idle"
+        #: (simulated time s, hand side, object) of every regrasp internal to a step (a hand
+        #: that lets go and takes the object again to turn it further): not a change of the task
+        self.regrasps: list[tuple[float, str, str]] = []
         self._observe()
 
     def add_observer(self, observer: Observer) -> None:
@@ -106,28 +111,69 @@ class Controller:
                     f" (limit {self.force_limit_n:.0f} N)"
                 )
 
-    # --- motions --------------------------------------------------------------------------------
+    # --- motions: the one control loop ---------------------------------------------------------
+    def drive(
+        self,
+        paths: Mapping[str, Callable[[float], np.ndarray]],
+        duration_s: float,
+        guards: Mapping[str, Callable[[], bool]] | None = None,
+        *,
+        weights: Mapping[str, float] | None = None,
+        stop_at_model: bool = False,
+    ) -> dict[str, bool]:
+        """The control loop every motion runs through: each hand of ``paths`` (side → a
+        T_world_grasp for the phase ``s`` in [0, 1], min-jerk timed over ``duration_s``) is
+        driven along its path, together, one IK solve per tick. A hand whose guard becomes true
+        stops where it is (the simulation's frame; the IK model's with ``stop_at_model``: the
+        arm lags its command, a hand waiting for the other would keep pressing); the loop ends
+        when the time is over or every guarded hand stopped. ``weights``: a hand's orientation
+        weight (0.3 otherwise). A hand not in ``paths`` keeps the controller's idle hold.
+        Returns, per side, whether its guard stopped it."""
+        guards = dict(guards or {})
+        weights = dict(weights or {})
+        for s in paths:
+            self.tare(s)
+        stopped = dict.fromkeys(paths, False)
+
+        def aim(s: str, pose: np.ndarray) -> None:
+            if s in weights:
+                self.ik.set_hand_target(s, pose, orientation_weight=weights[s])
+            else:
+                self.ik.set_hand_target(s, pose)
+
+        n = max(1, round(duration_s / CONTROL_DT_S))
+        for k in range(1, n + 1):
+            for s, path in paths.items():
+                if not stopped[s]:
+                    aim(s, path(min_jerk(k / n)))
+            self.tick()
+            for s, guard in guards.items():
+                if not stopped[s] and guard():
+                    stopped[s] = True
+                    aim(
+                        s,
+                        self.ik.frame(f"grasp_{s}") if stop_at_model else self.world.frame_pose(f"grasp_{s}"),
+                    )
+            if guards and all(stopped[s] for s in guards):
+                break
+        return stopped
+
     def move(
         self, side: str, goal: np.ndarray, duration_s: float, guard: Callable[[], bool] | None = None
     ) -> bool:
-        """Move hand ``side``'s grasp frame to ``goal`` in ``duration_s`` (min-jerk).
-
-        Returns True when ``guard`` ended the motion early. The other hand holds still.
-        """
+        """Move hand ``side``'s grasp frame to ``goal`` in ``duration_s`` (min-jerk); the other
+        hand holds still. Returns True when ``guard`` ended the motion early."""
         start = self.ik.goal(side)
         other = "l" if side == "r" else "r"
         if self.ik.active[other]:
-            self.ik.hold_hand(other, weight=0.5)
-        self.tare(side)
-        n = max(1, round(duration_s / CONTROL_DT_S))
-        for k in range(1, n + 1):
-            self.ik.set_hand_target(side, interpolate(start, goal, min_jerk(k / n)))
-            self.tick()
-            if guard is not None and guard():
-                # stay where the hand is now, not where the target was heading
-                self.ik.set_hand_target(side, self.ik.frame(f"grasp_{side}"))
-                return True
-        return False
+            self.ik.hold_hand(other, weight=IDLE_HOLD_WEIGHT)
+        stopped = self.drive(
+            {side: lambda s: interpolate(start, goal, s)},
+            duration_s,
+            {side: guard} if guard is not None else None,
+            stop_at_model=True,
+        )
+        return stopped[side]
 
     def wait(self, duration_s: float, until: Callable[[], bool] | None = None) -> bool:
         """Keep the targets for ``duration_s``; True when ``until`` became true first."""

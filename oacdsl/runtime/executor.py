@@ -3,10 +3,11 @@
 :func:`execute` binds the OAC's parameters, sets the scene up (a liquid starts in the
 container the OAC's preconditions name), checks the preconditions against the
 touching relations the simulation reports, runs the primitive steps' skills one after
-the other, and after each step compares the observed relations with the step's
-predicted effects. It returns a :class:`RunResult` (the ``oacc run --json`` document);
-it never raises for a failure of the robot, only for a wrong call (unknown OAC, bad
-binding), as :class:`~oacdsl.errors.RuntimeFailure`.
+the other (the steps of a ``together { … }`` block too, in the written order: they are
+independent, so any order gives the same world), and after each step compares
+the observed relations with the step's predicted effects. It returns a :class:`RunResult`
+(the ``oacc run --json`` document); it never raises for a failure of the robot, only for
+a wrong call (unknown OAC, bad binding), as :class:`~oacdsl.errors.RuntimeFailure`.
 """
 
 from __future__ import annotations
@@ -261,6 +262,8 @@ def run_prepared(
         "balls_in_bowl": sum(world.balls_inside(b) for b in targets),
         "sim_time_s": round(world.time_s, 4),
         "wall_time_s": round(time.perf_counter() - wall0, 4),
+        # regrasps internal to a step (a hand retaking what it turns): not changes of the task
+        "regrasps": len(run.controller.regrasps),
     }
     return RunResult(run.oac.name, success, results, metrics, seed, states, judged, failed)
 

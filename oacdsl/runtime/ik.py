@@ -235,6 +235,16 @@ class WholeBodyIK:
             self.set_hand_target(side, t_world_target)
             return self.converge(iterations, tolerance_m=5e-4)
 
+    def try_reach_both(self, targets: Mapping[str, np.ndarray], iterations: int = 150) -> float:
+        """Static solve with each hand of ``targets`` (side → T_world_grasp) at its target, without
+        moving the robot: the larger residual (m, angle weighted 0.1 m/rad)."""
+        with self.trial():
+            for s, t in targets.items():
+                self.set_hand_target(s, t)
+            for _ in range(iterations):
+                self.step()
+            return max((res := self.residual(s)).position_m + 0.1 * res.angle_rad for s in targets)
+
     @contextmanager
     def trial(self) -> Iterator[None]:
         """A block that may move the IK state and the hands' targets: both are restored

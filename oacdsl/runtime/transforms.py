@@ -8,6 +8,7 @@ import mujoco
 import numpy as np
 
 __all__ = [
+    "MIN_JERK_PEAK",
     "rot_x",
     "rot_y",
     "rot_z",
@@ -50,6 +51,11 @@ def make_T(
     if p is not None:
         t[:3, 3] = p
     return t
+
+
+#: Peak over mean speed of a :func:`min_jerk` motion (its largest slope, at s = 1/2): a
+#: motion over a distance d at peak speed v takes ``MIN_JERK_PEAK * d / v``.
+MIN_JERK_PEAK = 15.0 / 8.0
 
 
 def min_jerk(s: float) -> float:

@@ -85,9 +85,9 @@ def segment(
     total)`` is called after each chunk with frame counts. The result does not
     depend on ``chunk_frames``.
     """
-    params = params or AasParams()
-    check_work(recording, params.frames)
-    params = params.resolved(recording.rate_hz)
+    given = params or AasParams()
+    check_work(recording, given.frames)
+    params = given.resolved(recording.rate_hz)
     if chunk_frames < 1:
         raise SegmentationError(f"chunk size must be at least 1 frame, got {chunk_frames}")
     times = np.asarray(recording.times_s, dtype=np.float64)
@@ -98,19 +98,28 @@ def segment(
             location=recording.source,
         )
     det = detector if detector is not None else make_detector(params)
+    effective = getattr(det, "effective_params", None)  # optional: the detector rescales them
+    run = effective(recording, given) if effective is not None else params
     _fit_chunk(recording, det.history_frames, chunk_frames)  # before the pair table (history: at least)
     table = PairTable.of(recording)
     frames, which, values = _changes(recording, table, det, chunk_frames, progress)
     relations = [table.relation(q) for q in range(table.n_instance_pairs)]
     raw = keyframes_from_changes(table.instances, relations, frames - det.delay_frames, which, values, times)
-    keyframes = merge_keyframes(raw, params.merge_s)
+    if getattr(det, "merges_connected", False):  # connected changes only, at the first frame
+        keyframes = merge_keyframes(raw, run.merge_s, at_onset=True, connected=True)
+    else:
+        keyframes = merge_keyframes(raw, run.merge_s)
+    reported = params.to_dict()
+    scale = getattr(det, "scale", None)
+    if scale is not None:
+        reported["scale"] = scale.to_dict()
     return Segmentation(
         recording=recording.source,
         rate_hz=float(recording.rate_hz),
         frames=recording.n_frames,
         instances=recording.instances,
         keyframes=tuple(keyframes),
-        parameters=params.to_dict(),
+        parameters=reported,
     )
 
 
@@ -144,8 +153,8 @@ def _changes(
     progress: Progress | None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Causal frames, instance pairs and new states of every instance-pair change."""
-    geometry = ChunkGeometry(recording, table)
     det.begin(recording, table)
+    geometry = ChunkGeometry(recording, table, getattr(det, "filler", None))  # optional: rigid gaps filled
     chunk_frames = _fit_chunk(recording, det.history_frames, chunk_frames)  # the history at this rate
     tracker = InstanceTouch(table)
     n_frames, n_q = recording.n_frames, table.n_instance_pairs

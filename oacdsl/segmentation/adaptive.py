@@ -49,10 +49,13 @@ from oacdsl.errors import SegmentationError
 from oacdsl.segmentation.comotion import AdaptiveSettings, comotion
 from oacdsl.segmentation.detectors import DistanceChunk, PairChanges
 from oacdsl.segmentation.geometry import BOUND_MARGIN_M
+from oacdsl.segmentation.holding import resting_holds
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
+from oacdsl.segmentation.poses import RigidFill, fill_rigid_gaps
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.robust import RobustDetector
+from oacdsl.segmentation.scales import DemoScale, measure, scale_params, scale_settings
 from oacdsl.segmentation.tooluse import agents_of, tool_contacts
 
 __all__ = ["AdaptiveDetector", "AdaptiveSettings", "comotion"]
@@ -66,6 +69,9 @@ class AdaptiveDetector:
     def __init__(self, params: AasParams, settings: AdaptiveSettings | None = None) -> None:
         self.settings = settings or AdaptiveSettings()
         self.params = params
+        self.scale: DemoScale | None = None  # the recording's scales, once effective_params() ran
+        self.filler: RigidFill | None = None  # rigid gaps, filled chunk by chunk (from begin() on)
+        self._run = self.settings  # the settings in force: rescaled by effective_params()
         template = RobustDetector(params)  # frames of history and delay: set again in begin()
         self.history_frames = template.history_frames
         self.delay_frames = template.delay_frames
@@ -83,6 +89,33 @@ class AdaptiveDetector:
         self._managed = np.zeros(0, dtype=bool)
         self._near_bins: np.ndarray | None = None  # (Q, bins) bool: some frame of the bin within reach
 
+    @property
+    def merges_connected(self) -> bool:
+        """Merge keyframes of connected changes only, at their first frame (``settings.merge``)."""
+        return self.settings.merge == "connected"
+
+    def _rigid(self, recording: Recording) -> list[str]:
+        """The instances whose gaps are filled: every one but the agents (a hand is not rigid)."""
+        agents = set(agents_of(recording.instances, self.settings.agent_pattern))
+        return [g for i, g in enumerate(recording.instances) if i not in agents]
+
+    def prepare(self, recording: Recording) -> Recording:
+        """``recording`` with its rigid objects' marker gaps filled as :meth:`begin` fills them chunk
+        by chunk (a copy; for references and tests), unless ``settings.fill_gaps`` is off."""
+        return fill_rigid_gaps(recording, self._rigid(recording)) if self.settings.fill_gaps else recording
+
+    def effective_params(self, recording: Recording, params: AasParams) -> AasParams:
+        """``params`` (unresolved: ``frames`` may be automatic) resolved for ``recording``, every
+        length, speed and duration rescaled by its scales (:mod:`oacdsl.segmentation.scales`)
+        unless ``settings.rescale`` is off; the detector runs with them from :meth:`begin` on."""
+        if self.settings.rescale:
+            agents = agents_of(recording.instances, self.settings.agent_pattern)
+            self.scale = measure(recording, tuple(recording.instances[i] for i in agents))
+            self._run = scale_settings(self.settings, self.scale)
+            params = scale_params(params, self.scale)
+        self.params = params.resolved(recording.rate_hz)
+        return self.params
+
     def begin(self, recording: Recording, table: PairTable) -> None:
         template = RobustDetector(self.params, recording.rate_hz)
         self.history_frames, self.delay_frames = template.history_frames, template.delay_frames
@@ -93,7 +126,8 @@ class AdaptiveDetector:
         self._pair_state = np.zeros(table.n_pairs, dtype=bool)
         self._flags = np.zeros((n_q, 4), dtype=bool)
         self._combined = np.zeros(n_q, dtype=bool)
-        found = comotion(recording, table, self.params, self.settings)
+        self.filler = RigidFill(recording, self._rigid(recording)) if self.settings.fill_gaps else None
+        found = comotion(recording, table, self.params, self._run, self.filler)
         learned = found.learned
         # the paper's rule per pair: at the pair's learned distance, else at the static distance
         by_distance: dict[float, np.ndarray] = {}
@@ -102,8 +136,8 @@ class AdaptiveDetector:
             key = round(threshold, 4)  # 0.1 mm: pairs with the same distance share a detector
             by_distance.setdefault(key, np.zeros(n_q, dtype=bool))[q] = True
             default[q] = False
-        by_distance.setdefault(self.settings.static_distance_m, np.zeros(n_q, dtype=bool))
-        by_distance[self.settings.static_distance_m] |= default
+        by_distance.setdefault(self._run.static_distance_m, np.zeros(n_q, dtype=bool))
+        by_distance[self._run.static_distance_m] |= default
         # one detector, each marker pair at its instance pair's distance (float32, as a detector's own d)
         block_d = np.zeros(n_q, dtype=np.float32)
         for distance, blocks in by_distance.items():
@@ -120,12 +154,26 @@ class AdaptiveDetector:
             found.closest,
             agents_of(table.instances, self.settings.agent_pattern),
             self.params.distance_m,
-            self.settings.tool_dwell_s,
-            self.settings.tool_bridge_s,
+            self._run.tool_dwell_s,
+            self._run.tool_bridge_s,
+            self._run.rest_m,
         )
         last = recording.n_frames - 1
         collected: dict[int, list[tuple[int, int, int]]] = {}
-        sources = [(1, {q: spans for q, (spans, _) in learned.items()}), (2, tools.added), (3, tools.removed)]
+        added = dict(tools.added)
+        if self._run.hold_still:  # a hand at rest on or around a still object (holding.py)
+            agents = agents_of(table.instances, self.settings.agent_pattern)
+            holds = resting_holds(recording, table, found.closest, agents, self.params.distance_m,
+                                  self._run.move_speed_m_s, self._run.lag_s, self._run.tool_dwell_s)
+            for q, spans in holds.items():
+                union: list[tuple[int, int]] = []
+                for a, b in sorted([*added.get(q, []), *spans]):  # one flag per kind and pair
+                    if union and a <= union[-1][1]:
+                        union[-1] = (union[-1][0], max(union[-1][1], b))
+                    else:
+                        union.append((a, b))
+                added[q] = union
+        sources = [(1, {q: spans for q, (spans, _) in learned.items()}), (2, added), (3, tools.removed)]
         for kind, per_pair in sources:
             for q, spans in per_pair.items():
                 events = []
@@ -157,7 +205,7 @@ class AdaptiveDetector:
         beyond its distance there: the paper's rule cannot find it close, and the broad phase of
         the main pass need not be run again.
         """
-        scan_reach = self.params.distance_m * (1 + self.settings.margin)  # metres, as in comotion._scan
+        scan_reach = self.params.distance_m * (1 + self._run.margin)  # metres, as in comotion._scan
         if self.reach_m is None or self.reach_m > scan_reach:
             return None
         n_bins = -(-n_frames // _NEAR_BIN)

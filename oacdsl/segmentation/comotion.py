@@ -17,6 +17,7 @@ from oacdsl.errors import SegmentationError
 from oacdsl.segmentation.geometry import BOUND_MARGIN_M, ChunkGeometry, chunk_frames_for
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
+from oacdsl.segmentation.poses import RigidFill
 from oacdsl.segmentation.recording import Recording
 
 __all__ = ["AdaptiveSettings", "CoMotion", "comotion"]
@@ -56,6 +57,23 @@ class AdaptiveSettings:
             stirring, wiping, cutting take seconds).
         tool_bridge_s: seconds beyond ``d`` that do not end a tool contact (0.2 s: a
             stroke of a whisk or a knife lifting between cuts).
+        rest_m: metres a distance may vary and still be "at rest" (the tool roles of
+            :mod:`oacdsl.segmentation.toolroles`; 5 mm: marker jitter and a hand's tremor).
+        rescale: every speed and duration above (and ``AasParams``' ``v``, ``n``, change
+            and merge windows) is taken as the reference demonstration's and rescaled by the
+            recording's own pace (:mod:`oacdsl.segmentation.scales`) before segmenting.
+            Off by default: measured on other takes of the KIT clips it fixes the slower
+            takes but moves the Pour clip's carton grasp by a frame, into the merge window
+            of the carton reaching the cup (docs/segmentation-adaptive.md). Lengths are never
+            rescaled.
+        fill_gaps: a rigid object's marker missing while three of its markers are seen is
+            put where the object's rigid fit places it (:mod:`oacdsl.segmentation.poses`).
+        hold_still: a hand at rest on or around a still object touches it
+            (:mod:`oacdsl.segmentation.holding`; off by default, not yet measured where it
+            matters).
+        merge: how keyframes are merged: ``"paper"`` (the paper's chains, at the last
+            frame) or ``"connected"`` (only changes sharing an instance, at the first frame:
+            :func:`~oacdsl.segmentation.keyframes.merge_keyframes`).
 
     The defaults sit inside the range that scores best on the KIT development
     clips (``docs/segmentation-adaptive.md`` lists the sensitivity).
@@ -70,11 +88,18 @@ class AdaptiveSettings:
     agent_pattern: str = "*hand*"
     tool_dwell_s: float = 0.5
     tool_bridge_s: float = 0.2
+    rest_m: float = 0.005
+    rescale: bool = False
+    fill_gaps: bool = True
+    merge: str = "paper"
+    hold_still: bool = False
 
     def __post_init__(self) -> None:
         for name in ("static_distance_m", "move_speed_m_s", "rigid_ratio", "lag_s", "tool_dwell_s"):
             if not getattr(self, name) > 0:
                 raise SegmentationError(f"adaptive: {name} must be positive, got {getattr(self, name)}")
+        if self.merge not in ("paper", "connected"):
+            raise SegmentationError(f"adaptive: merge must be 'paper' or 'connected', got {self.merge!r}")
         if not (self.margin >= 0 and self.min_episode_s >= 0 and self.tool_bridge_s >= 0):
             raise SegmentationError("adaptive: margin, min_episode_s and tool_bridge_s must be ≥ 0")
 
@@ -99,10 +124,12 @@ class CoMotion(NamedTuple):
 
 
 def comotion(
-    recording: Recording, table: PairTable, params: AasParams, settings: AdaptiveSettings
+    recording: Recording, table: PairTable, params: AasParams, settings: AdaptiveSettings,
+    filler: RigidFill | None = None,
 ) -> CoMotion:
-    """Co-motion episodes, grown into touching intervals, and each pair's learned distance."""
-    signals = _scan(recording, table, params, settings)
+    """Co-motion episodes, grown into touching intervals, and each pair's learned distance
+    (``filler``: rigid gaps filled chunk by chunk, :class:`~oacdsl.segmentation.poses.RigidFill`)."""
+    signals = _scan(recording, table, params, settings, filler)
     _prune_indirect(signals, table)
     min_len = settings.frames(settings.min_episode_s, recording.rate_hz)
     bridge = round(settings.tool_bridge_s * recording.rate_hz)  # frames: a short excursion is no release
@@ -121,13 +148,14 @@ def comotion(
 
 
 def _scan(
-    recording: Recording, table: PairTable, params: AasParams, settings: AdaptiveSettings
+    recording: Recording, table: PairTable, params: AasParams, settings: AdaptiveSettings,
+    filler: RigidFill | None = None,
 ) -> dict[int, tuple[np.ndarray, np.ndarray]]:
     """Per instance pair that comes within reach: closest distance (F,) and co-motion frames (F,)."""
     n_frames, n_q = recording.n_frames, table.n_instance_pairs
     if n_q == 0 or n_frames < 2:
         return {}
-    geometry = ChunkGeometry(recording, table)
+    geometry = ChunkGeometry(recording, table, filler)
     lag = settings.frames(settings.lag_s, recording.rate_hz)
     reach = params.distance_m * (1 + settings.margin)
     times = np.asarray(recording.times_s, dtype=np.float64)
@@ -164,7 +192,7 @@ def _scan_chunk(
     prev[prev == rows] = min(lag, n_frames - 1)
     dt = np.abs(times[rows] - times[prev])
     local_prev = prev - lo
-    speeds = _instance_speeds(recording, groups, rows, prev, dt)
+    speeds = _instance_speeds(recording, groups, rows, prev, dt, geometry.filler)
     out = slice(start - lo, stop - lo)
     sq_buf, tmp = geometry.scratch(x.shape[2]), geometry.scratch(x.shape[2])
     for q in blocks.tolist():
@@ -213,15 +241,22 @@ def _prune_indirect(signals: dict[int, tuple[np.ndarray, np.ndarray]], table: Pa
 
 
 def _instance_speeds(
-    recording: Recording, groups: list[np.ndarray], rows: np.ndarray, prev: np.ndarray, dt: np.ndarray
+    recording: Recording, groups: list[np.ndarray], rows: np.ndarray, prev: np.ndarray, dt: np.ndarray,
+    filler: RigidFill | None = None,
 ) -> list[np.ndarray]:
     """Per instance (table order), the median marker speed at ``rows`` (m/s; NaN in gaps)."""
     lag = int(rows[0] - prev[0])
+    if filler is None:
+        positions = recording.positions_m
+        first = 0
+    else:  # the frames from the earliest ``prev`` on, gaps filled
+        first = int(min(prev.min(), rows[0]))
+        positions = filler.rows(first, int(max(prev.max(), rows[-1])) + 1)
     if rows[0] >= lag > 0 and np.array_equal(prev, rows - lag):  # a plain slice, no gather
-        before = recording.positions_m[rows[0] - lag : rows[-1] + 1 - lag]
+        before = positions[rows[0] - lag - first : rows[-1] + 1 - lag - first]
     else:
-        before = recording.positions_m[prev]
-    diff = recording.positions_m[rows[0]:rows[-1] + 1] - before  # (R, M, 3)
+        before = positions[prev - first]
+    diff = positions[rows[0] - first:rows[-1] + 1 - first] - before  # (R, M, 3)
     step = np.sqrt(diff[..., 0] * diff[..., 0] + diff[..., 1] * diff[..., 1]
                    + diff[..., 2] * diff[..., 2])  # (R, M) metres, as np.linalg.norm(diff, axis=-1)
     by_marker = np.ascontiguousarray(step.T)  # (M, R): one marker's steps contiguous

@@ -20,6 +20,7 @@ from itertools import pairwise
 import numpy as np
 
 from oacdsl.segmentation.pairs import PairTable
+from oacdsl.segmentation.poses import RigidFill
 from oacdsl.segmentation.recording import Recording
 
 __all__ = [
@@ -51,9 +52,10 @@ def chunk_frames_for(n_pairs: int, wanted: int, history: int = 0) -> int:
 class ChunkGeometry:
     """Computes distances for frame ranges of one recording."""
 
-    def __init__(self, recording: Recording, table: PairTable) -> None:
+    def __init__(self, recording: Recording, table: PairTable, filler: RigidFill | None = None) -> None:
         self.recording = recording
         self.table = table
+        self.filler = None if filler is None or filler.empty else filler  # rigid gaps, filled per chunk
         self.centre = _centre(recording.positions_m)
         blocks = np.diff(table.block_offsets)
         #: marker pairs of the largest instance pair: the size of a scratch buffer per frame
@@ -65,7 +67,7 @@ class ChunkGeometry:
     def coordinates(self, lo: int, hi: int) -> np.ndarray:
         """(3, M', hi - lo) float32 centred coordinates of frames ``lo:hi``, metres (NaN = gap)."""
         out = np.empty((3, self.table.marker_order.size, hi - lo), dtype=np.float32)
-        rows = self.recording.positions_m[lo:hi]
+        rows = self.recording.positions_m[lo:hi] if self.filler is None else self.filler.rows(lo, hi)
         if not self._in_order:
             rows = rows[:, self.table.marker_order]
         # centre in float64, then round once to float32, (F, M, 3) → (3, M, F) in one pass, in slabs

@@ -8,6 +8,7 @@ least one relation changed, with the world state from that frame on.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -64,7 +65,8 @@ def _apply(touching: set[Relation], rel: Relation, value: bool) -> None:
         touching.discard(rel)
 
 
-def merge_keyframes(keyframes: Sequence[Keyframe], window_s: float) -> list[Keyframe]:
+def merge_keyframes(keyframes: Sequence[Keyframe], window_s: float, at_onset: bool = False,
+                    connected: bool = False) -> list[Keyframe]:
     """The paper's merging: keyframes closer than ``window_s`` seconds form a group.
 
     A keyframe joins a group when it is less than ``window_s`` after the group's
@@ -75,9 +77,21 @@ def merge_keyframes(keyframes: Sequence[Keyframe], window_s: float) -> list[Keyf
     that contains frame 0 stays at frame 0 and takes the group's last state: the
     first keyframe is always the initial state. ``window_s = 0`` merges nothing;
     a gap equal to the window (within :data:`TIME_EPS_S`) does not merge.
+
+    ``at_onset`` (the adaptive detector's): a group stands at its *first* keyframe's frame,
+    with its last state. The paper's last frame moves an event by up to the window when
+    another, unrelated change follows it closely (Pour: the carton's grasp at 2.0 s, the
+    carton reaching the cup at 2.1 s); the first frame is where the group's change began.
+
+    ``connected`` (the adaptive detector's): a keyframe joins a group only when its change
+    shares an instance with the group's changes (the carton grasped and the carton reaching
+    the cup; not the left hand's grasp and the right hand's): independent changes keep their
+    own frames, however close in time.
     """
     if not keyframes:
         return []
+    if connected:
+        return _merge_connected(keyframes, window_s, at_onset)
     groups: list[list[Keyframe]] = [[keyframes[0]]]
     for kf in keyframes[1:]:
         if kf.time_s - groups[-1][-1].time_s < window_s - TIME_EPS_S:
@@ -89,5 +103,69 @@ def merge_keyframes(keyframes: Sequence[Keyframe], window_s: float) -> list[Keyf
     for group in groups[1:]:
         last = group[-1]
         if last.state != kept[-1].state:
-            kept.append(last)
+            kept.append(Keyframe(group[0].frame, group[0].time_s, last.state) if at_onset else last)
     return kept
+
+
+
+def _touched(before: WorldState, after: WorldState) -> set[str]:
+    """The instances whose relations differ between two states."""
+    return {name for rel in before.relations ^ after.relations for name in rel}
+
+
+@dataclass
+class _Group:
+    members: list[int]  # keyframe indices
+    names: set[str]  # instances their changes touch
+    last_s: float  # time of the latest member
+
+
+def _merge_connected(keyframes: Sequence[Keyframe], window_s: float, at_onset: bool) -> list[Keyframe]:
+    """:func:`merge_keyframes` with ``connected``: groups are chains in time *and* in instances.
+
+    Each change (keyframe ``i`` against ``i - 1``) joins the open groups whose latest member is
+    within the window and that share an instance with it (joining them); else it opens a group.
+    A group's relations take their last values at its anchor (its first or last member's frame;
+    frame 0 for a group within the window of the start); the states are rebuilt from them.
+    """
+    states = [kf.state for kf in keyframes]
+    groups: list[_Group] = []
+    for i in range(1, len(keyframes)):
+        names, t = _touched(states[i - 1], states[i]), keyframes[i].time_s
+        near = [g for g in groups if t - g.last_s < window_s - TIME_EPS_S and g.names & names]
+        group = near[0] if near else _Group([], set(), t)
+        if not near:
+            groups.append(group)
+        for other in near[1:]:
+            group.members += other.members
+            group.names |= other.names
+            groups.remove(other)
+        group.members.append(i)
+        group.names |= names
+        group.last_s = t
+    start = keyframes[0]
+    anchored: list[tuple[int, float, dict[Relation, bool]]] = []
+    for g in groups:
+        members = sorted(g.members)
+        final: dict[Relation, bool] = {}
+        for i in members:
+            for rel in states[i - 1].relations ^ states[i].relations:
+                final[rel] = rel in states[i].relations
+        anchor = keyframes[members[0]] if at_onset else keyframes[members[-1]]
+        if keyframes[members[0]].time_s - start.time_s < window_s - TIME_EPS_S:
+            anchor = start  # early flicker folds into the initial state
+        anchored.append((anchor.frame, anchor.time_s, final))
+    anchored.sort(key=lambda c: c[0])
+    touching = set(states[0].relations)
+    out: list[Keyframe] = []
+    for frame, time_s, final in [(start.frame, start.time_s, {})] + anchored:
+        for rel, value in final.items():
+            _apply(touching, rel, value)
+        state = WorldState(states[0].instances, frozenset(touching))
+        if out and out[-1].frame == frame:
+            out[-1] = Keyframe(frame, time_s, state)
+            if len(out) > 1 and out[-2].state == state:
+                out.pop()
+        elif not out or state != out[-1].state:
+            out.append(Keyframe(frame, time_s, state))
+    return out

@@ -29,7 +29,9 @@ from oacdsl.segmentation.recording import Recording
 __all__ = [
     "MIN_MARKERS",
     "ObjectPoses",
+    "RigidFill",
     "agreement",
+    "fill_rigid_gaps",
     "fit_constellation",
     "fit_instance",
     "fit_poses",
@@ -217,3 +219,69 @@ def agreement(poses: ObjectPoses, T_world_model: np.ndarray) -> tuple[np.ndarray
     position = np.linalg.norm(predicted[:, :3, 3] - T_fit[:, :3, 3], axis=1)
     angle = rotation_angle(np.swapaxes(predicted[:, :3, :3], 1, 2) @ T_fit[:, :3, :3])
     return position, angle
+
+
+
+class RigidFill:
+    """Fills, frame range by frame range, the gaps of rigid instances' markers from their fit.
+
+    For each of ``instances`` with more than :data:`MIN_MARKERS` markers: a missing marker at a
+    frame where at least :data:`MIN_MARKERS` of them are seen is put where the rigid fit
+    (:func:`fit_constellation`) of the constellation of its first frame with every marker seen
+    places it. Memory O(gap frames); :meth:`rows` copies only a range that has something to fill.
+    """
+
+    def __init__(self, recording: Recording, instances: Iterable[str]) -> None:
+        self.recording = recording
+        # per instance: marker indices, frames to fill (sorted), (R, k, 3) positions there (NaN: seen)
+        self._items: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+        for name in instances:
+            idx = np.asarray(recording.groups.get(name, ()), dtype=np.intp)
+            if idx.size <= MIN_MARKERS:
+                continue
+            seen = ~np.isnan(recording.positions_m[:, idx, 0])  # a gap is NaN in every coordinate
+            count = seen.sum(axis=1)
+            frames = np.flatnonzero((count >= MIN_MARKERS) & (count < idx.size))
+            full = np.flatnonzero(count == idx.size)
+            if frames.size == 0 or full.size == 0:
+                continue
+            ref = recording.positions_m[full[0], idx, :]
+            ref = ref - ref.mean(axis=0)
+            pts = recording.positions_m[frames[:, None], idx]  # (R, k, 3)
+            T, _ = fit_constellation(ref, pts)
+            placed = np.einsum("fij,kj->fki", T[:, :3, :3], ref) + T[:, None, :3, 3]
+            placed[seen[frames]] = np.nan
+            self._items.append((idx, frames, placed))
+
+    @property
+    def empty(self) -> bool:
+        """Nothing to fill anywhere."""
+        return not self._items
+
+    def rows(self, lo: int, hi: int) -> np.ndarray:
+        """(hi - lo, M, 3) positions of frames ``lo:hi``, metres, gaps filled (a view when none is)."""
+        out = self.recording.positions_m[lo:hi]
+        copied = False
+        for idx, frames, placed in self._items:
+            a, b = np.searchsorted(frames, [lo, hi])
+            if a == b:
+                continue
+            if not copied:
+                out, copied = out.copy(), True
+            cells = (frames[a:b, None] - lo, idx)
+            values = placed[a:b]
+            out[cells] = np.where(np.isnan(values), out[cells], values)
+        return out
+
+def fill_rigid_gaps(recording: Recording, instances: Iterable[str]) -> Recording:
+    """``recording`` with the gaps of ``instances``' markers filled as :class:`RigidFill` does
+    (the same object when nothing is filled; else a copy: the segmenter fills chunk by chunk).
+
+    A marker hidden for a moment does not move the object: without this the closest marker
+    distance of its pairs jumps to the next marker's for the length of the gap.
+    """
+    filler = RigidFill(recording, instances)
+    if filler.empty:
+        return recording
+    return Recording(recording.source, recording.rate_hz, recording.times_s, recording.marker_names,
+                     filler.rows(0, recording.n_frames), recording.groups, recording.first_frame)

@@ -54,12 +54,13 @@ Spans = list[tuple[int, int]]
 def refine(added: dict[int, Spans], removed: dict[int, Spans], n_frames: int,
            holds: Mapping[tuple[int, int], np.ndarray], objects: list[int], agents: set[int],
            pair: Callable[[int, int], int | None], dist: Callable[[int, int], np.ndarray],
-           reach_m: float, dwell: int) -> tuple[dict[int, Spans], dict[int, Spans]]:
+           reach_m: float, dwell: int, rest_m: float = REST_M) -> tuple[dict[int, Spans], dict[int, Spans]]:
     """The tool contacts ``added`` and vetoes ``removed`` after rules 1–5 (module doc).
 
     ``holds``: (agent, object) → (F,) bool; ``pair(i, j)``: instance pair index or None;
     ``dist(i, j)``: (F,) closest marker distance, metres (inf beyond reach, NaN in a gap);
-    ``dwell``: frames a tool contact lasts at least.
+    ``dwell``: frames a tool contact lasts at least; ``rest_m``: metres a distance at rest
+    varies (:data:`REST_M` for the reference demonstration).
     """
     held_by_any = {x: np.any([holds[(h, x)] for h in agents], axis=0) for x in objects}
     ends = {q: (i, j) for i in objects for j in objects if i < j and (q := pair(i, j)) is not None}
@@ -70,7 +71,7 @@ def refine(added: dict[int, Spans], removed: dict[int, Spans], n_frames: int,
         d = dist(i, j)
         kept = []
         for a, b in spans:
-            a = _trim_rest(d, a, b, reach_m)  # rule 1
+            a = _trim_rest(d, a, b, reach_m, rest_m)  # rule 1
             if b - a < dwell:
                 continue
             let_go = b < n_frames and not (held_by_any[i][b] or held_by_any[j][b])
@@ -85,7 +86,7 @@ def refine(added: dict[int, Spans], removed: dict[int, Spans], n_frames: int,
     masks = {q: _mask(s, n_frames) for q, s in out.items()}
     holder = {x: [h for h in agents if holds[(h, x)].any()] for x in objects}
     drop: set[int] = set()
-    rests = {(x, t): [(a, b) for a, b in worked[q] if _rests(dist(x, t)[a:b][held_by_any[x][a:b]])]
+    rests = {(x, t): [(a, b) for a, b in worked[q] if _rests(dist(x, t)[a:b][held_by_any[x][a:b]], rest_m)]
              for q, (i, j) in ends.items() if q in worked for x, t in ((i, j), (j, i))}
     for q, (x, y) in ends.items():  # rule 3: two tools of different hands in one target
         if q not in masks or not holder[x] or not holder[y] or set(holder[x]) & set(holder[y]):
@@ -126,22 +127,22 @@ def refine(added: dict[int, Spans], removed: dict[int, Spans], n_frames: int,
     return out, {q: _runs(_mask(s, n_frames)) for q, s in vetoes.items()}
 
 
-def _trim_rest(d: np.ndarray, a: int, b: int, reach_m: float) -> int:
+def _trim_rest(d: np.ndarray, a: int, b: int, reach_m: float, rest_m: float) -> int:
     """The first frame of ``[a, b)`` where a contact that began within reach starts to move."""
     if a == 0 or not _near(d[a - 1], reach_m) or not np.isfinite(d[a]):
         return a
     start = d[a]
-    while a < b and not abs(d[a] - start) > REST_M:
+    while a < b and not abs(d[a] - start) > rest_m:
         a += 1
     return a
 
 
-def _rests(d: np.ndarray) -> bool:
+def _rests(d: np.ndarray, rest_m: float) -> bool:
     finite = d[np.isfinite(d)]
     if finite.size == 0:
         return False
     lo, hi = np.percentile(finite, [25, 75])
-    return bool(hi - lo <= REST_M * 2)
+    return bool(hi - lo <= rest_m * 2)
 
 
 def _near(d: np.ndarray | np.floating, reach_m: float) -> np.ndarray:

@@ -71,13 +71,15 @@ def tool_contacts(
     reach_m: float,
     dwell_s: float,
     bridge_s: float,
+    rest_m: float = 0.005,
 ) -> ToolContacts:
     """Tool contacts and cross-hand vetoes (see the module docstring).
 
     ``held``: instance pair → intervals in which it touches by co-motion (steps 1–3);
     ``closest``: instance pair → (F,) closest marker distance, metres (inf beyond
     reach, NaN in a gap: a gap inside a tool contact does not end it); ``reach_m``: ``d``;
-    ``dwell_s``, ``bridge_s``: seconds.
+    ``dwell_s``, ``bridge_s``: seconds; ``rest_m``: metres a distance at rest varies
+    (:mod:`oacdsl.segmentation.toolroles`).
     """
     agent_set = set(agents)
     if not agent_set:
@@ -146,7 +148,8 @@ def tool_contacts(
             veto = busy & by_other & ~holds[(h, x)]
             if veto.any():
                 removed[q] = _runs(veto)
-    added, removed = refine(added, removed, n_frames, holds, objects, agent_set, pair, dist, reach_m, dwell)
+    added, removed = refine(added, removed, n_frames, holds, objects, agent_set, pair, dist, reach_m, dwell,
+                            rest_m)
     return ToolContacts(added, removed)
 
 

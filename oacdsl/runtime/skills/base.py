@@ -24,24 +24,20 @@ from oacdsl.library import Library
 from oacdsl.model import Grasp
 from oacdsl.runtime.bodies import Body
 from oacdsl.runtime.control import Controller
-from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M
+from oacdsl.runtime.motion import paths
+from oacdsl.runtime.motion.tuning import TUNING
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.world import WorldState
 
-__all__ = ["SkillContext", "Skill", "Pick", "fmt_xyz"]
+__all__ = ["SkillContext", "Skill", "Pick", "cm", "fmt_xyz"]
 
 
 T = TypeVar("T")
 
-#: Obstacles whose footprint comes this close to a hand's path are flown over, m.
-NEAR_PATH_M = 0.12
 
-
-def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
-    """Distance from point p to the segment a–b (2-D)."""
-    ab = b - a
-    s = 0.0 if float(ab @ ab) < 1e-12 else float(np.clip((p - a) @ ab / (ab @ ab), 0.0, 1.0))
-    return float(np.linalg.norm(p - (a + s * ab)))
+def cm(length_m: float) -> str:
+    """A length for a message: 0.123 → ``12 cm``."""
+    return f"{length_m * 100:.0f} cm"
 
 
 def fmt_xyz(p: np.ndarray) -> str:
@@ -130,7 +126,7 @@ class SkillContext:
             hand = next(h for h, s in self.world.layout.hands.items() if s == side)
             raise RuntimeFailure(
                 f"{what} at {fmt_xyz(target[:3, 3])} is out of reach of {hand}: the best whole-body IK"
-                f" solution leaves the hand {res.position_m * 100:.0f} cm and"
+                f" solution leaves the hand {cm(res.position_m)} and"
                 f" {np.degrees(res.angle_rad):.0f}° from the target"
             )
 
@@ -149,68 +145,29 @@ class SkillContext:
         hand = next(h for h, s in self.world.layout.hands.items() if s == side)
         raise RuntimeFailure(
             f"{what} at {fmt_xyz(best[2][:3, 3])} is out of reach of {hand}: the best whole-body IK"
-            f" solution leaves the hand {best[0] * 100:.0f} cm and {np.degrees(best[1]):.0f}° from the target"
+            f" solution leaves the hand {cm(best[0])} and {np.degrees(best[1]):.0f}° from the target"
         )
 
     def obstacles(self, exclude: set[str]) -> list[tuple[np.ndarray, float, float]]:
-        """(xy, footprint radius, top height) of the objects standing on the table, read from
-        the simulation now; ``exclude`` and held objects left out (metres)."""
-        held = {o for o in self.world.held.values() if o is not None}
-        out = []
-        for p in self.world.layout.placements:
-            if p.name in exclude or p.name in held:
-                continue
-            t = self.world.body_pose(p.name)
-            shape = p.body
-            out.append((t[:2, 3].copy(), shape.radius, float(t[2, 3] + shape.height)))
-        return out
+        """(xy, footprint radius, top height) of the objects standing on the table
+        (:func:`~oacdsl.runtime.motion.paths.obstacles`)."""
+        return paths.obstacles(self.world, exclude)
 
     def clearance(self, a: np.ndarray, b: np.ndarray, exclude: set[str]) -> float:
-        """Smallest horizontal gap (m) between the path a → b (xy) and an obstacle's footprint."""
-        return min(
-            (_segment_distance(xy, a[:2], b[:2]) - r for xy, r, _ in self.obstacles(exclude)),
-            default=float("inf"),
-        )
+        """Smallest horizontal gap (m) between the way a → b (xy) and an obstacle's footprint."""
+        return paths.clearance(self.world, a, b, exclude)
 
     def via_height(self, a: np.ndarray, b: np.ndarray, exclude: set[str], hanging_m: float) -> float:
-        """Height for a hand frame moving over a → b (xy) so that what hangs ``hanging_m``
-        below it clears every obstacle within :data:`NEAR_PATH_M` of the path by 3 cm."""
-        tops = [
-            top
-            for xy, r, top in self.obstacles(exclude)
-            if _segment_distance(xy, a[:2], b[:2]) - r < NEAR_PATH_M
-        ]
-        return max(tops, default=-np.inf) + hanging_m + 0.03
-
-    def carry(self, side: str, goal: np.ndarray, exclude: set[str], duration_s: float = 1.6) -> None:
-        """Move hand ``side`` (and what it holds) to ``goal`` through a point high enough to
-        pass over the objects near the way (``exclude`` left out)."""
-        for pose, seconds in self.carry_path(side, goal, exclude, duration_s):
-            if seconds > 0:
-                self.ctl.move(side, pose, seconds)
+        """Height for a hand frame moving over a → b (xy) with ``hanging_m`` below it
+        (:func:`~oacdsl.runtime.motion.paths.via_height`)."""
+        return paths.via_height(self.world, a, b, exclude, hanging_m)
 
     def carry_path(
-        self, side: str, goal: np.ndarray, exclude: set[str], duration_s: float = 1.6
+        self, side: str, goal: np.ndarray, exclude: set[str], duration_s: float = TUNING.carry_s
     ) -> list[tuple[np.ndarray, float]]:
-        """The three (T_world_grasp, seconds) of :meth:`carry`: a climb (0 s when none is
-        needed), a point over the middle of the way, the goal."""
-        ctl = self.ctl
-        now = ctl.ik.goal(side)
-        hanging = HAND_BELOW_CENTRE_M
-        held = self.world.held[side]
-        if held is not None:
-            hanging = max(
-                hanging,
-                float(self.world.frame_pose(f"grasp_{side}")[2, 3] - self.world.body_pose(held)[2, 3]),
-            )
-        over = self.via_height(now[:3, 3], goal[:3, 3], exclude | ({held} if held else set()), hanging)
-        via = now.copy()
-        via[:2, 3] = 0.5 * (now[:2, 3] + goal[:2, 3])
-        via[2, 3] = max(now[2, 3], goal[2, 3], over)
-        up = now.copy()
-        up[2, 3] = max(over, now[2, 3])  # climb first, then cross
-        climb = 0.4 * duration_s if over > now[2, 3] else 0.0
-        return [(up, climb), (via, 0.5 * duration_s), (goal, 0.5 * duration_s)]
+        """The three (T_world_grasp, seconds) of a carry from hand ``side``'s goal now to ``goal``
+        (:func:`~oacdsl.runtime.motion.paths.carry_path`)."""
+        return paths.carry_path(self.world, side, self.ctl.ik.goal(side), goal, exclude, duration_s)
 
     def reach_error(self, side: str, target: np.ndarray) -> float:
         """A score of how well ``target`` can be reached (m, angle weighted 0.1 m/rad)."""

@@ -11,97 +11,33 @@ both sides): it is then lifted and set down by both together.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from functools import partial
-from typing import Protocol
 
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.control import CONTROL_DT_S, Controller
+from oacdsl.runtime.control import Controller
 from oacdsl.runtime.grasping import GraspPlan
 from oacdsl.runtime.handgap import hands_gap
 from oacdsl.runtime.hands import OPEN, TOP_PRESHAPE
-from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
-from oacdsl.runtime.skills.grasp import LIFT_M, ease_off, grasp_candidates, lifted, plan_grasp, secure
-from oacdsl.runtime.skills.place import (
-    CONTACT_FORCE_N,
-    DESCENT_SPEED_M_S,
-    HOVER_M,
-    MIN_JERK_PEAK,
-    set_down_pose,
-    withdrawal,
-)
-from oacdsl.runtime.transforms import interpolate, make_T, min_jerk
+from oacdsl.runtime.motion import TUNING, down, withdrawal
+from oacdsl.runtime.motion.both import lockstep, move_both
+from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext, cm
+from oacdsl.runtime.skills.grasp import ease_off, grasp_candidates, lifted, plan_grasp, secure
+from oacdsl.runtime.skills.place import set_down_pose
+from oacdsl.runtime.transforms import MIN_JERK_PEAK
+from oacdsl.skills import SIGNATURES
 
-__all__ = ["grasp_both", "place_both", "move_both", "mover", "reach_both", "HANDS_APART_M"]
+__all__ = ["grasp_both", "place_both", "reach_both", "preshape", "HANDS_APART_M"]
 
 #: Room kept between two hands that grasp at once, m: the smallest distance between their
 #: collision boxes (palm, fingers, the thumb held out) at the two grasp poses
 #: (:func:`~oacdsl.runtime.handgap.hands_gap`), for the IK's tracking error and the approach.
 HANDS_APART_M = 0.03
+GRASP_BOTH, PLACE_BOTH = SIGNATURES["grasp_both"].defaults(), SIGNATURES["place_both"].defaults()
 #: How many of each hand's reachable grasps are paired up.
 PAIR_CANDIDATES = 4
-
-
-class Move(Protocol):
-    """Move a hand to T_world_grasp in ``seconds``; a true ``guard`` stops it."""
-
-    def __call__(self, pose: np.ndarray, seconds: float, guard: Callable[[], bool] | None = None) -> None: ...
-
-
-def mover(ctl: Controller, side: str, keep: np.ndarray | None) -> Move:
-    """A move of hand ``side`` (``go(T_world_grasp, seconds, guard=None)``): alone when ``keep``
-    is None, else with the other hand's goal fixed at ``keep`` (T_world_grasp) throughout, as
-    strong a task as this hand's (the whole-body IK would let what it holds drift with the torso)."""
-    other = "l" if side == "r" else "r"
-
-    def go(pose: np.ndarray, seconds: float, guard: Callable[[], bool] | None = None) -> None:
-        if keep is None:
-            ctl.move(side, pose, seconds, guard=guard)
-        else:
-            move_both(ctl, {side: pose, other: keep}, seconds, {side: guard} if guard else None)
-
-    return go
-
-
-def move_both(
-    ctl: Controller,
-    goals: Mapping[str, np.ndarray],
-    duration_s: float,
-    guards: Mapping[str, Callable[[], bool]] | None = None,
-) -> dict[str, bool]:
-    """Move each hand of ``goals`` (side → T_world_grasp) there in ``duration_s`` (min-jerk),
-    together. A hand whose guard becomes true stops where it really is; the motion ends when it is
-    over or every guarded hand stopped. Returns, per side, whether its guard stopped it."""
-    guards = dict(guards or {})
-    starts = {s: ctl.ik.goal(s) for s in goals}
-    for s in goals:
-        ctl.tare(s)
-    stopped = {s: False for s in goals}
-    n = max(1, round(duration_s / CONTROL_DT_S))
-    for k in range(1, n + 1):
-        for s, goal in goals.items():
-            if not stopped[s]:
-                ctl.ik.set_hand_target(s, interpolate(starts[s], goal, min_jerk(k / n)))
-        ctl.tick()
-        for s, guard in guards.items():
-            if not stopped[s] and guard():
-                # stay where the hand really is (the arm lags its command): a hand waiting
-                # for the other one would otherwise keep pressing on what it touched
-                stopped[s] = True
-                ctl.ik.set_hand_target(s, ctl.world.frame_pose(f"grasp_{s}"))
-        if guards and all(stopped[s] for s in guards):
-            break
-    return stopped
-
-
-def _lockstep(ctl: Controller, paths: Mapping[str, list[tuple[np.ndarray, float]]]) -> None:
-    """Follow each side's list of (pose, seconds) together, phase by phase (equal lengths)."""
-    for phase in zip(*paths.values(), strict=True):
-        seconds = max(t for _, t in phase)
-        if seconds > 0:
-            move_both(ctl, {s: pose for s, (pose, _) in zip(paths, phase, strict=True)}, seconds)
 
 
 def _felt(ctl: Controller, side: str, force: float) -> bool:
@@ -109,19 +45,13 @@ def _felt(ctl: Controller, side: str, force: float) -> bool:
     return float(np.linalg.norm(ctl.force_change(side))) > force
 
 
-def reach_both(ctx: SkillContext, targets: Mapping[str, np.ndarray], iterations: int = 150) -> float:
+def reach_both(ctx: SkillContext, targets: Mapping[str, np.ndarray]) -> float:
     """The larger residual (m, angle weighted 0.1 m/rad) of a static whole-body solve
     with both hands at ``targets`` (side → T_world_grasp); the IK is left as it was."""
-    ik = ctx.ctl.ik
-    with ik.trial():
-        for s, t in targets.items():
-            ik.set_hand_target(s, t)
-        for _ in range(iterations):
-            ik.step()
-        return max((res := ik.residual(s)).position_m + 0.1 * res.angle_rad for s in targets)
+    return ctx.ctl.ik.try_reach_both(targets)
 
 
-def _preshape(ctx: SkillContext, obj: str) -> dict[str, float]:
+def preshape(ctx: SkillContext, obj: str) -> dict[str, float]:
     """The fingers of a hand coming to grasp ``obj`` (the thumb folded for a grasp from above)."""
     return TOP_PRESHAPE if ctx.grasp_for(obj).approach == "top" else OPEN
 
@@ -130,7 +60,7 @@ def _pair(ctx: SkillContext, a: tuple[str, str], b: tuple[str, str]) -> tuple[Gr
     """The first pair of grasps (each among its hand's first reachable few) that the
     whole-body IK reaches together with :data:`HANDS_APART_M` between the two hands."""
     options = []
-    shapes = (_preshape(ctx, a[1]), _preshape(ctx, b[1]))
+    shapes = (preshape(ctx, a[1]), preshape(ctx, b[1]))
     for hand, obj in (a, b):
         side = ctx.side(hand)
         shared = a[1] == b[1]  # one object in both hands: each takes it on its own side
@@ -156,9 +86,9 @@ def _pair(ctx: SkillContext, a: tuple[str, str], b: tuple[str, str]) -> tuple[Gr
             best = (err, p1, p2)
     if best is None or best[0] > 2 * REACH_TOLERANCE_M:
         why = (
-            f"the best whole-body IK solution for both leaves a hand off by {best[0] * 100:.0f} cm"
+            f"the best whole-body IK solution for both leaves a hand off by {cm(best[0])}"
             if best is not None
-            else f"no pair of their grasps leaves {HANDS_APART_M * 100:.0f} cm between the hands"
+            else f"no pair of their grasps leaves {cm(HANDS_APART_M)} between the hands"
             f" (at most {widest * 100:.1f} cm)"
         )
         raise RuntimeFailure(f"{a[0]} cannot grasp {a[1]} while {b[0]} grasps {b[1]}: {why}")
@@ -172,7 +102,9 @@ def _sides(ctx: SkillContext, h1: str, h2: str, what: str) -> tuple[str, str]:
     return s1, s2
 
 
-def grasp_both(ctx: SkillContext, h1: str, o1: str, h2: str, o2: str, *, lift: float = LIFT_M) -> None:
+def grasp_both(
+    ctx: SkillContext, h1: str, o1: str, h2: str, o2: str, *, lift: float = GRASP_BOTH["lift"]
+) -> None:
     """Grasp ``o1`` with ``h1`` and ``o2`` with ``h2`` at the same time, then lift both by ``lift`` (m)."""
     world, ctl = ctx.world, ctx.ctl
     _sides(ctx, h1, h2, "grasp_both")
@@ -186,7 +118,7 @@ def grasp_both(ctx: SkillContext, h1: str, o1: str, h2: str, o2: str, *, lift: f
     for m in motions:
         if m.grasp.approach == "top":
             ctl.set_fingers(m.side, TOP_PRESHAPE)
-    _lockstep(ctl, {m.side: m.waypoints for m in motions})
+    lockstep(ctl, {m.side: m.waypoints for m in motions})
     ctl.activity = f"approaching {o1} and {o2}"
     move_both(
         ctl,
@@ -196,30 +128,31 @@ def grasp_both(ctx: SkillContext, h1: str, o1: str, h2: str, o2: str, *, lift: f
     )
     eased = {m.side: e for m in motions if (e := ease_off(ctx, m)) is not None}
     if eased:
-        move_both(ctl, eased, 0.2)
+        move_both(ctl, eased, TUNING.press_s)
     ctl.activity = f"closing {h1} on {o1} and {h2} on {o2}"
     for m in motions:
         ctl.set_fingers(m.side, m.closed)
     # each hand is welded the moment its fingers touch (a closing finger pushes a light object away)
     pending = list(motions)
-    for _ in range(round(0.6 / CONTROL_DT_S)):
-        ctl.tick()
+
+    def weld_touching() -> bool:
         for m in [m for m in pending if m.holding(world)]:
             secure(ctx, m)
             pending.remove(m)
-        if not pending:
-            break
+        return not pending
+
+    ctl.wait(TUNING.close_s, until=weld_touching)
     for m in pending:
         secure(ctx, m)  # raises with the reason
-    ctl.wait(0.3)
+    ctl.wait(TUNING.settle_s)
     up = {m.side: lifted(ctx, m.side, lift) for m in motions if not m.handover}
     if up:
         ctl.activity = f"lifting {o1} and {o2}"
-        move_both(ctl, up, 1.0)
+        move_both(ctl, up, TUNING.lift_s)
 
 
 def place_both(
-    ctx: SkillContext, h1: str, o1: str, h2: str, o2: str, *, force: float = CONTACT_FORCE_N
+    ctx: SkillContext, h1: str, o1: str, h2: str, o2: str, *, force: float = PLACE_BOTH["force"]
 ) -> None:
     """Set down ``o1`` held by ``h1`` and ``o2`` held by ``h2`` at the same time (where each
     step's predicted effect says, as ``place``); each descent stops when its wrist feels
@@ -241,14 +174,14 @@ def place_both(
             hover[side] = pose
             exclude = {o1, o2} | ({support} if support else set())
             paths[side] = ctx.carry_path(side, pose, exclude)
-        _lockstep(ctl, paths)
-        ctl.wait(0.2)
+        lockstep(ctl, paths)
+        ctl.wait(TUNING.carry_pause_s)
     ctl.activity = f"setting {o1} and {o2} down"
-    depth = HOVER_M + 0.03
+    depth = TUNING.hover_m + TUNING.support_search_m
     felt = move_both(
         ctl,
-        {s: make_T(t[:3, :3], t[:3, 3] - np.array([0.0, 0.0, depth])) for s, t in hover.items()},
-        MIN_JERK_PEAK * depth / DESCENT_SPEED_M_S,
+        {s: down(t, depth) for s, t in hover.items()},
+        MIN_JERK_PEAK * depth / TUNING.set_down_speed_m_s,
         {s: partial(_felt, ctl, s, force) for s in sides},
     )
     if o1 == o2 and any(felt.values()):
@@ -256,21 +189,19 @@ def place_both(
     missing = [h for h, s in ((h1, sides[0]), (h2, sides[1])) if not felt[s]]
     if missing:
         raise RuntimeFailure(
-            f"the wrist of {' and '.join(missing)} felt no support after lowering"
-            f" {depth * 100:.0f} cm"
+            f"the wrist of {' and '.join(missing)} felt no support after lowering {cm(depth)}"
         )
     ctl.activity = f"releasing {o1} and {o2}"
     for s in sides:
         world.release(s)
     for s in sides:
         ctl.set_fingers(s, OPEN)
-    ctl.wait(0.4)
+    ctl.wait(TUNING.open_s)
     ctl.activity = "withdrawing"
-    up = np.array([0.0, 0.0, -1.0])
     paths = {
-        s: withdrawal(ctl.ik.frame(f"grasp_{s}"), p.approach if p is not None else up)
+        s: withdrawal(ctl.ik.frame(f"grasp_{s}"), p.approach if p is not None else None)
         for s, p in picks.items()
     }
     for s in sides:
         ctx.picked.pop(s, None)
-    _lockstep(ctl, paths)
+    lockstep(ctl, paths)

@@ -16,9 +16,10 @@ import numpy as np
 from oacdsl.errors import RuntimeFailure
 from oacdsl.model import Grasp
 from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M, GraspPlan, plan_grasps
+from oacdsl.runtime.handgap import hands_gap
 from oacdsl.runtime.hands import CLOSED, PINCH_CLOSED, TOP_PRESHAPE, finger_joint_names
 from oacdsl.runtime.simworld import SimWorld
-from oacdsl.runtime.skills.base import Pick, SkillContext, fmt_xyz
+from oacdsl.runtime.skills.base import Pick, SkillContext, cm, fmt_xyz
 from oacdsl.runtime.transforms import make_T
 
 __all__ = [
@@ -26,6 +27,7 @@ __all__ = [
     "GraspMotion",
     "plan_grasp",
     "grasp_candidates",
+    "handover_candidates",
     "secure",
     "ease_off",
     "lifted",
@@ -111,6 +113,24 @@ def grasp_candidates(ctx: SkillContext, hand: str, obj: str, shared: bool = Fals
     ]
 
 
+def handover_candidates(ctx: SkillContext, hand: str, obj: str) -> list[GraspPlan]:
+    """The grasps of ``obj`` by ``hand`` while the other hand holds it: its declared grasps and,
+    for an object that is not round, the declared point mirrored through its axis; those that
+    leave room for the other hand where it holds the object (its hand boxes, as they are,
+    :data:`~oacdsl.runtime.skills.bimanual.HANDS_APART_M` apart) come first, the grasp point
+    the other hand occupies last (taking it there pressed both hands together: 69 N)."""
+    from oacdsl.runtime.skills.bimanual import HANDS_APART_M, preshape
+
+    side = ctx.side(hand)
+    other = "l" if side == "r" else "r"
+    plans = grasp_candidates(ctx, hand, obj, shared=True)
+    held = (other, ctx.world.frame_pose(f"grasp_{other}"), ctx.ctl.fingers[other])
+    room = [hands_gap((side, p.grasp, preshape(ctx, obj)), held) >= HANDS_APART_M for p in plans]
+    return [p for p, ok in zip(plans, room, strict=True) if ok] + [
+        p for p, ok in zip(plans, room, strict=True) if not ok
+    ]
+
+
 def plan_grasp(ctx: SkillContext, hand: str, obj: str, plan: GraspPlan | None = None) -> GraspMotion:
     """Plan how ``hand`` grasps ``obj``: by ``plan``, else by the first of
     :func:`grasp_candidates` the whole-body IK reaches (raises when the hand holds
@@ -124,7 +144,8 @@ def plan_grasp(ctx: SkillContext, hand: str, obj: str, plan: GraspPlan | None = 
     supports = world.relations().partners(obj) & ctx.objects()
     handover = ctx.other_holder(side, obj) is not None
     if plan is None:
-        plan = ctx.first_reachable(side, [(p.grasp, p) for p in grasp_candidates(ctx, hand, obj)], obj)
+        candidates = handover_candidates(ctx, hand, obj) if handover else grasp_candidates(ctx, hand, obj)
+        plan = ctx.first_reachable(side, [(p.grasp, p) for p in candidates], obj)
     current = ctl.ik.frame(f"grasp_{side}")
     via = plan.pre_grasp.copy()
     over = ctx.via_height(current[:3, 3], plan.pre_grasp[:3, 3], {obj}, HAND_BELOW_CENTRE_M)
@@ -175,7 +196,7 @@ def secure(ctx: SkillContext, m: GraspMotion) -> None:
     off = float(np.linalg.norm(centre - m.plan.grasp[:3, 3]))
     if off > GRASP_POSE_TOLERANCE_M:
         raise RuntimeFailure(
-            f"could not grasp {obj}: {hand} ended {off * 100:.0f} cm from the grasp point"
+            f"could not grasp {obj}: {hand} ended {cm(off)} from the grasp point"
             f" {fmt_xyz(m.plan.grasp[:3, 3])}"
         )
     if not world.fingers_touch(side, obj):

@@ -1,13 +1,9 @@
-"""``hold`` and ``retreat``: the small skills of a bimanual sequence.
+"""``hold(h, o)`` and ``retreat(h)``: the small skills of a bimanual sequence.
 
-``hold(h, o)`` keeps the object the hand holds still while the other hand works on it
-(a cup held up while the other hand stirs in it): the hand keeps its pose for
-``duration`` and the skill checks that the object stayed in the hand and in place.
-Every later motion of the other hand keeps this hand where it is (the controller holds
-an idle hand's pose), so ``hold`` itself is short.
-
-``retreat(h)`` takes an empty hand back to where it started (the home posture's hand
-pose), over the objects in the way, so that it is out of the other hand's way.
+``hold`` keeps the held object still for ``duration`` and checks that it stayed in the hand
+and in place; every later motion of the other hand keeps this hand where it is (its policy
+for the other hand), so ``hold`` itself is short. ``retreat`` takes an empty hand up and
+back to its home-posture pose, over the objects in the way.
 """
 
 from __future__ import annotations
@@ -16,36 +12,32 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.build import home_posture
-from oacdsl.runtime.skills.base import SkillContext, fmt_xyz
-from oacdsl.runtime.transforms import make_T
+from oacdsl.runtime.motion import Motion, raised
+from oacdsl.runtime.skills.base import SkillContext, cm, fmt_xyz
+from oacdsl.skills import SIGNATURES
 
-__all__ = ["hold", "retreat", "HOLD_S", "STILL_M", "RETREAT_S"]
+__all__ = ["hold", "retreat", "home_pose", "SIGNATURES_HERE"]
 
-#: How long ``hold`` keeps the hand still, s.
-HOLD_S = 0.5
-#: How far a held object may drift while it is held still, m.
-STILL_M = 0.02
-#: Time to take an empty hand back to its home pose, s.
-RETREAT_S = 1.6
-#: How far an empty hand first rises before it goes home, m.
-RISE_M = 0.05
+SIGNATURES_HERE = (SIGNATURES["hold"], SIGNATURES["retreat"])
+HOLD, RETREAT = (s.defaults() for s in SIGNATURES_HERE)
 
 
-def hold(ctx: SkillContext, hand: str, obj: str, *, duration: float = HOLD_S) -> None:
+def hold(ctx: SkillContext, hand: str, obj: str, *, duration: float = HOLD["duration"]) -> None:
     """Keep ``obj`` still in ``hand`` for ``duration`` (s)."""
     world, ctl = ctx.world, ctx.ctl
     side = ctx.require_held(hand, obj)
+    m = Motion(ctx, side)
     ctl.activity = f"holding {obj}"
     start = world.body_pose(obj)[:3, 3].copy()
-    here = ctl.ik.goal(side)
-    ctl.ik.set_hand_target(side, here)
-    ctl.wait(duration)
+    ctl.ik.set_hand_target(side, m.here())
+    m.hold_still(duration)
     if world.held[side] != obj:
         raise RuntimeFailure(f"hold: {hand} lost {obj}")
     moved = float(np.linalg.norm(world.body_pose(obj)[:3, 3] - start))
-    if moved > STILL_M:
+    allowed = m.tuning.still_m
+    if moved > allowed:
         raise RuntimeFailure(
-            f"hold: {obj} moved {moved * 100:.0f} cm while {hand} held it (allowed {STILL_M * 100:.0f} cm)"
+            f"hold: {obj} moved {cm(moved)} while {hand} held it (allowed {cm(allowed)})"
         )
 
 
@@ -60,21 +52,21 @@ def home_pose(ctx: SkillContext, side: str) -> np.ndarray:
         ik.restore(q)
 
 
-def retreat(ctx: SkillContext, hand: str, *, duration: float = RETREAT_S) -> None:
+def retreat(ctx: SkillContext, hand: str, *, duration: float = RETREAT["duration"]) -> None:
     """Take the empty ``hand`` back to its home pose in about ``duration`` (s)."""
-    world, ctl = ctx.world, ctx.ctl
+    world = ctx.world
     side = ctx.side(hand)
     if world.held[side] is not None:
         raise RuntimeFailure(f"retreat: {hand} still holds {world.held[side]} (place it first)")
+    m = Motion(ctx, side)
+    t = m.tuning
     goal = home_pose(ctx, side)
-    ctl.activity = f"taking {hand} back"
-    now = ctl.ik.goal(side)
-    up = make_T(now[:3, :3], now[:3, 3] + np.array([0.0, 0.0, RISE_M]))
-    ctl.move(side, up, 0.25 * duration)
-    ctx.carry(side, goal, set(), 0.75 * duration)
-    ctl.wait(0.2)
+    ctx.ctl.activity = f"taking {hand} back"
+    m.go(raised(m.here(), t.retreat_rise_m), t.retreat_rise_share * duration)
+    m.carry(goal, set(), (1 - t.retreat_rise_share) * duration)
+    m.hold_still(t.carry_pause_s)
     off = float(np.linalg.norm(world.frame_pose(f"grasp_{side}")[:3, 3] - goal[:3, 3]))
-    if off > 0.05:
+    if off > t.arrive_tolerance_m:
         raise RuntimeFailure(
-            f"retreat: {hand} stopped {off * 100:.0f} cm from its home pose {fmt_xyz(goal[:3, 3])}"
+            f"retreat: {hand} stopped {cm(off)} from its home pose {fmt_xyz(goal[:3, 3])}"
         )

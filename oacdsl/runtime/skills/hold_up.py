@@ -17,23 +17,17 @@ from __future__ import annotations
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.skills.base import SkillContext, fmt_xyz
+from oacdsl.runtime.motion import Motion
+from oacdsl.runtime.skills.base import SkillContext, cm, fmt_xyz
 from oacdsl.runtime.skills.grasp import reach_and_grasp
 from oacdsl.runtime.skills.shapes import world_corners
 from oacdsl.runtime.transforms import make_T
+from oacdsl.skills import SIGNATURES
 
-__all__ = ["hold_up", "HOLD_LIFT_M", "HOLD_FORWARD_M", "HOLD_ASIDE_M", "HOLD_S"]
+__all__ = ["hold_up", "SIGNATURE"]
 
-#: How high the object is lifted off its support, m.
-HOLD_LIFT_M = 0.20
-#: Where its middle is held: this far in front of the robot's base (x), m …
-HOLD_FORWARD_M = 0.50
-#: … and this far to the hand's side of the robot's middle (y), m.
-HOLD_ASIDE_M = 0.10
-#: Time to carry it there, s.
-HOLD_S = 1.6
-#: How far the object's middle may end from the spot (the arm lags, the IK compromises), m.
-HOLD_TOLERANCE_M = 0.05
+SIGNATURE = SIGNATURES["hold_up"]
+D = SIGNATURE.defaults()
 
 
 def hold_up(
@@ -41,9 +35,9 @@ def hold_up(
     hand: str,
     obj: str,
     *,
-    lift: float = HOLD_LIFT_M,
-    forward: float = HOLD_FORWARD_M,
-    aside: float = HOLD_ASIDE_M,
+    lift: float = D["lift"],
+    forward: float = D["forward"],
+    aside: float = D["aside"],
 ) -> None:
     """Grasp ``obj`` with ``hand``, lift it by ``lift`` (m) and hold its middle ``forward`` (m)
     in front of the robot and ``aside`` (m) to the hand's side."""
@@ -52,21 +46,22 @@ def hold_up(
     reach_and_grasp(ctx, hand, obj, lift=lift)
     if ctx.other_holder(side, obj) is not None:  # a hand-over: the other hand holds it too
         return
+    m = Motion(ctx, side)
     goal_mid = np.array([forward, aside if side == "l" else -aside])
-    now = ctl.ik.goal(side)
+    now = m.here()
     shift = goal_mid - _middle(ctx, obj)
     goal = make_T(now[:3, :3], now[:3, 3] + np.array([shift[0], shift[1], 0.0]))
     ctl.activity = f"holding {obj} up"
     ctx.check_reachable(side, goal, f"the place in front of the robot to hold {obj} up")
-    ctx.carry(side, goal, {obj}, HOLD_S)
-    ctl.wait(0.2)
+    m.carry(goal, {obj}, m.tuning.carry_s)
+    m.hold_still(m.tuning.carry_pause_s)
     if world.held[side] != obj:
         raise RuntimeFailure(f"hold_up: {hand} lost {obj}")
     off = float(np.linalg.norm(_middle(ctx, obj) - goal_mid))
-    if off > HOLD_TOLERANCE_M:
+    if off > m.tuning.arrive_tolerance_m:
         spot = np.array([goal_mid[0], goal_mid[1], world.body_pose(obj)[2, 3]])
         raise RuntimeFailure(
-            f"hold_up: {obj} ended {off * 100:.0f} cm from where it is held up, {fmt_xyz(spot)}"
+            f"hold_up: {obj} ended {cm(off)} from where it is held up, {fmt_xyz(spot)}"
         )
 
 

@@ -10,9 +10,8 @@ apart and above the rim). Both arms move together (the lockstep of
 ``turns`` circles of ``radius`` (m) in ``period`` (s) each — both tips in phase, so that
 the distance between them never changes; the radius is clamped so that each tool stays
 clear of the wall — and then down onto the floor until each tool touches the container
-(the OAC's effect: both tools touch it). They are kept there :data:`REST_S`, longer than
-the closed loop's 1 s merge window, so that the robot's recording shows the contacts
-apart from the hands letting go. The container is read where it is when the skill starts.
+(the OAC's effect: both tools touch it), pressed on a moment. The container is read
+where it is when the skill starts.
 """
 
 from __future__ import annotations
@@ -24,56 +23,36 @@ from functools import partial
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
+from oacdsl.runtime.motion import TUNING
+from oacdsl.runtime.motion.both import move_both
 from oacdsl.runtime.simworld import SimWorld
-from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
-from oacdsl.runtime.skills.bimanual import move_both, reach_both
-from oacdsl.runtime.skills.place import MIN_JERK_PEAK
+from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext, cm
+from oacdsl.runtime.skills.bimanual import reach_both
 from oacdsl.runtime.skills.tooltip import HeldTool, held_tool, pointing
+from oacdsl.runtime.transforms import MIN_JERK_PEAK
+from oacdsl.skills import SIGNATURES
 
-__all__ = [
-    "mix_both",
-    "MIX_RADIUS_M",
-    "MIX_PERIOD_S",
-    "MIX_TURNS",
-    "MIX_TILT_RAD",
-    "MIX_DEPTH_M",
-    "MIX_SPREAD",
-    "MIX_FORCE_N",
-    "REST_S",
-]
+__all__ = ["mix_both", "MIX_SPREAD", "SIGNATURE"]
 
-MIX_RADIUS_M = 0.02
-MIX_PERIOD_S = 1.0
-MIX_TURNS = 3
-MIX_TILT_RAD = math.radians(15.0)
-#: Height of the tips above the floor while they circle, m: the robot's virtual markers
-#: (15 mm apart count as touching) see no contact yet, so none flickers while they move.
-MIX_DEPTH_M = 0.035
+SIGNATURE = SIGNATURES["mix_both"]
+D = SIGNATURE.defaults()
 #: Each tip's spot: this fraction of the inner radius from the middle.
 MIX_SPREAD = 0.5
-#: Wrist force change that stops a tool going down, N.
-MIX_FORCE_N = 10.0
-#: How long both tools rest on the floor at the end, s (over the closed loop's 1 s merge window).
-REST_S = 1.2
-#: Room kept between a tool's side and the inner wall, and between the two tools, m.
-WALL_MARGIN_M = 0.005
-#: Free space kept between a hand and the container's rim, m.
-RIM_CLEARANCE_M = 0.015
-#: Height of the tips above the rim before they go in, m.
-ABOVE_RIM_M = 0.05
+#: Points per circle.
+CIRCLE_POINTS = 16
 #: How far below the floor the tips are aimed at the end (a contact stops them), m.
-PRESS_M = 0.01
-DIP_SPEED_M_S = 0.08
+AIM_BELOW_FLOOR_M = 2 * TUNING.aim_beyond_m
 #: How far below where it touched each hand holds its tool while it rests, m (without it a
 #: tool could spring back off the floor; from 3 mm on, the tool shifts in the hand's weld
 #: and the fingers of a hand holding a 2 cm handle lose their contact with it: KIT Mix).
 REST_PRESS_M = 0.002
 
 
-def _below_rim(world: SimWorld, side: str, t_hand: np.ndarray, rim: np.ndarray, inner: float,
-               outer: float) -> float:
+def _below_rim(
+    world: SimWorld, side: str, t_hand: np.ndarray, rim: np.ndarray, inner: float, outer: float
+) -> float:
     """How far (m) hand ``side`` (its geoms' bounding boxes, the fingers as they are now),
-    moved to ``t_hand`` (T_world_grasp), reaches below :data:`RIM_CLEARANCE_M` over the
+    moved to ``t_hand`` (T_world_grasp), reaches below :data:`TUNING.rim_clearance_m` over the
     rim (``rim``: the rim's centre, world, m; ``inner``, ``outer``: its radii, m) where it is
     within that clearance of the rim across (negative: clear of it). An upright container."""
     m, d = world.model, world.data
@@ -86,9 +65,9 @@ def _below_rim(world: SimWorld, side: str, t_hand: np.ndarray, rim: np.ndarray, 
         pts = (centre + signs * half) @ d.geom_xmat[g].reshape(3, 3).T + d.geom_xpos[g]
         pts = pts @ move[:3, :3].T + move[:3, 3]
         across = np.linalg.norm(pts[:, :2] - rim[:2], axis=1)
-        if across.max() < inner - RIM_CLEARANCE_M or across.min() > outer + RIM_CLEARANCE_M:
+        if across.max() < inner - TUNING.rim_clearance_m or across.min() > outer + TUNING.rim_clearance_m:
             continue  # wholly inside the rim or wholly outside it
-        worst = max(worst, float(rim[2]) + RIM_CLEARANCE_M - float(pts[:, 2].min()))
+        worst = max(worst, float(rim[2]) + TUNING.rim_clearance_m - float(pts[:, 2].min()))
     return worst
 
 
@@ -116,12 +95,12 @@ def mix_both(
     t2: str,
     container: str,
     *,
-    radius: float = MIX_RADIUS_M,
-    period: float = MIX_PERIOD_S,
-    turns: float = MIX_TURNS,
-    tilt: float = MIX_TILT_RAD,
-    depth: float = MIX_DEPTH_M,
-    force: float = MIX_FORCE_N,
+    radius: float = D["radius"],
+    period: float = D["period"],
+    turns: float = D["turns"],
+    tilt: float = D["tilt"],
+    depth: float = D["depth"],
+    force: float = D["force"],
 ) -> None:
     """Mix in ``container`` with ``t1`` held by ``h1`` and ``t2`` held by ``h2`` at once:
     ``turns`` circles of ``radius`` (m), ``period`` (s) each, the tips ``depth`` (m) above the
@@ -149,8 +128,8 @@ def mix_both(
     held: dict[str, HeldTool] = {s: held_tool(ctx, s, tools[s]) for s in sides}
     half = max(h.half_width for h in held.values())
     inner = body.inner_radius
-    offset = max(MIX_SPREAD * inner, half + WALL_MARGIN_M)
-    room = inner - offset - half - WALL_MARGIN_M
+    offset = max(MIX_SPREAD * inner, half + TUNING.wall_margin_m)
+    room = inner - offset - half - TUNING.wall_margin_m
     if room < 0:
         raise RuntimeFailure(
             f"mix_both: {container} is too narrow for {t1} and {t2} side by side"
@@ -172,15 +151,16 @@ def mix_both(
 
     def short(s: str, above_floor: float) -> float:
         """How far (m) hand ``s`` comes below the rim's clearance with its tip ``above_floor``."""
-        return _below_rim(world, s, hand(s, spot[s] + above_floor * up), rim, body.inner_radius,
-                          body.rim_radius)
+        return _below_rim(
+            world, s, hand(s, spot[s] + above_floor * up), rim, body.inner_radius, body.rim_radius
+        )
 
     # the tools end on the floor: the hands must stay clear of the rim there
     worst = max(sides, key=lambda s: short(s, 0.0))
     if short(worst, 0.0) > 0:
         raise RuntimeFailure(
             f"mix_both: {tools[worst]} is too short to reach the floor of {container} with the hand"
-            f" clear of its rim (its tip stays {short(worst, 0.0) * 100:.0f} cm above the floor);"
+            f" clear of its rim (its tip stays {cm(short(worst, 0.0))} above the floor);"
             f" a grasp farther up its handle (a larger grasp offset) reaches deeper"
         )
     # the tips' height while circling: raised as far as both hands need to stay clear of the rim
@@ -191,34 +171,37 @@ def mix_both(
         d = rr * (math.cos(angle) * e1 + math.sin(angle) * across)
         return {s: hand(s, level[s] + d) for s in sides}
 
-    above = {s: hand(s, spot[s] + (float((rim - spot[s]) @ up) + ABOVE_RIM_M) * up) for s in sides}
+    above = {s: hand(s, spot[s] + (float((rim - spot[s]) @ up) + TUNING.above_rim_m) * up) for s in sides}
     ctl.activity = f"bringing {t1} and {t2} over {container}"
     for goals, what in ((above, "over"), (at(0.0, r), "the circles in"), (at(math.pi, r), "the circles in")):
         err = reach_both(ctx, goals)
         if err > REACH_TOLERANCE_M:
             raise RuntimeFailure(
                 f"mix_both: {what} {container} is out of reach of {h1} and {h2} together: the best"
-                f" whole-body IK solution leaves a hand off by {err * 100:.0f} cm"
+                f" whole-body IK solution leaves a hand off by {cm(err)}"
             )
-    paths = {s: ctx.carry_path(s, above[s], {t1, t2, container}, 1.8) for s in sides}
-    _path(ctx, [{s: paths[s][k][0] for s in sides} for k in range(3)],
-          [max(paths[s][k][1] for s in sides) for k in range(3)])
+    paths = {s: ctx.carry_path(s, above[s], {t1, t2, container}, TUNING.work_carry_s) for s in sides}
+    _path(
+        ctx,
+        [{s: paths[s][k][0] for s in sides} for k in range(3)],
+        [max(paths[s][k][1] for s in sides) for k in range(3)],
+    )
     ctl.activity = f"dipping {t1} and {t2} into {container}"
     start = at(0.0, 0.0)
     travel = max(float(np.linalg.norm(above[s][:3, 3] - start[s][:3, 3])) for s in sides)
     guards = {s: partial(_felt, ctx, s, force) for s in sides}
-    move_both(ctl, start, MIN_JERK_PEAK * travel / DIP_SPEED_M_S, guards)
+    move_both(ctl, start, MIN_JERK_PEAK * travel / TUNING.approach_speed_m_s, guards)
     ctl.activity = f"mixing in {container} with {t1} and {t2}"
-    n = 16
+    n = CIRCLE_POINTS
     for k in range(1, max(1, round(turns)) * n + 1):
         move_both(ctl, at(2 * math.pi * k / n, r * min(1.0, k / n)), period / n)
-    move_both(ctl, at(0.0, 0.0), 0.3)
+    move_both(ctl, at(0.0, 0.0), TUNING.settle_s)
     ctl.activity = f"resting {t1} and {t2} in {container}"
-    down = {s: hand(s, spot[s] - PRESS_M * up) for s in sides}
+    down = {s: hand(s, spot[s] - AIM_BELOW_FLOOR_M * up) for s in sides}
     move_both(
         ctl,
         down,
-        MIN_JERK_PEAK * (depth + lift + PRESS_M) / DIP_SPEED_M_S,
+        MIN_JERK_PEAK * (depth + lift + AIM_BELOW_FLOOR_M) / TUNING.approach_speed_m_s,
         {s: partial(_landed, ctx, s, tools[s], container, force) for s in sides},
     )
     # each hand holds its tool pressed lightly on (stopped where it was, an arm lags its
@@ -226,8 +209,8 @@ def mix_both(
     pressed = {s: world.frame_pose(f"grasp_{s}") for s in sides}
     for t in pressed.values():
         t[2, 3] -= REST_PRESS_M
-    move_both(ctl, pressed, 0.3)
-    ctl.wait(REST_S)
+    move_both(ctl, pressed, TUNING.settle_s)
+    ctl.wait(TUNING.settle_s)
     missing = [tools[s] for s in sides if not world.touching(tools[s], container)]
     if missing:
         raise RuntimeFailure(f"mix_both: {' and '.join(missing)} in {container} but not touching it")

@@ -23,22 +23,24 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.bodies import Body
+from oacdsl.runtime.motion import TUNING, Motion, OtherHand
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
-from oacdsl.runtime.skills.bimanual import move_both, reach_both
+from oacdsl.runtime.skills.bimanual import reach_both
 from oacdsl.runtime.skills.shapes import world_corners
 from oacdsl.runtime.transforms import make_T, rot_axis
+from oacdsl.skills import SIGNATURES
 
-__all__ = ["pour", "spout_direction", "SUCCESS_FRACTION", "TILT_RAD", "TILT_DURATION_S", "LIP_ABOVE_RIM_M"]
+__all__ = ["pour", "spout_direction", "SUCCESS_FRACTION", "SIGNATURE"]
+
+SIGNATURE = SIGNATURES["pour"]
+D = SIGNATURE.defaults()
 
 #: Share of the balls that must land in the target container.
 SUCCESS_FRACTION = 0.9
-#: Default final tilt of the cup (rad): 125°, past upside-down enough to empty it.
-TILT_RAD = math.radians(125.0)
-#: Lip height above the target's rim (m) while tilted, and its extra height before tilting.
-LIP_ABOVE_RIM_M = 0.045
+#: Longest wait, tilted, for the source to empty, s.
+EMPTY_S = 2.0
+#: The lip's extra height above where it tilts, before tilting, m.
 LIP_START_EXTRA_M = 0.07
-#: Room kept between the tilting cup and the target's rim (or floor), m.
-RIM_MARGIN_M = 0.01
 #: Where the lip is over the target: this far from its centre towards the cup, m.
 LIP_FROM_CENTRE_M = 0.03
 #: A target narrower than this (inner radius, m) is a *narrow* one (a cup, not a bowl): the
@@ -50,11 +52,6 @@ NARROW_TARGET_M = 0.05
 NARROW_LIP_ABOVE_RIM_M = 0.015
 SLOW_FROM_RAD = math.radians(85.0)
 NARROW_SLOWDOWN = 4.0
-#: A source resting on the target when the pour begins (a carton put onto the cup) is slid
-#: outwards onto the target's near rim and stays there this long first (s): longer than the
-#: closed loop's 1 s merge window, so that the robot's recording shows the contact (as the
-#: demonstrator's did) before the pour lifts it.
-REST_S = 1.2
 
 
 def _cup_pose(
@@ -62,32 +59,6 @@ def _cup_pose(
 ) -> np.ndarray:
     r = rot_axis(axis, angle) @ base_r
     return make_T(r, lip_world - r @ lip_local)
-
-
-def _resting_spot(
-    t_world_target: np.ndarray, target: Body, t_world_source: np.ndarray, source: Body, u: np.ndarray
-) -> np.ndarray:
-    """Where (world x, y, m) the source's base centre goes to rest on the target's rim, as far
-    towards ``u`` (away from the hand holding the target) as it can while it still rests there:
-    one of the points of the source's floor on which the closed loop's virtual markers sit
-    (its centre, and four at half its inner radius; ``oacdsl/pipeline/markers.py``) right over
-    one of the twelve on the target's rim, so that the robot's recording shows the contact."""
-    floor = [np.zeros(2)] + [
-        0.5 * source.inner_radius * np.array([math.cos(a), math.sin(a)]) for a in np.arange(4) * math.pi / 2
-    ]
-    rim = [
-        target.rim_radius * np.array([math.cos(a), math.sin(a)]) for a in np.arange(12) * math.pi / 6
-    ]
-    centre = t_world_target[:2, 3]
-    best, best_d = centre + u[:2] * target.rim_radius, -1.0
-    for p in rim:
-        p_world = centre + t_world_target[:2, :2] @ p
-        for f in floor:
-            spot = p_world - t_world_source[:2, :2] @ f
-            d = float((spot - centre) @ u[:2])
-            if d > best_d and np.linalg.norm(spot - centre) <= target.rim_radius + 0.5 * source.rim_radius:
-                best, best_d = spot, d
-    return best
 
 
 def spout_direction(body: Body) -> np.ndarray | None:
@@ -123,10 +94,6 @@ def spout_direction(body: Body) -> np.ndarray | None:
     return np.array([math.cos(best_mid), math.sin(best_mid), 0.0])
 
 
-#: Time to tilt the container to its final tilt, seconds.
-TILT_DURATION_S = 1.8
-
-
 def pour(
     ctx: SkillContext,
     hand: str,
@@ -134,9 +101,9 @@ def pour(
     liquid: str,
     target: str,
     *,
-    tilt: float = TILT_RAD,
-    duration: float = TILT_DURATION_S,
-    height: float = LIP_ABOVE_RIM_M,
+    tilt: float = D["tilt"],
+    duration: float = D["duration"],
+    height: float = D["height"],
 ) -> None:
     """Pour ``liquid`` from the held ``source`` into ``target``: the lip ``height`` (m) above the
     target's rim, turned to ``tilt`` (rad) over ``duration`` (s)."""
@@ -184,9 +151,9 @@ def pour(
             lift = LIP_START_EXTRA_M * max(0.0, 1.0 - 2.0 * frac)  # as the tilting motion lowers it
             pts = world_corners(cup, hand_at(u, tilt * float(frac), lift) @ cup_in_hand)
             d = np.hypot(pts[:, 0] - centre[0], pts[:, 1] - centre[1])
-            near = d < bowl.rim_radius + RIM_MARGIN_M
-            inside = d < bowl.inner_radius - RIM_MARGIN_M
-            low = np.where(inside, floor_z, rim_z) + RIM_MARGIN_M
+            near = d < bowl.rim_radius + TUNING.end_margin_m
+            inside = d < bowl.inner_radius - TUNING.end_margin_m
+            low = np.where(inside, floor_z, rim_z) + TUNING.end_margin_m
             if near.any():
                 need = max(need, float((low - pts[:, 2])[near].max()))
         return need
@@ -223,30 +190,22 @@ def pour(
         )
     _, u, extra = best
 
-    def go(pose: np.ndarray, seconds: float) -> None:
-        """Move the pouring hand; a hand holding the target keeps it where it was (its goal
-        fixed, as strong a task as the pouring hand's: the whole-body IK would otherwise
-        let the target drift with the torso as the source tilts)."""
-        if keep is None or holder is None:
-            ctl.move(side, pose, seconds)
-        else:
-            move_both(ctl, {side: pose, holder: keep}, seconds)
+    # a hand holding the target keeps it where it was (its goal fixed, as strong a task as the
+    # pouring hand's: the whole-body IK would otherwise let it drift with the torso as the source tilts)
+    m = Motion(ctx, side, OtherHand.STEADY if holder is not None else OtherHand.IDLE, keep=keep)
+    go = m.go
 
     if world.touching(source, target):
-        # slid outwards (towards the pouring side) until it rests on the near rim only, out
-        # of the way of the other hand, and kept there a moment
+        # slid outwards (towards the pouring side), its base's middle over the near rim, out of
+        # the way of the other hand, before the pour lifts it
         ctl.activity = f"resting {source} on {target}"
         t_src = world.body_pose(source)
-        t_src[:2, 3] = _resting_spot(t_bowl, bowl, t_src, cup, u)
-        t_src[2, 3] += 0.002  # m
-        aside = t_src @ np.linalg.inv(cup_in_hand)
-        go(aside, 0.6)
-        ctl.wait(REST_S)
+        t_src[:2, 3] = centre[:2] + u[:2] * bowl.rim_radius
+        go(t_src @ np.linalg.inv(cup_in_hand), TUNING.shift_s)
+        m.hold_still()
     ctl.activity = f"bringing {source} over {target}"
     start = hand_at(u, 0.0, extra + LIP_START_EXTRA_M)
-    for pose, seconds in ctx.carry_path(side, start, {source, target}, 1.8):
-        if seconds > 0:
-            go(pose, seconds)
+    m.carry(start, {source, target}, TUNING.work_carry_s)
     ctl.activity = f"pouring {liquid} into {target}"
     steps = 40
     for k in range(1, steps + 1):
@@ -254,8 +213,8 @@ def pour(
         slowdown = NARROW_SLOWDOWN if narrow and tilt * s > SLOW_FROM_RAD else 1.0
         lift = extra + LIP_START_EXTRA_M * max(0.0, 1.0 - 2.0 * s)
         go(hand_at(u, tilt * s, lift), slowdown * duration / steps)
-    ctl.wait(2.0, until=lambda: world.balls_inside(source, liquid) == 0)
-    ctl.wait(0.6)
+    m.hold_still(EMPTY_S, until=lambda: world.balls_inside(source, liquid) == 0)
+    m.hold_still(TUNING.shift_s)
     for k in range(1, steps // 2 + 1):
         s = 1.0 - k / (steps // 2)
         go(hand_at(u, tilt * s, extra + LIP_START_EXTRA_M * (1.0 - s)), 1.0 / (steps // 2))

@@ -14,11 +14,11 @@ from __future__ import annotations
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.skills.base import SkillContext
-from oacdsl.runtime.skills.bimanual import move_both
-from oacdsl.runtime.skills.place import DESCENT_SPEED_M_S, MIN_JERK_PEAK
+from oacdsl.runtime.motion import TUNING
+from oacdsl.runtime.motion.both import move_both
+from oacdsl.runtime.skills.base import SkillContext, cm
 from oacdsl.runtime.skills.shapes import long_axis, lowest_z, world_corners
-from oacdsl.runtime.transforms import make_T
+from oacdsl.runtime.transforms import MIN_JERK_PEAK, make_T
 
 __all__ = ["roll", "ROLL_STROKES", "ROLL_LENGTH_M", "ROLL_PERIOD_S", "roll_direction"]
 
@@ -105,10 +105,10 @@ def roll(
 
     ctl.activity = f"bringing {obj} onto {target}"
     depth = low() - top() + BELOW_M
-    seconds = MIN_JERK_PEAK * depth / DESCENT_SPEED_M_S
+    seconds = MIN_JERK_PEAK * depth / TUNING.set_down_speed_m_s
     stopped = move_both(ctl, shifted(np.array([0.0, 0.0, -depth])), seconds, dict.fromkeys(sides, felt))
     if not any(stopped.values()):
-        raise RuntimeFailure(f"roll: {obj} did not reach {target} after going down {depth * 100:.0f} cm")
+        raise RuntimeFailure(f"roll: {obj} did not reach {target} after going down {cm(depth)}")
     # where the hands stopped; the arms spring back a few mm when they stop, and a wrist may
     # have felt the motion rather than the target: down again (guarded) by the gap left under
     # the object, then ``press``
@@ -118,7 +118,7 @@ def roll(
         if world.touching(obj, target):
             break
         gap = max(0.0, low() - top()) + SEAT_M
-        move_both(ctl, shifted(np.array([0.0, 0.0, -gap])), 0.2 + gap / DESCENT_SPEED_M_S)
+        move_both(ctl, shifted(np.array([0.0, 0.0, -gap])), 0.2 + gap / TUNING.set_down_speed_m_s)
         starts = shifted(np.array([0.0, 0.0, -gap]))
     if not world.touching(obj, target):
         raise RuntimeFailure(f"roll: {obj} did not reach {target} ({(low() - top()) * 1000:.0f} mm above it)")

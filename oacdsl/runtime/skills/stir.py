@@ -21,34 +21,22 @@ import math
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.skills.base import SkillContext
-from oacdsl.runtime.skills.place import MIN_JERK_PEAK
+from oacdsl.runtime.motion import TUNING, Motion
+from oacdsl.runtime.skills.base import SkillContext, cm
 from oacdsl.runtime.skills.shapes import hand_reach_below
 from oacdsl.runtime.skills.tooltip import HeldTool, held_tool, pointing
+from oacdsl.skills import SIGNATURES
 
-__all__ = ["stir", "dip_poses", "STIR_RADIUS_M", "STIR_PERIOD_S", "STIR_TURNS", "STIR_TILT_RAD"]
+__all__ = ["stir", "dip_poses", "SIGNATURE"]
 
-STIR_RADIUS_M = 0.015
-STIR_PERIOD_S = 0.8
-STIR_TURNS = 3
-STIR_TILT_RAD = math.radians(15.0)
-#: Height of the tip above the container's floor while it circles, m.
-STIR_DEPTH_M = 0.015
-#: Wrist force change that stops the descent into the container, N.
-STIR_FORCE_N = 10.0
+SIGNATURE = SIGNATURES["stir"]
+D = SIGNATURE.defaults()
+#: Points per circle.
+CIRCLE_POINTS = 16
+#: Time of the move sideways to the wall (a contact stops it), s.
+TO_WALL_S = 0.8
 #: Room kept between the tool's side at the tip and the container's inner wall, m.
 WALL_MARGIN_M = 0.004
-#: Free space kept between the hand and the container's rim, m.
-RIM_CLEARANCE_M = 0.015
-#: How far beyond the wall the tool's side is aimed on its way to the wall (a contact stops it), m.
-PRESS_WALL_M = 0.02
-#: How far the circling tip is pressed beyond the wall or into the floor it touches, m.
-PRESS_M = 0.005
-#: How far below the rim the tip must reach for a stir, m.
-MIN_INSIDE_M = 0.02
-#: Height of the tip above the rim before it goes in, m.
-ABOVE_RIM_M = 0.05
-DIP_SPEED_M_S = 0.08
 
 
 def dip_poses(
@@ -69,7 +57,7 @@ def dip_poses(
     toward = toward / max(float(np.linalg.norm(toward)), 1e-9)
     down = -math.cos(tilt) * up - math.sin(tilt) * toward  # handle leaning towards the hand
     r_work = pointing(held, down / np.linalg.norm(down))
-    above = held.hand_for(r_work, rim + ABOVE_RIM_M * up)
+    above = held.hand_for(r_work, rim + TUNING.above_rim_m * up)
     return held, r_work, floor, up, toward, above
 
 
@@ -79,21 +67,24 @@ def stir(
     tool: str,
     container: str,
     *,
-    radius: float = STIR_RADIUS_M,
-    period: float = STIR_PERIOD_S,
-    turns: float = STIR_TURNS,
-    tilt: float = STIR_TILT_RAD,
-    depth: float = STIR_DEPTH_M,
-    force: float = STIR_FORCE_N,
+    radius: float = D["radius"],
+    period: float = D["period"],
+    turns: float = D["turns"],
+    tilt: float = D["tilt"],
+    depth: float = D["depth"],
+    force: float = D["force"],
 ) -> None:
     """Stir ``container`` with the held ``tool``: the tip into it, onto its wall (or floor), then
     ``turns`` circles, ``period`` (s) each, in contact (of ``radius``, m, on the floor), the tip at
-    most ``depth`` (m) above the floor, leaning ``tilt`` (rad)."""
-    world, ctl = ctx.world, ctx.ctl
+    most ``depth`` (m) above the floor, leaning ``tilt`` (rad). Composition: carry over the rim,
+    approach the floor (guarded), approach the far wall (guarded) unless it touches already,
+    press, slide in circles, hold still."""
+    world, ctl, t = ctx.world, ctx.ctl, TUNING
     side = ctx.require_held(hand, tool)
     body = ctx.body(container)
     if not body.container:
         raise RuntimeFailure(f"stir: {container!r} is no container (its shape has no shell)")
+    m = Motion(ctx, side)
     held, r_work, floor, up, toward, above = dip_poses(ctx, side, tool, container, tilt)
     room = max(0.0, body.inner_radius - held.half_width - WALL_MARGIN_M)
     # two axes across the container's axis for the circles
@@ -108,57 +99,56 @@ def stir(
         to stay clear of the rim."""
         tip = floor + above_floor * up
         low = float(held.hand_for(r_work, tip)[2, 3])
-        clear = float(rim[2]) + below + RIM_CLEARANCE_M
+        clear = float(rim[2]) + below + t.rim_clearance_m
         return tip + max(0.0, clear - low) * np.array([0.0, 0.0, 1.0])
 
     level = tip_level(depth)
     inside = float((rim - level) @ up)
-    if inside < MIN_INSIDE_M:
+    if inside < t.min_inside_m:
         raise RuntimeFailure(
             f"stir: {tool} is too short to reach into {container}: with {hand} clear of the rim its"
-            f" tip gets {inside * 100:.0f} cm below the rim (needs {MIN_INSIDE_M * 100:.0f} cm)"
+            f" tip gets {cm(inside)} below the rim (needs {cm(t.min_inside_m)})"
         )
 
     def at(angle: float, rr: float, height: np.ndarray = level) -> np.ndarray:
         return held.hand_for(r_work, height + rr * (math.cos(angle) * e1 + math.sin(angle) * e2))
 
-    def touching() -> bool:
-        return world.touching(tool, container)
-
-    def felt() -> bool:
-        return float(np.linalg.norm(ctl.force_change(side))) > force
-
+    guard = m.contact_or_force(tool, container, force)
     # the tip first touches the container at the wall away from the hand, where the circles start
     away = -toward - float(-toward @ up) * up
     start_angle = math.atan2(float(away @ e2), float(away @ e1))
     wall = body.inner_radius - held.half_width  # the tip's middle when its side is at the wall
+    beyond = wall + 4 * t.aim_beyond_m  # aimed beyond the wall on the way there (a contact stops it)
     ctl.activity = f"bringing {tool} over {container}"
     ctx.check_reachable(side, above, f"the inside of {container}")
     for k in range(4):
-        angle = start_angle + k * math.pi / 2
-        ctx.check_reachable(side, at(angle, wall + PRESS_WALL_M), f"the stirring circle in {container}")
-    ctx.carry(side, above, {tool, container}, 1.8)
+        ctx.check_reachable(
+            side, at(start_angle + k * math.pi / 2, beyond), f"the stirring circle in {container}"
+        )
+    m.carry(above, {tool, container}, t.work_carry_s)
     ctl.activity = f"dipping {tool} into {container}"
-    start = at(start_angle, 0.0)
-    travel = float(np.linalg.norm(above[:3, 3] - start[:3, 3]))
-    ctl.move(side, start, MIN_JERK_PEAK * travel / DIP_SPEED_M_S, guard=lambda: touching() or felt())
-    if not touching():
+    m.approach(at(start_angle, 0.0), guard)
+    if not world.touching(tool, container):
         # into contact: sideways to the wall (aimed a little beyond it), or down onto the floor
         ctl.activity = f"bringing {tool} against {container}"
-        ctl.move(side, at(start_angle, wall + PRESS_WALL_M), 0.8, guard=lambda: touching() or felt())
-    if not ctl.wait(0.3, until=touching) and not touching():
+        m.go(at(start_angle, beyond), TO_WALL_S, guard)
+    if not m.hold_still(t.contact_wait_s, m.touching(tool, container)) and not world.touching(
+        tool, container
+    ):
         raise RuntimeFailure(f"stir: {tool} is in {container} but does not touch it")
     # circle from where the tip touches, at its height, kept on the wall (pressed a little beyond
     # it) or, on the floor, pressed onto it: the tool touches the container all the while
     tip = held_tool(ctx, side, tool).tip_world()
     out = float(np.linalg.norm((tip - floor) - float((tip - floor) @ up) * up))
     on_wall = out > wall - WALL_MARGIN_M
-    height = floor + float((tip - floor) @ up) * up - (0.0 if on_wall else PRESS_M) * up
-    rr = out + PRESS_M if on_wall else max(min(radius, room), out)
-    ctl.move(side, at(start_angle, rr, height), 0.2)  # pressed on where it touches
+    height = floor + float((tip - floor) @ up) * up - (0.0 if on_wall else t.aim_beyond_m) * up
+    rr = out + t.aim_beyond_m if on_wall else max(min(radius, room), out)
+    m.go(at(start_angle, rr, height), t.press_s)  # pressed on where it touches
     ctl.activity = f"stirring {container} with {tool}"
-    n = 16
+    n = CIRCLE_POINTS
     for k in range(1, max(1, round(turns)) * n + 1):
-        ctl.move(side, at(start_angle + 2 * math.pi * k / n, rr, height), period / n)
-    if not ctl.wait(0.3, until=touching) and not touching():
+        m.go(at(start_angle + 2 * math.pi * k / n, rr, height), period / n)
+    if not m.hold_still(t.contact_wait_s, m.touching(tool, container)) and not world.touching(
+        tool, container
+    ):
         raise RuntimeFailure(f"stir: {tool} lost contact with {container} while stirring")

@@ -26,37 +26,28 @@ from functools import partial
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.control import CONTROL_DT_S
+from oacdsl.runtime.motion import TUNING, Motion, OtherHand, other_side
 from oacdsl.runtime.skills.base import SkillContext
-from oacdsl.runtime.skills.place import DESCENT_SPEED_M_S, MIN_JERK_PEAK, lower_until_contact
-from oacdsl.runtime.transforms import interpolate, make_T, min_jerk
+from oacdsl.runtime.transforms import MIN_JERK_PEAK, interpolate, make_T
+from oacdsl.skills import SIGNATURES
 
-__all__ = ["wipe", "STROKE_M", "STROKES", "FAR_M", "HELD_ORIENTATION_WEIGHT"]
+__all__ = ["wipe", "FAR_M", "HELD_ORIENTATION_WEIGHT", "SIGNATURE"]
 
-STROKE_M = 0.06
-STROKES = 3
-PRESS_M = 0.004
-#: Height of the tool's base above the surface's top before the descent, m.
-HOVER_M = 0.04
+SIGNATURE = SIGNATURES["wipe"]
+D = SIGNATURE.defaults()
+
 #: How far below the surface's top the descent may go before it counts as a miss, m.
 DESCENT_M = 0.08
+#: Time back to the middle after the last stroke, s.
+RETURN_S = 0.4
 #: How far from the held surface's middle, away from the holding hand, the tool wipes, m.
 FAR_M = 0.05
 #: Weight of the wiping hand's orientation while it wipes a held surface (a hand's position
 #: counts 1 per metre; 0.3 elsewhere): the tool may tilt on the surface rather than stay
 #: out of reach.
 HELD_ORIENTATION_WEIGHT = 0.02
-#: How much higher than the hover height the tool is carried in, m.
-CLIMB_M = 0.04
 #: Time to carry the tool over a held surface, s.
 CARRY_S = 2.0
-#: Peak speed of the strokes on a held surface, m/s: below the closed loop's distance
-#: change (0.1 m/s), so that the robot's own recording sees the tool touch the surface all
-#: along (faster, every pair of virtual markers changes distance too fast to count).
-HELD_STROKE_SPEED_M_S = 0.05
-#: How long the tool rests on a held surface before its strokes, s: longer than the closed
-#: loop's merge window (1 s), so that the contact's start is a change of its own.
-REST_S = 1.2
 
 
 def wipe(
@@ -65,52 +56,55 @@ def wipe(
     tool: str,
     surface: str,
     *,
-    strokes: float = STROKES,
-    length: float = STROKE_M,
-    press: float = PRESS_M,
+    strokes: float = D["strokes"],
+    length: float = D["length"],
+    press: float = D["press"],
 ) -> None:
     """Wipe ``surface`` with the held ``tool``: ``strokes`` times ``length`` (m) to either side of
-    its middle, pressed ``press`` (m) into it."""
+    its middle, pressed ``press`` (m) into it. Composition: carry over the middle, lower onto
+    it (guarded by the wrist), press, slide to and fro, hold still."""
     side = ctx.require_held(hand, tool)
-    other = "l" if side == "r" else "r"
+    other = other_side(side)
     if ctx.world.held.get(other) == surface:
         _wipe_held(ctx, side, other, tool, surface, round(strokes), length, press)
         return
-    world, ctl = ctx.world, ctx.ctl
+    world, t = ctx.world, TUNING
+    m = Motion(ctx, side)
     t_tool, tool_in_hand = ctx.held_pose(side, tool)
     t_surface = world.body_pose(surface)
     top = t_surface[2, 3] + ctx.body(surface).height
-
-    def hand_for(p: np.ndarray) -> np.ndarray:
-        return make_T(t_tool[:3, :3], p) @ np.linalg.inv(tool_in_hand)
-
-    above = np.array([t_surface[0, 3], t_surface[1, 3], top + HOVER_M])
-    ctl.activity = f"bringing {tool} over {surface}"
-    ctx.check_reachable(side, hand_for(above), f"the middle of {surface}")
-    ctx.carry(side, hand_for(above), {tool, surface}, 1.8)
-    ctl.activity = f"pressing {tool} onto {surface}"
-    contact = lower_until_contact(ctx, side, hand_for(above), 0.08, f"wiping {surface}")
-    pressed = contact.copy()
-    pressed[2, 3] -= press
-    ctl.move(side, pressed, 0.3)
-    ctl.activity = f"wiping {surface} with {tool}"
+    above = make_T(t_tool[:3, :3], (t_surface[0, 3], t_surface[1, 3], top + t.hover_m)) @ np.linalg.inv(
+        tool_in_hand
+    )
+    ctx.ctl.activity = f"bringing {tool} over {surface}"
+    ctx.check_reachable(side, above, f"the middle of {surface}")
+    m.carry(above, {tool, surface}, t.work_carry_s)
+    ctx.ctl.activity = f"pressing {tool} onto {surface}"
+    m.lower_onto_support(above, DESCENT_M, f"wiping {surface}")
+    m.press(press, t.settle_s)
+    pressed = m.here()
+    ctx.ctl.activity = f"wiping {surface} with {tool}"
     sideways = t_surface[:3, 1] * length
+    seconds = max(t.slide_min_s, length / t.slide_speed_m_s)
     for sign in (1.0, -1.0) * int(round(strokes)):
-        goal = pressed.copy()
-        goal[:3, 3] += sign * sideways
-        ctl.move(side, goal, 0.7 * max(1.0, length / STROKE_M))
-    ctl.move(side, pressed, 0.4)
-    ctl.wait(0.3)
+        m.go(make_T(pressed[:3, :3], pressed[:3, 3] + sign * sideways), seconds)
+    m.go(pressed, RETURN_S)
+    m.hold_still()
 
 
 def _wipe_held(
-    ctx: SkillContext, side: str, other: str, tool: str, surface: str, strokes: int, length: float,
+    ctx: SkillContext,
+    side: str,
+    other: str,
+    tool: str,
+    surface: str,
+    strokes: int,
+    length: float,
     press: float,
 ) -> None:
     """Wipe ``surface`` held by hand ``other`` (see the module docstring)."""
     world, ctl = ctx.world, ctx.ctl
     ik = ctl.ik
-    keep = ik.goal(other)
     _, tool_in_hand = ctx.held_pose(side, tool)
     r_tool = world.body_pose(tool)[:3, :3].copy()
     t_surface = world.body_pose(surface)
@@ -125,42 +119,31 @@ def _wipe_held(
         ``shift`` (m) along the strokes; read from where the surface is now."""
         t = world.body_pose(surface)
         xy = t[:2, 3] + FAR_M * away + shift * along
-        p = np.array([xy[0], xy[1], t[2, 3] + height + HOVER_M - drop])
+        p = np.array([xy[0], xy[1], t[2, 3] + height + TUNING.hover_m - drop])
         return make_T(r_tool, p) @ np.linalg.inv(tool_in_hand)
-
-    def aim(pose: np.ndarray) -> None:
-        ik.set_hand_target(side, pose, orientation_weight=HELD_ORIENTATION_WEIGHT)
 
     def touching() -> bool:
         return world.touching(tool, surface)
 
-    Guard = Callable[[], bool] | None
+    m = Motion(ctx, side, OtherHand.STEADY)
 
-    def go(goal: Callable[[float], np.ndarray], seconds: float, guard: Guard = None) -> bool:
-        """Follow ``goal(s)``, s from 0 to 1 (min-jerk), the other hand's goal fixed;
-        True when ``guard`` stopped it (where the hand really is)."""
-        for s in (side, other):
-            ctl.tare(s)
-        n = max(1, round(seconds / CONTROL_DT_S))
-        for k in range(1, n + 1):
-            ik.set_hand_target(other, keep)
-            aim(goal(min_jerk(k / n)))
-            ctl.tick()
-            if guard is not None and guard():
-                aim(world.frame_pose(f"grasp_{side}"))
-                return True
-        return False
+    def go(
+        goal: Callable[[float], np.ndarray], seconds: float, guard: Callable[[], bool] | None = None
+    ) -> bool:
+        """Follow ``goal(s)``, s from 0 to 1 (min-jerk), the other hand's goal fixed; True when
+        ``guard`` stopped it (where the hand really is). The tool may tilt on the surface."""
+        return m.along(goal, seconds, guard, HELD_ORIENTATION_WEIGHT)
 
     def stroke_s(distance: float) -> float:
-        return MIN_JERK_PEAK * abs(distance) / HELD_STROKE_SPEED_M_S
+        return max(TUNING.slide_min_s, abs(distance) / TUNING.slide_speed_m_s)
 
     start = ik.goal(side)
     ctl.activity = f"bringing {tool} over {surface}"
     ctx.check_reachable(side, spot(0.0, 0.0), f"the middle of {surface}")
-    go(lambda s: interpolate(start, spot(0.0, -CLIMB_M * (1.0 - s)), s), CARRY_S)
+    go(lambda s: interpolate(start, spot(0.0, -TUNING.hover_m * (1.0 - s)), s), CARRY_S)
     ctl.activity = f"pressing {tool} onto {surface}"
-    depth = HOVER_M + DESCENT_M
-    if not go(lambda s: spot(0.0, depth * s), MIN_JERK_PEAK * depth / DESCENT_SPEED_M_S, touching):
+    depth = TUNING.hover_m + DESCENT_M
+    if not go(lambda s: spot(0.0, depth * s), MIN_JERK_PEAK * depth / TUNING.set_down_speed_m_s, touching):
         felt = float(np.linalg.norm(ctl.force_change(side)))
         raise RuntimeFailure(
             f"wipe: {tool} did not reach {surface} held by the other hand (the wrist felt {felt:.0f} N)"
@@ -168,8 +151,7 @@ def _wipe_held(
     # how far below the hover point it touched, then pressed on
     reached = float(spot(0.0, 0.0)[2, 3] - world.frame_pose(f"grasp_{side}")[2, 3])
     pressed = reached + press
-    go(lambda s: spot(0.0, reached + press * s), 0.3)
-    ctl.wait(REST_S)  # the contact begins, still, long enough for the closed loop to see it
+    go(lambda s: spot(0.0, reached + press * s), TUNING.settle_s)
     ctl.activity = f"wiping {surface} with {tool}"
     last = 0.0
     for sign in (1.0, -1.0) * strokes:
@@ -178,9 +160,9 @@ def _wipe_held(
         last = b
     go(lambda s: spot(last * (1.0 - s), pressed), stroke_s(last))
     if not touching():  # the strokes lifted it: down again until it touches
-        again = MIN_JERK_PEAK * DESCENT_M / DESCENT_SPEED_M_S
+        again = MIN_JERK_PEAK * DESCENT_M / TUNING.set_down_speed_m_s
         go(lambda s: spot(0.0, pressed + DESCENT_M * s), again, touching)
-    ctl.wait(REST_S)
+    m.hold_still()
     if not touching():
         raise RuntimeFailure(f"wipe: {tool} no longer touches {surface} after the strokes")
     # the next skill starts from the hand as it is, tool tilted and all (from the upright goal,

@@ -21,7 +21,7 @@ object) and the action's meaning, for every clip before any was scored:
 
 **Cross-hand frames**: frames where a hand touches the object the other hand holds
 (the object nearest to each hand during its labelled contact, see
-:func:`oacdsl.segmentation.evaluate.nearest_object`), when that object is not also
+:func:`segeval.evaluate.nearest_object`), when that object is not also
 its own.
 """
 
@@ -32,8 +32,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from oacdsl.segmentation.evaluate import CONTACT_LABELS, Score, states_per_frame
 from oacdsl.segmentation.result import Segmentation
+from segeval.evaluate import CONTACT_LABELS, Score, states_per_frame
 
 __all__ = ["KIT_TOOL_TARGETS", "MAIN_ACTIONS", "ToolScore", "cross_hand_frames", "score_tools"]
 

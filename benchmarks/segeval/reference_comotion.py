@@ -4,7 +4,7 @@ The per-frame signals of :func:`oacdsl.segmentation.comotion.comotion` — per i
 pair and frame, the closest marker distance and whether the two move as one — computed
 one frame, one instance and one marker pair at a time (float64, lists), then the same
 episode steps (pruning, runs, thresholds, extension) as the detector. Used by
-:func:`oacdsl.segmentation.reference.segment_reference` in mode ``adaptive`` so that
+:func:`segeval.reference.segment_reference` in mode ``adaptive`` so that
 ``benchmarks/segmentation.py`` compares like with like.
 """
 

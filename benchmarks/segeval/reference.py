@@ -9,7 +9,7 @@ Modes: ``paper`` (Eq. 1 / Eq. 2 as printed), ``robust`` (the distance change as 
 least-squares slope over the frames within ``±half`` of each frame, summed frame by
 frame), and ``adaptive``: the robust rule per marker pair at each instance pair's own
 distance, OR the co-motion and tool intervals, AND NOT the cross-hand vetoes; co-motion
-frame by frame in :func:`~oacdsl.segmentation.reference_comotion.comotion_reference`, the
+frame by frame in :func:`~segeval.reference_comotion.comotion_reference`, the
 tool rule (:func:`~oacdsl.segmentation.tooluse.tool_contacts`, interval logic over those
 per-frame signals) shared with the detector.
 """
@@ -17,6 +17,7 @@ per-frame signals) shared with the detector.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -29,12 +30,21 @@ from oacdsl.world import WorldState, relation
 __all__ = ["pair_frames", "segment_reference"]
 
 
-def segment_reference(recording: Recording, params: AasParams | None = None) -> Segmentation:
+def segment_reference(recording: Recording, params: AasParams | None = None,
+                      settings: Any = None) -> Segmentation:
     """Keyframes by Eq. 1 / Eq. 2, frame by frame.
 
     Same conventions as :class:`~oacdsl.segmentation.detectors.PaperDetector`.
     """
-    params = (params or AasParams()).resolved(recording.rate_hz)
+    given = params or AasParams()
+    params = given.resolved(recording.rate_hz)
+    if params.mode == "adaptive":  # the same rescaled constants as the detector
+        from oacdsl.segmentation.adaptive import AdaptiveDetector
+
+        detector = AdaptiveDetector(params, settings)
+        recording = detector.prepare(recording)
+        params = detector.effective_params(recording, given)
+        return _robust_reference(recording, params, detector._run)
     if params.mode != "paper":
         return _robust_reference(recording, params)
     d, v, n = params.distance_m, params.speed_m_s, params.n
@@ -107,12 +117,12 @@ def segment_reference(recording: Recording, params: AasParams | None = None) -> 
     )
 
 
-def _robust_reference(recording: Recording, params: AasParams) -> Segmentation:
+def _robust_reference(recording: Recording, params: AasParams, settings: Any = None) -> Segmentation:
     """Modes ``robust`` and ``adaptive``, frame by frame (see the module docstring)."""
     from oacdsl.segmentation.comotion import AdaptiveSettings
     from oacdsl.segmentation.pairs import PairTable
-    from oacdsl.segmentation.reference_comotion import comotion_reference
     from oacdsl.segmentation.tooluse import agents_of, tool_contacts
+    from segeval.reference_comotion import comotion_reference
 
     v, n, half = params.speed_m_s, params.n, params.half_window(recording.rate_hz)
     table = PairTable.of(recording)
@@ -122,7 +132,7 @@ def _robust_reference(recording: Recording, params: AasParams) -> Segmentation:
     spans: dict[int, list[tuple[int, int]]] = {}
     vetoes: dict[int, list[tuple[int, int]]] = {}
     if params.mode == "adaptive":
-        settings = AdaptiveSettings()
+        settings = settings or AdaptiveSettings()
         distance = [settings.static_distance_m] * table.n_instance_pairs
         delay = n - 1 + half
         found = comotion_reference(recording, table, params, settings)
@@ -137,6 +147,7 @@ def _robust_reference(recording: Recording, params: AasParams) -> Segmentation:
             params.distance_m,
             settings.tool_dwell_s,
             settings.tool_bridge_s,
+            settings.rest_m,
         )
         for q, (_, threshold) in found.learned.items():
             distance[q] = round(threshold, 4)
@@ -190,7 +201,10 @@ def _robust_reference(recording: Recording, params: AasParams) -> Segmentation:
         state_i = WorldState(instances, rels)
         if not keyframes or state_i != keyframes[-1].state:
             keyframes.append(Keyframe(i, times[i], state_i))
-    merged = merge_keyframes(keyframes, params.merge_s)
+    if params.mode == "adaptive" and settings is not None and settings.merge == "connected":
+        merged = merge_keyframes(keyframes, params.merge_s, at_onset=True, connected=True)
+    else:
+        merged = merge_keyframes(keyframes, params.merge_s)
     return Segmentation(
         recording.source,
         float(recording.rate_hz),

@@ -1,0 +1,29 @@
+"""The motion layer the skills compose (issue 19): primitives for one hand, a policy for
+the other, defaults in one tuning record, and the controller's one control loop.
+
+- :mod:`~oacdsl.runtime.motion.tuning`: :class:`Tuning`, the defaults (SI units).
+- :mod:`~oacdsl.runtime.motion.paths`: collision-free ways over the objects on the table.
+- :mod:`~oacdsl.runtime.motion.hand`: :class:`Motion` (carry, guarded approach, press, slide,
+  rise, hold still, release, withdraw) and :class:`OtherHand` (idle, steady, follow).
+"""
+
+from __future__ import annotations
+
+from oacdsl.runtime.motion.hand import Motion, OtherHand, down, other_side, raised, withdrawal
+from oacdsl.runtime.motion.paths import carry_path, clearance, obstacles, via_height
+from oacdsl.runtime.motion.tuning import TUNING, Tuning
+
+__all__ = [
+    "Motion",
+    "OtherHand",
+    "TUNING",
+    "Tuning",
+    "carry_path",
+    "clearance",
+    "down",
+    "obstacles",
+    "other_side",
+    "raised",
+    "via_height",
+    "withdrawal",
+]

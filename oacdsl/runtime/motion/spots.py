@@ -1,0 +1,50 @@
+"""Where to set a held object down on the table when it may not go back where it came from.
+
+A lid taken off a bottle may not go back onto the bottle: it goes to a *free spot* of the
+table, a point in the robot's working area whose footprint keeps ``gap_m`` from every
+object's footprint now (those on the table, and what the other hand holds above it),
+nearest to where the object is now (the hand's way is short), on the hand's own side
+first. Candidates are a grid over the working area; the caller checks reach.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from oacdsl.runtime.demo_layout import X_RANGE_M, Y_LIMIT_M
+from oacdsl.runtime.motion.paths import obstacles
+from oacdsl.runtime.motion.tuning import TUNING, Tuning
+
+if TYPE_CHECKING:
+    from oacdsl.runtime.simworld import SimWorld
+
+__all__ = ["free_spots"]
+
+
+def free_spots(
+    world: SimWorld, side: str, obj: str, radius_m: float, tuning: Tuning = TUNING, limit: int = 8
+) -> list[np.ndarray]:
+    """Up to ``limit`` free (x, y) spots of the table (m) for ``obj`` (footprint radius
+    ``radius_m``) held by hand ``side``, best first (module docstring)."""
+    blocked = [(xy, r) for xy, r, _ in obstacles(world, {obj})]
+    for s, held in world.held.items():
+        if held is not None and held != obj:
+            blocked.append((world.body_pose(held)[:2, 3].copy(), world.layout.bodies[held].radius))
+        if s != side:  # the other hand's own footprint, wherever it is
+            blocked.append((world.frame_pose(f"grasp_{s}")[:2, 3].copy(), tuning.near_path_m / 2))
+    step = tuning.spot_step_m
+    xs = np.arange(X_RANGE_M[0], X_RANGE_M[1] + 1e-9, step)
+    ys = np.arange(-Y_LIMIT_M, Y_LIMIT_M + 1e-9, step)
+    here = world.body_pose(obj)[:2, 3]
+    own = 1.0 if side == "l" else -1.0  # the left hand's side is +y
+    spots = []
+    for x in xs:
+        for y in ys:
+            p = np.array([x, y])
+            if all(float(np.linalg.norm(p - xy)) >= radius_m + r + tuning.spot_gap_m for xy, r in blocked):
+                wrong_side = float(y) * own < 0
+                spots.append((wrong_side, float(np.linalg.norm(p - here)), p))
+    spots.sort(key=lambda s: (s[0], s[1]))
+    return [p for _, _, p in spots[:limit]]

@@ -1,0 +1,161 @@
+"""The motion layer's defaults, in one record (SI units: m, s, N, rad).
+
+Every primitive of :mod:`oacdsl.runtime.motion` takes its speeds, distances, forces and
+times from a :class:`Tuning`; a skill that needs another value says so by name
+(``TUNING.hover_m``) or passes one, never by a literal of its own. Nothing here refers to
+how a run is judged (the verifier has its own thresholds, and no skill imitates them).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["Tuning", "TUNING"]
+
+
+@dataclass(frozen=True)
+class Tuning:
+    """Defaults of the motion primitives (see the field comments)."""
+
+    # --- carry: along a path over the objects near the way ---------------------------------
+    #: time of a carry (climb, across, down) when it is short, s
+    carry_s: float = 1.6
+    #: mean speed a long carry is timed by, m/s (faster, the arm swings and the wrist feels it)
+    carry_speed_m_s: float = 0.25
+    #: share of a carry's time spent climbing first, when it must climb
+    climb_share: float = 0.4
+    #: obstacles whose footprint comes this close to the way are flown over, m
+    near_path_m: float = 0.12
+    #: room kept above what is flown over, m
+    over_m: float = 0.03
+    #: a still moment after a carry, before a guarded approach starts, s
+    pause_s: float = 0.1
+    #: a still moment after carrying something to where it is set down, s
+    carry_pause_s: float = 0.2
+    #: time of a carry to where a tool starts working (over a container or surface), s
+    work_carry_s: float = 1.8
+
+    # --- guarded approach: until contact or force ------------------------------------------
+    #: height above what is approached before the approach, m
+    hover_m: float = 0.04
+    #: peak speed of an approach of one object to another, m/s
+    approach_speed_m_s: float = 0.08
+    #: peak speed of setting a held object down on a support, m/s (a 0.6 kg mixer meeting the
+    #: table at twice that gave a 66 N spike within one control tick)
+    set_down_speed_m_s: float = 0.05
+    #: wrist force change that means "the support took the object", N
+    support_force_n: float = 3.0
+    #: wrist force change that stops an approach aiming at a contact: something else is in the way, N
+    obstacle_force_n: float = 8.0
+    #: how long a stopped approach may still wait for the contact it aimed at, s
+    contact_wait_s: float = 0.3
+    #: how far below a support's top a set-down may go looking for it, m
+    support_search_m: float = 0.03
+    #: how far inside an object's end a tool aims when it works at that end, m (a knife on a
+    #: cucumber's free end; strokes along a board stop short of its edge)
+    end_margin_m: float = 0.01
+
+    #: room left between a held object and a wall it is slid against, m
+    gap_m: float = 0.003
+    #: time of a short shift of a held object (a few centimetres), s
+    shift_s: float = 0.6
+    #: how far a held object is moved to its hand's side, out of the way of the other hand, m
+    aside_m: float = 0.10
+
+    # --- tools in containers ---------------------------------------------------------------
+    #: room kept between a tool and a container's inner wall (or another tool), m
+    wall_margin_m: float = 0.005
+    #: free space kept between a hand and a container's rim, m
+    rim_clearance_m: float = 0.015
+    #: height of a tool's tip above a rim before it goes in, m
+    above_rim_m: float = 0.05
+    #: how far beyond a wall (or into a floor) a tool is aimed to stay in contact with it, m
+    aim_beyond_m: float = 0.005
+    #: how far below a rim a tool's tip must reach to work in a container, m
+    min_inside_m: float = 0.02
+
+    # --- rotate about an axis, regrasping ---------------------------------------------------
+    #: close enough to the wanted turn to stop, rad
+    turn_enough_rad: float = 0.14
+    #: most strokes, as a multiple of those the turn needs (a stroke turns the object some 10 %
+    #: less than the hand, a regrasp turns it back a few degrees: more strokes make it up)
+    turn_strokes_factor: int = 2
+    #: shortest time of one stroke, s
+    turn_min_stroke_s: float = 0.6
+    #: about what a regrasp takes (open, rise, turn back, come down, close), s
+    turn_regrasp_s: float = 2.1
+    #: time to turn the open hand back, s
+    turn_back_s: float = 0.5
+    #: how far below where it let go the palm is aimed while the fingers open, m
+    turn_hold_down_m: float = 0.005
+    #: how far the grasp centre may be off the object's axis before the first stroke, m
+    #: (farther, the hand first retakes it on the axis: a lid taken 4 cm off swung the hand round)
+    turn_off_axis_m: float = 0.015
+    #: how far down an object that lost the target is set on it before the hand lets go, m
+    turn_seat_m: float = 0.01
+    #: how far the object's axis may be off the target's when the hand lets go of it, m
+    turn_centred_m: float = 0.005
+    #: most moves that bring the object back onto the target's axis, and the time of each, s
+    turn_centre_tries: int = 4
+    turn_centre_s: float = 0.25
+
+    # --- free spots on the table ------------------------------------------------------------
+    #: spacing of the candidate spots, m, and the room kept between footprints there, m
+    spot_step_m: float = 0.04
+    spot_gap_m: float = 0.04
+
+    # --- press -----------------------------------------------------------------------------
+    #: how far a held object is pressed on once it touches, m
+    press_m: float = 0.003
+    #: time of a press, s
+    press_s: float = 0.2
+
+    # --- rise / lift -----------------------------------------------------------------------
+    #: how far a held object is lifted off what it touches, m
+    lift_m: float = 0.12
+    #: time of a lift, s
+    lift_s: float = 1.0
+    #: a still moment after a lift or before a release, s (the arm, which lags its command,
+    #: comes to rest: a knife let go while still pressing 9 N tipped over)
+    settle_s: float = 0.3
+
+    # --- grasp, release and withdrawal -----------------------------------------------------
+    #: longest time for the fingers to close on an object, s
+    close_s: float = 0.6
+    #: longest time for the fingers to close again on an object being turned, s
+    reclose_s: float = 0.7
+    #: time for the fingers to open, s
+    open_s: float = 0.4
+    #: how far an open hand backs off along its grasp's approach, m, and rises meanwhile, m
+    withdraw_back_m: float = 0.12
+    withdraw_rise_m: float = 0.03
+    #: how far it then rises, m
+    withdraw_up_m: float = 0.08
+    #: times of the two parts of a withdrawal, s
+    withdraw_back_s: float = 0.8
+    withdraw_up_s: float = 0.6
+
+    # --- retreat to the home pose ----------------------------------------------------------
+    #: how far an empty hand first rises before it goes home, m
+    retreat_rise_m: float = 0.05
+    #: share of the retreat's time spent rising
+    retreat_rise_share: float = 0.25
+    #: how far from where it was sent a hand (or what it carries) may end, m
+    arrive_tolerance_m: float = 0.05
+
+    # --- hold still ------------------------------------------------------------------------
+    hold_s: float = 0.5
+    #: how far a held object may drift while held still, m
+    still_m: float = 0.02
+
+    # --- slide along a surface -------------------------------------------------------------
+    #: mean speed of a slide (a stroke of a tool on a surface), m/s, and its shortest time, s
+    slide_speed_m_s: float = 0.06 / 0.7
+    slide_min_s: float = 0.7
+    #: a slide that loses its contact is lowered at this speed, m/s, at most this far, m
+    seek_speed_m_s: float = 0.02
+    seek_max_m: float = 0.03
+
+
+#: The defaults every primitive uses unless told otherwise.
+TUNING = Tuning()

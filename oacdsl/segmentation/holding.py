@@ -1,0 +1,103 @@
+"""Holding still: a hand that comes to rest on or around a still object touches it.
+
+Co-motion (:mod:`oacdsl.segmentation.comotion`) sees a grasp only when the object moves with
+the hand; a hand holding a bottle still while the other hand turns its lid never moves it.
+This rule, an option of the adaptive detector (``AdaptiveSettings.hold_still``), adds a contact
+between agent H and object X on the frames where
+
+- both are still (the median marker speed of each below ``move_speed_m_s``),
+- H's closest marker is within half of X's size (its largest marker distance, median over
+  frames; markers sit on an object's surface, so a hand around it has its markers within about
+  half its extent of the object's), and never farther than ``d``,
+- the stillness began with H arriving *at X*: within ``tool_dwell_s`` before it H moved and its
+  distance to X fell by more than a quarter of X's size (a hand resting beside an object from
+  the start, or coming to rest beside it as it retreats, has not taken hold of it),
+
+for at least ``tool_dwell_s``. Memory O(frames) per agent × object pair within reach.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from oacdsl.segmentation.pairs import PairTable
+from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.scales import instance_size_m
+
+__all__ = ["resting_holds"]
+
+Spans = list[tuple[int, int]]
+
+
+def _speeds(recording: Recording, name: str, lag: int) -> np.ndarray:
+    """(F,) median marker speed of instance ``name`` over ``lag`` frames, m/s (NaN in gaps)."""
+    p = recording.group_positions(name)
+    t = np.asarray(recording.times_s, dtype=np.float64)
+    out = np.full(recording.n_frames, np.nan)
+    if recording.n_frames > lag:
+        with np.errstate(invalid="ignore"):
+            step = np.linalg.norm(p[lag:] - p[:-lag], axis=2)
+            seen = ~np.isnan(step).all(axis=1)
+            speed = np.full(step.shape[0], np.nan)
+            speed[seen] = np.nanmedian(step[seen], axis=1) / (t[lag:] - t[:-lag])[seen]
+        out[lag:] = speed
+        out[:lag] = speed[0]
+    return out
+
+
+def _runs(mask: np.ndarray) -> Spans:
+    padded = np.concatenate([[False], mask, [False]])
+    edges = np.flatnonzero(padded[1:] != padded[:-1])
+    return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))
+
+
+def resting_holds(recording: Recording, table: PairTable, closest: Mapping[int, np.ndarray],
+                  agents: Sequence[int], reach_m: float, move_speed_m_s: float, lag_s: float,
+                  dwell_s: float) -> dict[int, Spans]:
+    """Instance pair → frame intervals ``[a, b)`` of holding still (module doc).
+
+    ``closest``: pair → (F,) closest marker distance, metres (inf beyond reach, NaN in gaps);
+    ``reach_m``: ``d``; speeds over ``lag_s``; ``dwell_s``: the shortest hold and how recently
+    the hand must have moved.
+    """
+    if not agents:
+        return {}
+    rate = recording.rate_hz
+    lag = max(1, round(lag_s * rate))
+    dwell = max(1, round(dwell_s * rate))
+    names = table.instances
+    index = {(int(a), int(b)): q for q, (a, b) in enumerate(table.instance_pairs)}
+    still: dict[int, np.ndarray] = {}
+
+    def is_still(i: int) -> np.ndarray:
+        if i not in still:
+            with np.errstate(invalid="ignore"):
+                still[i] = _speeds(recording, names[i], lag) < move_speed_m_s
+        return still[i]
+
+    out: dict[int, Spans] = {}
+    for h in agents:
+        for x in range(len(names)):
+            q = index.get((min(h, x), max(h, x)))
+            if x in agents or q is None or q not in closest:
+                continue
+            size = instance_size_m(recording.group_positions(names[x]))
+            if not np.isfinite(size):
+                continue
+            with np.errstate(invalid="ignore"):
+                near = closest[q] <= min(size / 2, reach_m)
+            resting = near & is_still(h) & is_still(x)
+            moved = ~is_still(h)
+            spans = []
+            d = closest[q]
+            for a, b in _runs(resting):
+                before = d[max(0, a - dwell):a]
+                came = before[np.isfinite(before)]  # H came to X: its distance fell into the hold
+                if (b - a >= dwell and a > 0 and moved[max(0, a - dwell):a].any() and came.size
+                        and came.max() - d[a] > size / 4):
+                    spans.append((a, b))
+            if spans:
+                out[q] = spans
+    return out

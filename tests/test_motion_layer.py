@@ -1,0 +1,130 @@
+"""The motion layer (issue 19): skills compose primitives, the controller's drive() is the one
+control loop, defaults live in one tuning record, and the other hand follows a policy."""
+
+from __future__ import annotations
+
+import ast
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+SKILLS = sorted((ROOT / "oacdsl" / "runtime" / "skills").glob("*.py"))
+
+
+def _calls(path: Path) -> set[str]:
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    calls = [n for n in ast.walk(tree) if isinstance(n, ast.Call)]
+    return {n.func.attr for n in calls if isinstance(n.func, ast.Attribute)}
+
+
+def test_no_skill_runs_its_own_control_loop():
+    # ticking the simulation, or driving the controller's loop directly, is the motion layer's job
+    offenders = {p.name: sorted(_calls(p) & {"tick", "drive", "step"}) for p in SKILLS}
+    assert {k: v for k, v in offenders.items() if v} == {}
+
+
+def test_no_skill_imports_the_verifier_or_the_closed_loop():
+    for p in SKILLS:
+        tree = ast.parse(p.read_text(encoding="utf-8"))
+        mods = {n.module or "" for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
+        mods |= {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
+        bad = {m for m in mods if m.startswith(("oacdsl.verify", "oacdsl.pipeline", "oacdsl.segmentation"))}
+        assert not bad, (p.name, bad)
+
+
+def test_skills_take_their_defaults_from_their_signatures():
+    from oacdsl.skills import SIGNATURES
+
+    for p in SKILLS:
+        text = p.read_text(encoding="utf-8")
+        if "SIGNATURES[" in text:
+            for name in SIGNATURES:
+                if f'SIGNATURES["{name}"]' in text:
+                    assert name in SIGNATURES
+
+
+def test_the_tuning_record_is_frozen_and_in_si_units():
+    from oacdsl.runtime.motion import TUNING, Tuning
+
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        TUNING.hover_m = 0.1  # type: ignore[misc]
+    units = ("_m", "_s", "_n", "_m_s", "_rad", "_share", "_factor", "_tries")
+    assert all(f.name.endswith(units) for f in dataclasses.fields(Tuning)), [
+        f.name for f in dataclasses.fields(Tuning) if not f.name.endswith(units)
+    ]
+    assert dataclasses.replace(TUNING, hover_m=0.05).hover_m == 0.05
+
+
+pytest.importorskip("mujoco", reason="the robot runtime needs the 'robot' extra (mujoco)")
+pytest.importorskip("placo", reason="the robot runtime needs the 'robot' extra (placo)")
+
+
+@pytest.fixture(scope="module")
+def run():  # type: ignore[no-untyped-def]
+    from runtime_lib import task_library
+
+    from oacdsl.runtime.executor import prepare
+
+    return prepare(task_library(), "pick_and_place", scene="pouring")
+
+
+def _lift_both(run, policy):  # type: ignore[no-untyped-def]
+    """Raise the right hand 6 cm with the left hand's policy; returns how far the left hand's
+    goal and grasp frame moved, m."""
+    from oacdsl.runtime.motion import Motion
+
+    ik = run.controller.ik
+    m = Motion(run.context, "r", policy)
+    before_goal, before = ik.goal("l"), run.world.frame_pose("grasp_l")
+    m.rise(0.06, 0.8)
+    m.hold_still()
+    return (
+        float(np.linalg.norm(ik.target("l")[:3, 3] - before_goal[:3, 3])),
+        float(np.linalg.norm(run.world.frame_pose("grasp_l")[:3, 3] - before[:3, 3])),
+    )
+
+
+def test_other_hand_policies(run):
+    from oacdsl.runtime.motion import OtherHand
+
+    goal_moved, _ = _lift_both(run, OtherHand.STEADY)
+    assert goal_moved < 1e-9  # its goal is the one it had
+    goal_moved, hand_moved = _lift_both(run, OtherHand.FOLLOW)
+    assert goal_moved == pytest.approx(0.06, abs=0.005)  # carried along rigidly
+    assert hand_moved > 0.04
+
+
+def test_a_guarded_approach_stops_on_its_guard_and_a_press_goes_down(run):
+    from oacdsl.runtime.motion import Motion, down
+
+    m = Motion(run.context, "r")
+    start = m.here()
+    ticks = []
+    stopped = m.approach(down(start, 0.05), lambda: len(ticks) > 5 or ticks.append(1) is not None and False)
+    assert stopped
+    travelled = float(start[2, 3] - m.here()[2, 3])
+    assert 0.0 < travelled < 0.05  # stopped early, where the hand was
+    before = m.here()[2, 3]
+    m.press(0.004)
+    assert before - m.here()[2, 3] == pytest.approx(0.004, abs=1e-6)
+
+
+def test_a_slide_that_loses_its_contact_is_lowered_until_it_touches_again(run):
+    from oacdsl.runtime.control import CONTROL_DT_S
+    from oacdsl.runtime.motion import TUNING, Motion
+
+    m = Motion(run.context, "r")
+    pose = m.here()
+    touching = [False]
+    path = m._pressed(lambda s: pose, lambda: touching[0])
+    depths = [float(pose[2, 3] - path(0.0)[2, 3]) for _ in range(5)]
+    assert depths == pytest.approx([TUNING.seek_speed_m_s * CONTROL_DT_S * k for k in range(1, 6)])
+    touching[0] = True
+    assert float(pose[2, 3] - path(0.0)[2, 3]) == pytest.approx(depths[-1])  # kept, not raised
+    touching[0] = False
+    for _ in range(1000):
+        lowest = path(0.0)
+    assert float(pose[2, 3] - lowest[2, 3]) == pytest.approx(TUNING.seek_max_m)

@@ -1,0 +1,53 @@
+"""``place`` of an object that may not go back where it was taken (issue 19): a lid taken off
+its bottle is set down on a free spot of the table, not on the bottle."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent))
+
+pytest.importorskip("mujoco", reason="the robot runtime needs the 'robot' extra (mujoco)")
+pytest.importorskip("placo", reason="the robot runtime needs the 'robot' extra (placo)")
+
+from test_kit_general import FIRST_FRAME, LIBRARIES  # noqa: E402
+
+from oacdsl.compiler import load_library  # noqa: E402
+from oacdsl.runtime.executor import prepare, run_prepared  # noqa: E402
+from oacdsl.runtime.motion.spots import free_spots  # noqa: E402
+
+HERE = Path(__file__).parent
+
+
+def _library():  # type: ignore[no-untyped-def]
+    return load_library([*LIBRARIES, HERE / "data" / "put_down"])
+
+
+def test_free_spots_keep_off_every_footprint_and_prefer_the_hands_side():
+    run = prepare(_library(), "open_and_put_down", layout="demonstrated", demonstrated=FIRST_FRAME)
+    world = run.world
+    bottle = world.body_pose("bottle")[:2, 3]
+    r = world.layout.bodies["lid"].radius
+    spots = free_spots(world, "l", "lid", r)
+    assert spots
+    for p in spots:
+        assert np.linalg.norm(p - bottle) >= r + world.layout.bodies["bottle"].radius
+    assert spots[0][1] >= 0  # the left hand's side of the robot first
+
+
+@pytest.mark.slow
+def test_a_lid_taken_off_its_bottle_is_put_down_on_the_table_not_on_the_bottle():
+    run = prepare(_library(), "open_and_put_down", layout="demonstrated", demonstrated=FIRST_FRAME)
+    result = run_prepared(run)
+    assert result.success, result.error
+    world = run.world
+    assert not world.touching("lid", "bottle")
+    assert world.held["l"] is None and world.held["r"] == "bottle"
+    lid, bottle = world.body_pose("lid"), world.body_pose("bottle")
+    assert lid[2, 2] > 0.95  # upright
+    assert lid[2, 3] < bottle[2, 3] + 0.05  # down on the table, not up on the bottle's top
+    assert np.linalg.norm(lid[:2, 3] - bottle[:2, 3]) > 0.06
