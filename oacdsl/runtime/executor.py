@@ -45,7 +45,7 @@ from oacdsl.runtime.skills import IMPLEMENTATIONS, SkillContext
 from oacdsl.skills import SIGNATURES
 from oacdsl.world import NOTHING, WorldState
 
-__all__ = ["execute", "RunResult", "StepResult", "CallResult", "Run", "prepare", "run_prepared"]
+__all__ = ["execute", "RunResult", "StepResult", "CallResult", "Run", "prepare", "run_prepared", "run_step"]
 
 _UNSTABLE = ("mjWARN_BADQACC", "mjWARN_BADQPOS", "mjWARN_BADQVEL", "mjWARN_BADCTRL")
 
@@ -298,3 +298,13 @@ def _run_skill(ctx: SkillContext, step: Step) -> str | None:
     if unstable:
         return f"{step.oac.name}: the simulation became unstable ({', '.join(unstable)})"
     return None
+
+
+def run_step(ctx: SkillContext, step: Step, expected: WorldState | None) -> str | None:
+    """Run one primitive step's skill, told the world state it is meant to leave: the error,
+    or None. The hook the adaptive executor (:mod:`oacdsl.runtime.adaptive`) drives."""
+    ctx.expected = expected
+    try:
+        return _run_skill(ctx, step)
+    finally:
+        ctx.expected = None
