@@ -1,6 +1,7 @@
 """`oacc reproduce` on the KIT Bimanual development clips: time per clip and verified seeds.
 
     python benchmarks/kit_reproduce.py [--clips Pour,Stir] [--seeds 0,1,2,3,4,5] [--repeats N]
+                                       [--library DIR]
 
 For each clip and seed (0: the scene's own places, the command's default) the whole job runs
 in this process as `oacc reproduce CLIP.mmm.xml --library library/kit --no-render` does
@@ -8,7 +9,8 @@ in this process as `oacc reproduce CLIP.mmm.xml --library library/kit --no-rende
 copied to a temporary folder). Printed per clip: the median wall and CPU seconds over all its
 runs, the verdict per seed, and the ratio against the baseline measured in the same process:
 the segmentation alone (reading the recording and `oacc segment`'s AAS), median of
-``--repeats`` runs. Target: < 30 s per clip (median wall, two cores).
+``--repeats`` runs. Target: < 30 s per clip (median wall, two cores). ``--library``: another
+library of the KIT clips (``tests/data/kit_follow``: named skills replaced by ``follow``).
 Only the development clips are offered; the evaluation clips are never run here.
 """
 
@@ -54,7 +56,7 @@ def segmentation_only(recording: Path) -> None:
     segment(rec, AasParams())
 
 
-def reproduce_once(recording: Path, seed: int, work: Path) -> tuple[bool, str]:
+def reproduce_once(recording: Path, seed: int, work: Path, source: Path) -> tuple[bool, str]:
     """(verified, verdict) of one whole `oacc reproduce` run."""
     from oacdsl.pipeline import load_inputs, reproduce
     from oacdsl.pipeline.inputs import default_name
@@ -62,7 +64,7 @@ def reproduce_once(recording: Path, seed: int, work: Path) -> tuple[bool, str]:
 
     library = work / "kit"
     if not library.exists():
-        shutil.copytree(ROOT / "library" / "kit", library, ignore=shutil.ignore_patterns("learned", "drafts"))
+        shutil.copytree(source, library, ignore=shutil.ignore_patterns("learned", "drafts"))
     inputs = load_inputs(recording, library, None, AasParams())
     outcome = reproduce(inputs, name=default_name(str(recording)), out=work / f"out{seed}", db=None,
                         seed=seed or None, render=False, quiet=True, force=True)
@@ -76,6 +78,7 @@ def main() -> int:
     )
     parser.add_argument("--seeds", default="0,1,2,3,4,5", help="0 = the scene's own places")
     parser.add_argument("--repeats", type=int, default=3, help="runs of the baseline")
+    parser.add_argument("--library", type=Path, default=ROOT / "library" / "kit", help="the KIT library")
     args = parser.parse_args()
     if MOCAP is None:
         print("shared/mocap is absent: nothing to measure", file=sys.stderr)
@@ -95,7 +98,9 @@ def main() -> int:
         walls, cpus, verdicts = [], [], []
         with tempfile.TemporaryDirectory() as tmp:
             for seed in seeds:
-                (ok, summary), wall, cpu = timed(lambda s=seed, r=recording: reproduce_once(r, s, Path(tmp)))
+                (ok, summary), wall, cpu = timed(
+                    lambda s=seed, r=recording: reproduce_once(r, s, Path(tmp), args.library)
+                )
                 walls.append(wall)
                 cpus.append(cpu)
                 verdicts.append(f"{seed}:{'ok' if ok else 'FAIL'}")

@@ -21,13 +21,15 @@ from oacdsl.runtime.ik import WholeBodyIK
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.transforms import interpolate, min_jerk
 
-__all__ = ["Controller", "Observer", "CONTROL_DT_S", "FORCE_LIMIT_N", "SIDE_NAME"]
+__all__ = ["Controller", "Observer", "CONTROL_DT_S", "FORCE_LIMIT_N", "ORIENTATION_WEIGHT", "SIDE_NAME"]
 
 #: Control period (s): one IK solve per tick (50 Hz); observers still run at their own rate.
 CONTROL_DT_S = 0.02
 #: Safety limit on the change of a wrist force since the motion started, N.
 FORCE_LIMIT_N = 60.0
 SIDE_NAME = {"r": "right", "l": "left"}
+#: Weight of a moving hand's orientation task (its position's is 1).
+ORIENTATION_WEIGHT = 0.3
 
 
 class Observer(Protocol):
@@ -108,11 +110,13 @@ class Controller:
 
     # --- motions --------------------------------------------------------------------------------
     def move(
-        self, side: str, goal: np.ndarray, duration_s: float, guard: Callable[[], bool] | None = None
+        self, side: str, goal: np.ndarray, duration_s: float, guard: Callable[[], bool] | None = None,
+        orientation_weight: float = ORIENTATION_WEIGHT,
     ) -> bool:
         """Move hand ``side``'s grasp frame to ``goal`` in ``duration_s`` (min-jerk).
 
         Returns True when ``guard`` ended the motion early. The other hand holds still.
+        ``orientation_weight``: of the hand's orientation against its position (1).
         """
         start = self.ik.goal(side)
         other = "l" if side == "r" else "r"
@@ -121,7 +125,8 @@ class Controller:
         self.tare(side)
         n = max(1, round(duration_s / CONTROL_DT_S))
         for k in range(1, n + 1):
-            self.ik.set_hand_target(side, interpolate(start, goal, min_jerk(k / n)))
+            self.ik.set_hand_target(side, interpolate(start, goal, min_jerk(k / n)),
+                                    orientation_weight=orientation_weight)
             self.tick()
             if guard is not None and guard():
                 # stay where the hand is now, not where the target was heading

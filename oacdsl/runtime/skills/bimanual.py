@@ -18,7 +18,7 @@ from typing import Protocol
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.control import CONTROL_DT_S, Controller
+from oacdsl.runtime.control import CONTROL_DT_S, ORIENTATION_WEIGHT, Controller
 from oacdsl.runtime.grasping import GraspPlan
 from oacdsl.runtime.handgap import hands_gap
 from oacdsl.runtime.hands import OPEN, TOP_PRESHAPE
@@ -50,17 +50,20 @@ class Move(Protocol):
     def __call__(self, pose: np.ndarray, seconds: float, guard: Callable[[], bool] | None = None) -> None: ...
 
 
-def mover(ctl: Controller, side: str, keep: np.ndarray | None) -> Move:
+def mover(ctl: Controller, side: str, keep: np.ndarray | None,
+          orientation_weight: float = ORIENTATION_WEIGHT) -> Move:
     """A move of hand ``side`` (``go(T_world_grasp, seconds, guard=None)``): alone when ``keep``
     is None, else with the other hand's goal fixed at ``keep`` (T_world_grasp) throughout, as
-    strong a task as this hand's (the whole-body IK would let what it holds drift with the torso)."""
+    strong a task as this hand's (the whole-body IK would let what it holds drift with the torso).
+    ``orientation_weight``: of the moving hand's orientation task."""
     other = "l" if side == "r" else "r"
 
     def go(pose: np.ndarray, seconds: float, guard: Callable[[], bool] | None = None) -> None:
         if keep is None:
-            ctl.move(side, pose, seconds, guard=guard)
+            ctl.move(side, pose, seconds, guard=guard, orientation_weight=orientation_weight)
         else:
-            move_both(ctl, {side: pose, other: keep}, seconds, {side: guard} if guard else None)
+            move_both(ctl, {side: pose, other: keep}, seconds, {side: guard} if guard else None,
+                      {side: orientation_weight})
 
     return go
 
@@ -70,10 +73,12 @@ def move_both(
     goals: Mapping[str, np.ndarray],
     duration_s: float,
     guards: Mapping[str, Callable[[], bool]] | None = None,
+    orientation_weights: Mapping[str, float] | None = None,
 ) -> dict[str, bool]:
     """Move each hand of ``goals`` (side → T_world_grasp) there in ``duration_s`` (min-jerk),
     together. A hand whose guard becomes true stops where it really is; the motion ends when it is
-    over or every guarded hand stopped. Returns, per side, whether its guard stopped it."""
+    over or every guarded hand stopped. Returns, per side, whether its guard stopped it.
+    ``orientation_weights``: per side, of its orientation task (default ``ORIENTATION_WEIGHT``)."""
     guards = dict(guards or {})
     starts = {s: ctl.ik.goal(s) for s in goals}
     for s in goals:
@@ -83,7 +88,9 @@ def move_both(
     for k in range(1, n + 1):
         for s, goal in goals.items():
             if not stopped[s]:
-                ctl.ik.set_hand_target(s, interpolate(starts[s], goal, min_jerk(k / n)))
+                weight = (orientation_weights or {}).get(s, ORIENTATION_WEIGHT)
+                goal_now = interpolate(starts[s], goal, min_jerk(k / n))
+                ctl.ik.set_hand_target(s, goal_now, orientation_weight=weight)
         ctl.tick()
         for s, guard in guards.items():
             if not stopped[s] and guard():
