@@ -23,10 +23,13 @@ UNITS: dict[str, dict[str, float]] = {
     "m/s": {"m/s": 1.0, "cm/s": 0.01, "mm/s": 0.001},
     "s": {"s": 1.0, "ms": 0.001},
     "frames": {"": 1.0, "frames": 1.0, "frame": 1.0},
+    "rad": {"rad": 1.0, "deg": math.pi / 180.0},
+    "Hz": {"Hz": 1.0, "hz": 1.0, "kHz": 1000.0},
 }
 
-_KIND = {"m": "a length", "m/s": "a speed", "s": "a duration", "frames": "a frame count"}
-_EXAMPLE = {"m": "150mm", "m/s": "50mm/s", "s": "0.3s", "frames": "3"}
+_KIND = {"m": "a length", "m/s": "a speed", "s": "a duration", "frames": "a frame count", "rad": "an angle",
+         "Hz": "a frequency"}
+_EXAMPLE = {"m": "150mm", "m/s": "50mm/s", "s": "0.3s", "frames": "3", "rad": "90deg", "Hz": "100Hz"}
 _NUMBER = re.compile(r"^\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*([a-zA-Z/]*)\s*$")
 
 
@@ -34,8 +37,9 @@ def parse_quantity(text: str, unit: str, *, what: str | None = None) -> float:
     """Parse ``text`` (e.g. ``"150mm"``) as a quantity of SI ``unit``; return its SI value.
 
     ``unit`` is one of ``"m"`` (lengths: m, cm, mm), ``"m/s"`` (speeds: m/s, cm/s, mm/s),
-    ``"s"`` (durations: s, ms) or ``"frames"`` (a non-negative integer, optionally
-    followed by ``frames``). ``what`` names the value in messages (``--distance``).
+    ``"s"`` (durations: s, ms), ``"rad"`` (angles: rad, deg), ``"Hz"`` (frequencies: Hz,
+    kHz) or ``"frames"`` (a non-negative integer, optionally followed by ``frames``).
+    ``what`` names the value in messages (``--distance``).
     Raises :class:`~oacdsl.errors.UsageError` naming the expected units.
     """
     if unit not in UNITS:
@@ -79,6 +83,10 @@ def format_quantity(value: float, unit: str) -> str:
         return f"{value:g}s"
     if unit == "frames":
         return f"{int(value)}"
+    if unit == "rad":
+        return f"{math.degrees(value):g}deg"
+    if unit == "Hz":
+        return f"{value:g}Hz"
     raise ValueError(f"unknown unit kind {unit!r}")
 
 

@@ -140,11 +140,15 @@ def test_draft_with_a_library_writes_only_the_missing_classes(capsys, tmp_path):
                        "--name", "dough2")
     assert code == 0, err
     assert "scene kitchen of the library has the same instances" in err
-    assert f"wrote {out}: scene dough2, 8 instances (2 hands, 6 objects), 5 classes drafted" in err
+    assert f"wrote {out}: scene dough2, 8 instances (2 hands, 6 objects), 2 classes drafted" in err
     text = out.read_text(encoding="utf-8")
     classes, scene = check_draft(text, LIBRARY)
-    assert set(classes) == {"GreenCup", "RedCup", "OrangeBowl", "LiquidOne", "LiquidTwo"}  # Mixer: library's
-    assert {i.name: i.classes[0] for i in scene.instances}["mixer"] == "Mixer"
+    assert set(classes) == {"LiquidOne", "LiquidTwo"}  # the library has no buildable liquid class
+    # the library's classes whose name's words are in the group's name: Mixer, Cup, Bowl
+    assert {i.name: i.classes[0] for i in scene.instances if i.name not in ("liquid_one", "liquid_two")} == {
+        "mixer": "Mixer", "red_cup": "Cup", "green_cup": "Cup", "orange_bowl": "Bowl",
+        "left_hand": "Hand", "right_hand": "Hand", "table": "Table"}
+    assert "# class Cup comes from the library (its name's words are in the group's name)" in text
     assert f"--library {out} --library {LIBRARY} --scene dough2 --name NAME --propose" in text
     # without --force an existing file is kept; with it, replaced
     out.write_text("# mine\n", encoding="utf-8")
@@ -226,8 +230,7 @@ def test_an_edited_draft_composes_the_dough_demonstration(capsys, tmp_path):
     code, _, err = run(capsys, "draft", str(DOUGH), "--library", str(LIBRARY), "-o", str(draft), "--name=d2")
     assert code == 0, err
     text = draft.read_text(encoding="utf-8")
-    for cls, parents in (("RedCup", "Container, Graspable"), ("GreenCup", "Container, Graspable"),
-                         ("OrangeBowl", "Container"), ("LiquidOne", "Liquid"), ("LiquidTwo", "Liquid")):
+    for cls, parents in (("LiquidOne", "Liquid"), ("LiquidTwo", "Liquid")):
         text = text.replace(f"class {cls} : Graspable", f"class {cls} : {parents}")
     draft.write_text(text, encoding="utf-8")
     assert run(capsys, "compile", str(draft), str(LIBRARY))[0] == 0
@@ -236,7 +239,7 @@ def test_an_edited_draft_composes_the_dough_demonstration(capsys, tmp_path):
     assert code == 0, err
     steps = re.findall(r"^        (\w+)\(", out, re.M)
     assert steps == ["grasp", "pour", "place", "grasp", "pour", "place", "grasp", "mix"]
-    assert "RedCup = red_cup" in out  # typed with the draft's classes
+    assert "Cup = red_cup" in out and "LiquidOne = liquid_one" in out  # the library's and the draft's classes
 
 
 def test_names_of_instances_and_classes():
@@ -250,3 +253,45 @@ def test_names_of_instances_and_classes():
     assert [camel_case(n) for n in ("cup_small", "mixing_bowl_green", "box2", "a__b")] == [
         "CupSmall", "MixingBowlGreen", "Box2", "AB"]
     assert unique("Cup", {"Cup", "Cup2"}) == "Cup3"
+
+
+def test_draft_stands_a_lid_on_its_bottle_and_reuses_library_classes_by_name(capsys, tmp_path):
+    """A lid on a bottle is drafted from the bottle's top, not as one tall box from the table;
+    groups named like a library class with more words (``knife_black``) take that class."""
+    table = 0.80
+    bottle = np.array([[0.03, 0.0, 0.20], [-0.03, 0.0, 0.20], [0.0, 0.03, 0.20], [0.0, -0.03, 0.02]])
+    bottle += [0.40, 0.10, table]
+    lid = np.array([[0.015, 0.0, 0.025], [-0.015, 0.0, 0.025], [0.0, 0.015, 0.025], [0.0, -0.015, 0.005]])
+    lid += [0.40, 0.10, table + 0.20]
+    knife = np.array([[0.0, 0.0, 0.0], [0.10, 0.0, 0.01], [0.20, 0.01, 0.02]]) + [0.0, -0.2, table]
+    groups = {"bottle": bottle, "lid": lid, "knife_black": knife,
+              "left_hand": hand_markers("left") + [-0.5, -0.3, table + 0.3],
+              "right_hand": hand_markers("right") + [0.5, -0.3, table + 0.3]}
+    names, points, index = [], [], {}
+    for g, pts in groups.items():
+        index[g] = tuple(range(len(names), len(names) + len(pts)))
+        names += [f"{g}_{i}" for i in range(len(pts))]
+        points.append(pts)
+    positions = np.repeat(np.concatenate(points)[None], 20, axis=0)
+    rec = Recording("lid", 100.0, np.arange(20) / 100.0, tuple(names), positions, index)
+    path = write_c3d(rec, tmp_path / "lid.c3d")
+    kit = ROOT / "library" / "kit"
+    code, text, err = run(capsys, "draft", str(path), "--library", str(kit))
+    assert code == 0, err
+    classes, scene = check_draft(text, kit)
+    assert "# it stands on bottle at frame 0" in text
+    lid_size = dims(classes["Lid"])
+    assert lid_size["height"] == pytest.approx(0.025 - 0.0, abs=0.002)  # from the bottle's top, not the table
+    assert dims(classes["Bottle"])["height"] == pytest.approx(0.20, abs=0.002)
+    assert {i.name: i.classes[0] for i in scene.instances}["knife_black"] == "Knife"
+    assert "Knife" not in classes  # the library's, not drafted again
+
+
+def test_library_class_for_a_group_name():
+    from oacdsl.draft.names import library_class_for
+
+    options = ["Cup", "SmallCup", "CuttingBoard", "Knife", "SaladFork", "SaladSpoon"]
+    assert library_class_for("cutting_board_small", options) == ("CuttingBoard", [])
+    assert library_class_for("cup_small", options) == ("SmallCup", [])  # the most words
+    assert library_class_for("salad_fork_spoon", options) == (None, ["SaladFork", "SaladSpoon"])
+    assert library_class_for("bowl", options) == (None, [])

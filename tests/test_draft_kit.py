@@ -74,4 +74,4 @@ def test_compose_propose_writes_drafts_over_a_drafted_scene(capsys, tmp_path):
     written = sorted(p.name for p in (library / "drafts").iterdir())
     assert "kit_pour.oac" in written and len(written) >= 2  # the OAC and the drafts of what it lacked
     composed = (library / "drafts" / "kit_pour.oac").read_text(encoding="utf-8")
-    assert "cup_small: CupSmall = cup_small" in composed
+    assert "cup: Cup = cup_small" in composed  # the library's Cup: its name's word is the group's

@@ -63,3 +63,15 @@ def test_inspect_kit_preset_and_warning(capsys):
     assert err.count("\n") == 1
     assert main(["inspect", optotrak, "--allow-truncated"]) == 0
     assert "oacc: warning:" in capsys.readouterr().err
+
+
+def test_inspect_and_segment_give_the_same_duration(tmp_path: Path, capsys):
+    # 85 frames at 10 Hz span 8.40 s from the first frame to the last: both commands say so
+    pos = np.zeros((85, 2, 3)) + [0.1, 0.2, 0.3]
+    pos[:, 1, 0] += 0.5
+    rec = Recording("short", 10.0, np.arange(85) / 10.0, ("a", "b"), pos, {"cup": (0,), "hand": (1,)})
+    path = write_c3d(rec, tmp_path / "short.c3d")
+    assert main(["inspect", str(path)]) == 0
+    assert "10 Hz, 85 frames, 8.40 s" in capsys.readouterr().out
+    assert main(["segment", str(path)]) == 0
+    assert "85 frames at 10 Hz (8.40 s)" in capsys.readouterr().out

@@ -134,6 +134,7 @@ def test_oacc_run_closes_and_opens_the_bottle_from_the_command_line():
     assert out.returncode == 0, out.stderr
     assert "step 3/4 screw_on(left_hand, lid, bottle): ok" in out.stdout
     assert "close_and_open: success" in out.stdout
+    assert "balls" not in out.stdout  # no liquid in this task: no "0/0 balls in a bowl"
 
 
 class Strokes:
@@ -248,3 +249,24 @@ def test_a_twist_takes_the_demonstrated_turn_and_its_sense():
     values = {p.name: (p.value.value, p.value.unit) for p in found.params}
     assert values == {"angle": (-301.0, "deg"), "duration": (4.2, "s")}
     assert "angle -301deg = twist -301deg" in (found.comment or "")
+
+
+def test_a_precondition_the_layout_breaks_names_the_layout():
+    # open_bottle needs the lid on the bottle; the scene stands it beside it ('lid at (56cm, 18cm)')
+    run = prepare(library(), "open_bottle", scene="bottle_lid")
+    result = run_prepared(run)
+    assert not result.success
+    assert "precondition of open_bottle not met: bottle <-> lid does not hold (bottle touches nothing);" \
+        " the initial state comes from the layout: bottle stands alone at (0.54, -0.06) m, from the scene's" \
+        " 'at'; lid stands alone at (0.56, 0.18) m, from the scene's 'at'" in result.error
+    assert "'layout demonstrated'" in result.error
+
+
+def test_a_precondition_about_a_hand_does_not_blame_the_layout():
+    from oacdsl.runtime.layout_cause import layout_cause
+
+    run = prepare(library(), "open_bottle", scene="bottle_lid")
+    assert layout_cause(run.world.layout, [("left_hand", "lid", False)]) is None
+    assert layout_cause(run.world.layout, [("lid", "nothing", False)]) == (
+        "the initial state comes from the layout: lid stands alone at (0.56, 0.18) m, from the scene's 'at'"
+    )

@@ -108,3 +108,22 @@ def test_wrist_sensor_reads_the_hand_weight_at_rest():
     force, _ = world.wrist_wrench("r")
     # palm 0.8 kg + four finger segments of 0.1 kg, 9.81 m/s²
     assert abs(np.linalg.norm(force) - 1.2 * 9.81) < 0.3
+
+
+def test_a_seed_that_moves_nothing_says_so():
+    from oacdsl.runtime.layout import seed_note
+
+    lib = task_library()
+    assert seed_note(plan_layout(lib, KITCHEN)) is None  # no seed: nothing to say
+    assert seed_note(plan_layout(lib, KITCHEN, seed=3)) is None  # every object moved
+    # every object placed by the caller: no seed can move any of them
+    everywhere = {p.name: (p.x, p.y) for p in plan_layout(lib, KITCHEN).placements}
+    pinned = plan_layout(lib, KITCHEN, seed=3, places=everywhere)
+    assert set(pinned.unmoved) == set(everywhere)
+    note = seed_note(pinned)
+    assert note is not None and "--seed 3 moves no object of scene kitchen" in note
+    # one object pinned by the caller: by design, no warning for it alone
+    one = dict(list(everywhere.items())[:1])
+    partly = plan_layout(lib, KITCHEN, seed=3, places=one)
+    assert set(partly.unmoved) == set(one)
+    assert seed_note(partly) is None

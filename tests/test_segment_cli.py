@@ -63,7 +63,7 @@ def test_table(demo, capsys):
     code, out, _ = run(capsys, demo, "--frames", "3", "--mode", "paper")
     assert code == 0
     lines = out.splitlines()
-    assert lines[0].startswith(f"{demo}: 400 frames at 100 Hz (4.00 s), 4 instances: cup, hand, liquid, wand")
+    assert lines[0].startswith(f"{demo}: 400 frames at 100 Hz (3.99 s), 4 instances: cup, hand, liquid, wand")
     assert "d = 150mm, v = 100mm/s, n = 3 frames, merge = 0.3s, mode = paper" in lines[1]
     assert any(line.split()[:5] == ["0", "0", "0.000", "initial:", "cup"] for line in lines)
     assert any(line.split() == ["1", "101", "1.010", "+", "cup", "<->", "hand"] for line in lines)

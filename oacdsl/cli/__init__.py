@@ -28,9 +28,11 @@ COMMANDS: list[str] = [
     "oacdsl.cli.match_cmd",
     "oacdsl.cli.compose_cmd",
     "oacdsl.cli.run_cmd",
+    "oacdsl.cli.mine_cmd",
     "oacdsl.cli.stats_cmd",
     "oacdsl.cli.report_cmd",
     "oacdsl.cli.synth_cmd",
+    "oacdsl.cli.take_cmd",
     "oacdsl.cli.skills_cmd",
 ]
 

@@ -16,6 +16,7 @@ from typing import Any
 
 from oacdsl.cli import seed_arg
 from oacdsl.cli.backend import NONE_FOUND, prepare_backend
+from oacdsl.cli.run_many import add_many_options
 from oacdsl.cli.scene_options import add_scene_options, scene_overrides
 from oacdsl.errors import RuntimeFailure, UsageError
 from oacdsl.model import Scene
@@ -81,6 +82,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         help="leave self-collision avoidance out of the IK (faster)",
     )
     add_scene_options(p)
+    add_many_options(p)
     p.set_defaults(func=run)
 
 
@@ -187,6 +189,13 @@ def run(args: argparse.Namespace) -> int:
     bindings = _pairs(args.bind, "--bind")
     overrides = scene_overrides(args)
     library, scene = load_inputs(args.library or ["library"], args.scene)
+    if args.seeds is not None:  # many runs on Dask: the success measure
+        from oacdsl.cli.run_many import run_many_cmd
+
+        paths = [*(args.library or ["library"]), *([args.scene] if scene != args.scene else [])]
+        return run_many_cmd(args, paths, scene, bindings, overrides)
+    if args.workers is not None or args.scheduler is not None or args.place_samples != 1:
+        raise UsageError("--workers, --scheduler and --place-samples go with --seeds A:B")
     db = None
     if not args.no_record:  # an unusable store fails now, before the simulation
         from oacdsl.stats import ensure_writable, resolve_db_path
@@ -219,6 +228,10 @@ def run(args: argparse.Namespace) -> int:
         demonstrated=demonstrated,
         **overrides.kwargs(),
     )
+    from oacdsl.runtime.layout import seed_note
+
+    if (moved := seed_note(run_.world.layout)) is not None:
+        print(f"oacc: warning: {moved}", file=sys.stderr)
     out = sys.stderr if args.json else sys.stdout
     closers: list[Any] = []
     frames: Any = None
@@ -273,10 +286,9 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps(result.to_json(), indent=2))
     else:
         verdict = "success" if result.success else f"failed at {result.failed_step or 'the start'}"
-        print(
-            f"{result.oac}: {verdict} — {m['balls_in_bowl']}/{m['balls_total']} balls in a bowl,"
-            f" {m['sim_time_s']:.1f} s simulated in {m['wall_time_s']:.1f} s"
-        )
+        poured = f" {m['balls_in_bowl']}/{m['balls_total']} balls in a bowl," if m.get("balls_total") else ""
+        timing = f"{m['sim_time_s']:.1f} s simulated in {m['wall_time_s']:.1f} s"
+        print(f"{result.oac}: {verdict} —{poured} {timing}")
     if db is not None:
         from oacdsl.stats import RunStore
 

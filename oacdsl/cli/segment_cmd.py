@@ -244,7 +244,7 @@ def format_table(seg: Any) -> str:
 
     p = seg.parameters
     speed = "off" if p.get("speed_m_s") is None else format_quantity(p["speed_m_s"], "m/s")
-    duration = seg.frames / seg.rate_hz
+    duration = (seg.frames - 1) / seg.rate_hz  # first to last frame, as `oacc inspect` says
     lines = [
         f"{seg.recording}: {seg.frames} frames at {seg.rate_hz:g} Hz ({duration:.2f} s),"
         f" {len(seg.instances)} instances: {', '.join(seg.instances) or '(none)'}",

@@ -11,7 +11,7 @@ from __future__ import annotations
 import re
 from collections.abc import Collection
 
-__all__ = ["camel_case", "instance_name", "unique"]
+__all__ = ["camel_case", "instance_name", "library_class_for", "unique"]
 
 
 def _is_name(text: str) -> bool:
@@ -46,3 +46,22 @@ def camel_case(name: str) -> str:
     parts = [p for p in re.split(r"_+", name) if p]
     text = "".join(p[:1].upper() + p[1:] for p in parts) or "Object"
     return text if text[0].isalpha() else f"Object{text}"
+
+
+def _words(text: str) -> set[str]:
+    """Lower-case words of a group name (``cutting_board_small``) or a class (``CuttingBoard``)."""
+    spaced = re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "_", text)
+    return {w.lower() for w in re.split(r"[^A-Za-z]+", spaced) if w}
+
+
+def library_class_for(group: str, candidates: Collection[str]) -> tuple[str | None, list[str]]:
+    """The library class whose name's words are all words of marker group ``group``
+    (``cutting_board_small`` → ``CuttingBoard``, ``knife_black`` → ``Knife``), the one with the
+    most words when several are, and the candidates tied with it (then none is chosen)."""
+    words = _words(group)
+    fitting = [c for c in candidates if _words(c) and _words(c) <= words]
+    if not fitting:
+        return None, []
+    most = max(len(_words(c)) for c in fitting)
+    best = sorted(c for c in fitting if len(_words(c)) == most)
+    return (best[0], []) if len(best) == 1 else (None, best)

@@ -17,7 +17,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from oacdsl.draft.estimate import ShapeEstimate, estimate_shape, table_height
-from oacdsl.draft.names import camel_case, instance_name, unique
+from oacdsl.draft.names import camel_case, instance_name, library_class_for, unique
+from oacdsl.draft.support import supports
+from oacdsl.geometry import ROLE_SHAPES
 from oacdsl.library import Library
 from oacdsl.segmentation.poses import MIN_MARKERS
 from oacdsl.segmentation.recording import Recording
@@ -146,11 +148,15 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
     from oacdsl.matching.transient import stable_segmentation
 
     known = set(library.classes) if library is not None else set()
+    buildable = [c for c, d in (library.classes.items() if library is not None else ())
+                 if d.geometry is not None and d.geometry.shapes
+                 and not {sh.primitive for sh in d.geometry.shapes} & ROLE_SHAPES]
     agents = set(hands)
     segmentation, _ = stable_segmentation(segmentation, agents.__contains__)  # as oacc match counts them
     groups = list(recording.instances)
     objects = [g for g in groups if g not in agents]
     table_z, lowest = table_height(recording, objects)
+    support = supports(recording, objects, table_z)
     instances: dict[str, str] = {}
     explicit: dict[str, tuple[str, ...]] = {}
     for g in groups:
@@ -159,6 +165,8 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
         if renamed:
             explicit[inst] = tuple(recording.marker_names[i] for i in recording.groups[g])
     bases = set(BASE_CLASSES)
+    from_library: dict[str, str] = {}
+    tie_notes: list[str] = []
     classes: dict[str, str] = {}
     estimates: dict[str, ShapeEstimate] = {}
     decls: list[list[str]] = []
@@ -172,6 +180,13 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
         cls = camel_case(inst)
         cls = unique(f"{cls}Object", written) if cls in bases else cls  # a group called 'tool', 'container' …
         cls = unique(cls, written)
+        if cls not in known:
+            reused, tied = library_class_for(g, buildable)
+            if reused is not None:
+                cls, from_library[inst] = reused, "its name's words are in the group's name"
+            elif tied:
+                tie_notes.append(f"    # {inst}: the library's {', '.join(tied)} all fit its name: none is"
+                                 " chosen; write the one you mean as its class")
         classes[inst] = cls
         n = len(recording.groups[g])
         if cls in known:
@@ -186,9 +201,16 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
                           " should build it, or mark the instance 'ignored'.",
                           f"# {_PARENTS_NOTE}.", f"class {cls} : Graspable"])
             continue
-        est = estimate_shape(recording, g, table_z)
+        stand = support[g]
+        est = estimate_shape(recording, g, stand.base_z_m)
         estimates[inst] = est
-        decls.append(_class_lines(cls, est, table_z, n, recording.n_frames))
+        decl = _class_lines(cls, est, stand.base_z_m, n, recording.n_frames)
+        if stand.on is not None:
+            under = instances[stand.on]
+            decl.insert(1, f"# it stands on {under} at frame {stand.frame}: its base is {under}'s highest"
+                           f" marker ({stand.base_z_m * 1000:.0f} mm), not the table top.")
+            decl = [x.replace("- table top", f"- {under}'s top") for x in decl]
+        decls.append(decl)
         grasps.append(_grasp_line(cls, est))
     base_names = list(BASE_CLASSES) if library is None else [c for c in _NEEDED if c not in known]
     base = [BASE_CLASSES[c] for c in base_names]
@@ -199,8 +221,11 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
         markers = f" markers ({', '.join(_quoted(m) for m in explicit[inst])})" if inst in explicit else ""
         if inst in explicit:
             scene.append(f"    # marker group {g!r} is not a name of the language: its markers are listed")
+        elif inst in from_library:
+            scene.append(f"    # class {classes[inst]} comes from the library ({from_library[inst]})")
         elif classes[inst] in known and g not in agents:
             scene.append(f"    # class {classes[inst]} comes from the library (named like the group)")
+        scene += [t for t in tie_notes if t.startswith(f"    # {inst}:")]
         scene.append(f"    {inst:<{width}} : {classes[inst]}{markers}")
     scene += [f"    # the table top stands at {table_z * 1000:.0f} mm (z up): the lowest object marker at the"
               f" first frame ({lowest}); it may sit a marker's radius (5-10 mm) above the table",

@@ -50,6 +50,7 @@ def execute_stage(
     note: Callable[[str], None] | None = None,
     overrides: SceneOverrides | None = None,
     recording: Recording | None = None,
+    warn: Callable[[str], None] | None = None,
 ) -> ExecuteStage:
     """Execute ``oac``; with ``frames_dir``, render the robot there (:class:`StepCamera`).
     The scene's initial state comes from the scene, under ``overrides``; with ``layout
@@ -58,12 +59,15 @@ def execute_stage(
     from oacdsl.report import bound_conditions
     from oacdsl.runtime.demo_layout import first_frame_positions
     from oacdsl.runtime.executor import prepare, run_prepared
+    from oacdsl.runtime.layout import seed_note
 
     demonstrated = (
         first_frame_positions(recording, [i.name for i in scene.tracked()]) if recording is not None else None
     )
     given = (overrides or SceneOverrides()).kwargs()
     run = prepare(library, oac, scene=scene, seed=seed, demonstrated=demonstrated, **given)
+    if warn is not None and (moved := seed_note(run.world.layout)) is not None:
+        warn(moved)
     markers = VirtualMarkers(run.world)
     run.controller.add_observer(markers)
     camera = StepCamera(run.world.model, run.steps, frames_dir) if frames_dir is not None else None

@@ -262,6 +262,7 @@ def _stages(
             note=progress.note,
             overrides=overrides,
             recording=inputs.recording,
+            warn=warn,
         )
         figures.attach_frames(done.doc, done.frames, staging)
         return done

@@ -23,7 +23,7 @@ def segment_section(r: Result, images: Images) -> str:
     s = r.segment
     if s is None:
         return "".join(out) + not_run(r, "segment", "The segmentation") + "</section>"
-    duration = s.frames / s.rate_hz if s.rate_hz else 0.0
+    duration = (s.frames - 1) / s.rate_hz if s.rate_hz else 0.0  # first to last frame
     out.append(
         f'<p class="lead">{esc(s.recording)}: {s.frames} frames at {s.rate_hz:g} Hz ({seconds(duration)}),'
         f" {len(s.instances)} tracked instances, segmented by the automatic action segmentation (AAS)"

@@ -37,6 +37,7 @@ from oacdsl.runtime.control import Controller, Observer
 from oacdsl.runtime.ik import WholeBodyIK
 from oacdsl.runtime.intent import predicted_states
 from oacdsl.runtime.layout import plan_layout
+from oacdsl.runtime.layout_cause import layout_cause
 from oacdsl.runtime.results import CallResult, RunResult, StepResult
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.skills import IMPLEMENTATIONS, SkillContext
@@ -127,6 +128,12 @@ def _pairs(state: WorldState, mentioned: set[str]) -> list[list[str]]:
     return pairs
 
 
+def _with_cause(error: str, run: Run, state: WorldState, atoms: list[tuple[str, str, bool]]) -> str:
+    """``error`` with the layout named as its cause when the failing atoms are about its objects."""
+    cause = layout_cause(run.world.layout, [(a, b, n) for a, b, n in atoms if not holds(state, a, b, n)])
+    return f"{error}; {cause}" if cause else error
+
+
 def _check(state: WorldState, atoms: list[tuple[str, str, bool]], what: str) -> str | None:
     failed = [explain(state, a, b, n) for a, b, n in atoms if not holds(state, a, b, n)]
     return f"{what}: {'; '.join(failed)}" if failed else None
@@ -196,6 +203,7 @@ def run_prepared(
     top_pre = _check(
         states[0], bound_atoms(run.oac.pre, run.binding), f"precondition of {run.oac.name} not met"
     )
+    top_pre = top_pre and _with_cause(top_pre, run, states[0], bound_atoms(run.oac.pre, run.binding))
     for index, step in enumerate(run.steps):
         atoms_pre = bound_atoms(step.oac.pre, step.binding)
         effects = bound_atoms(step.oac.effect, step.binding)
@@ -204,6 +212,8 @@ def run_prepared(
         t0 = world.time_s
         error = top_pre if index == 0 else None
         error = error or _check(world.relations(), atoms_pre, f"precondition of {step.oac.name} not met")
+        if error is not None and index == 0 and error is not top_pre:
+            error = _with_cause(error, run, states[0], atoms_pre)
         if error is None:
             ctx.expected = expected[index]
             error = _run_skill(ctx, step)

@@ -38,7 +38,16 @@ from oacdsl.runtime.demo_layout import map_into_reach
 from oacdsl.runtime.objects import TABLE_DEPTH, TABLE_FRONT
 from oacdsl.units import language_si
 
-__all__ = ["Placement", "Layout", "plan_layout", "MAX_SHIFT_M", "MIN_GAP_M", "BALLS_PER_LIQUID", "hand_side"]
+__all__ = [
+    "Placement",
+    "Layout",
+    "plan_layout",
+    "seed_note",
+    "MAX_SHIFT_M",
+    "MIN_GAP_M",
+    "BALLS_PER_LIQUID",
+    "hand_side",
+]
 
 #: How far a seed may move an object from its planned place, metres.
 MAX_SHIFT_M = 0.10
@@ -96,6 +105,9 @@ class Layout:
     balls: Mapping[str, int] = field(default_factory=dict)
     #: Where each object's place came from: "given", "scene", "demonstrated" or "auto".
     sources: Mapping[str, str] = field(default_factory=dict)
+    #: Objects the seed left where they were: placed by the caller, stacked on another, or
+    #: with no free room within :data:`MAX_SHIFT_M` (sorted; empty without a seed).
+    unmoved: tuple[str, ...] = ()
 
     def ball_count(self, liquid: str) -> int:
         """How many balls ``liquid`` has."""
@@ -166,6 +178,7 @@ def plan_layout(
     for name, source in sources.items():
         if source == "given":  # exactly where the caller said, even with a seed
             placed[name] = wanted[name]
+    unmoved = () if seed is None else tuple(n for n in names if n in stacks or placed[n] == nominal[n])
     for name, support in stacks.items():
         placed[name], sources[name] = placed[support], "demonstrated"
     for name in names:
@@ -181,6 +194,32 @@ def plan_layout(
         bodies=bodies,
         balls=counts,
         sources=sources,
+        unmoved=unmoved,
+    )
+
+
+def seed_note(layout: Layout) -> str | None:
+    """A warning when the layout's seed moved no object, or left some for want of room; else None.
+
+    ``--seed N`` moves every object by up to :data:`MAX_SHIFT_M`; an object placed by
+    ``--place`` or standing on another stays put by design (no warning for it alone), one
+    without free room around it stays put too. When no object moved, every seed runs the
+    same arrangement, and the user is told.
+    """
+    if layout.seed is None or not layout.unmoved:
+        return None
+    if len(layout.unmoved) == len(layout.placements):
+        return (
+            f"--seed {layout.seed} moves no object of scene {layout.scene} (each is placed by --place,"
+            f" stands on another object, or has no free room within {MAX_SHIFT_M * 100:.0f} cm):"
+            " every seed runs the same arrangement"
+        )
+    cramped = [n for n in layout.unmoved if layout.sources.get(n) != "given" and not layout.placement(n).on]
+    if not cramped:
+        return None
+    return (
+        f"--seed {layout.seed} leaves {', '.join(cramped)} where planned: no free room within"
+        f" {MAX_SHIFT_M * 100:.0f} cm"
     )
 
 

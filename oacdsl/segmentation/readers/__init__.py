@@ -16,7 +16,10 @@ from oacdsl.segmentation.readers.c3d import read_c3d, write_c3d
 from oacdsl.segmentation.readers.limits import check_regular
 from oacdsl.segmentation.recording import Recording
 
-__all__ = ["FORMATS", "read_recording", "read_c3d", "write_c3d", "format_of"]
+__all__ = ["FORMATS", "WRITABLE", "read_recording", "read_c3d", "write_c3d", "write_recording", "format_of"]
+
+#: Formats :func:`write_recording` writes.
+WRITABLE = ("c3d", "mmm")
 
 #: Format names accepted by ``fmt`` and the extensions that select them.
 FORMATS: dict[str, tuple[str, ...]] = {
@@ -83,3 +86,19 @@ def read_recording(
     if fmt == "c3d":
         return read_c3d(path, allow_truncated=allow_truncated)
     return _reader(fmt)(path, units=units) if units is not None else _reader(fmt)(path)
+
+
+def write_recording(recording: Recording, path: str | Path, fmt: str | None = None) -> Path:
+    """Write ``recording`` as C3D or MMM XML (markers only), chosen by ``fmt`` or ``path``'s
+    extension, atomically; :func:`read_recording` reads it back (same markers, groups, times)."""
+    path = Path(path)
+    fmt = fmt or format_of(path)
+    if fmt == "c3d":
+        return write_c3d(recording, path)
+    if fmt == "mmm":
+        from oacdsl.segmentation.readers.mmm_write import write_mmm
+
+        return write_mmm(recording, path)
+    raise RecordingError(
+        f"cannot write {fmt} files; write {' or '.join(WRITABLE)} (.c3d, .mmm.xml)", location=str(path)
+    )

@@ -1,0 +1,139 @@
+"""An OAC's success measure over many seeds and sampled placements, on Dask (``oacc run --seeds``).
+
+Each run is one task (:func:`run_one`): a worker loads the library once, executes the OAC with
+the run's seed and placements, and returns the ``oacc run --json`` document with ``seed``,
+``sample`` and ``places`` added. Sample 0 of a seed is the seed's own layout (as ``oacc run
+--seed``); sample k > 0 puts every object where the layout of a seed drawn from ``(seed, k)``
+puts it (:func:`sampled_places`), so a run is reproduced by ``oacc run --seed S --place …``. The
+client alone writes the outcomes into the run store (one writer), in the order they arrive.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import IO, Any
+
+import numpy as np
+
+__all__ = ["RunSpec", "run_many", "run_one", "sampled_places"]
+
+_LIBRARIES: dict[tuple[str, ...], Any] = {}
+
+
+class RunSpec:
+    """What every run of a job shares (picklable): library paths, the OAC, bindings, scene, fills."""
+
+    def __init__(
+        self,
+        library: Sequence[str],
+        name: str,
+        binding: Mapping[str, str],
+        scene: str | None,
+        fill: Mapping[str, str] | None = None,
+        places: Mapping[str, tuple[float, float]] | None = None,
+    ):
+        self.library, self.name, self.binding = tuple(library), name, dict(binding)
+        self.scene, self.fill, self.places = scene, dict(fill or {}), dict(places or {})
+
+
+def _library(paths: Sequence[str]) -> Any:
+    from oacdsl.compiler import load_library
+
+    key = tuple(paths)
+    if key not in _LIBRARIES:
+        _LIBRARIES[key] = load_library([Path(p) for p in paths])
+    return _LIBRARIES[key]
+
+
+def sampled_places(spec: RunSpec, seed: int, sample: int) -> dict[str, tuple[float, float]]:
+    """Placements of sample ``sample`` > 0 of ``seed`` (module doc); empty for sample 0."""
+    if sample == 0:
+        return {}
+    from oacdsl.runtime.binding import choose_scene, liquid_contents
+    from oacdsl.runtime.layout import plan_layout
+
+    library = _library(spec.library)
+    oac = library.oacs[spec.name]
+    scene = choose_scene(library, oac, spec.scene, spec.binding)
+    drawn = int(np.random.SeedSequence([seed, sample]).generate_state(1)[0])
+    layout = plan_layout(
+        library,
+        scene,
+        liquid_contents(library, scene, oac, spec.binding) | spec.fill,
+        seed=drawn,
+        places=spec.places,
+    )
+    return {p.name: (round(p.x, 4), round(p.y, 4)) for p in layout.placements if p.on is None}
+
+
+def run_one(spec: RunSpec, seed: int, sample: int) -> dict[str, Any]:
+    """One run's ``oacc run --json`` document (module doc); a run that cannot start is a failed
+    document with its one-line ``error``, never an exception."""
+    from oacdsl.errors import OacError
+
+    try:
+        from oacdsl.runtime.executor import execute
+
+        places = {**spec.places, **sampled_places(spec, seed, sample)}
+        result = execute(
+            _library(spec.library),
+            spec.name,
+            spec.binding,
+            spec.scene,
+            seed,
+            fill=spec.fill or None,
+            places=places or None,
+        )
+        doc = result.to_json()
+    except OacError as error:
+        places, doc = {}, {"oac": spec.name, "success": False, "error": str(error), "steps": []}
+    doc.update(seed=seed, sample=sample, places={k: list(v) for k, v in places.items()})
+    return doc
+
+
+def run_many(
+    spec: RunSpec,
+    seeds: Sequence[int],
+    samples: int,
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    on_result: Callable[[dict[str, Any]], None] | None = None,
+    progress: IO[str] | None = None,
+) -> list[dict[str, Any]]:
+    """Every (seed, sample) run on the cluster; ``on_result`` hears each document as it arrives
+    (the caller records it); the documents sorted by seed and sample."""
+    from dask.distributed import as_completed
+
+    from oacdsl.mining.engine import _client, _Ticker
+
+    jobs = [(s, k) for s in seeds for k in range(samples)]
+    ticker = _Ticker(len(jobs), progress, "ran", "runs")
+    client, cluster = _client(workers, scheduler, False)
+    out = []
+    try:
+        shared = client.scatter(spec, broadcast=True)
+        futures = {client.submit(run_one, shared, s, k, pure=False): (s, k) for s, k in jobs}
+        for future in as_completed(futures):
+            s, k = futures[future]
+            try:
+                doc = future.result()
+            except Exception as error:  # the worker died
+                doc = {
+                    "oac": spec.name,
+                    "success": False,
+                    "steps": [],
+                    "seed": s,
+                    "sample": k,
+                    "error": f"the run failed on its worker: {type(error).__name__}: {error}",
+                }
+            if on_result is not None:
+                on_result(doc)
+            out.append(doc)
+            ticker.tick(not doc.get("success"))
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    return sorted(out, key=lambda d: (d["seed"], d["sample"]))

@@ -1,0 +1,175 @@
+"""What a worker does with one recording: read, segment, match (and compose), as one row.
+
+:func:`analyse` runs in a Dask worker process (or in the client, for the in-process
+baseline); it never raises for a bad recording: every :class:`~oacdsl.errors.OacError`, and
+any other exception, becomes an error row naming the stage and the one-line message, so one
+broken file never ends a job. The library is loaded once per worker process and kept
+(:func:`_library`), keyed by its paths and their modification times.
+"""
+
+from __future__ import annotations
+
+import os
+import socket
+import time
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+__all__ = ["JobSpec", "analyse"]
+
+_LIBRARIES: dict[tuple[Any, ...], Any] = {}
+
+
+class JobSpec:
+    """What every task of a job shares (picklable): the library's paths, the scene's name (None:
+    found per recording), the AAS parameters as a dict, whether to compose."""
+
+    def __init__(self, library: Sequence[str], scene: str | None, params: dict[str, Any], compose: bool):
+        self.library = tuple(str(p) for p in library)
+        self.scene = scene
+        self.params = dict(params)
+        self.compose = compose
+
+
+def _stamp(paths: Sequence[str]) -> tuple[Any, ...]:
+    out: list[Any] = []
+    for p in paths:
+        path = Path(p)
+        files = [path] if path.is_file() else sorted(path.rglob("*.oac"))
+        out += [(str(f), f.stat().st_mtime_ns) for f in files]
+    return tuple(out)
+
+
+def _library(paths: Sequence[str]) -> Any:
+    from oacdsl.pipeline.inputs import open_library
+
+    key = (tuple(paths), _stamp(paths))
+    if key not in _LIBRARIES:
+        _LIBRARIES.clear()
+        _LIBRARIES[key] = open_library([Path(p) for p in paths])
+    return _LIBRARIES[key]
+
+
+def _most_specific(classes: frozenset[str], library: Any) -> str:
+    if not classes:
+        return "?"
+    return sorted(classes, key=lambda c: (-len(library.ancestors(c)), c))[0]
+
+
+def _change(added: Any, removed: Any, name: Any) -> str:
+    parts = [f"+ {' <-> '.join(sorted((name(a), name(b))))}" for a, b in sorted(added)]
+    parts += [f"- {' <-> '.join(sorted((name(a), name(b))))}" for a, b in sorted(removed)]
+    return ", ".join(parts) or "no change"
+
+
+def _sub_rows(matches: Sequence[Any], library: Any, scene: Any) -> list[dict[str, Any]]:
+    from oacdsl.compiler import print_module
+    from oacdsl.matching.drafts import propose_draft
+    from oacdsl.model import Module
+    from oacdsl.world import NOTHING
+
+    classes = library.instance_classes(scene)
+    specific = {i: _most_specific(c, library) for i, c in classes.items()}
+    specific[NOTHING] = NOTHING
+    rows = []
+    for m in matches:
+        r = m.result
+        chosen = r.chosen
+        row: dict[str, Any] = {
+            "index": m.index,
+            "from_frame": int(m.sub_action.start.frame),
+            "to_frame": int(m.sub_action.end.frame),
+            "change": _change(r.added, r.removed, str),
+            "class_change": _change(r.added, r.removed, lambda x: specific.get(x, x)),
+            "oac": chosen.oac.name if chosen is not None else None,
+            "binding": dict(chosen.mapping) if chosen is not None else None,
+            "draft": None,
+        }
+        if chosen is None:
+            draft, _ = propose_draft(f"unexplained_{m.index}", r.before, r.after, classes, library.ancestors)
+            row["draft"] = print_module(Module(path="draft.oac", decls=(draft,)))
+        rows.append(row)
+    return rows
+
+
+def _read(path: str, library: Any, scene_name: str | None) -> tuple[Any, Any, Any]:
+    """The grouped recording, the library (with an outside scene file added) and its scene, checked
+    as ``oacc match`` checks them (:func:`oacdsl.pipeline.inputs.load_inputs`)."""
+    from oacdsl.errors import InputError
+    from oacdsl.pipeline.inputs import _check_tracked as check_tracked
+    from oacdsl.pipeline.inputs import resolve_scene
+    from oacdsl.segmentation.grouping import apply_scene_groups, group_recording
+    from oacdsl.segmentation.readers import read_recording
+
+    if not Path(path).exists():
+        raise InputError("no such recording file", location=path)
+    rec, _ = group_recording(read_recording(path), None)
+    library, scene, _ = resolve_scene(library, tuple(rec.instances), scene_name)
+    if any(i.markers or i.ignored for i in scene.instances):
+        rec = apply_scene_groups(rec, scene)
+    check_tracked(tuple(rec.instances), scene, path, "marker groups")
+    if not rec.instances:
+        raise InputError("the recording has no marker groups to segment", location=path)
+    return rec, library, scene
+
+
+def analyse(path: str, rec_id: str, spec: JobSpec) -> dict[str, Any]:
+    """The row of one recording (module doc); ``times_s`` per stage, seconds."""
+    from oacdsl.errors import OacError
+
+    row: dict[str, Any] = {
+        "id": rec_id,
+        "path": path,
+        "status": "ok",
+        "error": None,
+        "stage": None,
+        "worker": f"{socket.gethostname()}:{os.getpid()}",
+        "times_s": {},
+        "subs": [],
+    }
+    stage = "read"
+    clock = time.perf_counter()
+
+    def lap(name: str) -> None:
+        nonlocal clock
+        now = time.perf_counter()
+        row["times_s"][name] = now - clock
+        clock = now
+
+    try:
+        from oacdsl.pipeline.analyse import match_stage, segment_stage
+        from oacdsl.segmentation.params import AasParams
+
+        library = _library(spec.library)
+        rec, library, scene = _read(path, library, spec.scene)
+        params = AasParams(**spec.params)
+        row.update(
+            rate_hz=rec.rate_hz, frames=rec.n_frames, duration_s=float(rec.times_s[-1]), scene=scene.name
+        )
+        lap("read")
+        stage = "segment"
+        seg = segment_stage(rec, params).segmentation
+        row["keyframes"] = len(seg.keyframes)
+        lap("segment")
+        stage = "match"
+        matched = match_stage(seg, library, scene).matches
+        row["subs"] = _sub_rows(matched, library, scene)
+        lap("match")
+        if spec.compose and all(m.result.chosen is not None for m in matched):
+            stage = "compose"
+            from oacdsl.matching.demonstration import compose_demonstration
+            from oacdsl.matching.emit import render
+            from oacdsl.pipeline.inputs import default_name
+
+            name = default_name(path)
+            comp = compose_demonstration(name, matched, library, scene).composition
+            row["composed"] = render([comp.oac], f"{name}.oac")
+            lap("compose")
+    except OacError as error:
+        row.update(status="error", stage=stage, error=str(error).splitlines()[0][:500])
+    except Exception as error:  # a bug, or a reader's unforeseen failure: a row, not the job's end
+        row.update(
+            status="error", stage=stage, error=f"internal error: {type(error).__name__}: {error}"[:500]
+        )
+    return row
