@@ -231,3 +231,16 @@ def test_rotation_vectors_round_trip() -> None:
     for v in [*rng.normal(size=(20, 3)), np.array([math.pi, 0.0, 0.0]), np.zeros(3)]:
         v = v / max(1.0, np.linalg.norm(v) / 3.0)
         assert from_rotvec(rotvec(from_rotvec(v))) == pytest.approx(from_rotvec(v), abs=1e-9)
+
+
+def test_the_kit_follow_library_compiles_and_uses_follow() -> None:
+    from pathlib import Path
+
+    from oacdsl.compiler import compile_paths
+
+    root = Path(__file__).resolve().parent / "data" / "kit_follow"
+    result = compile_paths([root])
+    assert not result.errors
+    skills = {d.name: d.skill for m in result.modules for d in m.decls if getattr(d, "kind", "") == "oac"}
+    assert skills["work_in"] == skills["bring_to"] == skills["wipe_held"] == "follow"
+    assert "stir" not in skills  # the named skill's OAC is not there: the matcher takes work_in
