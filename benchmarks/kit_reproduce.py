@@ -1,17 +1,21 @@
 """`oacc reproduce` on the KIT Bimanual development clips: time per clip and verified seeds.
 
-    python benchmarks/kit_reproduce.py [--clips Pour,Stir] [--seeds 0,1,2,3,4,5] [--repeats N]
-                                       [--library DIR]
+    python benchmarks/kit_reproduce.py [--clips dough,Pour,Stir] [--seeds 0,1,2,3,4,5] [--repeats N]
+                                       [--keep DIR] [--library DIR]
 
 For each clip and seed (0: the scene's own places, the command's default) the whole job runs
 in this process as `oacc reproduce CLIP.mmm.xml --library library/kit --no-render` does
 (segment, match, compose, execute on ARMAR-III, verify, report; no run store; the library
 copied to a temporary folder). Printed per clip: the median wall and CPU seconds over all its
-runs, the verdict per seed, and the ratio against the baseline measured in the same process:
+runs, the verdict per seed (V: verified and faithful, v: verified, not faithful, x: not
+verified, with the failed checks on stderr; `oacc verify`, docs/verify.md), the verify stage's
+share of the run, and the ratio against the baseline measured in the same process:
 the segmentation alone (reading the recording and `oacc segment`'s AAS), median of
-``--repeats`` runs. Target: < 30 s per clip (median wall, two cores). ``--library``: another
-library of the KIT clips (``tests/data/kit_follow``: named skills replaced by ``follow``).
-Only the development clips are offered; the evaluation clips are never run here.
+``--repeats`` runs. Target: < 30 s per clip (median wall, two cores).
+Only the development clips are offered (and `dough`, the bundled demonstration); the evaluation
+clips are never run here. `--keep DIR` keeps each run's folder (DIR/CLIP-SEED: report,
+execution.c3d and its contacts) for `oacc verify` later. `--library DIR`: another library of
+the KIT clips (`tests/data/kit_follow`: named skills replaced by the generic `follow`).
 """
 
 from __future__ import annotations
@@ -56,19 +60,29 @@ def segmentation_only(recording: Path) -> None:
     segment(rec, AasParams())
 
 
-def reproduce_once(recording: Path, seed: int, work: Path, source: Path) -> tuple[bool, str]:
-    """(verified, verdict) of one whole `oacc reproduce` run."""
+def reproduce_once(recording: Path | None, seed: int, work: Path, out: Path | None = None,
+                   kit: Path = ROOT / "library" / "kit") -> tuple[str, str, float]:
+    """(V/v/x, verdict and failed checks, the verify stage's share) of one `oacc reproduce` run."""
     from oacdsl.pipeline import load_inputs, reproduce
     from oacdsl.pipeline.inputs import default_name
     from oacdsl.segmentation import AasParams
 
-    library = work / "kit"
+    which = "kit" if recording is not None else "dough"
+    library = work / which
     if not library.exists():
+        source = kit if recording is not None else ROOT / "library"
         shutil.copytree(source, library, ignore=shutil.ignore_patterns("learned", "drafts"))
     inputs = load_inputs(recording, library, None, AasParams())
-    outcome = reproduce(inputs, name=default_name(str(recording)), out=work / f"out{seed}", db=None,
+    name = default_name(str(recording)) if recording is not None else "dough"
+    outcome = reproduce(inputs, name=name, out=out or work / f"out{seed}", db=None,
                         seed=seed or None, render=False, quiet=True, force=True)
-    return outcome.exit_code == 0, str(outcome.result["verdict"].get("summary", ""))
+    verdict = outcome.result["verdict"]
+    mark = "x" if not verdict.get("success") else "V" if verdict.get("faithful", True) else "v"
+    failed = ", ".join(verdict.get("failed_checks", []))
+    stages = {s["name"]: s.get("duration_s") or 0.0 for s in outcome.result.get("stages", [])}
+    total = sum(stages.values())
+    share = stages.get("verify", 0.0) / max(total - stages.get("verify", 0.0), 1e-9)
+    return mark, f"{failed} | {verdict.get('summary', '')}", share
 
 
 def main() -> int:
@@ -78,38 +92,44 @@ def main() -> int:
     )
     parser.add_argument("--seeds", default="0,1,2,3,4,5", help="0 = the scene's own places")
     parser.add_argument("--repeats", type=int, default=3, help="runs of the baseline")
+    parser.add_argument("--keep", metavar="DIR", help="keep each run's folder in DIR/CLIP-SEED")
     parser.add_argument("--library", type=Path, default=ROOT / "library" / "kit", help="the KIT library")
     args = parser.parse_args()
     if MOCAP is None:
         print("shared/mocap is absent: nothing to measure", file=sys.stderr)
         return 2
     clips = [c.strip() for c in args.clips.split(",") if c.strip()]
-    unknown = [c for c in clips if c not in DEV]
+    unknown = [c for c in clips if c not in DEV and c != "dough"]
     if unknown:
         print(f"not a development clip: {', '.join(unknown)} (valid: {', '.join(DEV)})", file=sys.stderr)
         return 2
     seeds = [int(s) for s in args.seeds.split(",")]
-    print(f"{'clip':6} {'wall s':>7} {'cpu s':>6} {'seg s':>6} {'ratio':>6}  verified seeds")
+    keep = Path(args.keep) if args.keep else None
+    print(f"{'clip':6} {'wall s':>7} {'cpu s':>6} {'seg s':>6} {'ratio':>6} {'verify':>6}  verified faithful"
+          "  per seed (V faithful, v verified, x not)", flush=True)
     for clip in clips:
-        recording = MOCAP / "kit_bimanual" / DEV[clip]
+        recording = MOCAP / "kit_bimanual" / DEV[clip] if clip != "dough" else None
         base = statistics.median(
             timed(lambda r=recording: segmentation_only(r))[1] for _ in range(args.repeats)
-        )
-        walls, cpus, verdicts = [], [], []
+        ) if recording is not None else float("nan")
+        walls, cpus, verdicts, shares = [], [], [], []
         with tempfile.TemporaryDirectory() as tmp:
             for seed in seeds:
-                (ok, summary), wall, cpu = timed(
-                    lambda s=seed, r=recording: reproduce_once(r, s, Path(tmp), args.library)
-                )
+                out = keep / f"{clip}-{seed}" if keep is not None else None
+                (mark, summary, share), wall, cpu = timed(
+                    lambda s=seed, r=recording, o=out: reproduce_once(r, s, Path(tmp), o, args.library))
                 walls.append(wall)
                 cpus.append(cpu)
-                verdicts.append(f"{seed}:{'ok' if ok else 'FAIL'}")
-                if not ok:
-                    print(f"  {clip} seed {seed}: {summary[:160]}", file=sys.stderr)
+                shares.append(share)
+                verdicts.append(f"{seed}:{mark}")
+                if mark != "V":
+                    print(f"  {clip} seed {seed}: {summary[:400]}", file=sys.stderr, flush=True)
         wall, cpu = statistics.median(walls), statistics.median(cpus)
-        n_ok = sum(v.endswith("ok") for v in verdicts)
-        print(f"{clip:6} {wall:7.1f} {cpu:6.1f} {base:6.2f} {wall / base:6.1f}  {n_ok}/{len(seeds)} "
-              + " ".join(verdicts))
+        n_v = sum(not v.endswith("x") for v in verdicts)
+        n_f = sum(v.endswith("V") for v in verdicts)
+        share = statistics.median(shares)
+        print(f"{clip:6} {wall:7.1f} {cpu:6.1f} {base:6.2f} {wall / base:6.1f} {share:6.0%}"
+              f"  {n_v}/{len(seeds)} {n_f}/{len(seeds)}  " + " ".join(verdicts), flush=True)
     return 0
 
 

@@ -68,14 +68,16 @@ class Step:
 
     ``missing``: a demonstration change the robot did not make; ``extra``: a robot change the
     demonstration does not have; ``split``: one demonstration change made by the robot as the
-    consecutive changes ``robot`` … ``robot_last``. Indices point into the two change lists
-    (None when absent).
+    consecutive changes ``robot`` … ``robot_last``; ``merge`` (only when asked for): the
+    consecutive demonstration changes ``demonstration`` … ``demonstration_last`` made as one.
+    Indices point into the two change lists (None when absent).
     """
 
     op: str
     demonstration: int | None
     robot: int | None
     robot_last: int | None = None
+    demonstration_last: int | None = None
 
 
 def _restrict(state: WorldState, keep: frozenset[str] | None) -> frozenset[Relation]:
@@ -146,16 +148,18 @@ def _splits(a: Sequence[Any], b: Sequence[Any]) -> dict[tuple[int, int], int]:
     return out
 
 
-def align(a: Sequence[Any], b: Sequence[Any]) -> tuple[int, list[Step]]:
+def align(a: Sequence[Any], b: Sequence[Any], merge: bool = False) -> tuple[int, list[Step]]:
     """Levenshtein distance between two sequences (items compared with ``==``) and an alignment.
 
     A :class:`Change` of ``a`` also matches, at cost 0, a run of two or more consecutive
     changes of ``b`` that split it (:func:`split_of`). Among optimal alignments the one
     returned prefers matches and substitutions on the diagonal, then splits, then missing
-    items, then extra ones.
+    items, then extra ones. ``merge``: the converse too — a change of ``b`` matches, at cost
+    0, a run of consecutive changes of ``a`` that split it (op ``merge``).
     """
     n, m = len(a), len(b)
     splits = _splits(a, b)
+    merges = {(i, j): k for (j, i), k in _splits(b, a).items()} if merge else {}
     d = [[0] * (m + 1) for _ in range(n + 1)]
     for i in range(n + 1):
         d[i][0] = i
@@ -167,16 +171,23 @@ def align(a: Sequence[Any], b: Sequence[Any]) -> tuple[int, list[Step]]:
             k = splits.get((i, j))
             if k is not None:
                 d[i][j] = min(d[i][j], d[i - 1][j - k])
+            k = merges.get((i, j))
+            if k is not None:
+                d[i][j] = min(d[i][j], d[i - k][j - 1])
     steps: list[Step] = []
     i, j = n, m
     while i or j:
         k = splits.get((i, j))
+        km = merges.get((i, j))
         if i and j and a[i - 1] == b[j - 1] and d[i][j] == d[i - 1][j - 1]:
             steps.append(Step("match", i - 1, j - 1))
             i, j = i - 1, j - 1
         elif k is not None and d[i][j] == d[i - 1][j - k]:
             steps.append(Step("split", i - 1, j - k, j - 1))
             i, j = i - 1, j - k
+        elif km is not None and d[i][j] == d[i - km][j - 1]:
+            steps.append(Step("merge", i - km, j - 1, None, i - 1))
+            i, j = i - km, j - 1
         elif i and j and d[i][j] == d[i - 1][j - 1] + (a[i - 1] != b[j - 1]):
             steps.append(Step("match" if a[i - 1] == b[j - 1] else "substitute", i - 1, j - 1))
             i, j = i - 1, j - 1
@@ -215,7 +226,7 @@ class Verification:
         return self.initial[0] == self.initial[1] and self.distance <= self.tolerance
 
     def counts(self) -> dict[str, int]:
-        out = {"match": 0, "split": 0, "substitute": 0, "missing": 0, "extra": 0}
+        out = {"match": 0, "split": 0, "merge": 0, "substitute": 0, "missing": 0, "extra": 0}
         for s in self.alignment:
             out[s.op] += 1
         return out
@@ -229,6 +240,8 @@ class Verification:
             return head if self.distance == 0 else f"{head}; edit distance {self.distance}"
         if self.distance == 0:
             split = f" ({c['split']} of them in several robot changes)" if c["split"] else ""
+            if c["merge"]:
+                split += f" ({c['merge']} robot change(s) making several of them at once)"
             return f"verified: the robot made the demonstration's {n} world-state changes, in order{split}"
         detail = f"{c['missing']} missing, {c['extra']} extra, {c['substitute']} different"
         word = "verified within tolerance" if self.verified else "not verified"
@@ -242,7 +255,9 @@ class Verification:
             "demonstration": [c.to_json() for c in self.demonstration],
             "robot": [c.to_json() for c in self.robot],
             "alignment": [{"op": s.op, "demonstration": s.demonstration, "robot": s.robot,
-                           **({"robot_last": s.robot_last} if s.robot_last is not None else {})}
+                           **({"robot_last": s.robot_last} if s.robot_last is not None else {}),
+                           **({"demonstration_last": s.demonstration_last}
+                              if s.demonstration_last is not None else {})}
                           for s in self.alignment],
             "distance": self.distance,
             "relation_distance": self.relation_distance,
@@ -275,10 +290,13 @@ def verify(
     robot_times_s: Sequence[float | None] | None = None,
     instances: Iterable[str] | None = None,
     tolerance: int = 0,
+    merge: bool = False,
 ) -> Verification:
     """Compare two keyframe sequences of world states (each starts with the initial state).
 
-    ``instances`` limits the comparison to relations among those names (default: all).
+    ``instances`` limits the comparison to relations among those names (default: all);
+    ``merge``: also the converse of a split (:func:`align`), for two takes of a task whose
+    segmentations may group near events either way.
     """
     if not demonstration or not robot:
         raise ValueError("both sequences need at least the initial world state")
@@ -287,7 +305,7 @@ def verify(
     keep = tuple(sorted(instances)) if instances is not None else None
     demo = changes(demonstration, demonstration_frames, demonstration_times_s, keep)
     bot = changes(robot, robot_frames, robot_times_s, keep)
-    distance, steps = align(demo, bot)
+    distance, steps = align(demo, bot, merge)
     flat_demo = [item for c in demo for item in c.items()]
     flat_bot = [item for c in bot for item in c.items()]
     kset = frozenset(keep) if keep is not None else None

@@ -40,7 +40,9 @@ def test_the_tracked_instance_check_is_one_for_every_command(whisk: Path, capsys
 
 
 def test_a_segmentation_is_an_input_of_match_not_of_reproduce(tmp_path: Path):
-    doc = {"recording": "x.c3d", "rate_hz": 100.0, "frames": 10, "instances": ["left_hand", "red_cup"],
+    tracked = ["green_cup", "left_hand", "liquid_one", "liquid_two", "mixer", "orange_bowl", "red_cup",
+               "right_hand"]
+    doc = {"recording": "x.c3d", "rate_hz": 100.0, "frames": 10, "instances": tracked,
            "keyframes": [{"frame": 0, "time_s": 0.0, "relations": []},
                          {"frame": 5, "time_s": 0.05, "relations": [["left_hand", "red_cup"]]}]}
     path = tmp_path / "seg.json"

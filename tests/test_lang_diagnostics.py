@@ -519,3 +519,57 @@ def test_json_diagnostics():
     assert doc["code"] == "E003" and doc["severity"] == "error"
     assert (doc["file"], doc["line"], doc["column"], doc["end_column"]) == ("bad.oac", 1, 13, 17)
     assert doc["notes"][0]["message"] == "class 'Cup' is defined here"
+
+
+# --- issue 21: rendering is bounded (a window of each line, a capped number of diagnostics) --------
+
+def test_a_long_line_with_many_warnings_renders_in_bounded_size():
+    """A 100 kB one-line list of 20,000 repeated parents: each excerpt used to be the whole line."""
+    from oacdsl.compiler import diagnostics
+
+    n = 20_000
+    text = "class Cup\nclass Mug : " + ", ".join(["Cup"] * n) + "\n"
+    result = compile_sources({"x.oac": text})
+    assert len(result.diagnostics) == n - 1
+    out = render(result.diagnostics, result.sources)
+    assert len(out) < 400 * diagnostics.MAX_RENDERED  # was 20,000 × 2 × 100 kB
+    assert out.count("warning[W002]") == diagnostics.MAX_RENDERED
+    assert out.endswith(f"… {n - 1 - diagnostics.MAX_RENDERED} more not shown (0 errors,"
+                        f" {n - 1 - diagnostics.MAX_RENDERED} warnings; --format json lists every one)\n"
+                        f"0 errors, {n - 1} warnings")
+
+
+def test_a_clipped_line_keeps_the_caret_under_the_span():
+    from oacdsl.compiler import diagnostics
+
+    many = ", ".join(["Cup"] * 2000)
+    text = f"class Cup\nclass Mug : Cpu, {many}\nclass Pot : {many}, Cpu, {many}\nclass Jar : {many}, Cpu\n"
+    result = compile_sources({"x.oac": text})
+    out = render(result.diagnostics, result.sources).splitlines()
+    assert all(len(line) <= diagnostics.MAX_MESSAGE + 20 for line in out)
+    unknown = [i for i, row in enumerate(out) if "error[E003]" in row]
+    assert len(unknown) == 3
+    for at, (starts, ends) in zip(unknown, [(False, True), (True, True), (True, False)], strict=True):
+        source, carets = out[at + 1], out[at + 2]
+        assert len(source) <= diagnostics.EXCERPT_WIDTH + 10 and len(carets) <= len(source)
+        column = carets.index("^")
+        assert source[column : column + 3] == "Cpu" and carets.count("^") == 3
+        assert (source.split("| ", 1)[1].startswith("…"), source.endswith("…")) == (starts, ends)
+
+
+def test_a_long_message_is_clipped_in_the_middle():
+    from oacdsl.compiler import diagnostics
+
+    result = compile_sources({"x.oac": "class Cup : " + "B" * 1_000_000 + "\n"})
+    out = render(result.diagnostics, result.sources)
+    assert len(out) < 2 * diagnostics.MAX_MESSAGE + 2 * diagnostics.EXCERPT_WIDTH
+    assert "characters]…" in out and str(result.error()).count("B") < diagnostics.MAX_MESSAGE
+
+
+def test_many_errors_are_capped_errors_first():
+    from oacdsl.compiler import diagnostics
+
+    lines = ["class Cup"] + ["class Mug : Cup, Cup"] * 1 + [f"class C{i} : Cpu" for i in range(300)]
+    result = compile_sources({"x.oac": "\n".join(lines) + "\n"})
+    out = render(result.diagnostics, result.sources)
+    assert out.count("error[E003]") == diagnostics.MAX_RENDERED and "warning[W002]" not in out

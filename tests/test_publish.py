@@ -52,7 +52,7 @@ def test_publish_links_the_entries_to_the_current_run_and_keeps_a_few(tmp_path: 
     publish(staged_run(out, "F", name="salad"), out)  # another name: the old NAME.oac link goes
     assert shown(out, "salad") == {"F"} and not os.path.lexists(out / "dough.oac")
     assert sorted(p.name for p in out.iterdir()) == [
-        "current", "figures", "notes.txt", "report.html", "result.json", "runs", "salad.oac"
+        ".oacdsl-report", "current", "figures", "notes.txt", "report.html", "result.json", "runs", "salad.oac"
     ]
     assert (out / "notes.txt").read_text() == "mine"
 
@@ -68,7 +68,7 @@ def test_a_folder_of_the_older_layout_is_adopted_as_a_run(tmp_path: Path) -> Non
     assert len(legacy) == 1 and (legacy[0] / "figures" / "aas.png").read_text() == "old"
 
 
-def publish_killed(out: Path, k: int) -> int:
+def publish_killed(out: Path, k: int, name: str = "dough") -> int:
     """Publish run "B" over ``out`` in a child process that SIGKILLs itself just before its
     ``k``-th change of the file system; the child's exit status (0: it finished first)."""
     import shutil
@@ -79,7 +79,7 @@ def publish_killed(out: Path, k: int) -> int:
     pid = os.fork()
     if pid == 0:  # the child: never returns into pytest
         try:
-            staging = staged_run(out, "B")
+            staging = staged_run(out, "B", name)
             calls = [0]
 
             def fatal(fn):  # noqa: ANN001, ANN202
@@ -102,8 +102,10 @@ def publish_killed(out: Path, k: int) -> int:
     return os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1])
 
 
-@pytest.mark.parametrize("layout", ["runs", "older"])
-def test_killed_at_any_step_the_folder_shows_one_whole_run(tmp_path: Path, layout: str) -> None:
+@pytest.mark.parametrize("layout, killed_name", [("runs", "dough"), ("older", "dough"), ("runs", "salad")])
+def test_killed_at_any_step_the_folder_shows_one_whole_run(
+    tmp_path: Path, layout: str, killed_name: str
+) -> None:
     k, finished = 0, False
     while not finished:
         k += 1
@@ -114,15 +116,17 @@ def test_killed_at_any_step_the_folder_shows_one_whole_run(tmp_path: Path, layou
             (out / "figures").mkdir(parents=True)
             for path in ("report.html", "result.json", "figures/aas.png", "dough.oac"):
                 (out / path).write_text("A")
-        status = publish_killed(out, k)
+        status = publish_killed(out, k, killed_name)
         finished = status == 0
         assert finished or status == -9, status
-        assert shown(out) in ({"A"}, {"B"}), (k, shown(out))
+        assert shown(out) in ({"A"}, {"B"}) or killed_name != "dough", (k, shown(out))
         # the next run cleans what the killed one left and publishes a whole run
         clean_stale(out)
         publish(staged_run(out, "C"), out)
         assert shown(out) == {"C"}
-        assert not [p for p in out.iterdir() if p.name.startswith(".")]
+        assert not [p for p in out.iterdir() if p.name.startswith(".") and p.name != ".oacdsl-report"]
+        dangling = [p.name for p in out.iterdir() if p.is_symlink() and not p.exists()]
+        assert not dangling, (k, dangling)  # e.g. salad.oac of a run killed while publishing
         assert len(list((out / "runs").iterdir())) <= KEEP_RUNS
         assert k < 60, "publish takes more steps than expected"
     assert k > 5  # the kill points did cover the steps of publishing
@@ -163,3 +167,58 @@ def test_stale_temporaries_of_atomic_writes_go(tmp_path: Path) -> None:
     os.utime(tmp_path / f".bread.oac.{alive}.abcd_123.tmp", (week_ago, week_ago))
     remove_stale_temporaries(tmp_path)
     assert {n: (tmp_path / n).exists() for n in names} == names
+
+
+@pytest.mark.parametrize("round_", range(6))  # a race: several rounds to meet it
+def test_concurrent_runs_on_one_folder_leave_one_whole_run_and_no_dangling_link(
+    tmp_path: Path, round_: int
+) -> None:
+    out = tmp_path / "out"
+    publish(staged_run(out, "A"), out)
+    stagings = [staged_run(out, f"R{i}", f"name{i}") for i in range(4)]
+    go = tmp_path / "go"
+    pids = []
+    for staging in stagings:
+        pid = os.fork()
+        if pid == 0:  # a child: publish as soon as all are ready
+            try:
+                while not go.exists():
+                    time.sleep(0.001)
+                publish(staging, out)
+            except BaseException:
+                os._exit(3)
+            os._exit(0)
+        pids.append(pid)
+    go.touch()
+    assert [os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1]) for pid in pids] == [0, 0, 0, 0]
+    winner = os.readlink(out / "current")
+    tag = next(p.read_text() for p in (out / winner).glob("*.oac"))
+    assert shown(out, f"name{tag[1:]}") == {tag}  # every entry of the current run, linked
+    links = [p for p in out.iterdir() if p.is_symlink()]
+    assert all(p.exists() for p in links), [p.name for p in links if not p.exists()]
+    assert sorted(p.name for p in out.glob("*.oac")) == [f"name{tag[1:]}.oac"]
+
+
+def test_a_published_run_can_be_read_by_others(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    old = os.umask(0o022)
+    try:
+        publish(staged_run(out, "A"), out)
+    finally:
+        os.umask(old)
+    run = out / os.readlink(out / "current")
+    assert run.stat().st_mode & 0o777 == 0o755
+
+
+def test_a_report_folder_inside_a_library_is_not_part_of_it(tmp_path: Path) -> None:
+    from oacdsl.compiler.loader import oac_files
+
+    library = tmp_path / "lib"
+    library.mkdir()
+    (library / "a.oac").write_text("class A {}\n")
+    out = library / "out"
+    publish(staged_run(out, "class B {}\n"), out)
+    assert (out / "dough.oac").read_text() == "class B {}\n"
+    assert oac_files(library) == [library / "a.oac"]
+    (out / ".oacdsl-report").unlink()  # a folder of an older oacdsl: recognised by its layout
+    assert oac_files(library) == [library / "a.oac"]

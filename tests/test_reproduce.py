@@ -69,9 +69,16 @@ def test_reproduce_first_pour(short_demo: Path, library: Path, tmp_path: Path, g
     code = run(short_demo, "--library", library, "--out", out, "--db", db, "--quiet", "--mode", "paper")
     printed = capsys.readouterr().out
     assert code == 0, printed
-    assert printed.startswith("verified: ")
+    assert printed.startswith("verified, faithful: ")
     doc = json.loads((out / "result.json").read_text())
     assert doc["verdict"]["success"] is True
+    assert doc["verdict"]["verified"] is True and doc["verdict"]["faithful"] is True
+    # the robot's recording and its contacts are files of the run, read back by oacc verify
+    assert (out / "execution.c3d").is_file() and (out / "execution.contacts.json").is_file()
+    assert doc["verification"]["relations_source"] == "simulation contacts"
+    assert {c["kind"] for c in doc["verification"]["checks"]} >= {"relations", "end_state"}
+    assert main(["verify", str(short_demo), str(out / "execution.c3d"), "--library", str(library),
+                        "--mode", "paper"]) == 0
     stages = {s["name"]: s["status"] for s in doc["stages"]}
     assert stages == dict.fromkeys(["segment", "match", "compose", "execute", "verify", "record"], "ok")
     # segmentation: the initial state and the three changes of the first pour
@@ -129,8 +136,22 @@ def test_reproduce_first_pour(short_demo: Path, library: Path, tmp_path: Path, g
     if r.get("frame"):  # a rendering backend was available: each step after it, and as predicted
         assert all((out / s["frame"]).is_file() and (out / s["moment"]).is_file() for s in r["steps"])
     names = sorted(p.name for p in out.iterdir())
-    assert names == ["current", "figures", "first_pour.oac", "report.html", "result.json", "runs"]
-    assert all((out / n).is_symlink() for n in names if n != "runs")  # one run, published at once
+    assert names == [
+        ".oacdsl-report", "current", "execution.c3d", "execution.contacts.json", "figures", "first_pour.oac",
+        "report.html", "result.json", "runs"
+    ]
+    assert all((out / n).is_symlink() for n in names[1:] if n != "runs")  # one run, published at once
+    assert (out / "current").resolve().stat().st_mode & 0o777 == 0o777 & ~_umask()  # not mkdtemp's 0700
+    # oacc run --demonstration: the composed OAC again, its recording kept and judged the same way
+    capsys.readouterr()
+    execution = tmp_path / "again" / "run.c3d"
+    code = main(["run", "first_pour", "--library", str(library), "--demonstration", str(short_demo),
+                 "--execution", str(execution), "--no-record"])
+    printed = capsys.readouterr().out
+    assert execution.is_file() and (tmp_path / "again" / "run.contacts.json").is_file()
+    verdict = next(x for x in printed.splitlines() if "verified" in x)
+    assert code == (0 if verdict.startswith("verified") else 1), printed
+    assert f"execution: {execution}" in printed
 
 
 def test_rerunning_compose_does_not_duplicate_the_learned_oac(short_demo: Path, library: Path) -> None:
@@ -309,7 +330,7 @@ def test_a_closed_loop_that_differs_fails_the_run(short_demo: Path, library: Pat
         doc = {"oac": oac.name, "success": True, "steps": steps, "metrics": {"sim_time_s": 13.5}}
         return robot.ExecuteStage(SimpleNamespace(success=True), None, doc)  # type: ignore[arg-type]
 
-    def fake_verify(demonstration, params, markers, library_, scene):  # noqa: ANN001, ANN202
+    def fake_verify(demonstration, params, markers, library_, scene, **_):  # noqa: ANN001, ANN003, ANN202
         states = [k.state for k in demonstration.keyframes]
         v = verify(states, states[:-1])
         rec = read_recording(short_demo)
@@ -327,7 +348,7 @@ def test_a_closed_loop_that_differs_fails_the_run(short_demo: Path, library: Pat
     (library / "learned" / f".first_pour.oac.{gone.pid}.abcdefgh.tmp").write_text("half")
     assert run(short_demo, "--library", library, "--out", out, "--db", db, "--quiet", "--no-render") == 1
     printed = capsys.readouterr().out
-    assert printed.startswith("FAILED: The robot executed first_pour, but the closed loop differs")
+    assert printed.startswith("FAILED: The robot executed first_pour, but the outcome differs")
     doc = json.loads((out / "result.json").read_text())
     assert (doc["verdict"]["success"], doc["verdict"]["failed_stage"]) == (False, "verify")
     assert doc["verification"]["verified"] is False and doc["verification"]["counts"]["missing"] == 1
@@ -336,7 +357,7 @@ def test_a_closed_loop_that_differs_fails_the_run(short_demo: Path, library: Pat
         assert conn.execute("SELECT success, edit_distance FROM runs").fetchall() == [(1, 1)]
     assert "Not reproduced" in (out / "report.html").read_text()
     assert sorted(p.name for p in out.iterdir()) == [
-        "current", "figures", "first_pour.oac", "report.html", "result.json", "runs"
+        ".oacdsl-report", "current", "figures", "first_pour.oac", "report.html", "result.json", "runs"
     ]
     assert sorted(p.name for p in (library / "learned").iterdir()) == ["first_pour.oac"]
     first = (out / "current").resolve()
@@ -365,3 +386,9 @@ def test_reproduce_takes_the_scene_overrides_and_the_demonstrated_layout(
     assert (places["red_cup"]["x_m"], places["red_cup"]["y_m"]) != (0.56, 0.28)  # not the scene's 'at'
     assert doc["run"]["layout"]["contents"]["liquid_one"] == {"in": "red_cup", "balls": 8}
     assert doc["run"]["metrics"]["balls_total"] == 8 + 10
+
+
+def _umask() -> int:
+    umask = os.umask(0)
+    os.umask(umask)
+    return umask

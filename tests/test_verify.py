@@ -63,7 +63,7 @@ def test_one_missing_step_costs_one():
     assert [s.op for s in v.alignment].count("missing") == 1
     missing = next(s for s in v.alignment if s.op == "missing")
     assert v.demonstration[missing.demonstration].removed == {("green_cup", "right_hand")}
-    assert v.counts() == {"match": 7, "split": 0, "substitute": 0, "missing": 1, "extra": 0}
+    assert v.counts() == {"match": 7, "split": 0, "merge": 0, "substitute": 0, "missing": 1, "extra": 0}
     assert v.fidelity == pytest.approx(7 / 8)
     assert "not verified: edit distance 1" in v.verdict() and "1 missing" in v.verdict()
 
@@ -214,3 +214,16 @@ def test_the_strict_comparison_is_kept_where_no_split_applies():
 def test_splits_only_lower_the_distance_of_changes(a, b):
     """Plain items (strings) are never split: align stays the Levenshtein distance there."""
     assert align(a, b)[0] == _brute(a, b)
+
+
+def test_merge_is_the_converse_of_a_split_and_only_when_asked() -> None:
+    from oacdsl.verify import Change, align
+
+    a = [Change(frozenset({("a", "b")}), frozenset()), Change(frozenset({("c", "d")}), frozenset())]
+    b = [Change(frozenset({("a", "b"), ("c", "d")}), frozenset())]
+    assert align(a, b)[0] == 2
+    distance, steps = align(a, b, merge=True)
+    assert distance == 0 and [(s.op, s.demonstration, s.demonstration_last, s.robot) for s in steps] == [
+        ("merge", 0, 1, 0)]
+    swapped = [a[1], a[0]]  # a merge keeps the order within the run free, but nothing else
+    assert align(swapped + [Change(frozenset(), frozenset({("a", "b")}))], b, merge=True)[0] == 1

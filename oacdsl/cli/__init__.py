@@ -10,9 +10,14 @@ so that ``oacc compile`` starts fast. Errors derived from
 from __future__ import annotations
 
 import argparse
+import contextlib
 import functools
 import importlib
+import signal
 import sys
+import threading
+from collections.abc import Iterator
+from typing import Any
 
 from oacdsl import __version__
 from oacdsl.errors import OacError
@@ -28,6 +33,7 @@ COMMANDS: list[str] = [
     "oacdsl.cli.match_cmd",
     "oacdsl.cli.compose_cmd",
     "oacdsl.cli.run_cmd",
+    "oacdsl.cli.verify_cmd",
     "oacdsl.cli.mine_cmd",
     "oacdsl.cli.stats_cmd",
     "oacdsl.cli.report_cmd",
@@ -52,6 +58,46 @@ def seed_arg(text: str) -> int:
     return value
 
 
+class _StoreOnce(argparse._StoreAction):
+    """A single-valued option given twice with different values is a usage error, not last-wins."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace,
+                 values: Any, option_string: str | None = None) -> None:
+        given: dict[str, object] = namespace.__dict__.setdefault("_given_once", {})
+        if self.dest in given and given[self.dest] != values:
+            raise argparse.ArgumentError(
+                self, f"given twice with different values ({given[self.dest]!r}, {values!r}); give it once"
+            )
+        given[self.dest] = values
+        super().__call__(parser, namespace, values, option_string)
+
+
+def _store_once(parser: argparse.ArgumentParser) -> None:
+    """Make every single-valued option of ``parser`` and its subcommands a :class:`_StoreOnce`."""
+    for action in parser._actions:
+        if type(action) is argparse._StoreAction and action.option_strings:
+            action.__class__ = _StoreOnce
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in set(action.choices.values()):
+                _store_once(sub)
+
+
+#: The longest name of a composed OAC: ``NAME.oac`` must fit a file name (255 bytes).
+MAX_NAME = 251
+
+
+def check_oac_name(name: str, flag: str = "--name") -> str:
+    """A composed OAC's name (it names the file ``NAME.oac``): an ASCII identifier of at most
+    :data:`MAX_NAME` characters; :class:`~oacdsl.errors.UsageError` otherwise."""
+    from oacdsl.errors import UsageError
+
+    if not (name.isidentifier() and name.isascii()):
+        raise UsageError(f"{flag} {name!r}: a name is letters, digits and '_', not starting with a digit")
+    if len(name) > MAX_NAME:
+        raise UsageError(f"{flag}: a name of {len(name)} characters; at most {MAX_NAME} (it names a file)")
+    return name
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The full argument parser with every subcommand registered."""
     parser = argparse.ArgumentParser(
@@ -62,7 +108,30 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name in COMMANDS:
         importlib.import_module(name).register(sub)
+    _store_once(parser)
     return parser
+
+
+class Terminated(BaseException):
+    """SIGTERM arrived: raised in the main thread so that ``finally`` blocks run (a staging
+    folder, a temporary file are removed) before ``oacc`` exits with status 143."""
+
+
+def _raise_terminated(signum: int, frame: object) -> None:
+    raise Terminated
+
+
+@contextlib.contextmanager
+def _terminated_cleanly() -> Iterator[None]:
+    """SIGTERM becomes :class:`Terminated` for the block (main thread only; the old handler after)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, _raise_terminated)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 @functools.cache
@@ -73,15 +142,32 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Run ``oacc`` with ``argv`` (default: ``sys.argv[1:]``); return the exit status."""
-    args = _parser().parse_args(argv)
+    from oacdsl.cli.output import StdoutError, guarded_stdout, silence_stdout
+
     try:
-        status: int = args.func(args)
+        with guarded_stdout(), _terminated_cleanly():
+            try:
+                args = _parser().parse_args(argv)
+            except SystemExit:  # --help, --version or a usage error: what it printed must reach stdout
+                sys.stdout.flush()
+                raise
+            status: int = args.func(args)
+    except StdoutError as error:
+        silence_stdout()
+        if error.broken_pipe:  # the reader is gone (``oacc … | head``): nobody to tell
+            return 0
+        print(f"oacc: error: {error}", file=sys.stderr)
+        return error.exit_code
     except OacError as error:
         print(f"oacc: error: {error}", file=sys.stderr)
         return error.exit_code
     except KeyboardInterrupt:
         print("oacc: interrupted", file=sys.stderr)
         return 130
+    except Terminated:
+        print("oacc: terminated", file=sys.stderr)
+        return 128 + signal.SIGTERM
     except BrokenPipeError:
+        silence_stdout()
         return 0
     return status

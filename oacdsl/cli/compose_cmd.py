@@ -7,6 +7,8 @@ import json
 import sys
 from pathlib import Path
 
+from oacdsl.atomic import check_target
+from oacdsl.cli import check_oac_name
 from oacdsl.cli.demo_input import add_input_options
 
 
@@ -51,16 +53,14 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 
 def run(args: argparse.Namespace) -> int:
     from oacdsl.cli.demo_input import load_inputs, transient_s
-    from oacdsl.errors import UsageError
     from oacdsl.matching.demonstration import compose_demonstration, match_segmentation
     from oacdsl.matching.emit import DRAFTS, LEARNED, Emitted, emit, library_files, render
     from oacdsl.matching.matcher import Matcher
     from oacdsl.matching.results import Mode
 
-    if not args.name.isidentifier() or not args.name.isascii():
-        raise UsageError(
-            f"--name {args.name!r}: a name is letters, digits and '_', not starting with a digit"
-        )
+    check_oac_name(args.name)
+    if args.output is not None:  # a FIFO, a device, a read-only file …: refused before anything is read
+        check_target(args.output)
     window = transient_s(args)  # a bad value fails before any reading
     inputs = load_inputs(args)
     mode: Mode = "paper" if args.paper else "strict"

@@ -79,6 +79,10 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError("--out names the recording itself; give the .oac file to write", location=str(out))
     if out is not None and out.exists() and not args.force:
         raise UsageError("the file exists; give --force to replace it", location=str(out))
+    if out is not None and not out.is_dir():
+        from oacdsl.atomic import check_target
+
+        check_target(out)  # a FIFO, a device, a read-only file, a name too long: refused now
     if out is not None and out.is_dir():
         raise UsageError("is a folder; --out names the .oac file to write", location=str(out))
     library, sources = _library(args.library or [])

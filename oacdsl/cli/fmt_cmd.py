@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from oacdsl.atomic import write_atomic
-from oacdsl.errors import InputError
+from oacdsl.errors import InputError, OacError
 
 _HELP = """\
 Print the .oac files at PATH (files, or folders searched recursively) in
@@ -16,8 +16,12 @@ canonical form: sorted where order carries no meaning, aligned, comments kept.
 Files are rewritten in place (atomically; a symbolic link's target is rewritten
 and the link kept; CR LF and CR line ends become LF); with --check nothing is written and
 the files that would change are listed. 'oacc fmt -' formats stdin to stdout.
+A file is left alone, with an error line, when rewriting it would change more than
+its text: read-only (no write bit in its mode, also for root), another user's
+(unless run as root, which keeps the owner), with several hard links, or edited
+while fmt ran (run fmt again); the other files are still formatted.
 Exit status: 0 done (or nothing to change), 1 a file would change (--check) or
-has a syntax error, 2 usage or I/O error."""
+has a syntax error, 2 usage or I/O error (a file could not be rewritten)."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -35,7 +39,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 
 def run(args: argparse.Namespace) -> int:
     from oacdsl.compiler.loader import collect_files
-    from oacdsl.compiler.parser import parse_text, read_source
+    from oacdsl.compiler.parser import decode_source, parse_text, read_bytes
     from oacdsl.compiler.printer import print_module
     from oacdsl.errors import LanguageError
 
@@ -49,9 +53,10 @@ def run(args: argparse.Namespace) -> int:
         return 0
     files = collect_files(args.paths)
     changed: list[Path] = []
-    broken = 0
+    broken = unwritten = 0
     for path in files:
-        source = read_source(path)
+        raw = read_bytes(path)
+        source = decode_source(raw, str(path))
         try:
             text = print_module(parse_text(source, str(path)))
         except LanguageError as error:
@@ -75,13 +80,21 @@ def run(args: argparse.Namespace) -> int:
                 print(path)
         else:
             try:  # a symlink stays a link: its target is formatted (collect_files lists each target once)
-                write_atomic(path.resolve(), text)
+                write_atomic(path.resolve(), text, unchanged_since=raw)
             except OSError as error:
-                raise InputError(f"cannot write: {error.strerror or error}", location=str(path)) from None
+                print(f"oacc: error: {path}: cannot write: {error.strerror or error}", file=sys.stderr)
+                unwritten += 1
+                continue
+            except OacError as error:  # read-only, another user's, hard links, edited meanwhile
+                print(f"oacc: error: {path}: {error.message}", file=sys.stderr)
+                unwritten += 1
+                continue
             print(f"formatted {path}")
     if args.check and changed:
         print(
             f"{len(changed)} of {len(files)} file{'s' if len(files) != 1 else ''} would be reformatted",
             file=sys.stderr,
         )
+    if unwritten:
+        return InputError.exit_code
     return 1 if broken or (args.check and changed) else 0

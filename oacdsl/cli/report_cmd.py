@@ -4,9 +4,6 @@ from __future__ import annotations
 
 import argparse
 
-#: The largest result.json read, bytes (the pipeline's are well under 1 MiB; pictures are files).
-MAX_BYTES = 64 * 2**20
-
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p = sub.add_parser(
@@ -29,17 +26,15 @@ def run(args: argparse.Namespace) -> int:
     import sys
     from pathlib import Path
 
+    from oacdsl.documents import read_document
     from oacdsl.errors import InputError, ResultError
     from oacdsl.report import write_report
 
     path = Path(args.result)
-    if path.is_file() and path.stat().st_size > MAX_BYTES:
-        raise InputError(f"larger than {MAX_BYTES // 2**20} MiB; not a result document", location=str(path))
+    text = read_document(path, "a result document")  # a regular file only, at most 64 MiB
     try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as e:
-        raise InputError(f"cannot read: {e.strerror or e}", location=str(path)) from None
-    except (UnicodeDecodeError, json.JSONDecodeError) as e:
+        doc = json.loads(text)
+    except json.JSONDecodeError as e:
         line = getattr(e, "lineno", None)
         raise InputError(f"not JSON: {e}", location=f"{path}:{line}" if line else str(path)) from None
     except RecursionError:

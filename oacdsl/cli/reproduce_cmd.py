@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import os
 import shlex
 import sys
 from pathlib import Path
 
-from oacdsl.cli import seed_arg
+from oacdsl.cli import check_oac_name, seed_arg
 from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
 from oacdsl.cli.scene_options import add_scene_options, scene_overrides
 from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
@@ -117,10 +118,8 @@ def run(args: argparse.Namespace) -> int:
     from oacdsl.pipeline import default_name, load_inputs, reproduce
     from oacdsl.pipeline.inputs import BUNDLED_NAME
 
-    if args.name is not None and not (args.name.isidentifier() and args.name.isascii()):
-        raise UsageError(
-            f"--name {args.name!r}: a name is letters, digits and '_', not starting with a digit"
-        )
+    if args.name is not None:
+        check_oac_name(args.name)
     params = params_from_args(args)  # bad units fail before any reading
     overrides = scene_overrides(args)
     db = None
@@ -129,6 +128,8 @@ def run(args: argparse.Namespace) -> int:
 
         db = ensure_writable(resolve_db_path(args.db))  # a foreign, newer or unwritable store: now
     out = Path(args.out)
+    if out.is_symlink():  # publishing replaces links inside --out; --out itself must be the folder
+        raise UsageError(f"--out is a symbolic link (to {os.readlink(out)}); give the folder itself")
     if out.exists() and not out.is_dir():
         raise InputError("--out must be a folder; this is a file", location=str(out))
     try:
@@ -155,6 +156,9 @@ def run(args: argparse.Namespace) -> int:
         import placo  # noqa: F401
     except ImportError as error:
         raise UsageError(f"reproduce needs the 'robot' extra (pip install -e '.[robot]'): {error}") from None
+    from oacdsl.cli.scene_check import check_overrides
+
+    check_overrides(inputs.library, inputs.scene, overrides)  # before anything is composed or written
 
     def warn(text: str) -> None:
         print(f"oacc: warning: {text}", file=sys.stderr)
@@ -180,7 +184,9 @@ def run(args: argparse.Namespace) -> int:
         demo_params=not args.no_demo_params,
     )
     verdict = outcome.result["verdict"]
-    mark = "verified" if verdict["success"] else "FAILED"
+    mark = "FAILED"
+    if verdict["success"]:
+        mark = "verified, faithful" if verdict.get("faithful", True) else "verified, not faithful"
     report = out / "report.html"
     print(f"{mark}: {verdict['summary']}")
     print(f"report: {report}  (data: {out / 'result.json'})")

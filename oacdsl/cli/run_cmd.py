@@ -17,7 +17,7 @@ from typing import Any
 from oacdsl.cli import seed_arg
 from oacdsl.cli.backend import NONE_FOUND, prepare_backend
 from oacdsl.cli.run_many import add_many_options
-from oacdsl.cli.scene_options import add_scene_options, scene_overrides
+from oacdsl.cli.scene_options import add_scene_options, pairs, scene_overrides
 from oacdsl.errors import RuntimeFailure, UsageError
 from oacdsl.model import Scene
 
@@ -61,8 +61,16 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p.add_argument(
         "--demonstration",
         metavar="RECORDING",
-        help="a recording whose first frame lays out a scene with 'layout demonstrated'"
-        " (marker groups named after the scene's instances)",
+        help="the demonstration: its first frame lays out a scene with 'layout demonstrated'"
+        " (marker groups named after the scene's instances), and the run is judged against it"
+        " as `oacc verify` does (verified, faithful; exit 1 when not verified)",
+    )
+    p.add_argument(
+        "--execution",
+        metavar="OUT.c3d",
+        default="execution.c3d",
+        help="with --demonstration: where the robot's virtual-marker recording goes (its contacts"
+        " beside it, OUT.contacts.json; default: execution.c3d)",
     )
     p.add_argument(
         "--db",
@@ -84,16 +92,6 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     add_scene_options(p)
     add_many_options(p)
     p.set_defaults(func=run)
-
-
-def _pairs(items: list[str], flag: str) -> dict[str, str]:
-    out: dict[str, str] = {}
-    for item in items:
-        key, sep, value = item.partition("=")
-        if not sep or not key.strip() or not value.strip():
-            raise UsageError(f"{flag} {item!r}: expected NAME=INSTANCE")
-        out[key.strip()] = value.strip()
-    return out
 
 
 def _demonstrated(
@@ -182,13 +180,23 @@ def _check_outputs(args: argparse.Namespace) -> None:
         elif video.is_dir():
             raise UsageError(f"--video {video}: is a folder; give a file name ending in .mp4")
         else:
+            from oacdsl.atomic import check_target
+
             _writable_folder(video.parent, "--video")
+            check_target(video)
 
 
 def run(args: argparse.Namespace) -> int:
-    bindings = _pairs(args.bind, "--bind")
+    from oacdsl.cli.run_judge import RunJudge
+
+    bindings = pairs(args.bind, "--bind", "NAME=INSTANCE")
     overrides = scene_overrides(args)
     library, scene = load_inputs(args.library or ["library"], args.scene)
+    if args.name in library.oacs and (overrides.places or overrides.fill):  # else prepare() names the problem
+        from oacdsl.cli.scene_check import check_overrides
+        from oacdsl.runtime.binding import choose_scene
+
+        check_overrides(library, choose_scene(library, library.oacs[args.name], scene, bindings), overrides)
     if args.seeds is not None:  # many runs on Dask: the success measure
         from oacdsl.cli.run_many import run_many_cmd
 
@@ -202,6 +210,8 @@ def run(args: argparse.Namespace) -> int:
 
         db = ensure_writable(resolve_db_path(args.db))
     _check_outputs(args)
+    if args.demonstration is not None:
+        _writable_folder(Path(args.execution).parent, "--execution")
     demonstrated = _demonstrated(args, library, scene, bindings, overrides.layout)
     note = prepare_backend(bool(args.video or args.frames))  # before MuJoCo is imported
     if note:
@@ -233,6 +243,7 @@ def run(args: argparse.Namespace) -> int:
     if (moved := seed_note(run_.world.layout)) is not None:
         print(f"oacc: warning: {moved}", file=sys.stderr)
     out = sys.stderr if args.json else sys.stdout
+    judge = RunJudge(run_) if args.demonstration is not None else None
     closers: list[Any] = []
     frames: Any = None
     try:
@@ -296,4 +307,6 @@ def run(args: argparse.Namespace) -> int:
             store.record_run_json(result.to_json(), seed=args.seed, command="run")
     if not result.success:
         raise RuntimeFailure(result.error or f"{result.oac} failed")
+    if judge is not None:
+        return judge.verdict(args, library, run_.scene, sys.stderr if args.json else sys.stdout)
     return 0

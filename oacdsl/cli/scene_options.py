@@ -14,7 +14,7 @@ from oacdsl.model import LAYOUTS, MAX_BALLS
 from oacdsl.runtime.overrides import SceneOverrides
 from oacdsl.units import parse_quantity
 
-__all__ = ["add_scene_options", "scene_overrides"]
+__all__ = ["add_scene_options", "pairs", "scene_overrides"]
 
 
 def add_scene_options(p: argparse.ArgumentParser) -> None:
@@ -45,13 +45,18 @@ def add_scene_options(p: argparse.ArgumentParser) -> None:
     )
 
 
-def _pairs(items: list[str], flag: str, shape: str) -> dict[str, str]:
+def pairs(items: list[str], flag: str, shape: str) -> dict[str, str]:
+    """``KEY=VALUE`` items of a repeatable option; a key given twice with different values is a
+    usage error (not last-wins), the same value twice is once."""
     out: dict[str, str] = {}
     for item in items:
         key, sep, value = item.partition("=")
-        if not sep or not key.strip() or not value.strip():
+        key, value = key.strip(), value.strip()
+        if not sep or not key or not value:
             raise UsageError(f"{flag} {item!r}: expected {shape}")
-        out[key.strip()] = value.strip()
+        if key in out and out[key] != value:
+            raise UsageError(f"{flag} {key}: given twice ({key}={out[key]}, {key}={value}); give it once")
+        out[key] = value
     return out
 
 
@@ -66,18 +71,19 @@ def _length(text: str, flag: str) -> float:
 def scene_overrides(args: argparse.Namespace) -> SceneOverrides:
     """The overrides given on the command line (UsageError for a malformed one)."""
     places: dict[str, tuple[float, float]] = {}
-    for name, value in _pairs(args.place, "--place", "OBJECT=X,Y").items():
+    for name, value in pairs(args.place, "--place", "OBJECT=X,Y").items():
         parts = value.split(",")
         if len(parts) != 2:
             raise UsageError(f"--place {name}={value}: expected OBJECT=X,Y (lengths, e.g. 60cm,-20cm)")
         places[name] = (_length(parts[0], f"--place {name}"), _length(parts[1], f"--place {name}"))
     fill: dict[str, str] = {}
     balls: dict[str, int] = {}
-    for liquid, value in _pairs(args.fill, "--fill", "LIQUID=CONTAINER[:BALLS]").items():
+    for liquid, value in pairs(args.fill, "--fill", "LIQUID=CONTAINER[:BALLS]").items():
         container, sep, count = value.partition(":")
         fill[liquid] = container.strip()
         if sep:
-            if not count.strip().isdigit() or not 1 <= int(count) <= MAX_BALLS:
+            count = count.strip()
+            if not (count.isascii() and count.isdigit()) or not 1 <= int(count) <= MAX_BALLS:
                 raise UsageError(
                     f"--fill {liquid}={value}: the number of balls is a whole number from 1 to {MAX_BALLS}"
                 )

@@ -200,6 +200,11 @@ def run(args: argparse.Namespace) -> int:
     from oacdsl.segmentation import segment
 
     params = params_from_args(args)  # bad units fail before any reading
+    from oacdsl.atomic import check_target
+
+    for written in (args.plot, args.plot_motion):  # a FIFO, a device, a read-only file: refused now
+        if written:
+            check_target(written)
     recording = load(args)
     seg = segment(recording, params, progress=_progress_printer(recording.n_frames))
     motions = None
@@ -219,6 +224,17 @@ def run(args: argparse.Namespace) -> int:
 
             print()
             print(format_motion_table(motions))
+    if args.plot_motion or args.plot or args.graphs:
+        import matplotlib
+
+        # names are text, not TeX: a group called '$x^$' is no formula (that would fail to parse)
+        with matplotlib.rc_context({"text.parse_math": False}):
+            _pictures(args, recording, seg, motions)
+    return 0
+
+
+def _pictures(args: argparse.Namespace, recording: Any, seg: Any, motions: Any) -> None:
+    """``--plot-motion``, ``--plot`` and ``--graphs``."""
     if args.plot_motion and motions is not None:
         from oacdsl.segmentation.motionplot import save_motion_plot
 
@@ -234,7 +250,6 @@ def run(args: argparse.Namespace) -> int:
 
         files = write_graphs(seg, args.graphs)
         print(f"wrote {len(files)} keyframe graph(s) to {args.graphs}", file=sys.stderr)
-    return 0
 
 
 def format_table(seg: Any) -> str:

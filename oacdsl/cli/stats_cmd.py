@@ -33,8 +33,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 def run(args: argparse.Namespace) -> int:
     from oacdsl.errors import UsageError, did_you_mean
     from oacdsl.stats import RunStore, resolve_db_path, summarise
+    from oacdsl.stats.writable import check_store_path
 
     path = resolve_db_path(args.db)
+    check_store_path(path)  # a folder, a FIFO, a path under a file: an error, not "no runs yet"
     rows: list[dict[str, Any]] = []
     names: list[str] = []
     runs = 0

@@ -118,6 +118,10 @@ def run(args: argparse.Namespace) -> int:
     truth_file = Path(args.truth) if args.truth else truth_path(out)
     if truth_file.resolve() == out.resolve():
         raise UsageError("--truth must differ from the C3D output")
+    from oacdsl.atomic import check_target
+
+    for written in (out, truth_file):  # a FIFO, a device, a read-only file: refused before any work
+        check_target(written)
     demo = SCENES[args.scene](
         seed=args.seed, source=out.name, rate_hz=args.rate, noise=noise, flight_s=flight
     )

@@ -167,6 +167,9 @@ def run(args: argparse.Namespace) -> int:
     if not 0 <= jitter <= 0.1:
         raise UsageError(f"--jitter {args.jitter}: from 0mm to 100mm")
     gaps = [_gap(g) for g in args.gap]
+    from oacdsl.atomic import check_target
+
+    check_target(args.output)  # a FIFO, a device, a read-only file: refused before anything is read
 
     with printed_warnings():
         rec = read_recording(args.recording, args.format, allow_truncated=allow_truncated(args))

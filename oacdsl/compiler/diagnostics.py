@@ -25,6 +25,8 @@ from oacdsl.model import Span
 
 __all__ = [
     "CODES",
+    "EXCERPT_WIDTH",
+    "MAX_RENDERED",
     "Diagnostic",
     "Note",
     "diagnostics_json",
@@ -163,7 +165,17 @@ def _lines(text: str) -> list[str]:
     return text.split("\n")
 
 
+#: Characters of a source line shown around a diagnostic's column (a longer line is clipped).
+EXCERPT_WIDTH = 100
+#: Diagnostics :func:`render` shows in full; the rest are counted in one line (JSON lists all).
+MAX_RENDERED = 200
+#: Characters of a diagnostic's message shown in the text rendering (names echoed from input).
+MAX_MESSAGE = 400
+
+
 def _excerpt(span: Span, sources: Mapping[str, str]) -> list[str]:
+    """The span's source line and a caret line, clipped to :data:`EXCERPT_WIDTH` characters around
+    the span (a 180 kB line with 20,000 diagnostics is not printed 20,000 times)."""
     text = sources.get(span.file)
     if text is None:
         return []
@@ -174,27 +186,50 @@ def _excerpt(span: Span, sources: Mapping[str, str]) -> list[str]:
     start = max(span.column - 1, 0)
     end = span.end_column - 1 if span.end_line == span.line else len(line)
     end = max(min(end, len(line)), start + 1)
+    lo = max(0, min(start - EXCERPT_WIDTH // 3, len(line) - EXCERPT_WIDTH))
+    hi = min(len(line), lo + EXCERPT_WIDTH)
+    shown = ("…" if lo else "") + line[lo:hi] + ("…" if hi < len(line) else "")
     # Keep tabs in the caret line so that the caret stands under the right character.
-    pad = "".join("\t" if ch == "\t" else " " for ch in line[:start])
+    pad = (" " if lo else "") + "".join("\t" if ch == "\t" else " " for ch in line[lo:start])
+    carets = "^" * max(1, min(end, hi) - start)
     gutter = " " * len(str(span.line))
-    return [f"  {span.line} | {line}", f"  {gutter} | {pad}{'^' * (end - start)}"]
+    return [f"  {span.line} | {shown}", f"  {gutter} | {pad}{carets}"]
+
+
+def _message(text: str) -> str:
+    if len(text) <= MAX_MESSAGE:
+        return text
+    keep = MAX_MESSAGE // 2
+    return f"{text[:keep]}…[{len(text) - 2 * keep} characters]…{text[-keep:]}"
 
 
 def render_one(diagnostic: Diagnostic, sources: Mapping[str, str]) -> str:
     """The header, the source line with a caret under the span, then the notes."""
-    out = [diagnostic.header()]
+    out = [_message(diagnostic.header())]
     if diagnostic.span is not None:
         out += _excerpt(diagnostic.span, sources)
     for note in diagnostic.notes:
         where = f"{note.span}: " if note.span is not None else ""
-        out.append(f"  {where}note: {note.message}")
+        out.append(_message(f"  {where}note: {note.message}"))
     return "\n".join(out)
 
 
 def render(diagnostics: Iterable[Diagnostic], sources: Mapping[str, str]) -> str:
-    """All diagnostics, sorted, then a summary line (``2 errors, 1 warning``)."""
+    """The diagnostics, sorted, then a summary line (``2 errors, 1 warning``).
+
+    At most :data:`MAX_RENDERED` are shown, errors first; a line counts the others.
+    """
     ds = sort_diagnostics(diagnostics)
-    parts = [render_one(d, sources) for d in ds]
+    shown = ds
+    if len(ds) > MAX_RENDERED:
+        errors = [d for d in ds if d.is_error][:MAX_RENDERED]
+        warnings = [d for d in ds if not d.is_error][: MAX_RENDERED - len(errors)]
+        shown = sort_diagnostics(errors + warnings)
+    parts = [render_one(d, sources) for d in shown]
+    if len(shown) < len(ds):
+        kept = {id(d) for d in shown}
+        rest = [d for d in ds if id(d) not in kept]
+        parts.append(f"… {len(rest)} more not shown ({summary(rest)}; --format json lists every one)")
     parts.append(summary(ds))
     return "\n".join(parts)
 
@@ -223,5 +258,5 @@ def language_error(diagnostics: Iterable[Diagnostic], sources: Mapping[str, str]
     """
     ds = sort_diagnostics(diagnostics)
     first = next((d for d in ds if d.is_error), ds[0] if ds else None)
-    message = first.header() if first is not None else "invalid OAC text"
+    message = _message(first.header()) if first is not None else "invalid OAC text"
     return LanguageError(message, diagnostics=ds, rendered=render(ds, sources))

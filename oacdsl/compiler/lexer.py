@@ -16,6 +16,11 @@ The terminals come from the grammar: keywords and punctuation by their text;
 ``NAME``, ``NUMBER``, ``QUANTITY`` (a number with its unit, ``56cm``), ``STRING``,
 ``COMMENT`` and ``WS`` must keep the
 patterns written below (a test checks they agree with ``grammar/oac.lark``).
+
+Lines end at LF (CR LF and CR are turned into LF before lexing). The other characters
+some tools take for a line end — VT, FF, NEL (U+0085), U+2028 and U+2029 — are no
+whitespace and end a comment, so each is an error at its own position (E002,
+:data:`NOT_LINE_ENDS`) instead of hiding what follows in a comment.
 """
 
 from __future__ import annotations
@@ -28,7 +33,16 @@ from lark import Token, UnexpectedCharacters
 from lark.common import LexerConf
 from lark.lexer import Lexer, LexerState, PatternStr
 
-__all__ = ["PATTERNS", "OacLexer"]
+__all__ = ["NOT_LINE_ENDS", "PATTERNS", "OacLexer"]
+
+#: Characters that end a line for some tools but not in a ``.oac`` file: an error (E002).
+NOT_LINE_ENDS = {
+    "\x0b": "VT (vertical tab)",
+    "\x0c": "FF (form feed)",
+    "\x85": "NEL (U+0085 NEXT LINE)",
+    "\u2028": "U+2028 LINE SEPARATOR",
+    "\u2029": "U+2029 PARAGRAPH SEPARATOR",
+}
 
 #: The regular terminals of the grammar, as written in grammar/oac.lark.
 PATTERNS = {
@@ -38,8 +52,8 @@ PATTERNS = {
     "QUANTITY": (
         r"[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?(?![eE][+-]?\d)[A-Za-z]+(\/[A-Za-z]+)?(?![A-Za-z0-9_])"
     ),
-    "COMMENT": r"#[^\n]*",
-    "WS": r"[ \t\f\r\n]+",
+    "COMMENT": r"#[^\n\x0b\x0c\x85\u2028\u2029]*",
+    "WS": r"[ \t\r\n]+",
 }
 
 _MASTER = re.compile(

@@ -23,6 +23,7 @@ from oacdsl.model import Module
 __all__ = [
     "LIBRARY_MARK",
     "NEED_EVERY_FILE",
+    "REPORT_MARK",
     "CompileResult",
     "collect_files",
     "compile_paths",
@@ -34,15 +35,27 @@ __all__ = [
 #: A folder below a library folder that holds a file of this name is a library of its own
 #: (``library/kit/LIBRARY``): searching the folder above leaves it out.
 LIBRARY_MARK = "LIBRARY"
+#: A folder holding a file of this name is an ``oacc reproduce`` report folder (``--out``, which
+#: :mod:`oacdsl.pipeline.publish` marks): its ``NAME.oac`` copies are results, not the library's.
+REPORT_MARK = ".oacdsl-report"
+
+
+def _left_out(folder: Path) -> bool:
+    """A library of its own, or a report folder (marked, or of an older oacdsl: ``current`` → ``runs/``)."""
+    if (folder / LIBRARY_MARK).is_file() or (folder / REPORT_MARK).is_file():
+        return True
+    return (folder / "current").is_symlink() and (folder / "runs").is_dir()
 
 
 def oac_files(folder: Path) -> list[Path]:
     """The ``.oac`` files under ``folder``, sorted, leaving out every subfolder that is a
-    library of its own (it holds a file called :data:`LIBRARY_MARK`)."""
+    library of its own (it holds a file called :data:`LIBRARY_MARK`) or a report folder of
+    ``oacc reproduce`` (:data:`REPORT_MARK`)."""
     found = []
     for p in folder.rglob("*.oac"):
         parents = p.relative_to(folder).parents
-        if p.is_file() and not any((folder / q / LIBRARY_MARK).is_file() for q in parents if q.parts):
+        inside = [q for q in parents if q.parts]
+        if p.is_file() and not any(_left_out(folder / q) for q in inside):
             found.append(p)
     return sorted(found)
 

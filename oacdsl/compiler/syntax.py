@@ -17,6 +17,7 @@ from lark.lexer import PatternStr
 
 from oacdsl.compiler.diagnostics import Diagnostic
 from oacdsl.compiler.grammar import lark_parser
+from oacdsl.compiler.lexer import NOT_LINE_ENDS
 from oacdsl.compiler.syntax_examples import EXAMPLES
 from oacdsl.model import Span
 
@@ -147,6 +148,11 @@ def syntax_diagnostic(error: UnexpectedInput, text: str, path: str) -> Diagnosti
         char = error.char
         if char == '"':
             message = "unterminated string: a quoted name must end with '\"' on the same line"
+        elif char in NOT_LINE_ENDS:
+            message = (
+                f"{NOT_LINE_ENDS[char]} is not a line end (nor space) in a .oac file:"
+                " lines end with LF, CR LF or CR; replace it"
+            )
         else:
             shown = repr(char) if not char.isprintable() or char in "'\\" else f"'{char}'"
             message = f"unexpected character {shown}, expected {_expected(error)}"

@@ -28,6 +28,8 @@ FIGURES = "figures"
 PLOT_DPI = 100
 #: The robot's distance plot is drawn from at most this many frames of its recording.
 PLOT_FRAMES = 1000
+#: Markers per instance in the plot of the robot's recording (every j-th of its group).
+PLOT_MARKERS = 16
 
 
 def distance_plot(recording: Recording, segmentation: Segmentation, folder: Path, name: str) -> str:
@@ -53,19 +55,27 @@ def distance_plot(recording: Recording, segmentation: Segmentation, folder: Path
     return f"{FIGURES}/{name}"
 
 
-def decimated(recording: Recording, max_frames: int = PLOT_FRAMES) -> Recording:
+def decimated(
+    recording: Recording, max_frames: int = PLOT_FRAMES, max_markers: int | None = None
+) -> Recording:
     """Every k-th frame of ``recording`` so that at most ``max_frames`` remain (for plots only:
-    the closest-distance curves of a recording with hundreds of markers cost seconds)."""
+    the closest-distance curves of a recording with hundreds of markers cost seconds); with
+    ``max_markers``, also every j-th marker of each group so that at most that many remain
+    per group (the robot's virtual markers: about 490, 94 per hand)."""
     from dataclasses import replace
 
     step = max(1, -(-recording.n_frames // max_frames))
-    if step == 1:
+    groups = dict(recording.groups)
+    if max_markers is not None:
+        groups = {g: idx[:: max(1, -(-len(idx) // max_markers))] for g, idx in groups.items()}
+    if step == 1 and groups == dict(recording.groups):
         return recording
     return replace(
         recording,
         rate_hz=recording.rate_hz / step,
         times_s=recording.times_s[::step],
         positions_m=recording.positions_m[::step],
+        groups=groups,
     )
 
 

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import json
 import re
+import unicodedata
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -91,14 +92,17 @@ def default_library() -> Path:
 
 
 def default_name(source: str) -> str:
-    """A name for the composed OAC from the recording's file name: ``Pour-01.c3d`` → ``pour_01``."""
+    """A name for the composed OAC from the recording's file name: ``Pour-01.c3d`` → ``pour_01``,
+    ``Crêpe.c3d`` → ``crepe`` (ASCII letters, digits and ``_``; at most 200 characters)."""
     stem = Path(source.split(" ")[0].split(":")[-1]).name
     for suffix in (".mmm.xml", ".xml", ".c3d", ".tsv", ".csv", ".json"):
         if stem.lower().endswith(suffix):
             stem = stem[: -len(suffix)]
             break
-    name = re.sub(r"\W+", "_", stem.lower()).strip("_") or "demonstration"
-    return name if name[0].isalpha() else f"demo_{name}"
+    ascii_stem = unicodedata.normalize("NFKD", stem.lower()).encode("ascii", "ignore").decode("ascii")
+    name = re.sub(r"[^a-z0-9]+", "_", ascii_stem).strip("_") or "demonstration"
+    name = name if name[0].isalpha() else f"demo_{name}"
+    return name[:200].rstrip("_")  # an ASCII identifier, and NAME.oac a file name of any file system
 
 
 @dataclass(frozen=True)
@@ -142,12 +146,15 @@ class Inputs:
 
 def read_segmentation_json(path: Path) -> Segmentation:
     """A segmentation from the document ``oacc segment --json`` prints."""
+    from oacdsl.documents import read_document
+
+    text = read_document(path, "a segmentation (oacc segment --json)")
     try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as error:
-        raise InputError(f"cannot read: {error.strerror or error}", location=str(path)) from error
-    except (UnicodeDecodeError, json.JSONDecodeError) as error:
+        doc = json.loads(text)
+    except json.JSONDecodeError as error:
         raise InputError(f"not a JSON document: {error}", location=str(path)) from error
+    except RecursionError:
+        raise InputError("nested too deeply; not a segmentation", location=str(path)) from None
     try:
         instances = tuple(str(i) for i in doc["instances"])
         keyframes = tuple(
@@ -292,12 +299,20 @@ def load_inputs(
 
 
 def _check_tracked(instances: tuple[str, ...], scene: Scene, source: str, what: str) -> None:
-    """Every instance of the demonstration is a tracked instance of the scene."""
+    """The demonstration's instances are the tracked instances of the scene, no more and no fewer."""
     tracked = {i.name for i in scene.tracked()}
     unknown = sorted(set(instances) - tracked)
     if unknown:
         known = ", ".join(sorted(tracked))
         raise InputError(
             f"{what} {', '.join(unknown)} are not tracked instances of scene {scene.name!r} ({known})",
+            location=source,
+        )
+    lacking = sorted(tracked - set(instances))
+    if lacking:  # as oacc segment refuses it: a tracked instance the demonstration cannot show
+        raise InputError(
+            f"scene {scene.name!r}: tracked instance{'s' if len(lacking) > 1 else ''} {', '.join(lacking)}"
+            f" not among the demonstration's {what} ({', '.join(sorted(instances)) or 'none'});"
+            " mark an instance the recording does not track 'untracked'",
             location=source,
         )

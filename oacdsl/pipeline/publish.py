@@ -20,20 +20,31 @@ copying; each entry is then replaced by its link, which shows the same content.
 At the start of a run, :func:`clean_stale` removes staging folders and temporary links
 whose owner process is gone (or, without an owner file, older than :data:`STALE_AFTER_S`;
 with an owner whose process id another process reuses, older than a day).
+
+``OUT/.oacdsl-report`` marks the folder as a report folder (a library search leaves it
+out: :data:`oacdsl.compiler.loader.REPORT_MARK`) and is the lock that publishing holds
+(``flock``), so concurrent runs on one ``OUT`` publish one after the other; a killed
+holder's lock is released by the system. Under the lock, every link ``OUT/X → current/X``
+that no longer leads anywhere (an entry of an older run, or of a run killed between
+linking and switching) is removed. A run folder gets the permissions of a new folder
+(``0777`` less the umask), so whoever may read ``OUT`` may read its report.
 """
 
 from __future__ import annotations
 
+import fcntl
 import os
 import re
 import secrets
 import shutil
 import time
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
 from datetime import datetime, timezone
 from pathlib import Path
 
 from oacdsl.atomic import pid_alive
+from oacdsl.compiler.loader import REPORT_MARK
 
 __all__ = [
     "ENTRIES",
@@ -46,7 +57,7 @@ __all__ = [
 ]
 
 #: The fixed entries of a report folder (the composed ``NAME.oac`` is linked too).
-ENTRIES = ("report.html", "result.json", "figures")
+ENTRIES = ("report.html", "result.json", "figures", "execution.c3d", "execution.contacts.json")
 #: How many runs ``OUT/runs/`` keeps (the current one always).
 KEEP_RUNS = 3
 #: Prefix of a staging folder inside ``OUT``.
@@ -63,10 +74,12 @@ _ASIDE = re.compile(r"^\.reproduce-old-(\d+)-")
 
 
 def make_staging(out: Path) -> Path:
-    """Create ``out/.reproduce-XXXX/`` owned by this process (``out`` is created if needed)."""
+    """Create ``out/.reproduce-XXXX/`` owned by this process (``out`` is created if needed and
+    marked as a report folder)."""
     import tempfile
 
     out.mkdir(parents=True, exist_ok=True)
+    (out / REPORT_MARK).touch()
     staging = Path(tempfile.mkdtemp(prefix=STAGING_PREFIX, dir=out))
     (staging / _OWNER).write_text(f"{os.getpid()}\n", encoding="ascii")
     return staging
@@ -203,11 +216,34 @@ def _exchange(a: Path, b: Path) -> bool:
     return renameat2(at_fdcwd, os.fsencode(a), at_fdcwd, os.fsencode(b), rename_exchange) == 0
 
 
+@contextmanager
+def _locked(out: Path) -> Iterator[None]:
+    """Hold the exclusive lock of ``out`` (its :data:`REPORT_MARK` file) for the block."""
+    fd = os.open(out / REPORT_MARK, os.O_RDWR | os.O_CREAT, 0o666)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)  # releases the lock
+
+
+def _folder_mode() -> int:
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o777 & ~umask
+
+
 def publish(staging: Path, out: Path, *, keep: int = KEEP_RUNS) -> list[Path]:
     """Publish the finished run in ``staging`` as ``out``'s current run; return its entries.
 
     See the module docstring for the layout and why each step is safe to interrupt.
     """
+    os.chmod(staging, _folder_mode())  # mkdtemp's 0700 would hide the report from everyone else
+    with _locked(out):
+        return _publish(staging, out, keep)
+
+
+def _publish(staging: Path, out: Path, keep: int) -> list[Path]:
     _adopt_legacy(out)
     current = out / _CURRENT
     old_names = set(_entry_names(current)) if current.is_dir() else set()
@@ -223,11 +259,20 @@ def publish(staging: Path, out: Path, *, keep: int = KEEP_RUNS) -> list[Path]:
                 continue  # a file of the user's that is not a report entry: left alone
             _link_entry(out, name)
     _replace_link(current, f"{_RUNS}/{run.name}")
-    for name in old_names - set(names):  # entries of the old run only, e.g. another NAME.oac
-        if (out / name).is_symlink() and not (out / name).exists():
-            (out / name).unlink(missing_ok=True)
+    _remove_dangling(out)  # entries of older runs only (another NAME.oac), also of killed ones
     _prune(runs, keep, run.name)
     return [out / name for name in names]
+
+
+def _remove_dangling(out: Path) -> None:
+    """Remove the links ``out/X → current/X`` that lead nowhere (under the lock: no run is
+    between linking its entries and switching ``current``)."""
+    for entry in out.iterdir():
+        try:
+            if entry.is_symlink() and os.readlink(entry).startswith(f"{_CURRENT}/") and not entry.exists():
+                entry.unlink()
+        except OSError:
+            continue
 
 
 def _prune(runs: Path, keep: int, newest: str) -> None:

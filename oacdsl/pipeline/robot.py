@@ -34,6 +34,8 @@ class ExecuteStage:
     result: Any  # oacdsl.runtime.RunResult
     markers: VirtualMarkers
     doc: dict[str, Any]
+    #: The simulation's own touching relations over the run (a ContactRecorder), or None.
+    contacts: Any = None
     #: Why there are no pictures (no rendering backend), else None.
     render_note: str | None = None
     #: The rendered frames by name: robot_00 (before), robot_NN (after step NN), robot_NN_moment.
@@ -68,8 +70,12 @@ def execute_stage(
     run = prepare(library, oac, scene=scene, seed=seed, demonstrated=demonstrated, **given)
     if warn is not None and (moved := seed_note(run.world.layout)) is not None:
         warn(moved)
+    from oacdsl.runtime.recorder import ContactRecorder
+
     markers = VirtualMarkers(run.world)
+    contacts = ContactRecorder(markers.rate_hz)
     run.controller.add_observer(markers)
+    run.controller.add_observer(contacts)
     camera = StepCamera(run.world.model, run.steps, frames_dir) if frames_dir is not None else None
     total = len(run.steps)
 
@@ -121,18 +127,50 @@ def execute_stage(
     if result.error:
         doc["error"] = result.error
     if camera is None:
-        return ExecuteStage(result, markers, doc)
-    return ExecuteStage(result, markers, doc, camera.unavailable, dict(camera.frames))
+        return ExecuteStage(result, markers, doc, contacts)
+    return ExecuteStage(result, markers, doc, contacts, camera.unavailable, dict(camera.frames))
 
 
 @dataclass
 class VerifyStage:
     recording: Recording
     segmentation: Segmentation
-    verification: Any  # oacdsl.verify.Verification
+    verification: Any  # oacdsl.verify.Verification (the relations check)
     doc: dict[str, Any]
     #: The robot's sub-actions as matched (transient keyframes dropped): change k ends sub-action k - 1.
     sub_actions: list[Any] = field(default_factory=list)
+    #: The whole verdict (oacdsl.verify_execution.VerifyOutcome): verified, faithful, checks.
+    outcome: Any = None
+    #: The files written: the robot's virtual-marker recording and its contacts.
+    files: list[Path] = field(default_factory=list)
+
+
+#: The robot's recording in the run folder, and (beside it) the simulation's contacts.
+EXECUTION_FILE = "execution.c3d"
+
+
+def sim_contacts(recorder: Any, demo_params: AasParams, instances: list[str] | None = None) -> Any:
+    """The contacts a ContactRecorder saw, as the verifier reads them (with the AAS parameters
+    its virtual markers are segmented with)."""
+    from oacdsl.verify_contacts import SimContacts
+    from oacdsl.world import relation
+
+    doc = recorder.to_json()
+    changes = tuple((int(c["frame"]), frozenset(relation(a, b) for a, b in c["relations"]))
+                    for c in doc["changes"])
+    return SimContacts(float(doc["rate_hz"]), int(doc["frames"]), tuple(doc["instances"]), changes,
+                       robot_params(demo_params).to_dict())
+
+
+def write_execution(recording: Recording, contacts: Any, path: Path) -> list[Path]:
+    """Write the robot's recording (C3D) to ``path`` and its contacts file beside it."""
+    from oacdsl.segmentation.readers.c3d import write_c3d
+    from oacdsl.verify_contacts import contacts_path, write_contacts
+
+    written = [write_c3d(recording, path)]
+    if contacts is not None:
+        written.append(write_contacts(contacts, contacts_path(path)))
+    return written
 
 
 def verify_stage(
@@ -141,8 +179,16 @@ def verify_stage(
     markers: VirtualMarkers,
     library: Library,
     scene: Scene,
+    *,
+    demo_recording: Recording | None = None,
+    contacts: Any = None,
+    folder: Path | None = None,
 ) -> VerifyStage:
-    """Segment the robot's virtual markers, match them, compare with the demonstration."""
+    """Judge the robot's execution against the demonstration (:func:`~oacdsl.verify_execution.
+    verify_execution`: relations from the simulation's contacts, end state, motion), after
+    segmenting and matching the robot's virtual markers with the same AAS and library (the
+    report's robot sub-actions; where that AAS disagrees with the contacts is a finding). With
+    ``folder``, the robot's recording and contacts are written there (``execution.c3d``)."""
     from oacdsl.matching import Matcher
     from oacdsl.matching.demonstration import match_segmentation
     from oacdsl.matching.transient import agents_of, stable_segmentation
@@ -156,19 +202,32 @@ def verify_stage(
     seg = segment(recording, params)
     matcher = Matcher.from_library(library, scene)
     robot_matches = match_segmentation(seg, matcher)
-    # both sides without their transient states (an object in flight), as matching sees them
     agents = agents_of(matcher.instance_classes)
-    demo_kfs = stable_segmentation(demonstration, agents.__contains__)[0].keyframes
-    robot_kfs = stable_segmentation(seg, agents.__contains__)[0].keyframes
-    v = verify(
-        [k.state for k in demo_kfs],
-        [k.state for k in robot_kfs],
-        demonstration_frames=[k.frame for k in demo_kfs],
-        robot_frames=[k.frame for k in robot_kfs],
-        demonstration_times_s=[k.time_s for k in demo_kfs],
-        robot_times_s=[k.time_s for k in robot_kfs],
-        instances=instances,
-    )
+    sim = sim_contacts(contacts, demo_params) if contacts is not None else None
+    files = write_execution(recording, sim, folder / EXECUTION_FILE) if folder is not None else []
+    outcome = None
+    if demo_recording is not None:
+        from oacdsl.verify_execution import verify_execution
+
+        outcome = verify_execution(demo_recording, recording, scene=scene, library=library,
+                                   params=demo_params, contacts=sim, demo_segmentation=demonstration,
+                                   execution_aas=seg)
+        v = outcome.relations
+    else:  # a segmentation only: the relations as the AAS of the virtual markers sees them
+        demo_kfs = stable_segmentation(demonstration, agents.__contains__)[0].keyframes
+        robot_kfs = stable_segmentation(seg, agents.__contains__)[0].keyframes
+        v = verify(
+            [k.state for k in demo_kfs],
+            [k.state for k in robot_kfs],
+            demonstration_frames=[k.frame for k in demo_kfs],
+            robot_frames=[k.frame for k in robot_kfs],
+            demonstration_times_s=[k.time_s for k in demo_kfs],
+            robot_times_s=[k.time_s for k in robot_kfs],
+            instances=instances,
+        )
+    if outcome is not None and outcome.relations_source != "aas" and outcome.execution_segmentation:
+        # the robot's sub-actions as the simulation's contacts delimit them (the relations check's)
+        robot_matches = match_segmentation(outcome.execution_segmentation, matcher)
     doc = v.to_json()
     by_index = {m.index + 1: m for m in robot_matches}
     for change in doc["robot"]:  # the robot's own sub-action leading to each change, as matched
@@ -178,4 +237,13 @@ def verify_stage(
     doc["segment"] = seg.to_json()
     doc["markers"] = len(recording.marker_names)
     doc["robot_match"] = match_doc(robot_matches)
-    return VerifyStage(recording, seg, v, doc, [m.sub_action for m in robot_matches])
+    if outcome is not None:
+        judged = outcome.to_json()
+        doc["relations_verified"] = doc["verified"]
+        doc["verified"], doc["faithful"] = outcome.verified, outcome.faithful
+        doc["verdict"] = f"{outcome.summary()} (relations: {v.verdict()})"
+        for key in ("checks", "relations_source", "findings", "notes", "tolerances"):
+            doc[key] = judged[key]
+        if folder is not None:
+            doc["recording"] = EXECUTION_FILE
+    return VerifyStage(recording, seg, v, doc, [m.sub_action for m in robot_matches], outcome, files)

@@ -57,12 +57,19 @@ def _verdict(result: ResultRecord, failure: tuple[str, OacError] | None, name: s
             "failed_stage": "execute",
             "summary": f"The robot did not complete {name}: {run.error or 'a step failed'}.",
         }
+    extra = (v.model_extra or {}) if v is not None else {}
+    flags = {"verified": bool(v.verified), "faithful": bool(extra.get("faithful", v.verified))} \
+        if v is not None else {}
+    failed = [c for c in extra.get("checks", []) if not c["passed"]]
     if v is not None and not v.verified:
+        named = "; ".join(f"{c['name']}: {c['detail']}" for c in failed if c["kind"] != "motion")
         return {
             "success": False,
             "failed_stage": "verify",
-            "summary": f"The robot executed {name}, but the closed loop differs from the demonstration:"
-            f" {v.verdict}.",
+            **flags,
+            "failed_checks": [c["name"] for c in failed],
+            "summary": f"The robot executed {name}, but the outcome differs from the demonstration:"
+            f" {v.verdict}." + (f" Failed: {named}." if named else ""),
         }
     m = run.metrics if run is not None else {}
     balls = f", {m['balls_in_bowl']} of {m['balls_total']} balls in the bowl" if m.get("balls_total") else ""
@@ -75,11 +82,20 @@ def _verdict(result: ResultRecord, failure: tuple[str, OacError] | None, name: s
         liquid += (f" The untracked {u['instance']} is not in the recording, so not compared: the robot's"
                    f" step effects judged it ({judged or 'no step predicts it'}).")
     n = len(v.demonstration) if v is not None else 0
+    source = "its simulated contacts" if extra.get("relations_source") == "simulation contacts" else \
+        "its own recording, segmented by the same AAS,"
+    unfaithful = ""
+    if flags and not flags["faithful"]:
+        unfaithful = " Not faithful: " + "; ".join(f"{c['name']}: {c['detail']}" for c in failed) + "."
+    ends = " every tracked object ends as demonstrated;" if "checks" in extra else ""
     return {
         "success": True,
-        "summary": f"ARMAR-III executed {name} ({len(run.steps) if run else 0} steps{balls}), and its own"
-        f" recording, segmented by the same AAS, shows the demonstration's {n} world-state"
-        f" changes in order (edit distance {v.distance if v else '–'}).{liquid}",
+        **flags,
+        "failed_checks": [c["name"] for c in failed],
+        "summary": f"ARMAR-III executed {name} ({len(run.steps) if run else 0} steps{balls}), and"
+        f" {source} shows the demonstration's {n} world-state changes in order (edit distance"
+        f" {v.distance if v else '–'});{ends} {'faithful' if flags.get('faithful') else 'verified'}."
+        f"{unfaithful}{liquid}",
     }
 
 
@@ -155,6 +171,7 @@ def reproduce(
                 **({"scene_overrides": overrides.to_json()} if overrides and overrides.to_json() else {}),
             },
         )
+        late: list[Callable[[], None]] = []  # the report's pictures of earlier stages
         failure = _stages(
             inputs,
             record,
@@ -168,11 +185,15 @@ def reproduce(
             warn=note_warning,
             overrides=overrides,
             demo_params=demo_params,
+            late=late,
         )
-        verdict = _verdict(record, failure, name)
-        result = record.to_json(verdict, progress.records(), warnings)
         with progress.stage("report"):
             from oacdsl.report import write_report
+
+            for draw in late:
+                draw()
+            verdict = _verdict(record, failure, name)
+            result = record.to_json(verdict, progress.records(), warnings)
 
             report = write_report(result, staging, source="result")
             for w in report.warnings:
@@ -203,9 +224,10 @@ def _stages(
     warn: Callable[[str], None],
     overrides: SceneOverrides | None = None,
     demo_params: bool = True,
+    late: list[Callable[[], None]] | None = None,
 ) -> tuple[str, OacError] | None:
     """Fill ``result`` stage by stage, each part checked as it is set; the first failed stage and
-    its error, or None."""
+    its error, or None. ``late`` collects what the report stage draws (the robot's AAS plot)."""
     from oacdsl.pipeline import analyse, figures, robot
 
     failed: list[tuple[str, OacError]] = []
@@ -269,11 +291,21 @@ def _stages(
 
     def verify() -> Any:
         done = robot.verify_stage(
-            seg.segmentation, inputs.params, executed.markers, inputs.library, inputs.scene
+            seg.segmentation, inputs.params, executed.markers, inputs.library, inputs.scene,
+            demo_recording=seg.recording, contacts=executed.contacts, folder=staging,
         )
-        done.doc["plot"] = figures.distance_plot(
-            figures.decimated(done.recording), done.segmentation, figs, "robot_aas.png"
-        )
+
+        def plot() -> None:  # a picture for the report, drawn in its stage
+            done.doc["plot"] = figures.distance_plot(
+                figures.decimated(done.recording, max_markers=figures.PLOT_MARKERS), done.segmentation,
+                figs, "robot_aas.png",
+            )
+            result.put("verification", done.doc)
+
+        if late is not None:
+            late.append(plot)
+        else:
+            plot()
         return done
 
     def motion() -> dict[str, Any] | None:

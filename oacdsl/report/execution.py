@@ -150,6 +150,34 @@ def _change(c: ChangeDoc | None) -> str:
     return "".join(items) + matched + f'<div class="small muted">{esc(where)}</div>'
 
 
+def _checks(extra: dict[str, object]) -> str:
+    """The verifier's checks (relations, end state, motion) as a table, its findings and notes."""
+    checks = extra.get("checks")
+    if not isinstance(checks, list) or not checks:
+        return ""
+    rows = []
+    for c in checks:
+        if not isinstance(c, dict):
+            continue
+        mark = badge("pass", "ok") if c.get("passed") else badge("FAIL", "bad")
+        rows.append(f"<tr><td>{mark}</td><td class=mono>{esc(c.get('name', ''))}</td>"
+                    f"<td>{esc(c.get('demonstration', ''))}</td><td>{esc(c.get('execution', ''))}</td>"
+                    f"<td class=small>{esc(c.get('tolerance', ''))}</td>"
+                    f"<td class=small>{esc(c.get('detail', ''))}</td></tr>")
+    source = esc(extra.get("relations_source", "aas"))
+    out = [f"<p>Checks (docs/verify.md); the robot's relations come from <b>{source}</b>."
+           " <i>verified</i> = relations and end state; <i>faithful</i> = also motion.</p>",
+           "<table><thead><tr><th></th><th>check</th><th>demonstration</th><th>execution</th>"
+           "<th>tolerance</th><th>detail</th></tr></thead><tbody>" + "".join(rows) + "</tbody></table>"]
+    for key, head in (("findings", "Segmentation findings (the AAS of the virtual markers against the"
+                       " simulation's contacts)"), ("notes", "Not judged")):
+        items = extra.get(key)
+        if isinstance(items, list) and items:
+            out.append(f"<p><b>{esc(head)}:</b></p><ul>" + "".join(f"<li>{esc(x)}</li>" for x in items)
+                       + "</ul>")
+    return "".join(out)
+
+
 def verification_section(r: Result, images: Images) -> str:
     out = [
         '<section id="verification"><h2>Closed-loop verification</h2>',
@@ -164,6 +192,7 @@ def verification_section(r: Result, images: Images) -> str:
         f'<div class="verdict {"ok" if v.verified else "fail"}"><div class="big">'
         f"{'✔' if v.verified else '✘'} {esc(v.verdict)}</div></div>"
     )
+    out.append(_checks(v.model_extra or {}))
     facts = [
         ("edit distance", str(v.distance)),
         ("fidelity", f"{100 * v.fidelity:.0f} %"),
@@ -179,17 +208,21 @@ def verification_section(r: Result, images: Images) -> str:
         if not st.equal:
             out.append(f'<p><b>{name} world states differ.</b> Demonstration: {rel_list(st.demonstration)};'
                        f" robot: {rel_list(st.robot)}.</p>")
-    ops = {"match": ("same", "ok"), "split": ("split", "ok"), "substitute": ("different", "warn"),
+    ops = {"match": ("same", "ok"), "split": ("split", "ok"), "merge": ("merged", "ok"),
+           "substitute": ("different", "warn"),
            "missing": ("missing", "bad"), "extra": ("extra", "bad")}
     rows = []
     for i, a in enumerate(v.alignment, 1):
-        d = v.demonstration[a.demonstration] if a.demonstration is not None else None
+        dl = a.demonstration_last if a.demonstration_last is not None else a.demonstration
+        ds = [v.demonstration[k] for k in range(a.demonstration, dl + 1)] if a.demonstration is not None \
+            and dl is not None else []
+        demo = "<br>".join(_change(x) for x in ds) if ds else _change(None)
         last = a.robot_last if a.robot_last is not None else a.robot
         parts = [v.robot[k] for k in range(a.robot, last + 1)] if a.robot is not None and last is not None \
             else []
         robot = "<br>".join(_change(b) for b in parts) if parts else _change(None)
         text, kind = ops[a.op]
-        rows.append(f'<tr class="op-{a.op}"><td class=num>{i}</td><td class="side">{_change(d)}</td>'
+        rows.append(f'<tr class="op-{a.op}"><td class=num>{i}</td><td class="side">{demo}</td>'
                     f'<td class="op">{badge(text, kind)}</td><td class="side">{robot}</td></tr>')
     out.append('<table class="align"><thead><tr><th class=num>#</th><th>demonstration</th><th></th>'
                "<th>robot</th></tr></thead><tbody>" + "".join(rows) + "</tbody></table>")

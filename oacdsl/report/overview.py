@@ -95,6 +95,10 @@ def header(r: Result) -> str:
         facts.append(f"seed {esc(d.seed)}")
     ok = r.verdict.success
     big = "✔ Reproduced and verified" if ok else "✘ Not reproduced"
+    if ok and r.verdict.faithful is not None:
+        big += ", faithful" if r.verdict.faithful else ", not faithful"
+    if r.verdict.failed_checks:
+        big += " (failed: " + ", ".join(r.verdict.failed_checks) + ")"
     if not ok and r.verdict.failed_stage:
         big += f" — failed at {r.verdict.failed_stage}"
     toc = "".join(f'<a href="#{key}">{esc(name)}</a>' for key, name in SECTIONS)

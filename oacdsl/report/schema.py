@@ -60,6 +60,9 @@ class Verdict(_Doc):
     success: bool
     summary: str
     failed_stage: str | None = None
+    verified: bool | None = None  # oacc verify's verdict: relations and end state hold
+    faithful: bool | None = None  # ... and the motion too
+    failed_checks: list[str] = []  # the names of the checks that failed
 
 
 class Stage(_Doc):
@@ -175,10 +178,11 @@ class ChangeDoc(_Doc):
 
 
 class AlignDoc(_Doc):
-    op: Literal["match", "split", "substitute", "missing", "extra"]
+    op: Literal["match", "split", "merge", "substitute", "missing", "extra"]
     demonstration: Count | None
     robot: Count | None
     robot_last: Count | None = None  # a split: the robot's changes robot … robot_last
+    demonstration_last: Count | None = None  # a merge: demonstration … demonstration_last at once
 
 
 class StatesDoc(_Doc):

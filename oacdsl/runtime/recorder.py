@@ -16,7 +16,7 @@ from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.segmentation.recording import Recording
 
-__all__ = ["MarkerRecorder", "MARKER_RATE_HZ"]
+__all__ = ["ContactRecorder", "MarkerRecorder", "MARKER_RATE_HZ"]
 
 #: Default sampling rate of the virtual markers, Hz (simulated time).
 MARKER_RATE_HZ = 100.0
@@ -48,3 +48,44 @@ class MarkerRecorder:
         positions = np.array([np.concatenate([f[i] for i in instances]) for f in self.frames])
         times = np.array(self.times_s) - self.times_s[0]
         return Recording(source, self.rate_hz, times, tuple(names), positions, groups)
+
+
+class ContactRecorder:
+    """The simulation's own touching relations, every ``1 / rate_hz`` s of simulated time.
+
+    An observer of the run like :class:`MarkerRecorder`; it stores the set of touching
+    instance pairs (MuJoCo contacts between the tracked instances' geoms,
+    :meth:`~oacdsl.runtime.simworld.SimWorld.relations`) only when it changes, so a run
+    costs a few hundred entries. :meth:`to_json` gives the document the verifier reads
+    (:mod:`oacdsl.verify_contacts`): the relations as they come, unfiltered.
+    """
+
+    def __init__(self, rate_hz: float = MARKER_RATE_HZ) -> None:
+        self.rate_hz = rate_hz
+        self.frames = 0
+        self.instances: tuple[str, ...] = ()
+        #: (frame, time_s, sorted relations) whenever the set changed (the first frame too).
+        self.changes: list[tuple[int, float, tuple[tuple[str, str], ...]]] = []
+        self._t0: float | None = None
+
+    def __call__(self, world: SimWorld) -> None:
+        state = world.relations()
+        if self._t0 is None:
+            self._t0 = world.time_s
+            self.instances = tuple(sorted(state.instances))
+        rels = tuple(state.sorted_relations())
+        if not self.changes or self.changes[-1][2] != rels:
+            self.changes.append((self.frames, world.time_s - self._t0, rels))
+        self.frames += 1
+
+    def to_json(self) -> dict[str, object]:
+        """``{"rate_hz", "frames", "instances", "changes": [{"frame", "time_s", "relations"}]}``."""
+        return {
+            "rate_hz": self.rate_hz,
+            "frames": self.frames,
+            "instances": list(self.instances),
+            "changes": [
+                {"frame": f, "time_s": round(t, 6), "relations": [list(r) for r in rels]}
+                for f, t, rels in self.changes
+            ],
+        }

@@ -19,8 +19,9 @@ from itertools import pairwise
 import numpy as np
 
 from oacdsl.errors import SegmentationError
+from oacdsl.segmentation import geometry
 from oacdsl.segmentation.detectors import DistanceChunk, TouchDetector, make_detector
-from oacdsl.segmentation.geometry import BOUND_MARGIN_M, ChunkGeometry
+from oacdsl.segmentation.geometry import BOUND_MARGIN_M, ChunkGeometry, chunk_frames_for
 from oacdsl.segmentation.instances import InstanceTouch
 from oacdsl.segmentation.keyframes import keyframes_from_changes, merge_keyframes
 from oacdsl.segmentation.pairs import PairTable
@@ -97,6 +98,7 @@ def segment(
             location=recording.source,
         )
     det = detector if detector is not None else make_detector(params)
+    _fit_chunk(recording, det.history_frames, chunk_frames)  # before the pair table (history: at least)
     table = PairTable.of(recording)
     frames, which, values = _changes(recording, table, det, chunk_frames, progress)
     relations = [table.relation(q) for q in range(table.n_instance_pairs)]
@@ -112,6 +114,28 @@ def segment(
     )
 
 
+def _fit_chunk(recording: Recording, history: int, wanted: int) -> int:
+    """Frames per chunk whose distances (and a scratch buffer) fit the geometry's budget; refused
+    when not even ``history`` output frames after the ``history`` frames a detector re-reads fit."""
+    sizes = sorted(len(set(idx)) for idx in recording.groups.values())
+    pairs = (sum(sizes) ** 2 - sum(k * k for k in sizes)) // 2  # cross-instance marker pairs
+    per_frame = pairs + (sizes[-1] * sizes[-2] if len(sizes) > 1 else 0)  # float32 values per frame
+    least = history + max(1, min(history, recording.n_frames))  # frames
+    if per_frame * least * 4 > geometry.MAX_CHUNK_DISTANCE_BYTES:
+        raise SegmentationError(
+            f"{pairs} marker pairs × {least} frames at once ({history} before each chunk) need"
+            f" {_mib(per_frame * least * 4)} of distances, more than the"
+            f" {_mib(geometry.MAX_CHUNK_DISTANCE_BYTES)} a segmentation holds; group fewer markers"
+            " (--preset, --scene) or choose a smaller --frames",
+            location=recording.source,
+        )
+    return chunk_frames_for(per_frame, wanted, history)
+
+
+def _mib(size: int) -> str:
+    return f"{size / 2**20:.4g} MiB"
+
+
 def _changes(
     recording: Recording,
     table: PairTable,
@@ -122,6 +146,7 @@ def _changes(
     """Causal frames, instance pairs and new states of every instance-pair change."""
     geometry = ChunkGeometry(recording, table)
     det.begin(recording, table)
+    chunk_frames = _fit_chunk(recording, det.history_frames, chunk_frames)  # the history at this rate
     tracker = InstanceTouch(table)
     n_frames, n_q = recording.n_frames, table.n_instance_pairs
     all_blocks = np.arange(n_q, dtype=np.intp)

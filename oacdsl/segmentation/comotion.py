@@ -14,7 +14,7 @@ from typing import NamedTuple
 import numpy as np
 
 from oacdsl.errors import SegmentationError
-from oacdsl.segmentation.geometry import BOUND_MARGIN_M, ChunkGeometry
+from oacdsl.segmentation.geometry import BOUND_MARGIN_M, ChunkGeometry, chunk_frames_for
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
@@ -138,8 +138,9 @@ def _scan(
     dmin: dict[int, np.ndarray] = {}
     carry: dict[int, np.ndarray] = {}
     with np.errstate(invalid="ignore"):  # NaN: a gap
-        for start in range(0, n_frames, _SCAN_FRAMES):
-            stop = min(n_frames, start + _SCAN_FRAMES)
+        step = chunk_frames_for(2 * geometry.max_block_pairs, _SCAN_FRAMES, lag)  # two scratch buffers
+        for start in range(0, n_frames, step):
+            stop = min(n_frames, start + step)
             _scan_chunk(recording, table, params, settings, geometry, groups, times, lag, reach,
                         start, stop, dmin, carry)
     return {q: (dmin[q], carry[q]) for q in dmin}

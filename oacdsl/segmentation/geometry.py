@@ -22,13 +22,30 @@ import numpy as np
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.recording import Recording
 
-__all__ = ["BOUND_BLOCK_FRAMES", "BOUND_MARGIN_M", "ChunkGeometry", "closest_distances"]
+__all__ = [
+    "BOUND_BLOCK_FRAMES",
+    "BOUND_MARGIN_M",
+    "MAX_CHUNK_DISTANCE_BYTES",
+    "ChunkGeometry",
+    "chunk_frames_for",
+    "closest_distances",
+]
 
 #: Safety margin, metres, added to the reach in the broad phase against float32 rounding.
 BOUND_MARGIN_M = 1e-3
 #: Frames per bounding box of the broad phase (short: a fast hand's box stays small).
 BOUND_BLOCK_FRAMES = 8
 _COORD_SLAB = 1024  # frames converted at a time by ChunkGeometry.coordinates
+#: Bytes of float32 marker-pair distances one chunk of frames may hold (pairs × frames × 4):
+#: chunks get fewer frames when there are many pairs, so memory does not grow with them.
+MAX_CHUNK_DISTANCE_BYTES = 128 * 2**20
+
+
+def chunk_frames_for(n_pairs: int, wanted: int, history: int = 0) -> int:
+    """Frames per chunk, at most ``wanted`` and at least 1, such that ``(frames + history) ×
+    n_pairs`` float32 distances fit in :data:`MAX_CHUNK_DISTANCE_BYTES` (when they can)."""
+    fit = MAX_CHUNK_DISTANCE_BYTES // (4 * max(n_pairs, 1)) - history
+    return max(1, min(wanted, fit))
 
 
 class ChunkGeometry:
@@ -38,8 +55,9 @@ class ChunkGeometry:
         self.recording = recording
         self.table = table
         self.centre = _centre(recording.positions_m)
-        sizes = np.diff(table.marker_offsets)
-        self._kmax = int(sizes.max()) if sizes.size else 0
+        blocks = np.diff(table.block_offsets)
+        #: marker pairs of the largest instance pair: the size of a scratch buffer per frame
+        self.max_block_pairs = int(blocks.max()) if blocks.size else 0
         order = table.marker_order  # the recording's own marker order: no gather
         self._in_order = bool(order.size == recording.positions_m.shape[1]
                               and np.array_equal(order, np.arange(order.size)))
@@ -107,7 +125,7 @@ class ChunkGeometry:
 
     def scratch(self, n_rows: int) -> np.ndarray:
         """A float32 buffer large enough for :meth:`squared`'s ``tmp`` (and ``out``) on ``n_rows`` frames."""
-        return np.empty(self._kmax * self._kmax * n_rows, dtype=np.float32)
+        return np.empty(self.max_block_pairs * n_rows, dtype=np.float32)
 
     def squared(self, x: np.ndarray, q: int, out: np.ndarray, tmp: np.ndarray) -> np.ndarray:
         """Squared distances (m²) of the marker pairs of instance pair ``q``, written to the first
@@ -163,6 +181,7 @@ def closest_distances(
     if n_q == 0:
         return table, out
     blocks = np.arange(n_q, dtype=np.intp)
+    chunk_frames = chunk_frames_for(table.n_pairs + geometry.max_block_pairs, chunk_frames)
     for lo in range(0, recording.n_frames, chunk_frames):
         hi = min(recording.n_frames, lo + chunk_frames)
         x = geometry.coordinates(lo, hi)

@@ -21,14 +21,25 @@ import sqlite3
 import uuid
 from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
-from dataclasses import dataclass, field
-from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
 from urllib.parse import quote
 
 from oacdsl.errors import StoreError
 from oacdsl.stats.paths import ENV_VAR
+from oacdsl.stats.schema import (
+    _MIGRATIONS,
+    _SCHEMA_V1,
+    _SQLITE_MAGIC,
+    APPLICATION_ID,
+    BUSY_TIMEOUT_MS,
+    REQUIRED,
+    SCHEMA_VERSION,
+    Outcome,
+    _execute_script,
+    _Fetched,
+    _now_utc,
+)
 
 __all__ = [
     "APPLICATION_ID",
@@ -36,69 +47,6 @@ __all__ = [
     "Outcome",
     "RunStore",
 ]
-
-#: ``PRAGMA application_id`` of an oacdsl run store: the bytes "OACD".
-APPLICATION_ID = 0x4F414344
-#: ``PRAGMA user_version`` this code writes; older files are migrated, newer refused.
-SCHEMA_VERSION = 1
-#: How long a writer waits for another one's lock before giving up, milliseconds.
-BUSY_TIMEOUT_MS = 30_000
-
-_SQLITE_MAGIC = b"SQLite format 3\x00"
-
-_SCHEMA_V1 = """
-CREATE TABLE runs (
-    run_id        TEXT PRIMARY KEY,
-    time_utc      TEXT NOT NULL,
-    oac           TEXT NOT NULL,
-    success       INTEGER NOT NULL CHECK (success IN (0, 1)),
-    recording     TEXT,
-    seed          INTEGER,
-    fidelity      REAL CHECK (fidelity IS NULL OR (fidelity >= 0 AND fidelity <= 1)),
-    edit_distance INTEGER,
-    command       TEXT
-);
-CREATE TABLE outcomes (
-    run_id     TEXT NOT NULL REFERENCES runs(run_id) ON DELETE CASCADE,
-    position   INTEGER NOT NULL,
-    oac        TEXT NOT NULL,
-    binding    TEXT NOT NULL,
-    success    INTEGER NOT NULL CHECK (success IN (0, 1)),
-    duration_s REAL,
-    error      TEXT,
-    PRIMARY KEY (run_id, position)
-);
-CREATE INDEX outcomes_by_oac ON outcomes(oac);
-CREATE VIEW outcome_rows AS
-    SELECT o.run_id, r.time_utc, o.position, o.oac, o.binding, o.success, o.duration_s, o.error,
-           r.recording, r.seed, r.fidelity, r.edit_distance, r.command, r.rowid AS run_seq
-    FROM outcomes AS o JOIN runs AS r USING (run_id);
-"""
-
-#: Migrations from version N to N+1 (none yet: version 1 is the first).
-_MIGRATIONS: dict[int, str] = {}
-
-
-@dataclass(frozen=True)
-class Outcome:
-    """The outcome of executing one OAC with one binding (``duration_s`` in seconds)."""
-
-    oac: str
-    binding: Mapping[str, str] = field(default_factory=dict)
-    success: bool = False
-    duration_s: float | None = None
-    error: str | None = None
-
-
-def _execute_script(conn: sqlite3.Connection, script: str) -> None:
-    """Run ``;``-separated DDL inside the current transaction (``executescript`` would commit)."""
-    for statement in script.split(";"):
-        if statement.strip():
-            conn.execute(statement)
-
-
-def _now_utc() -> str:
-    return datetime.now(timezone.utc).isoformat(timespec="milliseconds").replace("+00:00", "Z")
 
 
 class RunStore:
@@ -147,8 +95,12 @@ class RunStore:
             conn.execute("PRAGMA foreign_keys = ON")
             self._check_and_init(conn)
             conn.execute("PRAGMA synchronous = FULL")
+            missing = REQUIRED - {r[0] for r in conn.execute("SELECT name FROM sqlite_master")}
         except sqlite3.DatabaseError as e:
             raise self._fail(f"unusable run database: {e}") from None
+        if missing:
+            conn.close()
+            raise self._fail(f"damaged run database: no {', '.join(sorted(missing))}; move it aside")
         return conn
 
     def _check_and_init(self, conn: sqlite3.Connection) -> None:
@@ -286,32 +238,46 @@ class RunStore:
         return self.record(run, steps, **meta)
 
     # -- reading -----------------------------------------------------------------------------------
+    def _query(self, sql: str, args: tuple[Any, ...] = ()) -> sqlite3.Cursor:
+        """``sql`` executed and fetched; a damaged file is a :class:`StoreError`, not a traceback."""
+        try:
+            cur = self._conn.execute(sql, args)
+            return _Fetched(cur.description, cur.fetchall())  # type: ignore[return-value]
+        except sqlite3.DatabaseError as e:
+            raise self._fail(f"damaged run database: {e}; move it aside") from None
+
     def rows(self, oac: str | None = None) -> list[dict[str, Any]]:
         """Every outcome row (joined with its run), oldest first; ``binding`` decoded."""
         sql = "SELECT * FROM outcome_rows"
         args: tuple[Any, ...] = ()
         if oac is not None:
             sql, args = sql + " WHERE oac = ?", (oac,)
-        cur = self._conn.execute(sql + " ORDER BY run_seq, position", args)
+        cur = self._query(sql + " ORDER BY run_seq, position", args)
         names = [d[0] for d in cur.description]
         out = []
         for values in cur.fetchall():
             row = dict(zip(names, values, strict=True))
-            row["binding"] = json.loads(row["binding"])
+            try:
+                row["binding"] = json.loads(row["binding"])
+            except (TypeError, ValueError, RecursionError):
+                row["binding"] = None
+            if not isinstance(row["binding"], dict):
+                where = f"run {row['run_id']} step {row['position']}"
+                raise self._fail(f"damaged run database: {where}: its binding is not a JSON object")
             row["success"] = bool(row["success"])
             out.append(row)
         return out
 
     def oac_names(self) -> list[str]:
         """The OACs with at least one recorded outcome, sorted."""
-        return [r[0] for r in self._conn.execute("SELECT DISTINCT oac FROM outcomes ORDER BY oac")]
+        return [r[0] for r in self._query("SELECT DISTINCT oac FROM outcomes ORDER BY oac").fetchall()]
 
     def run_count(self) -> int:
-        return int(self._conn.execute("SELECT count(*) FROM runs").fetchone()[0])
+        return int(self._query("SELECT count(*) FROM runs").fetchall()[0][0])
 
     def integrity(self) -> str:
         """``PRAGMA integrity_check``: ``"ok"`` when the file is sound."""
-        return "; ".join(r[0] for r in self._conn.execute("PRAGMA integrity_check"))
+        return "; ".join(str(r[0]) for r in self._query("PRAGMA integrity_check").fetchall())
 
     def close(self) -> None:
         self._conn.close()

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from oacdsl.errors import RecordingError, did_you_mean
 from oacdsl.segmentation.readers.c3d import read_c3d, write_c3d
-from oacdsl.segmentation.readers.limits import check_regular
+from oacdsl.segmentation.readers.limits import check_regular, clip
 from oacdsl.segmentation.recording import Recording
 
 __all__ = ["FORMATS", "WRITABLE", "read_recording", "read_c3d", "write_c3d", "write_recording", "format_of"]
@@ -64,8 +64,9 @@ def read_recording(
     """Read a recording; ``fmt`` (c3d, mmm, tsv, csv) overrides the extension.
 
     ``units`` overrides the length unit of a TSV or CSV file (mm, cm, m); C3D and
-    MMM files declare their own. A C3D file that ends before its declared frames is
-    a :class:`~oacdsl.errors.TruncatedRecording` unless ``allow_truncated`` (then a
+    MMM files declare their own. A C3D file that ends before its declared frames, or a
+    TSV or CSV file whose last line has no line end (cut short), is a
+    :class:`~oacdsl.errors.TruncatedRecording` unless ``allow_truncated`` (then a
     :class:`~oacdsl.errors.RecordingWarning` and its complete frames). Every reader
     checks the limits of :mod:`~oacdsl.segmentation.readers.limits`: a bad file is an
     :class:`~oacdsl.errors.InvalidRecording` (exit 1), a missing or special file
@@ -76,7 +77,7 @@ def read_recording(
         fmt = format_of(path)
     elif fmt not in FORMATS:
         raise RecordingError(
-            f"unknown recording format {fmt!r}{did_you_mean(fmt, FORMATS)}", location=str(path)
+            f"unknown recording format {clip(fmt)}{did_you_mean(fmt, FORMATS)}", location=str(path)
         )
     check_regular(path)  # before anything opens it: /dev/zero or a FIFO would be read for ever
     if units is not None and fmt not in ("tsv", "csv"):
@@ -85,7 +86,11 @@ def read_recording(
         )
     if fmt == "c3d":
         return read_c3d(path, allow_truncated=allow_truncated)
-    return _reader(fmt)(path, units=units) if units is not None else _reader(fmt)(path)
+    if fmt == "mmm":
+        return _reader(fmt)(path)
+    if units is not None:
+        return _reader(fmt)(path, units=units, allow_truncated=allow_truncated)
+    return _reader(fmt)(path, allow_truncated=allow_truncated)
 
 
 def write_recording(recording: Recording, path: str | Path, fmt: str | None = None) -> Path:

@@ -7,9 +7,9 @@ from collections.abc import Iterable
 import numpy as np
 
 from oacdsl.errors import InvalidRecording, did_you_mean
-from oacdsl.segmentation.readers.limits import Label, check_rate, check_times
+from oacdsl.segmentation.readers.limits import Label, check_rate, check_times, clip
 
-__all__ = ["UNIT_TO_M", "metres_per_unit", "unique_names", "rate_from_times"]
+__all__ = ["UNIT_TO_M", "clip", "metres_per_unit", "unique_names", "rate_from_times"]
 
 #: Length units a recording may declare, and their size in metres.
 UNIT_TO_M: dict[str, float] = {"mm": 1e-3, "cm": 1e-2, "dm": 1e-1, "m": 1.0}
@@ -19,7 +19,9 @@ def metres_per_unit(unit: str, location: str, what: str = "unit") -> float:
     """Size of ``unit`` in metres; an unknown unit is an :class:`InvalidRecording`."""
     key = unit.strip().lower()
     if key not in UNIT_TO_M:
-        raise InvalidRecording(f"unknown {what} {unit!r}{did_you_mean(key, UNIT_TO_M)}", location=location)
+        raise InvalidRecording(
+            f"unknown {what} {clip(unit)}{did_you_mean(key, UNIT_TO_M)}", location=location
+        )
     return UNIT_TO_M[key]
 
 

@@ -20,6 +20,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from oacdsl.errors import InvalidRecording, RecordingWarning, TruncatedRecording
+from oacdsl.segmentation.readers.c3d_agree import Param as _Param
+from oacdsl.segmentation.readers.c3d_agree import check_agreement
 from oacdsl.segmentation.readers.limits import check_size
 
 __all__ = ["C3dLayout", "RecordingWarning", "check_c3d_structure", "check_c3d_data_size"]
@@ -98,23 +100,8 @@ def check_c3d_structure(path: Path, data: bytes) -> C3dLayout:
         float_storage=_negative(scale_raw, processor),
         point_frames=point_frames,
     )
-    if layout.data_start_block and (layout.data_start_block - 1) * _BLOCK < end:
-        raise _fail(path, f"data section (block {layout.data_start_block}) overlaps the parameters")
+    check_agreement(path, data, params, processor, endian, end, point_frames)
     return layout
-
-
-@dataclass(frozen=True)
-class _Param:
-    element: int  # -1 char, 1 byte, 2 int16, 4 float
-    dims: tuple[int, ...]
-    raw: bytes
-
-    @property
-    def count(self) -> int:
-        n = 1
-        for d in self.dims:
-            n *= d
-        return n
 
 
 def _walk_parameters(

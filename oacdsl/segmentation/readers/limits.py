@@ -46,6 +46,7 @@ __all__ = [
     "check_regular",
     "check_size",
     "check_times",
+    "clip",
     "open_regular",
     "read_regular",
 ]
@@ -68,6 +69,18 @@ _KINDS = [
 ]  # anything else: "a special file"
 
 Label = Callable[[int], str]
+
+
+_SHOWN = 40  # characters of an input value shown in a message
+
+
+def clip(text: str, limit: int = _SHOWN, *, quoted: bool = True) -> str:
+    """``repr(text)`` (or ``text``), clipped to ``limit`` characters, with its length when longer:
+    a 6 MB field is not echoed whole into a message."""
+    show = repr if quoted else str
+    if len(text) <= limit:
+        return show(text)
+    return f"{show(text[:limit])}… ({len(text)} characters)"
 
 
 def _kind(mode: int) -> str:
@@ -202,7 +215,7 @@ def check_coordinates(positions_m: np.ndarray, names: Sequence[str], location: s
         frame, marker, axis = (int(v) for v in np.argwhere(bad)[0])
         value = positions_m[frame, marker, axis]
         raise InvalidRecording(
-            f"{label(frame)}: marker {names[marker]!r} has {'xyz'[axis]} = {_show(value)} m; a coordinate"
+            f"{label(frame)}: marker {clip(names[marker])} has {'xyz'[axis]} = {_show(value)} m; a coordinate"
             f" must be finite and within ±{MAX_COORDINATE_M:g} m (NaN or an empty field is a gap)",
             location=location,
         )

@@ -24,7 +24,7 @@ import numpy as np
 
 from oacdsl.errors import InvalidRecording
 from oacdsl.segmentation.readers._common import rate_from_times
-from oacdsl.segmentation.readers.limits import MAX_COORDINATE_M, MAX_POSITION_BYTES, check_size
+from oacdsl.segmentation.readers.limits import MAX_COORDINATE_M, MAX_POSITION_BYTES, check_size, clip
 from oacdsl.segmentation.readers.safexml import SafeXmlReader
 from oacdsl.segmentation.recording import Recording
 
@@ -41,6 +41,7 @@ class _Motion:
         self.subject = False
         self.frames: dict[float, dict[str, tuple[float, float, float]]] = {}
         self.markers: dict[str, None] = {}  # insertion-ordered set
+        self.lines: dict[float, int] = {}  # timestep → line of its Measurement, in the current sensor
 
     @property
     def group(self) -> str:
@@ -72,19 +73,27 @@ class _Parser(SafeXmlReader):
         self.depth += 1
         if self.depth == 1 and tag != "MMM":
             raise InvalidRecording(
-                f"not an MMM motion file: the root element is <{tag}>, not <MMM>", location=self.location
+                f"not an MMM motion file: the root element is <{clip(tag, quoted=False)}>, not <MMM>",
+                location=self.location,
             )
         if tag == "Motion" and self.depth == 2:
             self.motion = _Motion(attrs.get("name") or f"motion{len(self.motions) + 1}")
             self.motions.append(self.motion)
         elif tag == "Sensor" and self.motion is not None:
             self.sensor = attrs.get("type")
+            self.motion.lines = {}
             if self.sensor == "Kinematic":
                 self.motion.subject = True
         elif tag == "ModelProcessorConfig" and self.motion is not None:
             self.motion.subject = True
-        elif tag == "Measurement" and self.sensor == "MoCapMarker":
+        elif tag == "Measurement" and self.sensor == "MoCapMarker" and self.motion is not None:
             self.timestep = self.parse_timestep(attrs.get("timestep"))
+            if self.timestep in self.motion.lines:  # one would overwrite the other's markers
+                raise self.fail(
+                    f"motion {clip(self.motion.name)}: Measurement timestep {self.timestep:g} repeats the"
+                    f" one at line {self.motion.lines[self.timestep]} (timesteps within 1 µs are one frame)"
+                )
+            self.motion.lines[self.timestep] = self.expat.CurrentLineNumber
         elif tag == "MarkerPosition" and self.timestep is not None and self.motion is not None:
             self.marker = attrs.get("name") or ""
             self.text = []
@@ -98,7 +107,11 @@ class _Parser(SafeXmlReader):
         if tag == "MarkerPosition" and self.marker is not None and self.motion is not None:
             name, motion, t = self.marker, self.motion, self.timestep or 0.0
             motion.markers.setdefault(name)
-            motion.frames.setdefault(t, {})[name] = self.parse_xyz("".join(self.text), name, t, motion)
+            frame = motion.frames.setdefault(t, {})
+            if name in frame:
+                where = f"motion {clip(motion.name)}, timestep {t:g}"
+                raise self.fail(f"{where}: MarkerPosition {clip(name)} twice")
+            frame[name] = self.parse_xyz("".join(self.text), name, t, motion)
             self.marker = None
             self.points += 1
             if self.points > _MAX_POINTS:
@@ -116,17 +129,17 @@ class _Parser(SafeXmlReader):
         except ValueError:
             value = float("nan")
         if not math.isfinite(value):
-            where = f"motion {self.motion.name!r}: " if self.motion else ""
-            raise self.fail(f"{where}Measurement timestep {text!r} is not a number")
+            where = f"motion {clip(self.motion.name)}: " if self.motion else ""
+            raise self.fail(f"{where}Measurement timestep {clip(text or '')} is not a number")
         return round(value, _TIME_DECIMALS)
 
     def parse_xyz(self, text: str, name: str, t: float, motion: _Motion) -> tuple[float, float, float]:
-        where = f"motion {motion.name!r}, timestep {t:g}: MarkerPosition {name!r}"
+        where = f"motion {clip(motion.name)}, timestep {t:g}: MarkerPosition {clip(name)}"
         parts = text.split()
         try:
             x, y, z = (float(v) for v in parts)
         except ValueError:
-            raise self.fail(f"{where} is {text!r}, expected three numbers (mm)") from None
+            raise self.fail(f"{where} is {clip(text)}, expected three numbers (mm)") from None
         for axis, v in zip("xyz", (x, y, z), strict=True):
             if not (abs(v) * _MM_TO_M <= MAX_COORDINATE_M or math.isnan(v)):
                 raise self.fail(

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from oacdsl.segmentation.readers.limits import MAX_COORDINATE_M
+from oacdsl.segmentation.readers.limits import MAX_COORDINATE_M, clip
 from oacdsl.segmentation.readers.safexml import SafeXmlReader
 
 __all__ = ["ModelPoses", "read_model_poses", "rpy_matrix"]
@@ -100,13 +100,14 @@ class _PoseParser(SafeXmlReader):
             self.motion = None
 
     def measurement(self) -> tuple[float, list[float], list[float]]:
-        where = f"motion {self.motion!r}, timestep {self.timestep}"
+        where = f"motion {clip(self.motion or '')}, timestep {clip(self.timestep or '', quoted=False)}"
         try:
             time = float(self.timestep or "")
         except ValueError:
             time = math.nan
         if not math.isfinite(time):
-            raise self.fail(f"motion {self.motion!r}: ModelPose timestep {self.timestep!r} is not a number")
+            where = f"motion {clip(self.motion or '')}"
+            raise self.fail(f"{where}: ModelPose timestep {clip(self.timestep or '')} is not a number")
         out = []
         for what, limit in (("RootPosition", MAX_COORDINATE_M / _MM_TO_M), ("RootRotation", 1e3)):
             text = self.values.get(what)
@@ -115,7 +116,7 @@ class _PoseParser(SafeXmlReader):
             except ValueError:
                 numbers = []
             if len(numbers) != 3 or not all(abs(v) <= limit for v in numbers):
-                raise self.fail(f"{where}: {what} is {text!r}, expected three finite numbers")
+                raise self.fail(f"{where}: {what} is {clip(text or '')}, expected three finite numbers")
             out.append(numbers)
         return time, out[0], out[1]
 

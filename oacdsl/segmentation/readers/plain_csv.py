@@ -16,7 +16,9 @@ Accepted layout (comma-separated, one header row, one row per frame)::
 * A gap is an empty field or ``nan`` (one missing coordinate blanks the point).
 * Groups: by name prefix (``cup_1`` → ``cup``).
 
-The ``units`` argument overrides the ``# units:`` line.
+The ``units`` argument overrides the ``# units:`` line. A column named twice is an
+error (one would hide the other). The file is read in bounded memory
+(:mod:`~oacdsl.segmentation.readers.textrows`).
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ import numpy as np
 
 from oacdsl.errors import InvalidRecording
 from oacdsl.segmentation.grouping import prefix_groups
-from oacdsl.segmentation.readers._common import metres_per_unit, rate_from_times
+from oacdsl.segmentation.readers._common import clip, metres_per_unit, rate_from_times
 from oacdsl.segmentation.readers.limits import (
     check_coordinates,
     check_frame_numbers,
@@ -37,7 +39,7 @@ from oacdsl.segmentation.readers.limits import (
     check_size,
     check_times,
 )
-from oacdsl.segmentation.readers.qualisys_tsv import line_label, parse_table, read_text
+from oacdsl.segmentation.readers.textrows import Lines, read_rows, scan_text
 from oacdsl.segmentation.recording import Recording
 
 __all__ = ["read_csv"]
@@ -46,88 +48,138 @@ _AXIS = re.compile(r"^(?P<marker>.+?)(?:[_.]| )(?P<axis>[xyz])$", re.IGNORECASE)
 _META = re.compile(r"^#\s*(?P<key>[a-z_]+)\s*[:=]\s*(?P<value>\S+)\s*$", re.IGNORECASE)
 
 
-def _split(line: str, line_no: int, location: str) -> list[str]:
+def _split(line: str, line_no: int, location: str = "") -> list[str]:
     """The fields of one line: a quote never joins lines (a recording's fields hold no line breaks)."""
+    if '"' not in line:
+        return line.split(",")  # what csv.reader gives for a line without quotes
     try:
         return next(csv.reader((line,)))
     except csv.Error as err:
         raise InvalidRecording(f"line {line_no}: {err}", location=location) from None
 
 
-def read_csv(path: str | Path, units: str | None = None) -> Recording:
-    """Read the plain CSV layout described in this module into a :class:`Recording` (limits.py checked)."""
-    path = Path(path)
-    location = str(path)
-    lines = read_text(path)
-    meta: dict[str, tuple[int, str]] = {}
-    i = 0
-    while i < len(lines) and (lines[i].startswith("#") or not lines[i].strip()):
-        match = _META.match(lines[i].strip())
-        if match:
-            meta[match["key"].lower()] = (i + 1, match["value"])
-        i += 1
-    if i == len(lines):
-        raise InvalidRecording("no header row (expected frame,time,<marker>_x,…)", location=location)
-    header = [h.strip() for h in _split(lines[i], i + 1, location)]
-    to_m = metres_per_unit(units or meta.get("units", (0, "m"))[1], location)
-    check_size(0, len(header) // 3, location)  # before the columns are sorted out
+Columns = tuple[int | None, int | None, dict[str, dict[str, int]]]
 
+
+def _columns(header: list[str], line_no: int, location: str) -> Columns:
+    """The frame column, the time column and each marker's x, y, z columns (0-based)."""
     frame_col = time_col = None
     axes: dict[str, dict[str, int]] = {}
+    seen: dict[tuple[str, str], int] = {}
     for c, name in enumerate(header):
         low = name.lower()
         if low == "frame":
-            frame_col = c
+            key = ("frame", "")
         elif low in ("time", "time_s"):
-            time_col = c
+            key = ("time", "")
         elif match := _AXIS.match(name):
-            axes.setdefault(match["marker"], {})[match["axis"].lower()] = c
+            key = (match["marker"], match["axis"].lower())
         else:
             raise InvalidRecording(
-                f"line {i + 1}: column {name!r} is not frame, time or <marker>_x/_y/_z", location=location
+                f"line {line_no}: column {clip(name)} is not frame, time or <marker>_x/_y/_z",
+                location=location,
             )
+        if key in seen:
+            what = f"marker {clip(key[0])}'s {key[1]}" if key[1] else f"the {key[0]}"
+            raise InvalidRecording(
+                f"line {line_no}: columns {seen[key] + 1} and {c + 1} ({clip(header[seen[key]])},"
+                f" {clip(name)}) both hold {what}; a column may appear once",
+                location=location,
+            )
+        seen[key] = c
+        if key[0] == "frame" and not key[1]:
+            frame_col = c
+        elif key[0] == "time" and not key[1]:
+            time_col = c
+        else:
+            axes.setdefault(key[0], {})[key[1]] = c
     incomplete = [m for m, a in axes.items() if set(a) != {"x", "y", "z"}]
     if incomplete:
         raise InvalidRecording(
-            f"line {i + 1}: marker {incomplete[0]!r} lacks some of its _x, _y, _z columns", location=location
+            f"line {line_no}: marker {clip(incomplete[0])} lacks some of its _x, _y, _z columns",
+            location=location,
         )
     if not axes:
-        raise InvalidRecording(f"line {i + 1}: no marker columns (<marker>_x, _y, _z)", location=location)
-    text_rows = [(i + 2 + k, line) for k, line in enumerate(lines[i + 1 :]) if line.strip()]
-    if not text_rows:
-        raise InvalidRecording("the recording has no frames", location=location)
-    check_size(len(text_rows), len(axes), location, extra_values=2 * len(text_rows))
-    rows = [(n, _split(t, n, location)) for n, t in text_rows]
-    table = parse_table(rows, len(header), location)
-    label = line_label(rows)
+        raise InvalidRecording(f"line {line_no}: no marker columns (<marker>_x, _y, _z)", location=location)
+    return frame_col, time_col, axes
 
+
+def read_csv(path: str | Path, units: str | None = None, *, allow_truncated: bool = False) -> Recording:
+    """Read the plain CSV layout described in this module into a :class:`Recording` (limits.py checked).
+
+    A file cut inside its last line is a :class:`~oacdsl.errors.TruncatedRecording`
+    unless ``allow_truncated`` (that line is left out, with a warning).
+    """
+    path = Path(path)
+    location = str(path)
+    text = scan_text(path)
+    lines = Lines(text, allow_truncated=allow_truncated)
+    meta: dict[str, tuple[int, str]] = {}
+    taken = 0
+    while (line := lines.peek()) is not None and (line[1].startswith("#") or not line[1].strip()):
+        match = _META.match(line[1].strip())
+        if match:
+            meta[match["key"].lower()] = (line[0], match["value"])
+        taken += bool(line[1].strip())
+        next(lines)
+    if line is None:
+        raise InvalidRecording("no header row (expected frame,time,<marker>_x,…)", location=location)
+    next(lines)
+    header_line = line[0]
+    header = [h.strip() for h in _split(line[1], header_line, location)]
+    to_m = metres_per_unit(units or meta.get("units", (0, "m"))[1], location)
+    check_size(0, len(header) // 3, location)  # before the columns are sorted out
+    frame_col, time_col, axes = _columns(header, header_line, location)
     names = tuple(axes)
     order = [axes[m][a] for m in names for a in "xyz"]
-    positions = table[:, order].reshape(len(rows), len(names), 3) * to_m
-    check_coordinates(positions, names, location, label)
-    positions[np.isnan(positions).any(axis=-1)] = np.nan  # a partial point is a gap
+    capacity = text.nonblank - taken - 1  # data rows at most
+    check_size(capacity, len(axes), location, extra_values=2 * capacity)
+    positions = np.empty((max(capacity, 0), len(names), 3))
+    lead = np.full((max(capacity, 0), 2), np.nan)  # frame and time columns
+    line_of = np.empty(max(capacity, 0), dtype=np.int64)
+
+    def take(row: int, numbers: np.ndarray, values: np.ndarray) -> None:
+        k = len(numbers)
+        line_of[row : row + k] = numbers
+        block = positions[row : row + k]
+        block[...] = values[:, order].reshape(k, len(names), 3)
+        block *= to_m
+        check_coordinates(block, names, location, lambda i: f"line {numbers[i]}")
+        block[np.isnan(block).any(axis=-1)] = np.nan  # a partial point is a gap
+        for j, col in enumerate((frame_col, time_col)):
+            if col is not None:
+                lead[row : row + k, j] = values[:, col]
+
+    n = read_rows(lines, lambda t, no: _split(t, no, location), len(header), capacity, take, sep=",")
+    if not n:
+        raise InvalidRecording("the recording has no frames", location=location)
+    positions, lead, line_of = positions[:n], lead[:n], line_of[:n]
+
+    def label(i: int) -> str:
+        return f"line {line_of[i]}"
+
     if "rate_hz" in meta:
-        line, value = meta["rate_hz"]
+        line_no, value = meta["rate_hz"]
         try:
             rate = float(value)
         except ValueError:
             raise InvalidRecording(
-                f"line {line}: rate_hz {value!r} is not a number", location=location
+                f"line {line_no}: rate_hz {clip(value)} is not a number", location=location
             ) from None
-        check_rate(rate, location, f"line {line}: rate_hz")
+        check_rate(rate, location, f"line {line_no}: rate_hz")
         if time_col is not None:
-            check_times(table[:, time_col], location, label)
+            check_times(lead[:, 1], location, label)
     elif time_col is not None:
-        rate = rate_from_times(table[:, time_col], location, label)
+        rate = rate_from_times(lead[:, 1], location, label)
     else:
         raise InvalidRecording(
             "no time column and no '# rate_hz:' line: the frame rate is unknown", location=location
         )
-    times = table[:, time_col] - table[0, time_col] if time_col is not None else np.arange(len(rows)) / rate
+    times = lead[:, 1] - lead[0, 1] if time_col is not None else np.arange(n) / rate
     first = 0
     if frame_col is not None:
-        check_frame_numbers(table[:, frame_col], location, label)
-        first = int(table[0, frame_col])
-    index = {n: k for k, n in enumerate(names)}
-    groups = {g: tuple(index[n] for n in members) for g, members in prefix_groups(names).items()}
+        check_frame_numbers(lead[:, 0], location, label)
+        first = int(lead[0, 0])
+    index = {name: k for k, name in enumerate(names)}
+    groups = {g: tuple(index[name] for name in members) for g, members in prefix_groups(names).items()}
     return Recording(location, rate, times, names, positions, groups, first)

@@ -8,6 +8,7 @@ or a point whose three coordinates are exactly 0 (what older QTM versions write)
 Positions are millimetres unless ``units`` says otherwise. ``first_frame`` is the
 first value of the ``Frame`` column (QTM counts from 1). Groups: by name prefix
 (``pillow_top`` → ``pillow``; see :func:`~oacdsl.segmentation.grouping.prefix_groups`).
+The file is read in bounded memory (:mod:`~oacdsl.segmentation.readers.textrows`).
 """
 
 from __future__ import annotations
@@ -18,34 +19,21 @@ import numpy as np
 
 from oacdsl.errors import InvalidRecording
 from oacdsl.segmentation.grouping import prefix_groups
-from oacdsl.segmentation.readers._common import metres_per_unit, rate_from_times, unique_names
+from oacdsl.segmentation.readers._common import clip, metres_per_unit, rate_from_times, unique_names
 from oacdsl.segmentation.readers.limits import (
-    Label,
     check_coordinates,
     check_frame_numbers,
     check_rate,
     check_size,
     check_times,
-    read_regular,
 )
+from oacdsl.segmentation.readers.textrows import Lines, read_rows, scan_text
 from oacdsl.segmentation.recording import Recording
 
-__all__ = ["line_label", "parse_table", "read_text", "read_tsv"]
+__all__ = ["read_tsv"]
 
 
-def read_text(path: Path) -> list[str]:
-    """The file's lines (UTF-8, else Latin-1), without line ends; a regular file only (limits.py)."""
-    raw = read_regular(path)
-    if b"\x00" in raw[:4096]:
-        raise InvalidRecording("binary data in a text recording", location=str(path))
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        text = raw.decode("latin-1")
-    return text.splitlines()
-
-
-def _fields(line: str) -> list[str]:
+def _fields(line: str, _line_no: int = 0) -> list[str]:
     fields = line.split("\t")
     if len(fields) > 1 and fields[-1].strip() == "":
         fields.pop()  # the trailing tab QTM writes
@@ -57,45 +45,8 @@ def _number(text: str, what: str, line_no: int, location: str) -> float:
         return float(text)
     except ValueError:
         raise InvalidRecording(
-            f"line {line_no}: {what} {text!r} is not a number", location=location
+            f"line {line_no}: {what} {clip(text)} is not a number", location=location
         ) from None
-
-
-_CHUNK_FIELDS = 1 << 20  # fields converted at once: bounds the temporary strings (~60 MB)
-
-
-def parse_table(rows: list[tuple[int, list[str]]], width: int, location: str) -> np.ndarray:
-    """(rows, width) floats from text fields; an empty field or ``nan`` is NaN.
-
-    ``rows`` holds (1-based line number, fields); a row of another width or a
-    field that is not a number is an error naming its line. The caller bounds
-    ``rows × width`` (:func:`~oacdsl.segmentation.readers.limits.check_size`); the
-    text is converted in chunks. Values are not range-checked here.
-    """
-    table = np.empty((len(rows), width), dtype=np.float64)
-    step = max(1, _CHUNK_FIELDS // max(width, 1))
-    for start in range(0, len(rows), step):
-        chunk = rows[start : start + step]
-        flat: list[str] = []
-        for line_no, fields in chunk:
-            if len(fields) != width:
-                raise InvalidRecording(
-                    f"line {line_no}: {len(fields)} fields, expected {width}", location=location
-                )
-            flat.extend(f.strip() or "nan" for f in fields)
-        try:
-            table[start : start + len(chunk)] = np.array(flat, dtype=np.float64).reshape(len(chunk), width)
-        except ValueError:
-            for line_no, fields in chunk:  # find the culprit for the message
-                for text in fields:
-                    _number(text.strip() or "nan", "value", line_no, location)
-            raise InvalidRecording(f"line {chunk[0][0]}: unreadable numbers", location=location) from None
-    return table
-
-
-def line_label(rows: list[tuple[int, list[str]]]) -> Label:
-    """``label(i)`` = ``line N`` of data row ``i``, for the checks of limits.py."""
-    return lambda i: f"line {rows[i][0]}"
 
 
 def _is_number(text: str) -> bool:
@@ -107,30 +58,43 @@ def _is_number(text: str) -> bool:
     return True
 
 
-def _header(lines: list[str], location: str) -> tuple[dict[str, tuple[int, list[str]]], int]:
-    """The ``KEY<TAB>value…`` lines: KEY → (line number, values); and the index of the next line."""
+def _header(lines: Lines, location: str) -> tuple[dict[str, tuple[int, list[str]]], int]:
+    """The ``KEY<TAB>value…`` lines: KEY → (line number, values); and how many lines they took."""
     header: dict[str, tuple[int, list[str]]] = {}
-    i = 0
-    while i < len(lines):
-        fields = _fields(lines[i])
+    taken = 0
+    while (line := lines.peek()) is not None:
+        fields = _fields(line[1])
         key = fields[0].strip()
         if not key or _is_number(key) or key.lower() == "frame":
             break
-        header[key.upper()] = (i + 1, [f.strip() for f in fields[1:]])
-        i += 1
+        header[key.upper()] = (line[0], [f.strip() for f in fields[1:]])
+        next(lines)
+        taken += 1
     for key in ("NO_OF_FRAMES", "NO_OF_MARKERS", "FREQUENCY"):
         if key in header and not (header[key][1] and header[key][1][0]):
             raise InvalidRecording(f"line {header[key][0]}: {key} has no value", location=location)
-    return header, i
+    return header, taken
 
 
-def read_tsv(path: str | Path, units: str = "mm") -> Recording:
-    """Read a QTM TSV export into a :class:`Recording` (metres, NaN gaps; limits.py checked)."""
+def _first_data_line(lines: Lines) -> tuple[int, str] | None:
+    """Skip blank lines; the first data line, not taken."""
+    while (line := lines.peek()) is not None and not line[1].strip():
+        next(lines)
+    return line
+
+
+def read_tsv(path: str | Path, units: str = "mm", *, allow_truncated: bool = False) -> Recording:
+    """Read a QTM TSV export into a :class:`Recording` (metres, NaN gaps; limits.py checked).
+
+    A file cut inside its last line is a :class:`~oacdsl.errors.TruncatedRecording`
+    unless ``allow_truncated`` (that line is left out, with a warning).
+    """
     path = Path(path)
     location = str(path)
     to_m = metres_per_unit(units, location)
-    lines = read_text(path)
-    header, i = _header(lines, location)
+    text = scan_text(path)
+    lines = Lines(text, allow_truncated=allow_truncated)
+    header, taken = _header(lines, location)
     if "MARKER_NAMES" not in header:
         raise InvalidRecording("not a Qualisys TSV export: no MARKER_NAMES line", location=location)
     n_markers = len(header["MARKER_NAMES"][1])
@@ -143,50 +107,68 @@ def read_tsv(path: str | Path, units: str = "mm") -> Recording:
     if "NO_OF_MARKERS" in header and header["NO_OF_MARKERS"][1][0] != str(n_markers):
         line, value = header["NO_OF_MARKERS"][0], header["NO_OF_MARKERS"][1][0]
         raise InvalidRecording(
-            f"line {line}: NO_OF_MARKERS is {value} but MARKER_NAMES lists {n_markers}", location=location
-        )
-    has_frame_time = False
-    if i < len(lines) and _fields(lines[i])[0].strip().lower() == "frame":
-        columns = [c.strip().lower() for c in _fields(lines[i])]
-        has_frame_time = columns[:2] == ["frame", "time"]
-        i += 1
-    text_rows = [(n + 1, lines[n]) for n in range(i, len(lines)) if lines[n].strip()]
-    width = 3 * n_markers + (2 if has_frame_time else 0)
-    if text_rows and not has_frame_time and len(_fields(text_rows[0][1])) == 3 * n_markers + 2:
-        has_frame_time, width = True, 3 * n_markers + 2  # no column header, but Frame and Time columns
-    if not text_rows:
-        raise InvalidRecording("the recording has no frames", location=location)
-    if "NO_OF_FRAMES" in header and header["NO_OF_FRAMES"][1][0] != str(len(text_rows)):
-        line, value = header["NO_OF_FRAMES"][0], header["NO_OF_FRAMES"][1][0]
-        raise InvalidRecording(
-            f"line {line}: NO_OF_FRAMES is {value} but the file holds {len(text_rows)} data rows",
+            f"line {line}: NO_OF_MARKERS is {clip(value, quoted=False)} but MARKER_NAMES lists {n_markers}",
             location=location,
         )
-    check_size(len(text_rows), n_markers, location, extra_values=2 * len(text_rows))
-    rows = [(n, _fields(line)) for n, line in text_rows]
-    table = parse_table(rows, width, location)
-    label = line_label(rows)
-    xyz = table[:, 2:] if has_frame_time else table
-    positions = xyz.reshape(len(rows), n_markers, 3) * to_m
-    check_coordinates(positions, names, location, label)
-    positions[np.all(positions == 0.0, axis=-1) | np.isnan(positions).any(axis=-1)] = np.nan
+    has_frame_time = False
+    first = _first_data_line(lines)
+    if first is not None and _fields(first[1])[0].strip().lower() == "frame":
+        columns = [c.strip().lower() for c in _fields(first[1])]
+        has_frame_time = columns[:2] == ["frame", "time"]
+        next(lines)
+        taken += 1
+        first = _first_data_line(lines)
+    width = 3 * n_markers + (2 if has_frame_time else 0)
+    if first is not None and not has_frame_time and len(_fields(first[1])) == 3 * n_markers + 2:
+        has_frame_time, width = True, 3 * n_markers + 2  # no column header, but Frame and Time columns
+    capacity = text.nonblank - taken  # data rows at most
+    check_size(capacity, n_markers, location, extra_values=2 * capacity)
+    positions = np.empty((max(capacity, 0), n_markers, 3))
+    lead = np.empty((max(capacity, 0), 2))  # Frame and Time columns
+    line_of = np.empty(max(capacity, 0), dtype=np.int64)
+
+    def take(row: int, numbers: np.ndarray, values: np.ndarray) -> None:
+        k = len(numbers)
+        line_of[row : row + k] = numbers
+        block = positions[row : row + k]
+        block[...] = (values[:, 2:] if has_frame_time else values).reshape(k, n_markers, 3)
+        block *= to_m
+        check_coordinates(block, names, location, lambda i: f"line {numbers[i]}")
+        block[np.all(block == 0.0, axis=-1) | np.isnan(block).any(axis=-1)] = np.nan
+        if has_frame_time:
+            lead[row : row + k] = values[:, :2]
+
+    n = read_rows(lines, _fields, width, capacity, take, sep="\t", trailing_sep=True)
+    if not n:
+        raise InvalidRecording("the recording has no frames", location=location)
+    positions, lead, line_of = positions[:n], lead[:n], line_of[:n]
+    if "NO_OF_FRAMES" in header and header["NO_OF_FRAMES"][1][0] != str(n + lines.dropped):
+        line, value = header["NO_OF_FRAMES"][0], header["NO_OF_FRAMES"][1][0]
+        raise InvalidRecording(
+            f"line {line}: NO_OF_FRAMES is {clip(value, quoted=False)} but the file holds {n} data rows",
+            location=location,
+        )
+
+    def label(i: int) -> str:
+        return f"line {line_of[i]}"
+
     if has_frame_time:
-        check_frame_numbers(table[:, 0], location, label)
+        check_frame_numbers(lead[:, 0], location, label)
     if "FREQUENCY" in header:
         line, value = header["FREQUENCY"][0], header["FREQUENCY"][1][0]
         rate = check_rate(_number(value, "FREQUENCY", line, location), location, f"line {line}: FREQUENCY")
         if has_frame_time:
-            check_times(table[:, 1], location, label)
-        times = table[:, 1] - table[0, 1] if has_frame_time else np.arange(len(rows)) / rate
+            check_times(lead[:, 1], location, label)
+        times = lead[:, 1] - lead[0, 1] if has_frame_time else np.arange(n) / rate
     elif has_frame_time:
-        times = table[:, 1] - table[0, 1]
-        rate = rate_from_times(table[:, 1], location, label)
+        times = lead[:, 1] - lead[0, 1]
+        rate = rate_from_times(lead[:, 1], location, label)
     else:
         raise InvalidRecording(
             "no FREQUENCY line and no Time column: the frame rate is unknown", location=location
         )
-    first = int(table[0, 0]) if has_frame_time else 0
+    first_frame = int(lead[0, 0]) if has_frame_time else 0
     groups = prefix_groups(names)
-    index = {n: k for k, n in enumerate(names)}
-    by_index = {g: tuple(index[n] for n in members) for g, members in groups.items()}
-    return Recording(location, float(rate), times, names, positions, by_index, first)
+    index = {name: k for k, name in enumerate(names)}
+    by_index = {g: tuple(index[name] for name in members) for g, members in groups.items()}
+    return Recording(location, float(rate), times, names, positions, by_index, first_frame)

@@ -1,0 +1,92 @@
+"""The run store's file format: its marks, schema and migrations, and the row types.
+
+:class:`~oacdsl.stats.store.RunStore` opens, checks and writes the file; this module
+says what a sound one holds.
+"""
+
+from __future__ import annotations
+
+import sqlite3
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from datetime import datetime, timezone
+from typing import Any
+
+__all__ = ["APPLICATION_ID", "BUSY_TIMEOUT_MS", "REQUIRED", "SCHEMA_VERSION", "Outcome"]
+
+#: ``PRAGMA application_id`` of an oacdsl run store: the bytes "OACD".
+APPLICATION_ID = 0x4F414344
+#: ``PRAGMA user_version`` this code writes; older files are migrated, newer refused.
+SCHEMA_VERSION = 1
+#: How long a writer waits for another one's lock before giving up, milliseconds.
+BUSY_TIMEOUT_MS = 30_000
+
+_SQLITE_MAGIC = b"SQLite format 3\x00"
+
+_SCHEMA_V1 = """
+CREATE TABLE runs (
+    run_id        TEXT PRIMARY KEY,
+    time_utc      TEXT NOT NULL,
+    oac           TEXT NOT NULL,
+    success       INTEGER NOT NULL CHECK (success IN (0, 1)),
+    recording     TEXT,
+    seed          INTEGER,
+    fidelity      REAL CHECK (fidelity IS NULL OR (fidelity >= 0 AND fidelity <= 1)),
+    edit_distance INTEGER,
+    command       TEXT
+);
+CREATE TABLE outcomes (
+    run_id     TEXT NOT NULL REFERENCES runs(run_id) ON DELETE CASCADE,
+    position   INTEGER NOT NULL,
+    oac        TEXT NOT NULL,
+    binding    TEXT NOT NULL,
+    success    INTEGER NOT NULL CHECK (success IN (0, 1)),
+    duration_s REAL,
+    error      TEXT,
+    PRIMARY KEY (run_id, position)
+);
+CREATE INDEX outcomes_by_oac ON outcomes(oac);
+CREATE VIEW outcome_rows AS
+    SELECT o.run_id, r.time_utc, o.position, o.oac, o.binding, o.success, o.duration_s, o.error,
+           r.recording, r.seed, r.fidelity, r.edit_distance, r.command, r.rowid AS run_seq
+    FROM outcomes AS o JOIN runs AS r USING (run_id);
+"""
+
+#: The tables and views a run store has.
+REQUIRED = frozenset({"runs", "outcomes", "outcome_rows"})
+
+#: Migrations from version N to N+1 (none yet: version 1 is the first).
+_MIGRATIONS: dict[int, str] = {}
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """The outcome of executing one OAC with one binding (``duration_s`` in seconds)."""
+
+    oac: str
+    binding: Mapping[str, str] = field(default_factory=dict)
+    success: bool = False
+    duration_s: float | None = None
+    error: str | None = None
+
+
+@dataclass(frozen=True)
+class _Fetched:
+    """A query's column description and rows, fetched while errors could still be caught."""
+
+    description: Any
+    rows: list[Any]
+
+    def fetchall(self) -> list[Any]:
+        return self.rows
+
+
+def _execute_script(conn: sqlite3.Connection, script: str) -> None:
+    """Run ``;``-separated DDL inside the current transaction (``executescript`` would commit)."""
+    for statement in script.split(";"):
+        if statement.strip():
+            conn.execute(statement)
+
+
+def _now_utc() -> str:
+    return datetime.now(timezone.utc).isoformat(timespec="milliseconds").replace("+00:00", "Z")

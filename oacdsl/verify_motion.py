@@ -1,0 +1,171 @@
+"""Motion per sub-action: is the execution's motion the demonstration's? (``faithful``)
+
+Each demonstrated sub-action (keyframe → keyframe after transient states are dropped) is
+paired with the execution's sub-action that the relations check aligned with it (a split:
+the span of its robot changes together). Both paths are the moved object's pose in its
+target's frame (:func:`~oacdsl.segmentation.motion.sub_action_motion`, the execution's
+re-expressed with the demonstration's moved object and target) and their features
+(:mod:`oacdsl.segmentation.motionfeatures`). Judged only where the demonstration's feature is
+reliable — both rigid fits' median residual below ``reliable_residual_m`` — and present:
+
+- **strokes / cycles**: the demonstration shows an oscillation (a period found) of at least
+  ``min_cycles`` cycles: the execution must oscillate with at least ``cycles_share`` of
+  them, its radius within ``amplitude_factor`` of the demonstration's;
+- **turn** about the target's axis (a lid): the demonstration turns ``min_turn_rad`` or
+  more: the execution turns at least ``turn_share`` of it, the same way round (either way
+  when hands may be exchanged: a mirrored take turns the other way);
+- **tilt** relative to the target (a pour): the tilt the object gains within the sub-action
+  reaches ``min_tilt_rad`` in the demonstration: the execution's gain must come within
+  ``tilt_reached_rad`` of it.
+
+A sub-action that *makes* the moved object's relation with its target (brings it there) is
+not judged: a transport carries the object however the executor holds it; the work on the
+target happens while the relation holds and ends when it is broken (those are judged, and so
+are paths in the world's frame). A hand's own motion (reaching for an object, leaving it) is
+not judged: how a robot's hand approaches is its own business; nor is a liquid's (its balls
+are no rigid body). Cycles, turns and tilts do not
+depend on speed, frame rate or the room's frame.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from oacdsl.segmentation.motion import SubActionMotion, sub_action_motion
+from oacdsl.segmentation.motionfeatures import motion_features
+from oacdsl.segmentation.poses import ObjectPoses, relative
+from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.result import SubAction
+from oacdsl.verify_tolerances import VerifyTolerances
+
+__all__ = ["MotionCheck", "motion_checks", "tilt_gain"]
+
+
+@dataclass(frozen=True)
+class MotionCheck:
+    sub_action: int
+    feature: str  # cycles, turn, tilt
+    passed: bool
+    demonstration: str
+    execution: str
+    tolerance: str
+    detail: str
+    label: str  # "moved → target"
+
+
+def tilt_gain(T_target_object: np.ndarray) -> float:
+    """Largest tilt (rad) of the object relative to the target within the span, less its tilt at
+    the span's first posed frame."""
+    ok = np.isfinite(T_target_object[:, 0, 0])
+    if ok.sum() < 2:
+        return 0.0
+    tilt = np.arccos(np.clip(T_target_object[ok, 2, 2], -1.0, 1.0))
+    return float(tilt.max() - tilt[0])
+
+
+def _reexpressed(rec: Recording, a: int, b: int, moved: str, target: str | None,
+                 posed: Mapping[str, ObjectPoses]) -> np.ndarray | None:
+    if moved not in posed or (target is not None and target not in posed):
+        return None
+    T = posed[moved].T_world_object[a : b + 1]
+    if target is not None:
+        T = relative(posed[target].T_world_object[a : b + 1], T)
+    return T
+
+
+def motion_checks(
+    demo_rec: Recording,
+    demo_subs: Sequence[SubAction],
+    demo_posed: Mapping[str, ObjectPoses],
+    run_rec: Recording,
+    run_spans: Mapping[int, tuple[int, int]],
+    run_posed: Mapping[str, ObjectPoses],
+    name_map: Mapping[str, str],
+    tolerances: VerifyTolerances,
+    any_hands: bool,
+    liquids: frozenset[str] = frozenset(),
+) -> tuple[list[MotionCheck], list[str]]:
+    """The checks, and a note per demonstrated sub-action whose features are not judged.
+
+    ``run_spans``: demonstration sub-action index → the execution's frames ``(a, b)``
+    aligned with it; ``name_map``: demonstration instance → the execution's."""
+    checks: list[MotionCheck] = []
+    notes: list[str] = []
+    times = np.asarray(run_rec.times_s, dtype=np.float64)
+    for k, sub in enumerate(demo_subs):
+        d: SubActionMotion = sub_action_motion(demo_rec, sub, demo_posed)
+        if d.moved is None or d.features is None:
+            continue
+        label = f"{d.moved} → {d.target or 'world'}"
+        if d.moved == d.hand or d.moved in liquids:  # a hand reaching or leaving; a liquid's balls
+            continue  # are no rigid body
+        if d.relation == "made":
+            notes.append(f"sub-action {k + 1} ({label}): not judged, it brings the object to its target")
+            continue
+        if not (d.residual_m < tolerances.reliable_residual_m):
+            notes.append(f"sub-action {k + 1} ({label}): not judged, the rigid fit is loose"
+                         f" ({d.residual_m * 1000:.0f} mm)")
+            continue
+        feats = d.features
+        wanted = []
+        if feats.cycles is not None and feats.cycles >= tolerances.min_cycles:
+            wanted.append("cycles")
+        if abs(feats.twist_rad) >= tolerances.min_turn_rad:
+            wanted.append("turn")
+        gain = tilt_gain(d.T_target_object)
+        if gain >= tolerances.min_tilt_rad:
+            wanted.append("tilt")
+        if not wanted:
+            continue
+        span = run_spans.get(k)
+        moved = name_map.get(d.moved, d.moved)
+        target = None if d.target is None else name_map.get(d.target, d.target)
+        T = None if span is None else _reexpressed(run_rec, span[0], span[1], moved, target, run_posed)
+        for feature in wanted:
+            checks.append(_judge(k, feature, d, feats, gain, span, T, times, label, tolerances, any_hands))
+    return checks, notes
+
+
+def _judge(k: int, feature: str, d: SubActionMotion, feats: Any, gain: float,
+           span: tuple[int, int] | None, T: np.ndarray | None, times: np.ndarray, label: str,
+           tol: VerifyTolerances, any_hands: bool) -> MotionCheck:
+    def out(passed: bool, demo: str, run: str, tolerance: str, detail: str) -> MotionCheck:
+        return MotionCheck(k + 1, feature, passed, demo, run, tolerance, detail, label)
+
+    if feature == "cycles":
+        demo = f"{feats.cycles:.1f} cycles, radius {feats.radius_m * 1000:.0f} mm"
+        tolerance = f">= {tol.cycles_share:g} x the cycles, radius within x{tol.amplitude_factor:g}"
+    elif feature == "turn":
+        demo = f"{math.degrees(feats.twist_rad):+.0f}°"
+        tolerance = f">= {tol.turn_share:g} x the turn" + (", either way" if any_hands else ", same way")
+    else:
+        demo = f"{math.degrees(gain):.0f}°"
+        tolerance = f"within {math.degrees(tol.tilt_reached_rad):.0f}° of it"
+    if span is None or T is None:
+        why = "the execution has no sub-action aligned with it" if span is None else "no pose of the objects"
+        return out(False, demo, "—", tolerance, f"sub-action {k + 1} ({label}): {why}")
+    f = motion_features(times[span[0] : span[1] + 1], T)
+    if feature == "cycles":
+        low, high = feats.radius_m / tol.amplitude_factor, feats.radius_m * tol.amplitude_factor
+        enough = f.cycles is not None and f.cycles >= tol.cycles_share * feats.cycles
+        ok = enough and low <= f.radius_m <= high
+        run = ("no oscillation" if f.cycles is None else f"{f.cycles:.1f} cycles") + \
+            f", radius {f.radius_m * 1000:.0f} mm"
+        what = "strokes/circles"
+    elif feature == "turn":
+        same_way = any_hands or f.twist_rad * feats.twist_rad > 0
+        ok = same_way and abs(f.twist_rad) >= tol.turn_share * abs(feats.twist_rad)
+        run = f"{math.degrees(f.twist_rad):+.0f}°"
+        what = "turn about the target's axis"
+    else:
+        g = tilt_gain(T)
+        ok = g >= gain - tol.tilt_reached_rad
+        run = f"{math.degrees(g):.0f}°"
+        what = "tilt"
+    detail = "" if ok else f"sub-action {k + 1} ({label}): {what} {run}, demonstrated {demo}"
+    return out(ok, demo, run, tolerance, detail)
