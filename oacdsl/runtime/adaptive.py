@@ -195,7 +195,7 @@ def _recover(run: Run, step: Step) -> str:
     ctx, world = run.context, run.world
     done = []
     for name in step.binding.values():
-        if "Hand" not in ctx.classes.get(name, ()):
+        if name not in world.layout.hands:  # only the step's hands
             continue
         side = ctx.side(name)
         if world.held.get(side) is not None:
