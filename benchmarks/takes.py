@@ -103,9 +103,9 @@ def compose_file(path: Path, library: Path) -> Outcome:
         return done("segment", err.message, None)
     kf = len(segmentation.keyframes)
     matcher = Matcher.from_library(inputs.library, inputs.scene, mode="strict")
-    matches = match_segmentation(segmentation, matcher)
+    matches = match_segmentation(segmentation, matcher, unmerged=inputs.unmerged())
     for m in matches:
-        if m.result.chosen is None:
+        if not m.matched:
             sa = m.sub_action
             before, after = set(sa.before), set(sa.after)
             change = [f"+{'<->'.join(sorted(r))}" for r in sorted(after - before, key=sorted)]

@@ -163,7 +163,9 @@ def match(demonstration: Demonstration, segmentation: Segmentation | None = None
     from oacdsl.matching.demonstration import match_segmentation
 
     seg = segmentation if segmentation is not None else segment(demonstration.recording, demonstration.params)
-    return match_segmentation(seg, Matcher.from_library(demonstration.library, demonstration.scene))
+    unmerged = replace(demonstration.params, merge_s=0.0)  # when a keyframe is split
+    return match_segmentation(seg, Matcher.from_library(demonstration.library, demonstration.scene),
+                              unmerged=lambda: segment(demonstration.recording, unmerged))
 
 
 def compose(

@@ -108,6 +108,12 @@ class MatchingError(OacError):
     exit_code = 1
 
 
+class PlanningError(OacError):
+    """A planning task cannot be built or solved: a planner is missing, or no plan exists."""
+
+    exit_code = 1
+
+
 class RuntimeFailure(OacError):
     """Execution on the simulated robot failed (unreachable target, force limit, …)."""
 

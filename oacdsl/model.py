@@ -14,6 +14,7 @@ skill parameters keep each quantity with the unit it was written in
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
@@ -377,11 +378,14 @@ class Call(Node):
 
     ``skill_params`` (``pour(h, c, l, b) { tilt 105deg }``, sorted by name) override the
     named parameters of the called OAC's skill for this step (docs/language.md).
+    ``together``: the step may run together with the step before it (both are in one
+    ``together { … }`` block; the first step of a block has it False).
     """
 
     oac: str
     args: tuple[str, ...]
     skill_params: tuple[SkillParam, ...] = ()
+    together: bool = False
 
     @field_validator("skill_params")
     @classmethod
@@ -414,6 +418,11 @@ class Oac(Node):
     def _normalise_atoms(cls, v: tuple[Atom, ...]) -> tuple[Atom, ...]:
         return _atoms(v)
 
+    @field_validator("steps")
+    @classmethod
+    def _together_flags(cls, v: tuple[Call, ...] | None) -> tuple[Call, ...] | None:
+        return canonical_steps(v) if v is not None else None
+
     @field_validator("skill_params")
     @classmethod
     def _sort_skill_params(cls, v: tuple[SkillParam, ...]) -> tuple[SkillParam, ...]:
@@ -435,6 +444,30 @@ class Oac(Node):
 
 
 Decl = ObjectClass | Scene | Grasp | Oac
+
+
+def step_groups(steps: Sequence[Call]) -> list[list[Call]]:
+    """The steps in groups: a ``together { … }`` block is one group, any other step one of its own."""
+    out: list[list[Call]] = []
+    for call in steps:
+        if call.together and out:
+            out[-1].append(call)
+        else:
+            out.append([call])
+    return out
+
+
+def canonical_steps(steps: Sequence[Call]) -> tuple[Call, ...]:
+    """``steps`` with the ``together`` flags of every block normalised: the first step of a
+    block False, the others True. The order is kept: the runtime runs a block's steps one after
+    the other as written, and the composer writes them in the order they were demonstrated."""
+    out: list[Call] = []
+    for group in step_groups(steps):
+        for k, call in enumerate(group):
+            if call.together != (k > 0):
+                call = call.model_copy(update={"together": k > 0})
+            out.append(call)
+    return tuple(out)
 
 
 class Module(Node):

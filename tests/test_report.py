@@ -320,3 +320,18 @@ def test_oacc_report_through_a_published_folder_writes_into_the_run_and_keeps_th
     assert capsys.readouterr().out.strip() == str(run_folder / "report.html")
     assert all((out / name).is_symlink() for name in ("report.html", "result.json", "figures"))
     assert len(img_sources((out / "report.html").read_text(encoding="utf-8"))) == 2 + 9 * 3 + 8
+
+
+def test_an_adaptive_runs_adaptations_are_listed_escaped(work):
+    out, result = work
+    result["run"]["adaptations"] = [
+        {"kind": "skipped", "step": 0,
+         "text": "skipped pour(left_hand, red_cup, liquid_one, orange_bowl): <x>"},
+        {"kind": "replanned", "step": 2, "text": "replanned after step 2 failed", "plan": ["grasp(a, b)"]},
+    ]
+    page, _ = render_html(result, out)
+    assert "Adapted to the world at execution time" in page
+    assert "skipped pour(left_hand, red_cup, liquid_one, orange_bowl): &lt;x&gt;" in page
+    assert "→ grasp(a, b)" in page
+    del result["run"]["adaptations"]
+    assert "Adapted to the world" not in render_html(result, out)[0]

@@ -235,7 +235,7 @@ def test_a_composed_step_whose_effect_is_not_observed_fails_the_run_and_is_named
     # grasp_into_bowl (composed of one grasp) predicts `green_cup <-> orange_bowl`, which no
     # grasp makes true: the run stops after it (the place never runs), exit 1, step named
     named = "composed step grasp_into_bowl(right_hand, green_cup, orange_bowl) (steps 1-1)"
-    out = oacc_run(tmp_path, "grasp_into_bowl_and_place", "--scene", "pouring")
+    out = oacc_run(tmp_path, "grasp_into_bowl_and_place", "--scene", "pouring", "--strict")
     assert out.returncode == 1 and "Traceback" not in out.stderr
     last = out.stderr.strip().splitlines()[-1]
     assert last.startswith(f"oacc: error: {named}: grasp_into_bowl: predicted effect not observed")

@@ -32,6 +32,8 @@ COMMANDS: list[str] = [
     "oacdsl.cli.draft_cmd",
     "oacdsl.cli.match_cmd",
     "oacdsl.cli.compose_cmd",
+    "oacdsl.cli.plan_cmd",
+    "oacdsl.cli.pddl_cmd",
     "oacdsl.cli.run_cmd",
     "oacdsl.cli.verify_cmd",
     "oacdsl.cli.mine_cmd",

@@ -53,7 +53,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 
 def run(args: argparse.Namespace) -> int:
     from oacdsl.cli.demo_input import load_inputs, transient_s
-    from oacdsl.matching.demonstration import compose_demonstration, match_segmentation
+    from oacdsl.matching.demonstration import compose_demonstration, match_segmentation, reaching
     from oacdsl.matching.emit import DRAFTS, LEARNED, Emitted, emit, library_files, render
     from oacdsl.matching.matcher import Matcher
     from oacdsl.matching.results import Mode
@@ -64,8 +64,10 @@ def run(args: argparse.Namespace) -> int:
     window = transient_s(args)  # a bad value fails before any reading
     inputs = load_inputs(args)
     mode: Mode = "paper" if args.paper else "strict"
-    matcher = Matcher.from_library(inputs.library, inputs.scene, mode=mode)
-    matches = match_segmentation(inputs.segmented(), matcher, transient_s=window)
+    # an earlier composition of this name is replaced, never a step of its own recomposition
+    matcher = Matcher.from_library(inputs.library, inputs.scene, mode=mode,
+                                   exclude=reaching(inputs.library, args.name))
+    matches = match_segmentation(inputs.segmented(), matcher, transient_s=window, unmerged=inputs.unmerged())
     demo = compose_demonstration(
         args.name,
         matches,
@@ -146,7 +148,7 @@ def run(args: argparse.Namespace) -> int:
     print(f"  pre     {_atoms(comp.pre)}")
     print(f"  effect  {', '.join(f'{a} <-> {b}' for a, b in comp.added) or '(none)'}")
     print(f"  ended   {', '.join(f'{a} <-> {b}' for a, b in comp.ended) or '(none)'}")
-    print(f"  steps   {' '.join(s.oac.name for s in comp.steps)}")
+    print(f"  steps   {' '.join(('& ' if s.together else '') + s.oac.name for s in comp.steps)}")
     return 0
 
 

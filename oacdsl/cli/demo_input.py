@@ -75,6 +75,8 @@ def load_inputs(args: argparse.Namespace) -> Inputs:
         inputs = load(args.recording, args.library or ["library"], args.scene, params, fmt=args.format,
                       preset=args.preset, allow_truncated=allow_truncated(args), segmentations=True,
                       note=note)
+    for text in inputs.warnings:  # learned files left out of the library (they no longer compile)
+        print(f"oacc: warning: {text}", file=sys.stderr)
     if inputs.recording is not None:
         check_windows(args, inputs.recording)
     return inputs

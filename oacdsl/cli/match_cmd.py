@@ -32,8 +32,8 @@ def run(args: argparse.Namespace) -> int:
     inputs = load_inputs(args)
     mode: Mode = "paper" if args.paper else "strict"
     matcher = Matcher.from_library(inputs.library, inputs.scene, mode=mode)
-    matches = match_segmentation(inputs.segmented(), matcher, transient_s=window)
-    unmatched = sum(1 for m in matches if m.result.chosen is None)
+    matches = match_segmentation(inputs.segmented(), matcher, transient_s=window, unmerged=inputs.unmerged())
+    unmatched = sum(1 for m in matches if not m.matched)
     if args.json:
         print(json.dumps({"sub_actions": [m.to_json() for m in matches]}, indent=2))
         return 1 if unmatched else 0
@@ -41,9 +41,7 @@ def run(args: argparse.Namespace) -> int:
     span = max((len(f"{m.sub_action.start.frame}→{m.sub_action.end.frame}") for m in matches), default=0)
     for m in matches:
         frames = f"{m.sub_action.start.frame}→{m.sub_action.end.frame}"
-        chosen = m.result.chosen
-        what = chosen.text() if chosen is not None else "no match"
-        print(f"{m.index + 1:>{width}}  frames {frames:<{span}}  {what}")
+        print(f"{m.index + 1:>{width}}  frames {frames:<{span}}  {m.text()}")
         for t in m.transient:
             print(
                 f"{'':>{width}}  through a transient state at frame {t.keyframe.frame}"

@@ -58,7 +58,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p.add_argument(
         "--library",
         metavar="DIR",
-        help="the OAC library: a folder (drafts/ left out) or a file (default: library/)",
+        action="append",
+        help="the OAC library: a folder (drafts/ left out) or a file (default: library/); repeatable:"
+        " several are one library, the first folder given gets the composed OAC (learned/)",
     )
     p.add_argument(
         "--scene",
@@ -78,6 +80,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         " (default: where the scene puts them)",
     )
     add_scene_options(p)
+    from oacdsl.cli.run_cmd import add_adaptive_options
+
+    add_adaptive_options(p)
     p.add_argument("--out", metavar="DIR", default="out", help="folder for the report (default: out/)")
     p.add_argument(
         "--db",
@@ -122,6 +127,11 @@ def run(args: argparse.Namespace) -> int:
         check_oac_name(args.name)
     params = params_from_args(args)  # bad units fail before any reading
     overrides = scene_overrides(args)
+    if args.max_repairs < 0:
+        raise UsageError("--max-repairs: a whole number ≥ 0")
+    import dataclasses
+
+    overrides = dataclasses.replace(overrides, strict=args.strict, max_repairs=args.max_repairs)
     db = None
     if not args.no_record:
         from oacdsl.stats import ensure_writable, resolve_db_path

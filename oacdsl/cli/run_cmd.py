@@ -18,7 +18,7 @@ from oacdsl.cli import seed_arg
 from oacdsl.cli.backend import NONE_FOUND, prepare_backend
 from oacdsl.cli.run_many import add_many_options
 from oacdsl.cli.scene_options import add_scene_options, pairs, scene_overrides
-from oacdsl.errors import RuntimeFailure, UsageError
+from oacdsl.errors import RuntimeFailure, UsageError, did_you_mean
 from oacdsl.model import Scene
 
 __all__ = ["register", "run", "load_inputs"]
@@ -90,8 +90,28 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         help="leave self-collision avoidance out of the IK (faster)",
     )
     add_scene_options(p)
+    add_adaptive_options(p)
+    p.add_argument(
+        "--state",
+        metavar="ATOMS",
+        help='relations at the start, checked against the scene: a liquid in a container ("liquid_one <->'
+        ' orange_bowl"), as --fill',
+    )
     add_many_options(p)
     p.set_defaults(func=run)
+
+
+def add_adaptive_options(p: argparse.ArgumentParser) -> None:
+    """``--strict`` and ``--max-repairs`` (``oacc run`` and ``oacc reproduce``)."""
+    p.add_argument(
+        "--strict",
+        action="store_true",
+        help="run the demonstrated steps as they are and stop at the first one that fails (default:"
+        " adaptive: skip a step whose effects hold, replan from the observed state when one fails)",
+    )
+    p.add_argument(
+        "--max-repairs", type=int, default=3, metavar="N", help="adaptive: replan at most N times (default 3)"
+    )
 
 
 def _demonstrated(
@@ -190,8 +210,21 @@ def run(args: argparse.Namespace) -> int:
     from oacdsl.cli.run_judge import RunJudge
 
     bindings = pairs(args.bind, "--bind", "NAME=INSTANCE")
+    if args.max_repairs < 0:
+        raise UsageError("--max-repairs: a whole number ≥ 0")
     overrides = scene_overrides(args)
     library, scene = load_inputs(args.library or ["library"], args.scene)
+    if args.state:
+        import dataclasses
+
+        from oacdsl.planning.state import state_as_fills
+        from oacdsl.runtime.binding import choose_scene
+
+        if args.name not in library.oacs:
+            raise UsageError(f"no oac {args.name!r} in the library{did_you_mean(args.name, library.oacs)}")
+        chosen = choose_scene(library, library.oacs[args.name], scene, bindings)
+        fills = {**state_as_fills(library, chosen, args.state), **overrides.fill}
+        overrides = dataclasses.replace(overrides, fill=fills)
     if args.name in library.oacs and (overrides.places or overrides.fill):  # else prepare() names the problem
         from oacdsl.cli.scene_check import check_overrides
         from oacdsl.runtime.binding import choose_scene
@@ -264,13 +297,13 @@ def run(args: argparse.Namespace) -> int:
             viewer = Viewer(run_.world.model, run_.world.data)
             closers.append(viewer)
             run_.controller.add_observer(viewer)
-        total = len(run_.steps)
+        total = f"/{len(run_.steps)}" if args.strict or not run_.oac.composed else ""
 
         def on_step(index: int, step: Any, world: Any) -> None:
             args_text = ", ".join(step.binding.values())
             status = "ok" if step.success else "FAILED"
             print(
-                f"step {index + 1}/{total} {step.oac}({args_text}): {status} ({step.duration_s:.1f} s)",
+                f"step {index + 1}{total} {step.oac}({args_text}): {status} ({step.duration_s:.1f} s)",
                 file=out,
             )
             if frames is not None:
@@ -283,7 +316,14 @@ def run(args: argparse.Namespace) -> int:
             args_text = ", ".join(call.binding.values())
             print(f"composed {call.oac}({args_text}) of steps {call.first}-{call.last}: {status}", file=out)
 
-        result = run_prepared(run_, on_step=on_step, on_call=on_call)
+        if args.strict or not run_.oac.composed:  # a primitive OAC is one step: nothing to adapt
+            result = run_prepared(run_, on_step=on_step, on_call=on_call)
+        else:
+            from oacdsl.runtime.adaptive import describe, run_adaptive
+
+            result = run_adaptive(run_, on_step=on_step, on_call=on_call, max_repairs=args.max_repairs)
+            for line in describe(result.adaptations):
+                print(f"adapted: {line}", file=out)
     except OSError as error:  # a picture could not be written after all (disk full, folder removed)
         from oacdsl.errors import InputError
 

@@ -15,6 +15,7 @@ import networkx as nx
 from oacdsl.compiler.check_geometry import check_geometry
 from oacdsl.compiler.check_oacs import check_oacs
 from oacdsl.compiler.check_state import check_scene_state
+from oacdsl.compiler.check_together import check_together
 from oacdsl.compiler.context import Context
 from oacdsl.compiler.diagnostics import Diagnostic, Note
 from oacdsl.compiler.grammar import keywords
@@ -190,4 +191,5 @@ def check_modules(modules: Sequence[Module]) -> list[Diagnostic]:
     check_grasps(ctx)
     check_geometry(ctx)
     check_oacs(ctx)
+    check_together(ctx)
     return ctx.diagnostics

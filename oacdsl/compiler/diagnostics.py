@@ -80,6 +80,7 @@ CODES: dict[str, str] = {
     "E046": "scene state that does not fit the instance (a place for a hand, contents of a non-container, …)",
     "E047": "skill parameters on a step that calls a composed OAC",
     "E048": "untracked instance that the recording must track (a hand) or that names markers",
+    "E051": "steps of a together block that depend on each other",
     "W001": "unused variable",
     "W002": "name or relation listed twice",
     "W003": "effect already holds before (it is also a precondition)",
@@ -87,6 +88,7 @@ CODES: dict[str, str] = {
     "W005": "grasp offset longer than 0.5 m (offsets are metres)",
     "W006": "size over 5 m written without a unit (sizes without a unit are metres)",
     "W007": "instance without a shape (the robot's simulation cannot build it)",
+    "W008": "together block of fewer than two steps",
     "W040": "number without unit that is implausible in SI units (radians, metres)",
 }
 

@@ -2,7 +2,7 @@
 
 Deterministic: the model already keeps parents, instance classes, instances
 and atoms sorted; the printer keeps declarations, parameters, markers and
-steps in their order. Layout rules:
+steps in their order (a ``together { … }`` block's too: the runtime runs them as written). Layout rules:
 
 * four spaces of indentation, one blank line between declarations except
   between consecutive one-line ``class`` or ``grasp`` declarations;
@@ -40,6 +40,8 @@ from oacdsl.model import (
     Shape,
     SkillParam,
     atom_text,
+    canonical_steps,
+    step_groups,
 )
 from oacdsl.world import NOTHING
 
@@ -320,9 +322,15 @@ def _oac(decl: Oac) -> list[str]:
         raise LanguageError(f"cannot print OAC '{decl.name}': it has both a skill and steps")
     if decl.steps is not None:
         lines.append(f"{_IND}steps {{")
-        for call in decl.steps:
-            lines += _comment_lines(call.comments, _IND * 2)
-            lines.append(_IND * 2 + _call(call))
+        for group in step_groups(canonical_steps(decl.steps)):
+            indent = _IND * (2 if len(group) == 1 else 3)
+            if len(group) > 1:
+                lines.append(f"{_IND * 2}together {{")
+            for call in group:
+                lines += _comment_lines(call.comments, indent)
+                lines.append(indent + _call(call))
+            if len(group) > 1:
+                lines.append(f"{_IND * 2}}}")
         lines.append(f"{_IND}}}")
     elif decl.skill is not None:
         text = f"{_IND}{'execute':<8}{_name(decl.skill)}"

@@ -42,6 +42,7 @@ from oacdsl.model import (
     SkillParam,
     Span,
     atom_text,
+    canonical_steps,
     fill_key,
     pair_order,
     place_key,
@@ -360,8 +361,27 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
         )
 
     def steps(self, children: list[Any]) -> tuple[str, tuple[Call, ...], _PartT]:
+        kw, *items, rbrace = children
+        calls: list[Call] = []
+        for item in items:
+            calls += item if isinstance(item, list) else [item]
+        steps = canonical_steps(calls) if len(calls) != len(items) else tuple(calls)
+        return "steps", steps, ("steps", kw.line, kw.column, rbrace.end_line, rbrace.end_column)
+
+    def together(self, children: list[Any]) -> list[Call]:
+        """A ``together { … }`` block: its calls, all but the first marked ``together``."""
         kw, *calls, rbrace = children
-        return "steps", tuple(calls), ("steps", kw.line, kw.column, rbrace.end_line, rbrace.end_column)
+        if len(calls) < 2:
+            self.diagnostics.append(
+                Diagnostic(
+                    "W008",
+                    f"a together block of {len(calls)} step{'' if len(calls) == 1 else 's'}: it says"
+                    " nothing (write the step without the block, or put the steps that may run"
+                    " together into it)",
+                    self._between(kw, rbrace),
+                )
+            )
+        return [c if k == 0 else c.model_copy(update={"together": True}) for k, c in enumerate(calls)]
 
     def call(self, children: list[Any]) -> Call:
         name, args, rpar, params = children

@@ -26,9 +26,12 @@ __all__ = ["Net", "Requirements", "Step", "decide_precondition", "key", "net_eff
 class Step:
     """One matched sub-action: the OAC, its binding and the keyframes around it.
 
-    ``index`` is the sub-action's index, from 0 (it runs from keyframe ``index`` to
-    ``index + 1``); the frames, when known, are recording frames. Messages and notes
-    count steps from 1: step ``index + 1`` ends at keyframe ``index + 1``.
+    ``index`` is the step's position, from 0; ``keyframe`` the keyframe its sub-action starts
+    at (None: ``index``, one step per sub-action). A sub-action split into parts
+    (:mod:`oacdsl.matching.split`) gives several steps that share a keyframe; ``together``
+    marks a step that may run together with the one before it. The frames, when known, are
+    recording frames. Messages and notes count steps from 1: step ``index + 1`` ends at
+    keyframe ``keyframe + 1``.
     """
 
     oac: Oac
@@ -38,17 +41,25 @@ class Step:
     index: int
     start_frame: int | None = None
     end_frame: int | None = None
+    keyframe: int | None = None
+    together: bool = False
 
     @property
     def mapping(self) -> dict[str, str]:
         return dict(self.binding)
+
+    @property
+    def start_keyframe(self) -> int:
+        """The keyframe the step's sub-action starts at."""
+        return self.index if self.keyframe is None else self.keyframe
 
     def text(self) -> str:
         return f"step {self.index + 1} {call_text(self.oac.name, self.binding)}"
 
     def note(self, end: bool) -> str:
         frame = self.end_frame if end else self.start_frame
-        where = f"keyframe {self.index + int(end)}" + (f", frame {frame}" if frame is not None else "")
+        where = f"keyframe {self.start_keyframe + int(end)}"
+        where += f", frame {frame}" if frame is not None else ""
         return f"step {self.index + 1} {self.oac.name}, {where}"
 
 

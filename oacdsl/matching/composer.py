@@ -87,7 +87,8 @@ class Composition:
             "pre": [_pair(a) for a in self.pre if not a.negated],
             "effect": [list(r) for r in self.added],
             "ended": [list(r) for r in self.ended],
-            "steps": [{"oac": s.oac.name, "binding": dict(s.binding)} for s in self.steps],
+            "steps": [{"oac": s.oac.name, "binding": dict(s.binding),
+                       **({"together": True} if s.together else {})} for s in self.steps],
             "file": file,
         }
         negated = [_pair(a) for a in self.pre if a.negated]
@@ -115,7 +116,22 @@ def compose(
     instance_classes: Mapping[str, frozenset[str]] | None = None,
     paper_effects: bool = False,
 ) -> Composition:
-    """Compose ``steps`` into a new OAC called ``name`` (see the module docstring)."""
+    """Compose ``steps`` into a new OAC called ``name`` (see the module docstring). Steps
+    marked ``together`` (a split keyframe, :mod:`oacdsl.matching.split`) become a
+    ``together { … }`` block, in their order."""
+    return _compose(name, steps, library, scene, instance_classes=instance_classes,
+                    paper_effects=paper_effects)
+
+
+def _compose(
+    name: str,
+    steps: Sequence[Step],
+    library: Library,
+    scene: Scene | None = None,
+    *,
+    instance_classes: Mapping[str, frozenset[str]] | None = None,
+    paper_effects: bool = False,
+) -> Composition:
     if not steps:
         raise MatchingError("nothing to compose: the demonstration has no sub-actions")
     if instance_classes is None:
@@ -173,7 +189,7 @@ def _source(kind: str, atom: Atom, step: Step | None) -> dict[str, Any]:
         "relation": [atom.left, atom.right],
         "negated": atom.negated,
         "step": step.index if step is not None else None,
-        "keyframe": (step.index + int(end)) if step is not None else None,
+        "keyframe": (step.start_keyframe + int(end)) if step is not None else None,
         "note": step.note(end) if step is not None else "world-state change",
     }
 
@@ -215,7 +231,9 @@ def _lifted(
 
     calls = tuple(
         Call(
-            oac=s.oac.name, args=tuple(names.get(s.mapping[p.name], s.mapping[p.name]) for p in s.oac.params)
+            oac=s.oac.name,
+            args=tuple(names.get(s.mapping[p.name], s.mapping[p.name]) for p in s.oac.params),
+            together=s.together,
         )
         for s in steps
     )

@@ -9,7 +9,7 @@ recording's marker groups.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -18,13 +18,21 @@ from oacdsl.library import Library
 from oacdsl.matching.composer import Composition, Step, compose
 from oacdsl.matching.drafts import propose_draft
 from oacdsl.matching.matcher import Matcher
-from oacdsl.matching.results import MatchResult, Mode
+from oacdsl.matching.results import MatchResult, Mode, change_text
+from oacdsl.matching.split import Split, split_change
 from oacdsl.matching.transient import TRANSIENT_S, Transient, agents_of, stable_segmentation
 from oacdsl.model import Instance, Oac, Scene
 from oacdsl.segmentation.result import Segmentation, SubAction
-from oacdsl.world import Relation
+from oacdsl.world import Relation, WorldState
 
-__all__ = ["Demonstration", "SubActionMatch", "compose_demonstration", "find_scene", "match_segmentation"]
+__all__ = [
+    "Demonstration",
+    "SubActionMatch",
+    "compose_demonstration",
+    "find_scene",
+    "match_segmentation",
+    "reaching",
+]
 
 
 def _pairs(relations: Iterable[Relation]) -> list[list[str]]:
@@ -39,6 +47,22 @@ class SubActionMatch:
     result: MatchResult
     #: Transient states inside the sub-action (an object in flight), not keyframes of their own.
     transient: tuple[Transient, ...] = ()
+    #: For a sub-action that matches no OAC as a whole: its parts, each matched
+    #: (:mod:`oacdsl.matching.split`); None when it matched, or could not be split.
+    split: Split | None = None
+
+    @property
+    def matched(self) -> bool:
+        """True when the sub-action matched an OAC, as a whole or split into parts."""
+        return self.result.chosen is not None or self.split is not None
+
+    def text(self) -> str:
+        """The chosen call, the split (``split: together { … }, then …``) or ``no match``."""
+        if self.result.chosen is not None:
+            return self.result.chosen.text()
+        if self.split is not None:
+            return f"split: {self.split.text()}"
+        return "no match"
 
     @property
     def index(self) -> int:
@@ -46,7 +70,12 @@ class SubActionMatch:
 
     @property
     def explanation(self) -> str | None:
-        """Why nothing matched, or why the chosen match won over the others (None: one match)."""
+        """Why nothing matched, or why the chosen match won over the others (None: one match);
+        for a split sub-action, what it was split into."""
+        if self.split is not None:
+            n = len(self.split.parts)
+            change = change_text(self.result.added, self.result.removed)
+            return f"no OAC matches the whole change ({change}); it is {n} sub-actions at once, each matched"
         return self.result.explanation if not self.result.matches else self.result.reason
 
     def to_json(self) -> dict[str, Any]:
@@ -63,6 +92,8 @@ class SubActionMatch:
         }
         if self.transient:
             doc["transient"] = [t.to_json() for t in self.transient]
+        if self.split is not None:
+            doc["split"] = self.split.to_json()
         return doc
 
 
@@ -97,31 +128,96 @@ def find_scene(library: Library, instances: Sequence[str], name: str | None = No
     )
 
 
+def reaching(library: Library, name: str) -> frozenset[str]:
+    """``name`` and every OAC of ``library`` that calls it, directly or through other OACs.
+
+    Composing an OAC called ``name`` leaves these out of matching: an earlier composition of
+    the same name (``learned/NAME.oac``), or a learned OAC that calls it, matched as a step
+    would make the new OAC call itself (E019).
+    """
+    callers: dict[str, set[str]] = {}
+    for oac in library.oacs.values():
+        for call in oac.steps or ():
+            callers.setdefault(call.oac, set()).add(oac.name)
+    found = {name}
+    todo = [name]
+    while todo:
+        for caller in callers.get(todo.pop(), ()):
+            if caller not in found:
+                found.add(caller)
+                todo.append(caller)
+    return frozenset(found)
+
+
 def match_segmentation(
-    segmentation: Segmentation, matcher: Matcher, mode: Mode | None = None, transient_s: float = TRANSIENT_S
+    segmentation: Segmentation, matcher: Matcher, mode: Mode | None = None, transient_s: float = TRANSIENT_S,
+    unmerged: Callable[[], Segmentation] | None = None,
 ) -> list[SubActionMatch]:
     """Match every sub-action of ``segmentation``, in time order.
 
     Keyframes of transient states (an object in flight for less than ``transient_s``
     seconds, :mod:`oacdsl.matching.transient`) delimit no sub-action; the agents are the
-    matcher's instances of class ``Hand``.
+    matcher's instances of class ``Hand``. A sub-action that matches no OAC is split into
+    parts when it can be (:mod:`oacdsl.matching.split`); ``unmerged`` gives the recording's
+    segmentation without the merge window (called only then), whose keyframes say when each
+    changed relation changed.
     """
     agents = agents_of(matcher.instance_classes)
     stable, dropped = stable_segmentation(segmentation, agents.__contains__, transient_s)
     subs = stable.sub_actions()
-    if matcher.untracked is not None:  # relations of untracked instances: predicted along the way
-        results = matcher.untracked.match_sequence(
-            [(sa.before, sa.after) for sa in subs], lambda b, a: matcher.match(b, a, mode=mode))
+    rule = mode or matcher.mode
+    untracked = matcher.untracked
+
+    def match(b: WorldState, a: WorldState) -> MatchResult:
+        result = matcher.match(b, a, mode=mode)
+        if untracked is None:
+            return result
+        return dataclasses.replace(result, matches=tuple(untracked.original(m) for m in result.matches))
+
+    raw: list[Segmentation] = []
+
+    def split(b: WorldState, a: WorldState, sub: SubAction) -> Split | None:
+        if rule != "strict":  # only the strict rule accounts for every change
+            return None
+        if unmerged is not None and not raw:
+            raw.append(unmerged())
+        times = _change_times(raw[0], sub, b, a) if raw else None
+        return split_change(match, b, a, untracked.names if untracked is not None else frozenset(), times)
+
+    if untracked is not None:  # relations of untracked instances: predicted along the way
+        done = untracked.match_sequence([(sa.before, sa.after) for sa in subs], match,
+                                        lambda k, b, a: split(b, a, subs[k]))
         subs = [dataclasses.replace(sa, start=dataclasses.replace(sa.start, state=r.before),
                                     end=dataclasses.replace(sa.end, state=r.after))
-                for sa, r in zip(subs, results, strict=True)]
+                for sa, (r, _) in zip(subs, done, strict=True)]
     else:
-        results = [matcher.match(sa.before, sa.after, mode=mode) for sa in subs]
+        done = []
+        for sa in subs:
+            r = match(sa.before, sa.after)
+            done.append((r, split(sa.before, sa.after, sa) if r.chosen is None else None))
     out = []
-    for sa, result in zip(subs, results, strict=True):
+    for sa, (result, parts) in zip(subs, done, strict=True):
         inside = tuple(t for t in dropped if sa.start.frame < t.keyframe.frame < sa.end.frame)
-        out.append(SubActionMatch(sa, result, inside))
+        out.append(SubActionMatch(sa, result, inside, parts))
     return out
+
+
+def _change_times(
+    raw: Segmentation, sub: SubAction, before: WorldState, after: WorldState
+) -> dict[Relation, float]:
+    """When each relation that changed in ``sub`` first changed, by the keyframes of ``raw``
+    (the recording segmented without merging) inside the sub-action (a set-down cup that
+    bounces: when it was first let go)."""
+    times: dict[Relation, float] = {}
+    previous: WorldState | None = None
+    for kf in raw.keyframes:
+        if kf.frame > sub.end.frame:
+            break
+        if previous is not None and kf.frame > sub.start.frame:
+            for r in (after.relations ^ before.relations) & (kf.state.relations ^ previous.relations):
+                times.setdefault(r, kf.time_s)
+        previous = kf.state
+    return times
 
 
 @dataclass(frozen=True)
@@ -154,6 +250,11 @@ def compose_demonstration(
     taken = set(library.oacs) | {name}
     for m in matches:
         sa, chosen = m.sub_action, m.result.chosen
+        if chosen is None and m.split is not None:  # several sub-actions at once: one step each
+            for part in m.split.parts:
+                steps.append(Step(part.match.oac, part.match.binding, part.before, part.after, len(steps),
+                                  sa.start.frame, sa.end.frame, keyframe=sa.index, together=part.together))
+            continue
         if chosen is not None:
             oac, binding = chosen.oac, chosen.binding
         elif not propose:
@@ -177,6 +278,7 @@ def compose_demonstration(
             )
             binding = tuple((p.name, mapping[p.name]) for p in oac.params)
             drafts.append((sa.index, oac))
-        steps.append(Step(oac, binding, sa.before, sa.after, sa.index, sa.start.frame, sa.end.frame))
+        steps.append(Step(oac, binding, sa.before, sa.after, len(steps), sa.start.frame, sa.end.frame,
+                          keyframe=sa.index))
     composition = compose(name, steps, library, scene, paper_effects=paper_effects)
     return Demonstration(composition, tuple(drafts))

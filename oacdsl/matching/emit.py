@@ -25,17 +25,21 @@ import hashlib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 from oacdsl.atomic import write_atomic
 from oacdsl.errors import InputError, LanguageError, MatchingError
 from oacdsl.model import Module, Oac, atom_text
+
+if TYPE_CHECKING:
+    from oacdsl.compiler import CompileResult
 
 __all__ = [
     "DRAFTS",
     "FINGERPRINT",
     "LEARNED",
     "Emitted",
+    "compile_leaving_out",
     "differences",
     "emit",
     "fingerprinted",
@@ -94,6 +98,28 @@ def library_files(library: Path) -> list[Path]:
     return [p for p in oac_files(library) if DRAFTS not in p.relative_to(library).parts[:-1]]
 
 
+def compile_leaving_out(
+    sources: Mapping[str, str | bytes], droppable: set[str]
+) -> tuple[CompileResult, list[tuple[str, str]]]:
+    """Compile ``sources`` (path → text) as one library, leaving out the files of ``droppable``
+    (learned OACs) that have errors, until none has: the result and (file, its first error) for
+    each file left out. A learned file that calls one left out goes too."""
+    from oacdsl.compiler import compile_sources
+
+    sources = dict(sources)
+    dropped: list[tuple[str, str]] = []
+    while True:
+        result = compile_sources(sources)
+        broken = sorted({d.span.file for d in result.errors if d.span is not None} & droppable)
+        if result.ok or not broken:
+            return result, dropped
+        for f in broken:
+            first = next(d for d in result.errors if d.span is not None and d.span.file == f)
+            dropped.append((f, first.header()))
+            del sources[f]
+            droppable = droppable - {f}
+
+
 def render(decls: Sequence[Oac], path: str, header: Sequence[str] = ()) -> str:
     """The canonical text of a file holding ``decls``; ``header`` becomes the first
     declaration's leading comment lines."""
@@ -135,7 +161,7 @@ def _check(library: Path | None, target: Path, text: str, decls: Sequence[Oac], 
     """Compile ``text`` (to be ``target``) with the library, the folders and files ``also`` and the
     files about to be written (``pending``: path → text); raise on any error (with
     ``drafts``: on any error but the placeholder skill's)."""
-    from oacdsl.compiler import compile_sources, read_source
+    from oacdsl.compiler import read_source
 
     files = library_files(library) if library is not None and library.exists() else []
     others = [f for f in files if f.resolve() != target.resolve()]
@@ -155,7 +181,9 @@ def _check(library: Path | None, target: Path, text: str, decls: Sequence[Oac], 
         if path.resolve() != target.resolve():
             sources[str(path)] = pending_text
     sources[str(target)] = text
-    result = compile_sources(sources)
+    # learned files that no longer compile (the library changed under them) do not stop a new one
+    stale = {str(f) for f in others if f.parent.name == LEARNED}
+    result, _ = compile_leaving_out(sources, stale)
     errors = [d for d in result.errors if not (drafts and d.code == "E016")]
     if errors:
         raise LanguageError(

@@ -119,15 +119,18 @@ class Matcher:
         *,
         instance_classes: Mapping[str, Iterable[str]] | None = None,
         mode: Mode = "strict",
+        exclude: Iterable[str] = (),
     ) -> Matcher:
         """A matcher over all OACs of ``library`` for the instances of ``scene``
-        (or for ``instance_classes`` given directly). A scene's untracked instances are
-        bound only through variants of the OACs (:mod:`oacdsl.matching.untracked`)."""
+        (or for ``instance_classes`` given directly), leaving out the OACs named in
+        ``exclude``. A scene's untracked instances are bound only through variants of
+        the OACs (:mod:`oacdsl.matching.untracked`)."""
         if instance_classes is None:
             if scene is None:
                 raise UsageError("give a scene or the instances' classes to match against")
             instance_classes = library.instance_classes(scene)
-        oacs = [library.oacs[name] for name in sorted(library.oacs)]
+        left_out = set(exclude)
+        oacs = [library.oacs[name] for name in sorted(library.oacs) if name not in left_out]
         hidden = {i.name for i in scene.untracked()} if scene is not None else set()
         if scene is None or not hidden:
             return cls(oacs, instance_classes, ancestors=library.ancestors, mode=mode)
@@ -295,6 +298,7 @@ class Matcher:
             changes=len(added) + len(removed),
             specificity=co.specificity,
             idle=idle,
+            conditions=len(co.oac.pre) + len(co.oac.effect),
         )
 
 
@@ -346,10 +350,25 @@ def _reason(matches: list[Match]) -> str | None:
         )
     elif a.idle != b.idle:
         why = f"fewer of its effects already held before ({a.idle}, {b.text()}: {b.idle})"
+    elif a.conditions != b.conditions:
+        why = (
+            f"it states more conditions ({a.conditions} preconditions and effects, {b.text()}:"
+            f" {b.conditions})"
+        )
+    elif a.same_meaning(b):
+        why = f"the same conditions as {b.text()} (the OAC is symmetric in these parameters)"
+    elif a.oac.name == b.oac.name:
+        why = (
+            f"ambiguous: it ties with {b.text()}; chosen by binding order. The conditions of"
+            f" {a.oac.name} do not tell these instances apart: add one that does (a precondition"
+            " about the instance you mean, or a more specific parameter class)"
+        )
     else:
         why = (
-            f"ambiguous: it ties with {b.text()} on explained change, class specificity and"
-            " idle effects; chosen by name and binding order"
+            f"ambiguous: it ties with {b.text()} on explained change, class specificity, idle"
+            f" effects and number of conditions ({a.conditions}); chosen by name. To choose the"
+            " other, give the OAC you mean a more specific parameter class or a precondition the"
+            " other lacks (or leave the other out of the library)"
         )
     return f"{head}: {why}"
 

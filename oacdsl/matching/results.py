@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 from oacdsl.matching.conditions import bind_atoms
-from oacdsl.model import Atom, Oac
+from oacdsl.model import Atom, Oac, atom_text
 from oacdsl.world import Relation, WorldState
 
 __all__ = ["Match", "MatchResult", "Mode", "NearMiss", "call_text", "change_text"]
@@ -40,6 +40,7 @@ class Match:
         changes: how many relations changed in the sub-action.
         specificity: sum over the parameters of the depth of their class (ancestors counted).
         idle: bound effects that already held before (they describe no change).
+        conditions: how many preconditions and effects the OAC states (more: more specific).
     """
 
     oac: Oac
@@ -48,6 +49,7 @@ class Match:
     changes: int
     specificity: int
     idle: int
+    conditions: int = 0
 
     @property
     def mapping(self) -> dict[str, str]:
@@ -67,11 +69,19 @@ class Match:
     def text(self) -> str:
         return call_text(self.oac.name, self.binding)
 
-    def rank_key(self) -> tuple[int, int, int, str, tuple[str, ...]]:
+    def same_meaning(self, other: Match) -> bool:
+        """True when ``other`` binds the same OAC to the same bound conditions (a symmetric OAC
+        such as ``grasp_both(h1, o1, h2, o2)`` with its two hands exchanged): no real choice."""
+        def bound(m: Match) -> tuple[frozenset[str], frozenset[str]]:
+            return frozenset(map(atom_text, m.pre)), frozenset(map(atom_text, m.effect))
+
+        return self.oac.name == other.oac.name and bound(self) == bound(other)
+
+    def rank_key(self) -> tuple[int, int, int, int, str, tuple[str, ...]]:
         """Sort key, best first: more change explained, more specific classes,
-        fewer idle effects, then name and binding (deterministic)."""
+        fewer idle effects, more conditions, then name and binding (deterministic)."""
         instances = tuple(i for _, i in self.binding)
-        return (-self.explained, -self.specificity, self.idle, self.oac.name, instances)
+        return (-self.explained, -self.specificity, self.idle, -self.conditions, self.oac.name, instances)
 
 
 @dataclass(frozen=True)
@@ -126,4 +136,4 @@ class MatchResult:
         if len(self.matches) < 2:
             return False
         a, b = self.matches[0].rank_key(), self.matches[1].rank_key()
-        return a[:3] == b[:3]
+        return a[:4] == b[:4] and not self.matches[0].same_meaning(self.matches[1])

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 from oacdsl.matching.conditions import apply_effects
 from oacdsl.matching.results import Match, MatchResult
+from oacdsl.matching.split import Split
 from oacdsl.model import Atom, Oac, Scene
 from oacdsl.world import Relation, WorldState, relation
 
@@ -119,18 +120,27 @@ class Untracked:
     def match_sequence(
         self, states: Sequence[tuple[WorldState, WorldState]],
         match: Callable[[WorldState, WorldState], MatchResult],
-    ) -> list[MatchResult]:
+        split: Callable[[int, WorldState, WorldState], Split | None] | None = None,
+    ) -> list[tuple[MatchResult, Split | None]]:
         """Match consecutive sub-actions ``(before, after)`` of tracked states, carrying the
         predicted untracked relations along; each result's states include them (after: as
-        its chosen match predicts)."""
-        out = []
+        its chosen match predicts). ``split(k, before, after)``: for the sub-action ``k`` that
+        matches nothing, its parts (:mod:`oacdsl.matching.split`), whose effects then predict."""
+        out: list[tuple[MatchResult, Split | None]] = []
         predicted = self.initial
-        for before, after in states:
+        for k, (before, after) in enumerate(states):
             b = self.with_predicted(before, predicted)
             result = match(b, self.with_predicted(after, predicted))
             matches = tuple(self.original(m) for m in result.matches)
             chosen = matches[0] if matches else None
-            predicted = self.predict(b, chosen)
-            out.append(dataclasses.replace(result, before=b, after=self.with_predicted(after, predicted),
-                                           matches=matches))
+            parts = split(k, b, self.with_predicted(after, predicted)) if chosen is None and split else None
+            if parts is not None:
+                parts = Split(tuple(dataclasses.replace(p, match=self.original(p.match))
+                                    for p in parts.parts))
+                last = parts.parts[-1].after
+                predicted = frozenset(r for r in last.relations if r[0] in self.names or r[1] in self.names)
+            else:
+                predicted = self.predict(b, chosen)
+            out.append((dataclasses.replace(result, before=b, after=self.with_predicted(after, predicted),
+                                            matches=matches), parts))
         return out

@@ -82,11 +82,11 @@ def _sub_rows(matches: Sequence[Any], library: Any, scene: Any) -> list[dict[str
             "to_frame": int(m.sub_action.end.frame),
             "change": _change(r.added, r.removed, str),
             "class_change": _change(r.added, r.removed, lambda x: specific.get(x, x)),
-            "oac": chosen.oac.name if chosen is not None else None,
+            "oac": chosen.oac.name if chosen is not None else (m.text() if m.split is not None else None),
             "binding": dict(chosen.mapping) if chosen is not None else None,
             "draft": None,
         }
-        if chosen is None:
+        if chosen is None and m.split is None:
             draft, _ = propose_draft(f"unexplained_{m.index}", r.before, r.after, classes, library.ancestors)
             row["draft"] = print_module(Module(path="draft.oac", decls=(draft,)))
         rows.append(row)
@@ -156,7 +156,7 @@ def analyse(path: str, rec_id: str, spec: JobSpec) -> dict[str, Any]:
         matched = match_stage(seg, library, scene).matches
         row["subs"] = _sub_rows(matched, library, scene)
         lap("match")
-        if spec.compose and all(m.result.chosen is not None for m in matched):
+        if spec.compose and all(m.matched for m in matched):
             stage = "compose"
             from oacdsl.matching.demonstration import compose_demonstration
             from oacdsl.matching.emit import render

@@ -9,7 +9,7 @@ the fields the report shows (bound constraints, ranking notes, provenance, the t
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -24,7 +24,15 @@ from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import Segmentation
 from oacdsl.world import NOTHING
 
-__all__ = ["ComposeStage", "MatchStage", "SegmentStage", "compose_stage", "match_stage", "segment_stage"]
+__all__ = [
+    "ComposeStage",
+    "MatchStage",
+    "SegmentStage",
+    "compose_stage",
+    "match_stage",
+    "segment_stage",
+    "steps_by_sub_action",
+]
 
 
 @dataclass(frozen=True)
@@ -54,14 +62,15 @@ class MatchStage:
 
     @property
     def unmatched(self) -> list[SubActionMatch]:
-        return [m for m in self.matches if m.result.chosen is None]
+        return [m for m in self.matches if not m.matched]
 
 
 def _match_note(rank: int, m: Any) -> str:
     what = f"explains {m.explained} of {m.changes} changed relations"
     if rank == 0:
         return f"chosen: {what}"
-    return f"rank {rank + 1}: {what}, class specificity {m.specificity}, {m.idle} idle effect(s)"
+    return (f"rank {rank + 1}: {what}, class specificity {m.specificity}, {m.idle} idle effect(s),"
+            f" {m.conditions} conditions")
 
 
 def _primitive_steps(oac: Any, by_name: dict[str, Any]) -> int:
@@ -69,6 +78,15 @@ def _primitive_steps(oac: Any, by_name: dict[str, Any]) -> int:
     if not oac.steps:
         return 1
     return sum(_primitive_steps(by_name[c.oac], by_name) if c.oac in by_name else 1 for c in oac.steps)
+
+
+def _executed_steps(m: SubActionMatch, by_name: dict[str, Any]) -> int:
+    """How many primitive steps the robot runs for the sub-action ``m``."""
+    if m.result.chosen is not None:
+        return _primitive_steps(m.result.chosen.oac, by_name)
+    if m.split is not None:
+        return sum(_primitive_steps(p.match.oac, by_name) for p in m.split.parts)
+    return 0
 
 
 def match_doc(matches: Sequence[SubActionMatch], matcher: Any = None) -> dict[str, Any]:
@@ -101,20 +119,25 @@ def match_doc(matches: Sequence[SubActionMatch], matcher: Any = None) -> dict[st
                 )
                 entry["rule"] = "paper"
                 doc["matches"].append(entry)
-        if m.result.chosen is not None:  # a composed OAC of the library runs as several steps
-            doc["step"] = sum(_primitive_steps(x.result.chosen.oac, by_name) for x in matches[:k]
-                              if x.result.chosen is not None)
+        if m.matched:  # a composed OAC of the library runs as several steps, a split one as its parts
+            doc["step"] = sum(_executed_steps(x, by_name) for x in matches[:k])
         subs.append(doc)
     return {"sub_actions": subs}
 
 
-def match_stage(segmentation: Segmentation, library: Library, scene: Scene) -> MatchStage:
-    """Match every sub-action with the strict rule (the effects account for every change)."""
+def match_stage(
+    segmentation: Segmentation, library: Library, scene: Scene, name: str | None = None,
+    unmerged: Callable[[], Segmentation] | None = None,
+) -> MatchStage:
+    """Match every sub-action with the strict rule (the effects account for every change);
+    ``name``: the OAC about to be composed, which (like every OAC calling it) is no step of it;
+    ``unmerged``: the recording segmented without merging, for split keyframes
+    (:func:`~oacdsl.matching.demonstration.match_segmentation`)."""
     from oacdsl.matching import Matcher
-    from oacdsl.matching.demonstration import match_segmentation
+    from oacdsl.matching.demonstration import match_segmentation, reaching
 
-    matcher = Matcher.from_library(library, scene)
-    matches = match_segmentation(segmentation, matcher)
+    matcher = Matcher.from_library(library, scene, exclude=reaching(library, name) if name else ())
+    matches = match_segmentation(segmentation, matcher, unmerged=unmerged)
     return MatchStage(matches, match_doc(matches, matcher))
 
 
@@ -213,3 +236,14 @@ def compose_stage(
     if warnings:
         doc["warnings"] = warnings
     return ComposeStage(comp, comp.oac, emitted, tuple(warnings), doc)
+
+
+def steps_by_sub_action(stage: ComposeStage) -> list[dict[str, Any]]:
+    """``compose.steps`` of the document, one per sub-action: a split sub-action (several steps
+    from one keyframe, :mod:`oacdsl.matching.split`) by its first step."""
+    docs = stage.doc.get("steps", [])
+    first: dict[int, int] = {}
+    for k, step in enumerate(stage.composition.steps):
+        first.setdefault(step.start_keyframe, k)
+    last = max(first, default=-1)
+    return [docs[first[i]] if i in first and first[i] < len(docs) else {} for i in range(last + 1)]

@@ -23,6 +23,7 @@ one-line error (:mod:`oacdsl.errors`).
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import re
 import unicodedata
@@ -124,6 +125,8 @@ class Inputs:
     #: Every --library given (folders or files, loaded as one library); ``library_path`` is the
     #: first folder among them (else the first).
     library_paths: tuple[Path, ...] = ()
+    #: Learned files left out because they no longer compile (:func:`open_library`), one line each.
+    warnings: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if (self.recording is None) == (self.segmentation is None):
@@ -134,6 +137,21 @@ class Inputs:
         if self.recording is None:
             raise UsageError(f"{self.source}: a segmentation (.json); this needs the motion capture")
         return self.recording
+
+    def unmerged(self) -> Callable[[], Segmentation] | None:
+        """The recording segmented without the merge window, on demand (None for a segmentation
+        given as .json): when each relation of a merged keyframe changed
+        (:func:`oacdsl.matching.demonstration.match_segmentation`)."""
+        if self.recording is None:
+            return None
+        recording, params = self.recording, dataclasses.replace(self.params, merge_s=0.0)
+
+        def run() -> Segmentation:
+            from oacdsl.segmentation import segment
+
+            return segment(recording, params)
+
+        return run
 
     def segmented(self) -> Segmentation:
         """The segmentation given, or the recording segmented with ``params``."""
@@ -178,11 +196,18 @@ def read_segmentation_json(path: Path) -> Segmentation:
         raise InputError(f"not a segmentation (oacc segment --json): {what}", location=str(path)) from error
 
 
-def open_library(path: Path | Sequence[Path]) -> Library:
+def open_library(path: Path | Sequence[Path], left_out: list[str] | None = None) -> Library:
     """The library at ``path`` (a folder without its drafts/, or a file; or several of them, loaded
-    as one library), as ``--library`` reads it."""
-    from oacdsl.compiler import load_library
-    from oacdsl.matching.emit import library_files
+    as one library), as ``--library`` reads it.
+
+    A composed OAC in a ``learned/`` folder that no longer compiles with the rest of the library
+    (an OAC it calls was changed since) is left out, and ``left_out`` (when given) hears which
+    file and why: what an earlier composition wrote never stops matching and composing, and
+    the next composition of that name replaces the file while it is unedited
+    (:mod:`oacdsl.matching.emit`). Errors in any other file stop as before.
+    """
+    from oacdsl.compiler.parser import read_bytes
+    from oacdsl.matching.emit import LEARNED, compile_leaving_out, library_files
 
     files: list[Path] = []
     for one in [path] if isinstance(path, Path) else path:
@@ -193,7 +218,18 @@ def open_library(path: Path | Sequence[Path]) -> Library:
         if not found:
             raise InputError("no .oac files in the library", location=str(one))
         files += [f for f in found if f not in files]
-    return load_library(files)
+    sources: dict[str, str | bytes] = {str(f): read_bytes(f) for f in files}
+    stale = {str(f) for f in files if f.parent.name == LEARNED} if len(files) > 1 else set()
+    result, dropped = compile_leaving_out(sources, stale)
+    if not result.ok:
+        raise result.error()
+    if left_out is not None:
+        left_out += [
+            f"{f} left out: it no longer compiles with the library ({why}); composing that name"
+            " again replaces it while unedited"
+            for f, why in dropped
+        ]
+    return Library(result.modules)
 
 
 def resolve_scene(
@@ -256,7 +292,8 @@ def load_inputs(
     else:
         paths = [Path(library)] if isinstance(library, (str, Path)) else [Path(p) for p in library]
     library_path = next((p for p in paths if p.is_dir()), paths[0])  # where learned/ goes
-    lib = open_library(paths)
+    left_out: list[str] = []
+    lib = open_library(paths, left_out)
     rec: Recording | None = None
     seg: Segmentation | None = None
     if recording is None:
@@ -295,7 +332,7 @@ def load_inputs(
     _check_tracked(instances, sc, source, "marker groups" if rec is not None else "instances")
     if rec is not None and not instances:
         raise InputError("the recording has no marker groups to segment", location=source)
-    return Inputs(lib, library_path, sc, source, params, rec, seg, outside, tuple(paths))
+    return Inputs(lib, library_path, sc, source, params, rec, seg, outside, tuple(paths), tuple(left_out))
 
 
 def _check_tracked(instances: tuple[str, ...], scene: Scene, source: str, what: str) -> None:

@@ -94,18 +94,25 @@ def execute_stage(
             camera.snapshot("robot_00", run.world)
             run.controller.add_observer(camera)
         announce(0)
-        result = run_prepared(run, on_step=on_step)
+        settings = overrides or SceneOverrides()
+        if settings.strict or not run.oac.composed:
+            result = run_prepared(run, on_step=on_step)
+        else:  # adaptive (issue 22): the steps run are the ones the world asked for
+            from oacdsl.runtime.adaptive import run_adaptive
+
+            result = run_adaptive(run, on_step=on_step, max_repairs=settings.max_repairs)
     finally:
         if camera is not None:
             camera.close()
     doc = result.to_json()
     doc["initial"] = [list(r) for r in result.states[0].sorted_relations()] if result.states else []
     before = doc["initial"]
-    for step_doc, step in zip(doc["steps"], run.steps, strict=False):
+    executed = [(library.oacs[s.oac], s.binding) for s in result.steps]
+    for step_doc, (step_oac, step_binding) in zip(doc["steps"], executed, strict=False):
         # ``observed`` is the set of touching relations (docs/report.md); the runtime adds
         # ``[x, "nothing"]`` for the step's instances that touch nothing, which that set implies
         step_doc["observed"] = [p for p in step_doc["observed"] if NOTHING not in p]
-        ending = bound_conditions(step.oac, step.binding)["effect_not"]
+        ending = bound_conditions(step_oac, step_binding)["effect_not"]
         # an effect ``x <-> nothing`` predicts that every relation x had before the step ends
         cleared = {p[0] for p in step_doc["predicted"] if p[1] == NOTHING}
         ending += [p for p in before if (p[0] in cleared or p[1] in cleared) and p not in ending]

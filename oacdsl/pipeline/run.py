@@ -144,6 +144,8 @@ def reproduce(
         if warn is not None:
             warn(text)
 
+    for text in inputs.warnings:  # learned files left out of the library (they no longer compile)
+        note_warning(text)
     from oacdsl.atomic import remove_stale_temporaries
     from oacdsl.matching.emit import LEARNED
     from oacdsl.pipeline.publish import clean_stale, make_staging, publish
@@ -165,7 +167,7 @@ def reproduce(
             demonstration={
                 "recording": inputs.source,
                 "scene": inputs.scene.name,
-                "library": [str(inputs.library_path)],
+                "library": [str(p) for p in inputs.library_paths or (inputs.library_path,)],
                 "seed": seed,
                 "command": command,
                 **({"scene_overrides": overrides.to_json()} if overrides and overrides.to_json() else {}),
@@ -314,7 +316,7 @@ def _stages(
 
         try:
             return motion_doc(seg.recording, [m.sub_action for m in matched.matches], checked.recording,
-                              checked.sub_actions, checked.doc, composed.doc.get("steps", []),
+                              checked.sub_actions, checked.doc, analyse.steps_by_sub_action(composed),
                               figs / "motion.png")
         except (OacError, ValueError, FloatingPointError, np.linalg.LinAlgError) as error:
             warn(f"the demonstrated and executed motion could not be compared: {error}")
@@ -324,7 +326,8 @@ def _stages(
         seg = attempt("segment", segment)
         result.put("segment", analyse.segment_doc(seg, inputs.source))
         matched = attempt(
-            "match", lambda: analyse.match_stage(seg.segmentation, inputs.library, inputs.scene)
+            "match", lambda: analyse.match_stage(seg.segmentation, inputs.library, inputs.scene, name,
+                                                 inputs.unmerged())
         )
         result.put("match", matched.doc)
         composed = attempt("compose", compose)

@@ -96,6 +96,16 @@ def _constraints(m: MatchDoc) -> str:
 def _oac_cell(sub: SubActionDoc | None) -> str:
     if sub is None:
         return '<span class="muted">not matched (matching did not run)</span>'
+    parts = (sub.model_extra or {}).get("split")
+    if sub.chosen is None and isinstance(parts, list) and parts:  # several sub-actions at once
+        items = "".join(
+            f"<li><span class=mono>{call(str(p.get('oac')), dict(p.get('binding') or {}))}</span>"
+            f" (group {esc(str(p.get('group')))})</li>"
+            for p in parts if isinstance(p, dict)
+        )
+        why = f'<div class="small muted">{esc(sub.explanation)}</div>' if sub.explanation else ""
+        return (f'<div class="oacbox">{badge("split", "ok")} parts of one group may run together'
+                f"<ol>{items}</ol>{why}</div>")
     if sub.chosen is None or not 0 <= sub.chosen < len(sub.matches):
         why = ""
         if sub.explanation:

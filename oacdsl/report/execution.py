@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 from oacdsl.report.html import Images, badge, call, esc, holds, rel, rel_list, safe_link, seconds
 from oacdsl.report.overview import not_run
@@ -92,6 +93,7 @@ def execution_section(r: Result, images: Images) -> str:
     facts += [(k.replace("_", " "), str(v)) for k, v in m.items() if k not in known]
     if facts:
         out.append(_cards(facts))
+    out.append(_adaptations(run.model_extra or {}))
     if run.video:
         href = safe_link(run.video)
         if href is None:  # e.g. javascript:…: shown as text, never a live link
@@ -128,6 +130,20 @@ def execution_section(r: Result, images: Images) -> str:
         + "</tbody></table>"
     )
     return "".join(out) + "</section>"
+
+
+def _adaptations(extra: dict[str, Any]) -> str:
+    """What an adaptive run skipped and replanned (issue 22), as a list; empty without any."""
+    items = []
+    for entry in extra.get("adaptations") or []:
+        if not isinstance(entry, dict):
+            continue
+        plan = entry.get("plan") or []
+        then = f' <span class="mono">→ {esc(", ".join(str(p) for p in plan))}</span>' if plan else ""
+        items.append(f"<li>{esc(str(entry.get('text', '')))}{then}</li>")
+    if not items:
+        return ""
+    return "<p>Adapted to the world at execution time:</p><ul>" + "".join(items) + "</ul>"
 
 
 def _cards(facts: list[tuple[str, str]]) -> str:

@@ -3,10 +3,11 @@
 :func:`execute` binds the OAC's parameters, sets the scene up (a liquid starts in the
 container the OAC's preconditions name), checks the preconditions against the
 touching relations the simulation reports, runs the primitive steps' skills one after
-the other, and after each step compares the observed relations with the step's
-predicted effects. It returns a :class:`RunResult` (the ``oacc run --json`` document);
-it never raises for a failure of the robot, only for a wrong call (unknown OAC, bad
-binding), as :class:`~oacdsl.errors.RuntimeFailure`.
+the other (the steps of a ``together { … }`` block too, in the written order: they are
+independent, so any order gives the same world), and after each step compares
+the observed relations with the step's predicted effects. It returns a :class:`RunResult`
+(the ``oacc run --json`` document); it never raises for a failure of the robot, only for
+a wrong call (unknown OAC, bad binding), as :class:`~oacdsl.errors.RuntimeFailure`.
 """
 
 from __future__ import annotations
@@ -44,7 +45,7 @@ from oacdsl.runtime.skills import IMPLEMENTATIONS, SkillContext
 from oacdsl.skills import SIGNATURES
 from oacdsl.world import NOTHING, WorldState
 
-__all__ = ["execute", "RunResult", "StepResult", "CallResult", "Run", "prepare", "run_prepared"]
+__all__ = ["execute", "RunResult", "StepResult", "CallResult", "Run", "prepare", "run_prepared", "run_step"]
 
 _UNSTABLE = ("mjWARN_BADQACC", "mjWARN_BADQPOS", "mjWARN_BADQVEL", "mjWARN_BADCTRL")
 
@@ -297,3 +298,13 @@ def _run_skill(ctx: SkillContext, step: Step) -> str | None:
     if unstable:
         return f"{step.oac.name}: the simulation became unstable ({', '.join(unstable)})"
     return None
+
+
+def run_step(ctx: SkillContext, step: Step, expected: WorldState | None) -> str | None:
+    """Run one primitive step's skill, told the world state it is meant to leave: the error,
+    or None. The hook the adaptive executor (:mod:`oacdsl.runtime.adaptive`) drives."""
+    ctx.expected = expected
+    try:
+        return _run_skill(ctx, step)
+    finally:
+        ctx.expected = None

@@ -23,6 +23,10 @@ class SceneOverrides:
     fill: Mapping[str, str] = field(default_factory=dict)
     balls: Mapping[str, int] = field(default_factory=dict)
     layout: str | None = None
+    #: ``--strict``: run a composed OAC's demonstrated steps as they are (default: adaptive).
+    strict: bool = False
+    #: ``--max-repairs``: how often an adaptive run may replan.
+    max_repairs: int = 3
 
     def kwargs(self) -> dict[str, Any]:
         """Keyword arguments for :func:`oacdsl.runtime.executor.prepare`."""
@@ -44,4 +48,6 @@ class SceneOverrides:
             doc["balls"] = dict(sorted(self.balls.items()))
         if self.layout:
             doc["layout"] = self.layout
+        if self.strict:
+            doc["strict"] = True
         return doc

@@ -80,6 +80,9 @@ class RunResult:
     states: list[WorldState] = field(default_factory=list)
     composed: list[CallResult] = field(default_factory=list)
     failed_step: str | None = None
+    #: What the adaptive executor changed: ``{"kind": "skipped"|"replanned"|"failed", "step": N,
+    #: "text": …, "plan": [...]}`` (empty for a strict run).
+    adaptations: list[dict[str, Any]] = field(default_factory=list)
 
     @property
     def error(self) -> str | None:
@@ -98,4 +101,5 @@ class RunResult:
             "steps": [s.to_json() for s in self.steps],
             "composed": [c.to_json() for c in self.composed],
             "metrics": dict(self.metrics),
+            **({"adaptations": list(self.adaptations)} if self.adaptations else {}),
         }

@@ -1,0 +1,170 @@
+"""World states and goals for planning: a scene's initial state, atoms typed on the command line.
+
+A scene's *planning state* is the matcher's :class:`~oacdsl.world.WorldState` over the
+instances that take part in touching relations (tracked and untracked, neither environment
+nor ignored), with the scene's ``in`` statements as relations (a liquid touches its
+container); every other instance touches nothing, as the robot's objects stand on the
+table, which is environment. Goals and stated relations (``--goal``, ``--state``) are
+written in the language's atom syntax (``liquid_one <-> orange_bowl, not mixer <-> nothing``)
+and parsed by the language's own parser.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+from typing import Any
+
+from oacdsl.errors import InputError, LanguageError, UsageError, did_you_mean
+from oacdsl.library import Library
+from oacdsl.matching.conditions import apply_effects, holds
+from oacdsl.model import Atom, Oac, Scene
+from oacdsl.world import NOTHING, WorldState, relation
+
+__all__ = [
+    "check_atoms",
+    "instance_classes",
+    "parse_atoms",
+    "scene_state",
+    "state_as_fills",
+    "state_from_result",
+    "stated",
+]
+
+_HEAD = "oac goal() {\npre "  # the goal's text starts line 2, column 5
+
+
+def scene_state(scene: Scene) -> WorldState:
+    """The scene's initial state: its related instances, each liquid in the container its
+    ``in`` statement names."""
+    names = {i.name for i in scene.instances if not (i.environment or i.ignored)}
+    pairs = [(f.liquid, f.container) for f in scene.fills if f.liquid in names and f.container in names]
+    return WorldState.of(names, pairs)
+
+
+def parse_atoms(text: str, what: str = "--goal") -> tuple[Atom, ...]:
+    """The comma-separated atoms of ``text`` (UsageError ``--goal:1:COL: …`` on a syntax error)."""
+    from oacdsl.compiler.parser import parse_text
+
+    if not text.strip():
+        raise UsageError(f"{what}: no atoms given (e.g. \"liquid_one <-> orange_bowl\")")
+    if "\n" in text or "\r" in text:
+        raise UsageError(f"{what}: atoms are written on one line, separated by commas")
+    try:
+        module = parse_text(f"{_HEAD}{text}\nexecute goal\n}}\n", what)
+    except LanguageError as error:
+        diag = error.diagnostics[0] if error.diagnostics else None
+        span = getattr(diag, "span", None)
+        col = max(1, span.column - 4) if span is not None and span.line == 2 else len(text) + 1
+        message = getattr(diag, "message", str(error))
+        raise UsageError(f"{what}:1:{col}: {message}") from None
+    oac = module.decls[0]
+    if not isinstance(oac, Oac):  # cannot happen: the text holds one oac
+        raise UsageError(f"{what}: not a list of atoms")
+    return oac.pre
+
+
+def _column(atom: Atom) -> int:
+    return max(1, atom.span.column - 4) if atom.span is not None and atom.span.line == 2 else 1
+
+
+def check_atoms(atoms: Iterable[Atom], instances: Iterable[str], what: str = "--goal") -> None:
+    """UsageError (one line, with a did-you-mean) for an atom naming an unknown instance."""
+    known = sorted(instances)
+    for atom in atoms:
+        for name in (atom.left, atom.right):
+            if name != NOTHING and name not in known:
+                raise UsageError(
+                    f"{what}:1:{_column(atom)}: no instance {name!r} in the scene{did_you_mean(name, known)}"
+                )
+        if atom.left == atom.right:
+            raise UsageError(f"{what}:1:{_column(atom)}: an instance cannot touch itself ({atom.left})")
+
+
+def stated(state: WorldState, atoms: Sequence[Atom], what: str = "--state") -> WorldState:
+    """``state`` with the stated relations made true (``a <-> b`` added, ``not a <-> b`` and
+    ``x <-> nothing`` removed), as an OAC's effects would; checked against its instances."""
+    check_atoms(atoms, state.instances, what)
+    after = apply_effects(state, atoms)
+    for atom in atoms:
+        if not holds(atom, after):
+            raise UsageError(f"{what}:1:{_column(atom)}: the stated relations contradict each other")
+    return after
+
+
+def _pairs_of(doc: Any, path: str) -> list[list[str]]:
+    """The last observed relations of an ``oacc run --json`` document or a result.json."""
+    run = doc.get("execution", doc) if isinstance(doc, dict) else None
+    steps = run.get("steps") if isinstance(run, dict) else None
+    if not isinstance(steps, list) or not steps or not isinstance(steps[-1], dict):
+        raise InputError("no executed steps to take the world state from", location=path)
+    observed = steps[-1].get("observed")
+    if not isinstance(observed, list):
+        raise InputError("the last step has no observed relations", location=path)
+    return observed
+
+
+def state_from_result(path: str, instances: Iterable[str]) -> WorldState:
+    """The world state where a run ended: the last step's observed relations of ``path``
+    (``oacc run --json`` output or ``result.json``), over ``instances``."""
+    try:
+        doc = json.loads(Path(path).read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise UsageError(f"{path}: no such file") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise InputError(f"cannot read: {error}", location=path) from None
+    except json.JSONDecodeError as error:
+        raise InputError(f"{error.lineno}:{error.colno}: not JSON: {error.msg}", location=path) from None
+    known = frozenset(instances)
+    pairs = []
+    for index, pair in enumerate(_pairs_of(doc, path)):
+        if not (isinstance(pair, list) and len(pair) == 2 and all(isinstance(x, str) for x in pair)):
+            raise InputError(f"observed relation {index}: expected a pair of names", location=path)
+        a, b = pair
+        if NOTHING in (a, b):
+            continue
+        for name in (a, b):
+            if name not in known:
+                raise InputError(
+                    f"observed relation {index}: no instance {name!r} in the scene", location=path
+                )
+        if a != b:
+            pairs.append(relation(a, b))
+    return WorldState.of(known, pairs)
+
+
+def instance_classes(library: Library, scene: Scene) -> dict[str, frozenset[str]]:
+    """Each related instance's classes, inherited included."""
+    every = library.instance_classes(scene)
+    return {i.name: every[i.name] for i in scene.instances if not (i.environment or i.ignored)}
+
+
+def state_as_fills(library: Any, scene: Any, text: str) -> dict[str, str]:
+    """``oacc run --state``: stated relations the simulation can set up before a run, as
+    ``--fill`` entries — a liquid in a container (UsageError, located, for any other)."""
+    from oacdsl.geometry import ROLE_LIQUID, resolve_scene
+
+    atoms = parse_atoms(text, "--state")
+    check_atoms(atoms, scene_state(scene).instances, "--state")
+    shapes = {name: geo for name, geo in resolve_scene(library, scene).items() if geo is not None}
+    fills: dict[str, str] = {}
+    for atom in atoms:
+        pair = (atom.left, atom.right)
+        for liquid, container in (pair, pair[::-1]):
+            if (
+                not atom.negated
+                and liquid in shapes
+                and container in shapes
+                and shapes[liquid].role == ROLE_LIQUID
+                and shapes[container].container
+            ):
+                fills[liquid] = container
+                break
+        else:
+            col = max(1, atom.span.column - 4) if atom.span is not None else 1
+            raise UsageError(
+                f"--state:1:{col}: the simulation can start a liquid in a container ('liquid_one <->"
+                " orange_bowl'); other relations are not set up before a run yet"
+            )
+    return fills

@@ -1,0 +1,115 @@
+"""Adaptive execution of the composed dough OAC (issue 22): the world decides which steps run."""
+
+from __future__ import annotations
+
+import functools
+import shutil
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("mujoco", reason="the robot runtime needs the 'robot' extra (mujoco)")
+pytest.importorskip("placo", reason="the robot runtime needs the 'robot' extra (placo)")
+pytest.importorskip("unified_planning", reason="replanning needs the 'plan' extra")
+
+from oacdsl.compiler import load_library  # noqa: E402
+from oacdsl.matching.conditions import bind_atoms, holds  # noqa: E402
+from oacdsl.runtime.adaptive import run_adaptive  # noqa: E402
+from oacdsl.runtime.executor import prepare, run_prepared  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@functools.cache
+def _dough_text() -> str:
+    import oacdsl
+
+    demo = oacdsl.load_demonstration(str(ROOT / "data" / "dough.c3d"), str(ROOT / "library"))
+    return oacdsl.compose(demo, "dough").text
+
+
+@pytest.fixture
+def dough_library(tmp_path: Path):
+    folder = tmp_path / "library"
+    shutil.copytree(ROOT / "library", folder)
+    (folder / "learned").mkdir(exist_ok=True)
+    (folder / "learned" / "dough.oac").write_text(_dough_text())
+    return load_library([folder])
+
+
+def _executed(result) -> list[str]:
+    return [f"{s.oac}({', '.join(s.binding.values())})" for s in result.steps]
+
+
+def _ends_with_the_demonstrated_effects(library, result, run) -> None:
+    assert result.success, result.error
+    final = result.states[-1]
+    goal = bind_atoms(library.oacs["dough"].effect, run.binding)
+    assert all(holds(a, final) for a in goal), final.sorted_relations()
+
+
+@pytest.mark.slow
+def test_liquid_one_already_in_the_bowl_skips_the_first_pour(dough_library):
+    run = prepare(dough_library, "dough", scene="kitchen", fill={"liquid_one": "orange_bowl"})
+    result = run_adaptive(run)
+    _ends_with_the_demonstrated_effects(dough_library, result, run)
+    assert not any(s.startswith("pour(left_hand, red_cup, liquid_one") for s in _executed(result))
+    skipped = [a["text"] for a in result.adaptations if a["kind"] == "skipped"]
+    assert any("pour(left_hand, red_cup, liquid_one, orange_bowl)" in t for t in skipped), result.adaptations
+    assert "adaptations" in result.to_json()
+    # the strict run stops where the demonstration no longer fits
+    again = prepare(dough_library, "dough", scene="kitchen", fill={"liquid_one": "orange_bowl"})
+    strict = run_prepared(again)
+    assert not strict.success
+
+
+@pytest.mark.slow
+def test_liquids_in_each_others_cups_are_poured_from_the_cup_that_holds_them(dough_library):
+    fill = {"liquid_one": "green_cup", "liquid_two": "red_cup"}
+    run = prepare(dough_library, "dough", scene="kitchen", fill=fill)
+    result = run_adaptive(run)
+    _ends_with_the_demonstrated_effects(dough_library, result, run)
+    pours = [s for s in result.steps if s.oac == "pour"]
+    poured = {(s.binding["c"], s.binding["l"]) for s in pours}
+    assert poured == {("green_cup", "liquid_one"), ("red_cup", "liquid_two")}
+    assert any(a["kind"] == "replanned" for a in result.adaptations)
+
+
+@pytest.mark.slow
+def test_a_cup_dropped_during_the_carry_is_picked_up_again(dough_library):
+    run = prepare(dough_library, "dough", scene="kitchen")
+    dropped = []
+
+    def drop(index, step, world):  # after the first grasp has lifted the red cup: let go of it
+        if index == 0 and step.oac.name == "grasp":
+            side = run.context.side(step.binding["h"])
+            world.release(side)
+            run.controller.open_hand(side)
+            run.controller.wait(1.0)
+            dropped.append(step.binding["o"])
+
+    result = run_adaptive(run, fault=drop)
+    assert dropped == ["red_cup"]
+    _ends_with_the_demonstrated_effects(dough_library, result, run)
+    # taken, dropped, taken again, and then the demonstration goes on in its order
+    assert _executed(result) == [
+        "grasp(left_hand, red_cup)",
+        "grasp(left_hand, red_cup)",
+        "pour(left_hand, red_cup, liquid_one, orange_bowl)",
+        "place(left_hand, red_cup)",
+        "grasp(right_hand, green_cup)",
+        "pour(right_hand, green_cup, liquid_two, orange_bowl)",
+        "place(right_hand, green_cup)",
+        "grasp(right_hand, mixer)",
+        "mix(right_hand, mixer, orange_bowl)",
+    ]
+    [replanned] = [a for a in result.adaptations if a["kind"] == "replanned"]
+    assert "precondition of pour not met" in replanned["text"]
+
+
+def test_max_repairs_is_checked_before_the_simulation(capsys):
+    from oacdsl.cli import main
+
+    assert main(["run", "dough", "--max-repairs", "-1", "--no-record"]) == 2
+    assert capsys.readouterr().err.strip() == "oacc: error: --max-repairs: a whole number ≥ 0"
+    assert main(["reproduce", "--max-repairs", "-2", "--no-record"]) == 2
