@@ -113,3 +113,11 @@ def test_more_frames_than_a_16_bit_parameter_holds(tmp_path: Path):
     back = read_c3d(write_c3d(rec, tmp_path / "ours.c3d"))
     assert back.n_frames == 40_000
     same(back, read_c3d(tmp_path / "theirs.c3d"))
+
+
+def test_more_frames_than_the_parameter_holds_are_refused(tmp_path: Path):
+    from oacdsl.errors import RecordingError
+
+    with pytest.raises(RecordingError, match="70000 frames"):
+        write_c3d(synthetic(70_000, 5, rate_hz=1000.0), tmp_path / "long.c3d")
+    assert not list(tmp_path.iterdir())

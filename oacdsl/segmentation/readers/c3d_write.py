@@ -73,8 +73,9 @@ def _group(name: str, group_id: int) -> bytes:
 
 def _point_params(labels: Sequence[str], rate_hz: float, frames: int, data_start: int) -> bytes:
     chunks = [labels[i:i + _CHUNK] for i in range(0, len(labels), _CHUNK)] or [[]]
-    # as ezc3d writes it: unsigned past 32767, at most 65535 (a longer file reads short)
-    frames_value = 2, (), struct.pack("<H", min(frames, _UINT16_MAX))
+    if frames > _UINT16_MAX:  # ezc3d wrote such a file, which then read back as 65535 frames
+        raise ValueError(f"{frames} frames (POINT:FRAMES holds at most {_UINT16_MAX})")
+    frames_value = 2, (), struct.pack("<H", frames)  # unsigned past 32767, as ezc3d writes it
     out = [_group("POINT", 1),
            _record("USED", 1, _int(len(labels)), True),
            _record("LABELS", 1, _texts(chunks[0]), False),
