@@ -1,7 +1,7 @@
 """`oacc reproduce` on the KIT Bimanual development clips: time per clip and verified seeds.
 
     python benchmarks/kit_reproduce.py [--clips dough,Pour,Stir] [--seeds 0,1,2,3,4,5] [--repeats N]
-                                       [--keep DIR]
+                                       [--keep DIR] [--library DIR]
 
 For each clip and seed (0: the scene's own places, the command's default) the whole job runs
 in this process as `oacc reproduce CLIP.mmm.xml --library library/kit --no-render` does
@@ -14,7 +14,8 @@ the segmentation alone (reading the recording and `oacc segment`'s AAS), median 
 ``--repeats`` runs. Target: < 30 s per clip (median wall, two cores).
 Only the development clips are offered (and `dough`, the bundled demonstration); the evaluation
 clips are never run here. `--keep DIR` keeps each run's folder (DIR/CLIP-SEED: report,
-execution.c3d and its contacts) for `oacc verify` later.
+execution.c3d and its contacts) for `oacc verify` later. `--library DIR`: another library of
+the KIT clips (`tests/data/kit_follow`: named skills replaced by the generic `follow`).
 """
 
 from __future__ import annotations
@@ -59,8 +60,8 @@ def segmentation_only(recording: Path) -> None:
     segment(rec, AasParams())
 
 
-def reproduce_once(recording: Path | None, seed: int, work: Path, out: Path | None = None
-                   ) -> tuple[str, str, float]:
+def reproduce_once(recording: Path | None, seed: int, work: Path, out: Path | None = None,
+                   kit: Path = ROOT / "library" / "kit") -> tuple[str, str, float]:
     """(V/v/x, verdict and failed checks, the verify stage's share) of one `oacc reproduce` run."""
     from oacdsl.pipeline import load_inputs, reproduce
     from oacdsl.pipeline.inputs import default_name
@@ -69,7 +70,7 @@ def reproduce_once(recording: Path | None, seed: int, work: Path, out: Path | No
     which = "kit" if recording is not None else "dough"
     library = work / which
     if not library.exists():
-        source = ROOT / "library" / "kit" if recording is not None else ROOT / "library"
+        source = kit if recording is not None else ROOT / "library"
         shutil.copytree(source, library, ignore=shutil.ignore_patterns("learned", "drafts"))
     inputs = load_inputs(recording, library, None, AasParams())
     name = default_name(str(recording)) if recording is not None else "dough"
@@ -92,6 +93,7 @@ def main() -> int:
     parser.add_argument("--seeds", default="0,1,2,3,4,5", help="0 = the scene's own places")
     parser.add_argument("--repeats", type=int, default=3, help="runs of the baseline")
     parser.add_argument("--keep", metavar="DIR", help="keep each run's folder in DIR/CLIP-SEED")
+    parser.add_argument("--library", type=Path, default=ROOT / "library" / "kit", help="the KIT library")
     args = parser.parse_args()
     if MOCAP is None:
         print("shared/mocap is absent: nothing to measure", file=sys.stderr)
@@ -115,7 +117,7 @@ def main() -> int:
             for seed in seeds:
                 out = keep / f"{clip}-{seed}" if keep is not None else None
                 (mark, summary, share), wall, cpu = timed(
-                    lambda s=seed, r=recording, o=out: reproduce_once(r, s, Path(tmp), o))
+                    lambda s=seed, r=recording, o=out: reproduce_once(r, s, Path(tmp), o, args.library))
                 walls.append(wall)
                 cpus.append(cpu)
                 shares.append(share)

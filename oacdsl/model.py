@@ -360,17 +360,50 @@ class Param(Node):
     default: str | None = None
 
 
+class KeyPose(Node):
+    """One keyframe of a path: ``0.4s (12mm, -3mm, 95mm) (0deg, 5deg, 0deg)`` — its time, a
+    position and a rotation vector (axis × angle), as written (docs/language.md)."""
+
+    time: Quantity
+    position: Point
+    rotation: Point
+
+
+class PathValue(Node):
+    """A skill parameter's path: ``[ KEYPOSE, KEYPOSE, … ]`` (``follow``'s demonstrated motion)."""
+
+    poses: tuple[KeyPose, ...]
+
+    def si(self) -> tuple[tuple[float, ...], ...]:
+        """One ``(t_s, x_m, y_m, z_m, rx_rad, ry_rad, rz_rad)`` per keyframe."""
+        from oacdsl.units import language_si
+
+        def v(q: Quantity) -> float:
+            return language_si(q.value, q.unit)[0]
+
+        return tuple(
+            (v(k.time), v(k.position.x), v(k.position.y), v(k.position.z),
+             v(k.rotation.x), v(k.rotation.y), v(k.rotation.z))
+            for k in self.poses
+        )
+
+
 class SkillParam(Node):
     """A named parameter of a skill call: ``tilt 110deg`` (the value as written; SI via
-    :func:`oacdsl.units.language_si`)."""
+    :func:`oacdsl.units.language_si`), or a path ``path [ … ]``."""
 
     name: str
-    value: Quantity
+    value: Quantity | PathValue
+
+
+def _param_key(s: SkillParam) -> tuple[str, float, str]:
+    v = s.value
+    return (s.name, v.value, v.unit) if isinstance(v, Quantity) else (s.name, float(len(v.poses)), "path")
 
 
 def sorted_skill_params(v: tuple[SkillParam, ...]) -> tuple[SkillParam, ...]:
     """Skill parameters in canonical order: by name, then value as written."""
-    return tuple(sorted(v, key=lambda s: (s.name, s.value.value, s.value.unit)))
+    return tuple(sorted(v, key=_param_key))
 
 
 class Call(Node):

@@ -23,6 +23,7 @@ __all__ = [
     "MOTION_FEATURES",
     "SIGNATURES",
     "SKILLS",
+    "PATH",
     "MotionSource",
     "SkillArg",
     "SkillParamSpec",
@@ -44,6 +45,12 @@ MOTION_FEATURES: tuple[str, ...] = (
     "tilt_time_s",
     "twist_rad",
 )
+
+
+#: The unit of a parameter whose value is a path (``path [ 0s (x, y, z) (rx, ry, rz), … ]``):
+#: keyframes of time (s), position (m) and rotation vector (rad), written by the composer from the
+#: demonstrated motion (``follow``; docs/language.md).
+PATH = "path"
 
 
 @dataclass(frozen=True)
@@ -123,6 +130,8 @@ class SkillParamSpec:
 
     def describe(self) -> str:
         """``tilt: angle, default 125deg (30deg to 180deg) — final tilt of the container``."""
+        if self.unit == PATH:
+            return f"{self.name}: a path (keyframes: time, position, rotation) — {self.doc}"
         kind = unit_kind(self.unit).split(" (")[0].removeprefix("a ").removeprefix("an ")
         return (
             f"{self.name}: {kind}, default {format_value(self.default, self.unit)}"
@@ -144,8 +153,8 @@ class SkillSignature:
         return next((p for p in self.params if p.name == name), None)
 
     def defaults(self) -> dict[str, float]:
-        """Every parameter's default (SI)."""
-        return {p.name: p.default for p in self.params}
+        """Every parameter's default (SI); a path has none (the skill's own applies)."""
+        return {p.name: p.default for p in self.params if p.unit != PATH}
 
     def text(self) -> str:
         """``pour(h: Hand, c: Container, l: Liquid, b: Container) { tilt duration height }``."""
@@ -469,6 +478,29 @@ SIGNATURES: dict[str, SkillSignature] = {
             (
                 SkillParamSpec("clear", "m", 0.03, 0.0, 0.20, "height of its base above the container's top"),
                 SkillParamSpec("duration", "s", 1.0, 0.3, 10.0, "time to lift it out"),
+            ),
+        ),
+        SkillSignature(
+            "follow",
+            "move the held object along the demonstrated path relative to another object,"
+            " retargeted into the robot's reach (a sub-action no named skill knows)",
+            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("t", ANY)),
+            (
+                SkillParamSpec(
+                    PATH, PATH, 0.0, 0.0, 0.0,
+                    "keyframes of o's pose relative to t: time, position and rotation vector in t's"
+                    " frame turned so that x points from t to where o starts (the composer writes it"
+                    " from the demonstration)",
+                ),
+                SkillParamSpec("speed", "m/s", 0.25, 0.02, 1.0,
+                               "fastest the held object moves; faster parts of the path are slowed down"),
+                SkillParamSpec("turn", "rad", _deg(30.0), 0.0, _deg(180.0),
+                               "most the held object turns from its start orientation; larger"
+                               " rotations are scaled down to it"),
+                SkillParamSpec("press", "m", 0.003, 0.0, 0.02,
+                               "how far it is pressed on where the path must end touching the target"),
+                SkillParamSpec("force", "N", 10.0, 2.0, 40.0,
+                               "wrist force change that stops a guarded approach to the target"),
             ),
         ),
     )

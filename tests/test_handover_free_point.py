@@ -19,8 +19,10 @@ from test_kit_general import library  # noqa: E402
 from oacdsl.runtime.executor import prepare  # noqa: E402
 from oacdsl.runtime.handgap import hands_gap  # noqa: E402
 from oacdsl.runtime.skills import IMPLEMENTATIONS  # noqa: E402
-from oacdsl.runtime.skills.bimanual import HANDS_APART_M  # noqa: E402
-from oacdsl.runtime.skills.grasp import handover_candidates  # noqa: E402
+from oacdsl.runtime.skills.grasp import (
+    HANDS_APART_M,  # noqa: E402
+    handover_candidates,  # noqa: E402
+)
 
 
 @pytest.mark.slow

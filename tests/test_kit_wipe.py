@@ -18,7 +18,7 @@ from runtime_lib import ROOT  # noqa: E402
 from oacdsl.compiler import load_library  # noqa: E402
 from oacdsl.pipeline.markers import ROBOT_DISTANCE_M, VirtualMarkers  # noqa: E402
 from oacdsl.runtime.executor import prepare, run_prepared  # noqa: E402
-from oacdsl.runtime.skills.shapes import world_corners  # noqa: E402
+from oacdsl.runtime.shapes import world_corners  # noqa: E402
 from oacdsl.skills import SIGNATURES  # noqa: E402
 
 #: The plate where the demonstrated layout puts it (the recording is not needed here).

@@ -18,8 +18,8 @@ from collections.abc import Callable
 from oacdsl.compiler.context import Context
 from oacdsl.compiler.diagnostics import Note
 from oacdsl.errors import did_you_mean
-from oacdsl.model import Call, Node, Oac, Quantity, SkillParam
-from oacdsl.skills import SIGNATURES, SkillParamSpec, SkillSignature, format_value
+from oacdsl.model import Call, Node, Oac, PathValue, Quantity, SkillParam
+from oacdsl.skills import PATH, SIGNATURES, SkillParamSpec, SkillSignature, format_value
 from oacdsl.units import language_si, unit_kind
 
 __all__ = ["check_quantity_unit", "check_skill_call", "check_skill_params", "check_step_params"]
@@ -68,7 +68,38 @@ def _check_param(ctx: Context, sig: SkillSignature, given: SkillParam) -> None:
             Note(f"the parameters of '{sig.name}': {valid} (see 'oacc skills')"),
         )
         return
+    what = f"'{spec.name}' of skill '{sig.name}'"
+    if isinstance(given.value, PathValue) or spec.unit == PATH:
+        _check_path(ctx, what, spec, given)
+        return
     _check_value(ctx, sig, spec, given.value)
+
+
+def _check_path(ctx: Context, what: str, spec: SkillParamSpec, given: SkillParam) -> None:
+    """A path (``path [ … ]``) given where the signature wants one: units of every keyframe
+    (E043), at least two keyframes and strictly increasing times from 0 on (E044)."""
+    path = given.value
+    if not isinstance(path, PathValue):
+        ctx.add("E043", f"{what} is a path ('[ 0s (x, y, z) (rx, ry, rz), … ]'), not '{written(path)}'",
+                path.span)
+        return
+    if spec.unit != PATH:
+        ctx.add("E043", f"{what} is {unit_kind(spec.unit)}, not a path", path.span)
+        return
+    if len(path.poses) < 2:
+        ctx.add("E044", f"{what} needs at least two keyframes, not {len(path.poses)}", path.span)
+    last = -math.inf
+    for k in path.poses:
+        fine = check_quantity_unit(ctx, k.time, "s", f"the time of a keyframe of {what}")
+        for q in (k.position.x, k.position.y, k.position.z):
+            fine &= check_quantity_unit(ctx, q, "m", f"a position in {what}")
+        for q in (k.rotation.x, k.rotation.y, k.rotation.z):
+            fine &= check_quantity_unit(ctx, q, "rad", f"a rotation in {what}")
+        t = language_si(k.time.value, k.time.unit)[0]
+        if fine and (t < 0 if last == -math.inf else t <= last):
+            ctx.add("E044", f"the keyframes of {what} must have increasing times from 0s on:"
+                    f" {written(k.time)} after {last:g}s", k.time.span)
+        last = max(last, t)
 
 
 def _check_value(ctx: Context, sig: SkillSignature, spec: SkillParamSpec, q: Quantity) -> None:

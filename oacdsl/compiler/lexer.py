@@ -65,7 +65,7 @@ _MASTER = re.compile(
             f"(?P<QUANTITY>{PATTERNS['QUANTITY']})",
             f"(?P<NUMBER>{PATTERNS['NUMBER']})",
             f"(?P<STRING>{PATTERNS['STRING']})",
-            r"(?P<PUNCT><->|[{}(),:=])",
+            r"(?P<PUNCT><->|[{}(),:=\[\]])",
         ]
     )
 )

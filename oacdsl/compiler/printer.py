@@ -29,11 +29,13 @@ from oacdsl.model import (
     Geometry,
     Grasp,
     Instance,
+    KeyPose,
     Module,
     Node,
     Oac,
     ObjectClass,
     Param,
+    PathValue,
     Point,
     Quantity,
     Scene,
@@ -300,16 +302,26 @@ def _section(keyword: str, oac: Oac, atoms: tuple[Atom, ...]) -> list[str]:
     return lines
 
 
-def _skill_params(params: tuple[SkillParam, ...]) -> str:
-    """`` { tilt 110deg  duration 2s }`` ("" for none)."""
+def _skill_params(params: tuple[SkillParam, ...], indent: str = _IND) -> str:
+    """`` { tilt 110deg  duration 2s }`` ("" for none); a path last, one keyframe a line
+    (``indent``: the line's own indentation)."""
     if not params:
         return ""
-    return " { " + "  ".join(f"{_name(s.name)} {format_quantity(s.value)}" for s in params) + " }"
+    words = [f"{_name(s.name)} {format_quantity(s.value)}" for s in params if isinstance(s.value, Quantity)]
+    for s in params:
+        if isinstance(s.value, PathValue):
+            poses = [f"{indent}{_IND}{_keypose(k)}," for k in s.value.poses]
+            words.append(f"{_name(s.name)} [\n" + "\n".join(poses) + f"\n{indent}]")
+    return " { " + "  ".join(words) + " }"
+
+
+def _keypose(k: KeyPose) -> str:
+    return f"{_quantity(k.time)} {_point(k.position)} {_point(k.rotation)}"
 
 
 def _call(call: Call) -> str:
     head = f"{_name(call.oac)}(" + ", ".join(_name(a) for a in call.args) + ")"
-    return _with_note(head + _skill_params(call.skill_params), call)
+    return _with_note(head + _skill_params(call.skill_params, _IND * 2), call)
 
 
 def _oac(decl: Oac) -> list[str]:
@@ -336,7 +348,7 @@ def _oac(decl: Oac) -> list[str]:
         text = f"{_IND}{'execute':<8}{_name(decl.skill)}"
         if decl.skill_args is not None:
             text += "(" + ", ".join(_name(a) for a in decl.skill_args) + ")"
-        lines.append(text + _skill_params(decl.skill_params))
+        lines.append(text + _skill_params(decl.skill_params, _IND))
     else:
         raise LanguageError(f"cannot print OAC '{decl.name}': it has neither a skill nor steps")
     lines.append(_with_note("}", decl))

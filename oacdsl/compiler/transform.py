@@ -32,9 +32,11 @@ from oacdsl.model import (
     Decl,
     Grasp,
     Instance,
+    KeyPose,
     Oac,
     ObjectClass,
     Param,
+    PathValue,
     Quantity,
     Scene,
     SceneFill,
@@ -359,6 +361,20 @@ class ModelBuilder(GeometryBuilder, Transformer[Token, list[Decl]]):
                 "parts": (_part("name", name),),
             },
         )
+
+    def keypose(self, children: list[Any]) -> KeyPose:
+        time, position, rotation = children
+        return make(
+            KeyPose,
+            {"time": time, "position": position, "rotation": rotation,
+             "span": self._between(time.span, rotation.span)},
+        )
+
+    def pose_path(self, children: list[Any]) -> PathValue:
+        *poses, rbrack = children
+        kept = tuple(p for p in poses if p is not None)
+        start = kept[0].span if kept else rbrack
+        return make(PathValue, {"poses": kept, "span": self._between(start, rbrack)})
 
     def steps(self, children: list[Any]) -> tuple[str, tuple[Call, ...], _PartT]:
         kw, *items, rbrace = children

@@ -41,9 +41,17 @@ from oacdsl.segmentation.motion import SubActionMotion
 from oacdsl.segmentation.poses import ObjectPoses
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import SubAction
-from oacdsl.skills import SIGNATURES, MotionSource, SkillParamSpec
+from oacdsl.skills import PATH, SIGNATURES, MotionSource, SkillParamSpec
 
-__all__ = ["CLEARANCE_M", "StepParams", "demonstrated_motions", "room_m", "step_params", "with_demo_params"]
+__all__ = [
+    "CLEARANCE_M",
+    "StepParams",
+    "demonstrated_motions",
+    "path_params",
+    "room_m",
+    "step_params",
+    "with_demo_params",
+]
 
 #: Kept between the tool and the target's edge when a length is retargeted, metres.
 CLEARANCE_M = 0.005
@@ -188,6 +196,8 @@ def step_params(
     """The parameters the demonstration sets on a step executing ``skill`` on the instances
     ``args`` (its arguments in the signature's order), with its comment (module doc)."""
     sig = SIGNATURES.get(skill or "")
+    if sig is not None and any(p.unit == PATH for p in sig.params):
+        return path_params(motion, args)
     specs = [p for p in sig.params if p.source is not None] if sig is not None else []
     if not specs:
         return StepParams((), None, ())
@@ -213,6 +223,49 @@ def step_params(
         reasons = sorted({r["how"] for r in rows})
         comment = f"skill defaults: {'; '.join(reasons)}"
     return StepParams(tuple(params), comment, tuple(rows))
+
+
+def path_params(motion: SubActionMotion | None, args: Sequence[str]) -> StepParams:
+    """A ``follow(h, o, t)`` step's ``path``: the demonstrated motion of ``o`` relative to ``t``
+    (:func:`~oacdsl.segmentation.followpath.turned_path`), written in mm, degrees and 10 ms;
+    nothing when the sub-action moved something else or relative to something else."""
+    from oacdsl.model import KeyPose, PathValue, Point
+    from oacdsl.segmentation.followpath import turned_path
+
+    row: dict[str, Any] = {"name": PATH, "feature": "the moved object's path in its target's frame",
+                           "unit": PATH, "demonstrated": None, "value": None}
+    wanted = (args[1], args[-1]) if len(args) >= 3 else None
+    found = None
+    if motion is None or motion.moved is None:
+        row["how"] = "no demonstrated motion (the moved object has fewer than 3 markers)"
+    elif (motion.moved, motion.target) != wanted:
+        row["how"] = f"the demonstration moved {motion.moved} relative to {motion.frame_name}"
+    else:
+        found = turned_path(motion.times_s, motion.T_target_object)
+        if found is None:
+            row["how"] = "fewer than two posed frames"
+    if found is None or motion is None:
+        return StepParams((), f"no demonstrated path: {row['how']}", (row,))
+
+    def q(value: float, unit: str) -> Quantity:
+        return Quantity(value=float(value) + 0.0, unit=unit)
+
+    def point(v: np.ndarray, factor: float, unit: str) -> Point:
+        x, y, z = (q(round(float(c) * factor), unit) for c in v)
+        return Point(x=x, y=y, z=z)
+
+    t, pos, rot = found
+    poses = tuple(
+        KeyPose(time=q(round(float(tk), 2), "s"), position=point(p, 1000.0, "mm"),
+                rotation=point(r, 180.0 / math.pi, "deg"))
+        for tk, p, r in zip(t, pos, rot, strict=True)
+    )
+    length = float(np.linalg.norm(np.diff(pos, axis=0), axis=1).sum())
+    row.update(how="as demonstrated", demonstrated=len(poses), value=len(poses))
+    comment = (f"demonstrated ({motion.moved} relative to {motion.frame_name}, frames {motion.start_frame}"
+               f"-{motion.end_frame}): path of {len(poses)} keyframes over {t[-1]:.2f}s,"
+               f" {length * 1000:.0f}mm")
+    return StepParams((SkillParam(name=PATH, value=PathValue(poses=poses)),), comment, (row,))
 
 
 def demonstrated_motions(recording: Recording, subs: Sequence[SubAction]) -> dict[int, SubActionMotion]:

@@ -8,11 +8,12 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 from oacdsl.errors import RuntimeFailure, did_you_mean
 from oacdsl.geometry import ROLE_LIQUID, resolve_scene
 from oacdsl.library import Library
-from oacdsl.model import Atom, Oac, Scene, SkillParam
+from oacdsl.model import Atom, Oac, PathValue, Scene, SkillParam
 from oacdsl.skills import SIGNATURES
 from oacdsl.units import language_si
 from oacdsl.world import NOTHING, WorldState
@@ -49,20 +50,20 @@ class Step:
         return tuple(self.binding.get(a, a) for a in self.oac.skill_arguments())
 
     @property
-    def params(self) -> dict[str, float]:
+    def params(self) -> dict[str, Any]:
         """The skill's named parameters (SI): the signature's defaults, then the OAC's values,
-        then the calling step's."""
+        then the calling step's (a path: its keyframes, :meth:`PathValue.si`)."""
         sig = SIGNATURES.get(str(self.oac.skill))
-        values = sig.defaults() if sig is not None else {}
-        for p in (*self.oac.skill_params, *self.overrides):
-            values[p.name] = language_si(p.value.value, p.value.unit)[0]
+        values: dict[str, Any] = dict(sig.defaults()) if sig is not None else {}
+        values.update(self.given)
         return values
 
     @property
-    def given(self) -> dict[str, float]:
+    def given(self) -> dict[str, Any]:
         """The parameters the OAC or the calling step set (SI), without the skill's defaults."""
         return {
-            p.name: language_si(p.value.value, p.value.unit)[0]
+            p.name: p.value.si() if isinstance(p.value, PathValue)
+            else language_si(p.value.value, p.value.unit)[0]
             for p in (*self.oac.skill_params, *self.overrides)
         }
 

@@ -21,7 +21,7 @@ from oacdsl.runtime.ik import WholeBodyIK
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.transforms import interpolate, min_jerk
 
-__all__ = ["Controller", "Observer", "CONTROL_DT_S", "FORCE_LIMIT_N", "SIDE_NAME"]
+__all__ = ["Controller", "Observer", "CONTROL_DT_S", "FORCE_LIMIT_N", "ORIENTATION_WEIGHT", "SIDE_NAME"]
 
 #: Control period (s): one IK solve per tick (50 Hz); observers still run at their own rate.
 CONTROL_DT_S = 0.02
@@ -30,6 +30,8 @@ FORCE_LIMIT_N = 60.0
 #: Weight of the task that keeps the other hand where it is while one hand moves alone.
 IDLE_HOLD_WEIGHT = 0.5
 SIDE_NAME = {"r": "right", "l": "left"}
+#: Weight of a moving hand's orientation task (its position's is 1).
+ORIENTATION_WEIGHT = 0.3
 
 
 class Observer(Protocol):
@@ -159,10 +161,16 @@ class Controller:
         return stopped
 
     def move(
-        self, side: str, goal: np.ndarray, duration_s: float, guard: Callable[[], bool] | None = None
+        self,
+        side: str,
+        goal: np.ndarray,
+        duration_s: float,
+        guard: Callable[[], bool] | None = None,
+        orientation_weight: float | None = None,
     ) -> bool:
         """Move hand ``side``'s grasp frame to ``goal`` in ``duration_s`` (min-jerk); the other
-        hand holds still. Returns True when ``guard`` ended the motion early."""
+        hand holds still. Returns True when ``guard`` ended the motion early.
+        ``orientation_weight``: of the hand's orientation task (None: the IK's default)."""
         start = self.ik.goal(side)
         other = "l" if side == "r" else "r"
         if self.ik.active[other]:
@@ -171,6 +179,7 @@ class Controller:
             {side: lambda s: interpolate(start, goal, s)},
             duration_s,
             {side: guard} if guard is not None else None,
+            weights={side: orientation_weight} if orientation_weight is not None else None,
             stop_at_model=True,
         )
         return stopped[side]

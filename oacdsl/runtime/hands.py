@@ -35,7 +35,11 @@ __all__ = [
     "TOP_PRESHAPE",
     "PINCH_CLOSED",
     "finger_joint_names",
+    "SQUEEZE_RAD",
 ]
+
+#: How much further than where they touched the object the fingers are told to close, rad.
+SQUEEZE_RAD = 0.08
 
 
 @dataclass(frozen=True)

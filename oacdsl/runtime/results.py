@@ -25,7 +25,8 @@ class StepResult:
     observed: list[list[str]]
     error: str | None = None
     #: The skill parameters the OAC or its calling step set (SI units; the rest are defaults).
-    params: dict[str, float] | None = None
+    #: A path (``follow``) is its keyframes; the JSON gives their number (``path_keyframes``).
+    params: dict[str, Any] | None = None
 
     def to_json(self) -> dict[str, Any]:
         doc: dict[str, Any] = {
@@ -38,7 +39,9 @@ class StepResult:
             "error": self.error,
         }
         if self.params:
-            doc["params"] = {k: round(v, 6) for k, v in sorted(self.params.items())}
+            doc["params"] = {
+                k: round(v, 6) for k, v in sorted(self.params.items()) if isinstance(v, float)
+            } | {f"{k}_keyframes": float(len(v)) for k, v in self.params.items() if not isinstance(v, float)}
         return doc
 
 

@@ -10,13 +10,14 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from functools import partial
+from typing import Protocol
 
 import numpy as np
 
 from oacdsl.runtime.control import Controller
 from oacdsl.runtime.transforms import interpolate
 
-__all__ = ["move_both", "lockstep"]
+__all__ = ["Move", "lockstep", "move_both", "mover"]
 
 
 def move_both(
@@ -24,12 +25,37 @@ def move_both(
     goals: Mapping[str, np.ndarray],
     duration_s: float,
     guards: Mapping[str, Callable[[], bool]] | None = None,
+    weights: Mapping[str, float] | None = None,
 ) -> dict[str, bool]:
     """Move each hand of ``goals`` (side → T_world_grasp) there in ``duration_s``, together;
     the motion ends when it is over or every guarded hand stopped. Returns, per side, whether
-    its guard stopped it."""
+    its guard stopped it. ``weights``: a hand's orientation weight (the IK's default otherwise)."""
     paths = {s: partial(interpolate, ctl.ik.goal(s), goal) for s, goal in goals.items()}
-    return ctl.drive(paths, duration_s, guards)
+    return ctl.drive(paths, duration_s, guards, weights=weights)
+
+
+class Move(Protocol):
+    """Move a hand to T_world_grasp in ``seconds``; a true ``guard`` stops it."""
+
+    def __call__(self, pose: np.ndarray, seconds: float, guard: Callable[[], bool] | None = None) -> None: ...
+
+
+def mover(
+    ctl: Controller, side: str, keep: np.ndarray | None, orientation_weight: float | None = None
+) -> Move:
+    """A move of hand ``side`` (``go(T_world_grasp, seconds, guard=None)``): alone when ``keep``
+    is None, else with the other hand's goal fixed at ``keep`` (T_world_grasp) throughout.
+    ``orientation_weight``: of the moving hand's orientation task (None: the IK's default)."""
+    other = "l" if side == "r" else "r"
+    weights = {side: orientation_weight} if orientation_weight is not None else None
+
+    def go(pose: np.ndarray, seconds: float, guard: Callable[[], bool] | None = None) -> None:
+        if keep is None:
+            ctl.move(side, pose, seconds, guard=guard, orientation_weight=orientation_weight)
+        else:
+            move_both(ctl, {side: pose, other: keep}, seconds, {side: guard} if guard else None, weights)
+
+    return go
 
 
 def lockstep(ctl: Controller, paths: Mapping[str, list[tuple[np.ndarray, float]]]) -> None:

@@ -25,7 +25,7 @@ from oacdsl.runtime.motion.tuning import TUNING, Tuning
 from oacdsl.runtime.transforms import MIN_JERK_PEAK, interpolate, make_T
 
 if TYPE_CHECKING:
-    from oacdsl.runtime.skills.base import SkillContext
+    from oacdsl.runtime.motion.context import MotionContext
 
 __all__ = ["Motion", "OtherHand", "Guard", "Path", "other_side", "down", "raised", "withdrawal"]
 
@@ -67,7 +67,7 @@ class Motion:
 
     def __init__(
         self,
-        ctx: SkillContext,
+        ctx: MotionContext,
         side: str,
         other: OtherHand = OtherHand.IDLE,
         tuning: Tuning = TUNING,

@@ -27,7 +27,7 @@ from oacdsl.runtime.motion.hand import Motion, down, raised
 from oacdsl.runtime.transforms import make_T, rot_axis
 
 if TYPE_CHECKING:
-    from oacdsl.runtime.skills.base import SkillContext
+    from oacdsl.runtime.motion.context import MotionContext
 
 __all__ = ["rotate_on", "close_on", "angle_about"]
 
@@ -47,18 +47,18 @@ def _turned(pose: np.ndarray, axis: np.ndarray, centre: np.ndarray, angle: float
     return make_T(r @ pose[:3, :3], centre + r @ (pose[:3, 3] - centre))
 
 
-def _top(ctx: SkillContext, target: str) -> float:
+def _top(ctx: MotionContext, target: str) -> float:
     """Height of ``target``'s highest point now, m."""
-    from oacdsl.runtime.skills.shapes import world_corners
+    from oacdsl.runtime.shapes import world_corners
 
     return float(world_corners(ctx.body(target), ctx.world.body_pose(target))[:, 2].max())
 
 
-def _off_axis(ctx: SkillContext, obj: str, target: str, axis: np.ndarray) -> np.ndarray:
+def _off_axis(ctx: MotionContext, obj: str, target: str, axis: np.ndarray) -> np.ndarray:
     """Where ``obj``'s origin (the middle of its base) is off the middle of ``target``'s top,
     across ``axis`` (world, m). The top's middle, not the target's origin: a bottle held in a
     hand leans a few degrees, and 18 cm up that is 1–2 cm."""
-    from oacdsl.runtime.skills.shapes import corners
+    from oacdsl.runtime.shapes import corners
 
     t_target = ctx.world.body_pose(target)
     top = t_target[:3, 3] + t_target[:3, 2] * float(corners(ctx.body(target))[:, 2].max())
@@ -66,13 +66,13 @@ def _off_axis(ctx: SkillContext, obj: str, target: str, axis: np.ndarray) -> np.
     return off - float(off @ axis) * axis
 
 
-def _low(ctx: SkillContext, obj: str) -> float:
-    from oacdsl.runtime.skills.shapes import lowest_z
+def _low(ctx: MotionContext, obj: str) -> float:
+    from oacdsl.runtime.shapes import lowest_z
 
     return lowest_z(ctx.body(obj), ctx.world.body_pose(obj))
 
 
-def centre(ctx: SkillContext, m: Motion, obj: str, target: str, axis: np.ndarray) -> float:
+def centre(ctx: MotionContext, m: Motion, obj: str, target: str, axis: np.ndarray) -> float:
     """Slide the held ``obj`` back onto ``target``'s axis, its lowest point kept pressed on
     ``target``'s top (the arm's own error is measured on the object and made up for, move
     after move); returns how far off the axis it stays, m."""
@@ -93,9 +93,9 @@ def centre(ctx: SkillContext, m: Motion, obj: str, target: str, axis: np.ndarray
     return float(np.linalg.norm(_off_axis(ctx, obj, target, axis)))
 
 
-def close_on(ctx: SkillContext, m: Motion, obj: str, closed: dict[str, float], what: str) -> None:
+def close_on(ctx: MotionContext, m: Motion, obj: str, closed: dict[str, float], what: str) -> None:
     """Close the hand until its fingers touch ``obj``, then keep them pressing lightly."""
-    from oacdsl.runtime.skills.grasp import SQUEEZE_RAD
+    from oacdsl.runtime.hands import SQUEEZE_RAD
 
     world, ctl, side = ctx.world, ctx.ctl, m.side
     ctl.set_fingers(side, closed)
@@ -108,7 +108,7 @@ def close_on(ctx: SkillContext, m: Motion, obj: str, closed: dict[str, float], w
 
 
 def rotate_on(
-    ctx: SkillContext,
+    ctx: MotionContext,
     m: Motion,
     obj: str,
     target: str,

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from oacdsl.runtime.skills.base import Skill, SkillContext
 from oacdsl.runtime.skills.bimanual import grasp_both, place_both
+from oacdsl.runtime.skills.follow import follow
 from oacdsl.runtime.skills.grasp import reach_and_grasp
 from oacdsl.runtime.skills.hold import hold, retreat
 from oacdsl.runtime.skills.hold_up import hold_up
@@ -42,4 +43,5 @@ IMPLEMENTATIONS: dict[str, Skill] = {
     "twist": twist,
     "stroke": stroke,
     "roll": roll,
+    "follow": follow,
 }

@@ -24,17 +24,21 @@ from oacdsl.runtime.hands import OPEN, TOP_PRESHAPE
 from oacdsl.runtime.motion import TUNING, down, withdrawal
 from oacdsl.runtime.motion.both import lockstep, move_both
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext, cm
-from oacdsl.runtime.skills.grasp import ease_off, grasp_candidates, lifted, plan_grasp, secure
+from oacdsl.runtime.skills.grasp import (
+    HANDS_APART_M,
+    ease_off,
+    grasp_candidates,
+    lifted,
+    plan_grasp,
+    preshape,
+    secure,
+)
 from oacdsl.runtime.skills.place import set_down_pose
 from oacdsl.runtime.transforms import MIN_JERK_PEAK
 from oacdsl.skills import SIGNATURES
 
-__all__ = ["grasp_both", "place_both", "reach_both", "preshape", "HANDS_APART_M"]
+__all__ = ["grasp_both", "place_both", "reach_both"]
 
-#: Room kept between two hands that grasp at once, m: the smallest distance between their
-#: collision boxes (palm, fingers, the thumb held out) at the two grasp poses
-#: (:func:`~oacdsl.runtime.handgap.hands_gap`), for the IK's tracking error and the approach.
-HANDS_APART_M = 0.03
 GRASP_BOTH, PLACE_BOTH = SIGNATURES["grasp_both"].defaults(), SIGNATURES["place_both"].defaults()
 #: How many of each hand's reachable grasps are paired up.
 PAIR_CANDIDATES = 4
@@ -49,11 +53,6 @@ def reach_both(ctx: SkillContext, targets: Mapping[str, np.ndarray]) -> float:
     """The larger residual (m, angle weighted 0.1 m/rad) of a static whole-body solve
     with both hands at ``targets`` (side → T_world_grasp); the IK is left as it was."""
     return ctx.ctl.ik.try_reach_both(targets)
-
-
-def preshape(ctx: SkillContext, obj: str) -> dict[str, float]:
-    """The fingers of a hand coming to grasp ``obj`` (the thumb folded for a grasp from above)."""
-    return TOP_PRESHAPE if ctx.grasp_for(obj).approach == "top" else OPEN
 
 
 def _pair(ctx: SkillContext, a: tuple[str, str], b: tuple[str, str]) -> tuple[GraspPlan, GraspPlan]:

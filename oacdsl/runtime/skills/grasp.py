@@ -17,12 +17,14 @@ from oacdsl.errors import RuntimeFailure
 from oacdsl.model import Grasp
 from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M, GraspPlan, plan_grasps
 from oacdsl.runtime.handgap import hands_gap
-from oacdsl.runtime.hands import CLOSED, PINCH_CLOSED, TOP_PRESHAPE, finger_joint_names
+from oacdsl.runtime.hands import CLOSED, OPEN, PINCH_CLOSED, SQUEEZE_RAD, TOP_PRESHAPE, finger_joint_names
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.skills.base import Pick, SkillContext, cm, fmt_xyz
 from oacdsl.runtime.transforms import make_T
 
 __all__ = [
+    "HANDS_APART_M",
+    "preshape",
     "reach_and_grasp",
     "GraspMotion",
     "plan_grasp",
@@ -42,10 +44,12 @@ LIFT_M = 0.10
 APPROACH_SPEED_M_S = 0.15
 #: Half the hand's width across the fingers, plus a margin: the free corridor an approach needs, m.
 HAND_HALF_WIDTH_M = 0.07
+#: Room kept between two hands that grasp at once, m: the smallest distance between their
+#: collision boxes (palm, fingers, the thumb held out) at the two grasp poses
+#: (:func:`~oacdsl.runtime.handgap.hands_gap`), for the IK's tracking error and the approach.
+HANDS_APART_M = 0.03
 #: How far a hand that came down onto an object is raised again before it closes, m.
 EASE_OFF_M = 0.004
-#: How much further than where they touched the object the fingers are told to close, rad.
-SQUEEZE_RAD = 0.08
 
 
 @dataclass
@@ -119,7 +123,6 @@ def handover_candidates(ctx: SkillContext, hand: str, obj: str) -> list[GraspPla
     leave room for the other hand where it holds the object (its hand boxes, as they are,
     :data:`~oacdsl.runtime.skills.bimanual.HANDS_APART_M` apart) come first, the grasp point
     the other hand occupies last (taking it there pressed both hands together: 69 N)."""
-    from oacdsl.runtime.skills.bimanual import HANDS_APART_M, preshape
 
     side = ctx.side(hand)
     other = "l" if side == "r" else "r"
@@ -247,3 +250,8 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str, *, lift: float = LIF
         return
     ctl.activity = f"lifting {obj}"
     ctl.move(side, lifted(ctx, side, lift), 1.0)
+
+
+def preshape(ctx: SkillContext, obj: str) -> dict[str, float]:
+    """The fingers of a hand coming to grasp ``obj`` (the thumb folded for a grasp from above)."""
+    return TOP_PRESHAPE if ctx.grasp_for(obj).approach == "top" else OPEN

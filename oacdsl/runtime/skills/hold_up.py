@@ -18,9 +18,9 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import Motion
+from oacdsl.runtime.shapes import world_corners
 from oacdsl.runtime.skills.base import SkillContext, cm, fmt_xyz
 from oacdsl.runtime.skills.grasp import reach_and_grasp
-from oacdsl.runtime.skills.shapes import world_corners
 from oacdsl.runtime.transforms import make_T
 from oacdsl.skills import SIGNATURES
 

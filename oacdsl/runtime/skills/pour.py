@@ -24,9 +24,9 @@ import numpy as np
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.bodies import Body
 from oacdsl.runtime.motion import TUNING, Motion, OtherHand
+from oacdsl.runtime.shapes import world_corners
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
 from oacdsl.runtime.skills.bimanual import reach_both
-from oacdsl.runtime.skills.shapes import world_corners
 from oacdsl.runtime.transforms import make_T, rot_axis
 from oacdsl.skills import SIGNATURES
 

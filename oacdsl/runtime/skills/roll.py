@@ -16,8 +16,8 @@ import numpy as np
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import TUNING
 from oacdsl.runtime.motion.both import move_both
+from oacdsl.runtime.shapes import long_axis, lowest_z, world_corners
 from oacdsl.runtime.skills.base import SkillContext, cm
-from oacdsl.runtime.skills.shapes import long_axis, lowest_z, world_corners
 from oacdsl.runtime.transforms import MIN_JERK_PEAK, make_T
 
 __all__ = ["roll", "ROLL_STROKES", "ROLL_LENGTH_M", "ROLL_PERIOD_S", "roll_direction"]

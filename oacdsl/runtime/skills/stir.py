@@ -22,8 +22,8 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import TUNING, Motion
+from oacdsl.runtime.shapes import hand_reach_below
 from oacdsl.runtime.skills.base import SkillContext, cm
-from oacdsl.runtime.skills.shapes import hand_reach_below
 from oacdsl.runtime.skills.tooltip import HeldTool, held_tool, pointing
 from oacdsl.skills import SIGNATURES
 

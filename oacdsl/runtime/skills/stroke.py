@@ -23,8 +23,8 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import TUNING, Motion, OtherHand, raised
+from oacdsl.runtime.shapes import lowest_z, world_corners
 from oacdsl.runtime.skills.base import SkillContext, cm
-from oacdsl.runtime.skills.shapes import lowest_z, world_corners
 from oacdsl.runtime.transforms import make_T
 from oacdsl.skills import SIGNATURES
 

@@ -2,7 +2,7 @@
 
 A tool's *tip* is the end of its longest axis farther from the hand (a spoon's bowl, a
 knife's point, a ladle's cup), read from the language's geometry
-(:mod:`~oacdsl.runtime.skills.shapes`). Skills that work with the tip (``stir``,
+(:mod:`~oacdsl.runtime.shapes`). Skills that work with the tip (``stir``,
 ``scoop``, ``cut``) place the tip, not the hand: :class:`HeldTool` turns a wanted tip
 position (and tool orientation) into the hand pose for it.
 """
@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from oacdsl.runtime.shapes import corners, tip_local
 from oacdsl.runtime.skills.base import SkillContext
-from oacdsl.runtime.skills.shapes import corners, tip_local
 from oacdsl.runtime.transforms import make_T, rot_axis
 
 __all__ = ["HeldTool", "held_tool", "pointing"]

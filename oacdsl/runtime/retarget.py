@@ -1,0 +1,207 @@
+"""A demonstrated path brought into the robot's reach (``follow``; docs/runtime.md).
+
+The path (``path [ … ]`` of a ``follow`` step: keyframes of time, position and rotation
+vector, :mod:`oacdsl.segmentation.followpath`) is the moved object's reference point
+relative to the target, in the target's frame turned so that x points from the target to
+where the object started. :func:`retarget` changes it as little as the robot needs:
+
+1. **the core**: where the path dwells at the target
+   (:func:`~oacdsl.segmentation.motionfeatures.core_frames`); the keyframes before it are the
+   demonstrator's way in, from where their object was, which the robot's need not share: the
+   skill carries the object to the core's first keyframe over what stands in the way
+   (``SkillContext.carry_path``) and follows the path from there;
+2. **fitted to the target**: across the target's axis the core is scaled about its middle
+   (never up) until it stays within ``room_m`` of the axis (a container's inside less the
+   tool's own half width), and its middle moved in as far as needed;
+3. **rotations**: relative to the core's first keyframe, about the target frame's axes (the
+   object keeps the orientation the robot's grasp gave it until then: the demonstrator's
+   object frame need not be the robot's, a spoon lying on the table against one standing),
+   scaled down when they exceed ``turn_rad``;
+4. **speed**: a segment faster than ``speed_m_s`` (in the core ``core_speed_m_s``) or
+   :data:`TURN_SPEED_RAD_S` is slowed to it; the rest keeps the demonstrated timing; every
+   segment lasts at least :data:`MIN_SEGMENT_S` (two control ticks);
+5. **where it ends**: when the object is to stay at the target (``stay``), the path ends
+   with its core (the demonstrated way out belongs to the next sub-action).
+
+:func:`shrunk` and :func:`shifted` give the variants the skill tries when the whole-body IK
+cannot reach the path. numpy only; metres, radians, seconds.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from oacdsl.errors import RuntimeFailure
+from oacdsl.segmentation.followpath import MIN_OFFSET_M, from_rotvec, rotvec
+from oacdsl.segmentation.motionfeatures import core_frames
+
+__all__ = [
+    "FOLLOW",
+    "MIN_OFFSET_M",
+    "MIN_SEGMENT_S",
+    "TURN_SPEED_RAD_S",
+    "FollowTuning",
+    "Retargeted",
+    "retarget",
+    "shifted",
+    "shrunk",
+]
+
+#: Fastest turn of the held object, rad/s (the arms' joint speed limit is 1.5 rad/s).
+TURN_SPEED_RAD_S = 1.5
+#: Shortest segment between two keyframes, s (two 20 ms control ticks).
+MIN_SEGMENT_S = 0.04
+
+
+@dataclass(frozen=True)
+class FollowTuning:
+    """The numbers ``follow`` (:mod:`oacdsl.runtime.skills.follow`) moves by, in one record (SI)."""
+
+    #: Speed of a guarded approach along the target's axis, m/s.
+    approach_speed_m_s: float = 0.05
+    #: Fastest the object moves in the core while it is to touch the target, m/s: faster, a held
+    #: surface is pushed out of the other hand (65 N at its wrist) and the closed loop's virtual
+    #: markers (10 cm/s distance change) lose the contact (docs/runtime.md, wipe).
+    contact_speed_m_s: float = 0.05
+    #: Height of the object's lowest point above the target's top where the core starts, m.
+    hover_m: float = 0.04
+    #: Factors a path the whole-body IK cannot reach is shrunk by about its core's middle, in order.
+    shrink: tuple[float, ...] = (1.0, 0.7, 0.4)
+    #: Orientation weights tried, in order: the usual, then the orientation a soft wish (an arm
+    #: that cannot hold a sponge flat over a plate the other hand holds still gets it there, tilted).
+    orientation_weights: tuple[float, ...] = (0.3, 0.02)
+    #: How far the IK may leave the hand from a keyframe, m and rad (twice a skill's usual: the path
+    #: is a demonstration's, not a pose the task needs exactly; a guarded approach closes the gap).
+    reach_m: float = 0.04
+    reach_rad: float = 0.5
+    #: Beyond this (m) the path is out of reach; between ``reach_m`` and it the closest variant
+    #: is followed as closely as the soft IK gets (the step's effect judges the outcome).
+    give_up_m: float = 0.12
+    #: Time the hand gets to catch up with the path before the guarded approach, s.
+    settle_s: float = 1.0
+    #: Rest once the path is over, for the contact to show (or its loss), s.
+    rest_s: float = 0.3
+    #: Horizontal room left on a target that is no container, as a share of the object's radius.
+    overhang: float = 0.5
+    #: Kept between the object's widest part and a container's inner wall, m.
+    wall_gap_m: float = 0.005
+
+
+#: The defaults ``follow`` uses.
+FOLLOW = FollowTuning()
+
+
+@dataclass(frozen=True)
+class Retargeted:
+    """The path the robot follows, in the turned target frame.
+
+    Attributes:
+        times_s: (n,) keyframe times from 0, after slowing.
+        positions_m: (n, 3) the object's reference point.
+        rotations: (n, 3, 3) its rotation since the start, about the frame's axes.
+        core: index of the first keyframe of the core (the way in ends there).
+        scale: the factor the core was scaled by across the target's axis (≤ 1).
+        turn_scale: the factor rotations were scaled by (≤ 1).
+        slowed_s: how much longer the path takes than demonstrated.
+    """
+
+    times_s: np.ndarray
+    positions_m: np.ndarray
+    rotations: np.ndarray
+    core: int
+    scale: float
+    turn_scale: float
+    slowed_s: float
+
+
+def _min_jerk(s: np.ndarray) -> np.ndarray:
+    s = np.clip(s, 0.0, 1.0)
+    result: np.ndarray = s**3 * (10.0 - 15.0 * s + 6.0 * s**2)
+    return result
+
+
+def retarget(path: np.ndarray, *, room_m: float | None, speed_m_s: float, turn_rad: float,
+             stay: bool = False, core_speed_m_s: float | None = None) -> Retargeted:
+    """The robot's path from ``path`` ((n, 7): t, x, y, z, rx, ry, rz; SI; turned target frame),
+    see the module doc. ``stay``: the object is to end at the target (the step's effect keeps them
+    touching): the path ends with its core, the way out of the demonstration's span left out;
+    ``core_speed_m_s``: a lower cap in the core (where the object works on the target)."""
+    path = np.asarray(path, dtype=np.float64)
+    if path.ndim != 2 or path.shape[1] != 7 or len(path) < 2:
+        raise RuntimeFailure(f"follow: a path needs two or more keyframes of 7 numbers, not {path.shape}")
+    if np.any(np.diff(path[:, 0]) <= 0):
+        raise RuntimeFailure("follow: the path's keyframe times do not increase")
+    a, b = core_frames(path[:, 1:4])
+    if stay and b > max(a, 1):
+        path = path[:b]
+    t, pos, rv = path[:, 0] - path[0, 0], path[:, 1:4].copy(), path[:, 4:7].copy()
+    a = max(a, 1)
+    w = _min_jerk((t - t[0]) / max(t[a] - t[0], 1e-9))
+    scale = 1.0
+    if room_m is not None:
+        core = pos[a:, :2]
+        middle = np.median(core, axis=0)
+        spread = float(np.max(np.linalg.norm(core - middle, axis=1), initial=0.0))
+        if spread > room_m:
+            scale = room_m / spread
+        reach = max(room_m - scale * spread, 0.0)
+        off = float(np.linalg.norm(middle))
+        moved = middle * (reach / off) if off > reach else middle
+        k = w[:, None]  # the way in blends from the start into the fitted core
+        pos[:, :2] = (1.0 - k) * pos[:, :2] + k * (moved + scale * (pos[:, :2] - middle))
+    # rotations relative to the core's first keyframe; none on the way in (the robot's object
+    # keeps the orientation its grasp gave it, which need not be the demonstrator's)
+    at_core = from_rotvec(rv[a]).T
+    rv = np.array([rotvec(from_rotvec(r) @ at_core) if k >= a else np.zeros(3) for k, r in enumerate(rv)])
+    angles = np.linalg.norm(rv, axis=1)
+    turn_scale = 1.0 if angles.max() <= turn_rad else turn_rad / float(angles.max())
+    rotations = np.array([from_rotvec(turn_scale * r) for r in rv])
+    dt = np.diff(t)
+    dist = np.linalg.norm(np.diff(pos, axis=0), axis=1)
+    dang = np.array([np.arccos(np.clip((np.trace(rotations[k].T @ rotations[k + 1]) - 1.0) / 2.0, -1.0, 1.0))
+                     for k in range(len(rotations) - 1)])
+    cap = np.full_like(dt, speed_m_s)
+    if core_speed_m_s is not None:
+        cap[a:] = min(speed_m_s, core_speed_m_s)
+    need = np.maximum.reduce([dt, dist / cap, dang / TURN_SPEED_RAD_S, np.full_like(dt, MIN_SEGMENT_S)])
+    times = np.r_[0.0, np.cumsum(need)]
+    return Retargeted(times, pos, rotations, a, scale, turn_scale, float(times[-1] - t[-1]))
+
+
+def shrunk(r: Retargeted, factor: float) -> Retargeted:
+    """``r`` with its core shrunk by ``factor`` about the core's middle (all three axes) and its
+    rotations by the same factor: a path the arm cannot reach, brought closer to its middle."""
+    middle = np.median(r.positions_m[r.core:], axis=0)
+    w = np.zeros(len(r.times_s))
+    w[r.core:] = 1.0
+    w[: r.core] = np.linspace(0.0, 1.0, r.core + 1)[:-1]
+    pos = r.positions_m + w[:, None] * (factor - 1.0) * (r.positions_m - middle)
+    rot = np.array([from_rotvec(factor * rotvec(m)) for m in r.rotations])
+    return Retargeted(r.times_s, pos, rot, r.core, r.scale * factor, r.turn_scale * factor, r.slowed_s)
+
+
+def shifted(r: Retargeted, offset_m: np.ndarray, room_m: float | None) -> Retargeted:
+    """``r`` with its core moved by ``offset_m`` (3,) across the target's axis (the way in blends
+    into it): towards where the arm can go, as far as the core's middle stays within ``room_m`` of
+    the axis (the object still over or in the target), the core shrunk about its middle so that
+    all of it does."""
+    off = np.array([float(offset_m[0]), float(offset_m[1]), 0.0])
+    pos = r.positions_m.copy()
+    middle = np.median(pos[r.core:, :2], axis=0)
+    scale = 1.0
+    if room_m is not None:
+        moved = middle + off[:2]
+        if float(np.linalg.norm(moved)) > room_m:
+            moved = moved * (room_m / float(np.linalg.norm(moved)))
+        off[:2] = moved - middle
+        # the core shrunk about its middle as far as it would leave the room
+        spread = float(np.max(np.linalg.norm(pos[r.core:, :2] - middle, axis=1), initial=0.0))
+        left = room_m - float(np.linalg.norm(moved))
+        if spread > left:
+            scale = max(left, 0.0) / spread
+    w = np.ones(len(r.times_s))
+    w[: r.core] = np.linspace(0.0, 1.0, r.core + 1)[:-1]
+    pos[:, :2] = pos[:, :2] + w[:, None] * ((scale - 1.0) * (pos[:, :2] - middle) + off[:2])
+    return Retargeted(r.times_s, pos, r.rotations, r.core, r.scale * scale, r.turn_scale, r.slowed_s)

@@ -1,0 +1,247 @@
+"""``follow``: a sub-action from the demonstration alone.
+
+The held object ``o`` is moved along the path the demonstration showed relative to the
+target ``t`` (the step's ``path [ … ]``, written by the composer; docs/runtime.md, "follow"):
+its reference point (the middle of its declared markers, else of its height: what the closed
+loop's virtual markers see) relative to ``t``'s, in ``t``'s frame turned so that x points
+from ``t`` to where ``o`` starts. :func:`~oacdsl.runtime.retarget.retarget` fits the path to
+the robot (from where ``o`` is, into ``t``'s room, rotations and speed capped). Before it
+moves, the whole-body IK is asked for its keyframes with the other hand's goal as it will be:
+when it cannot reach them, the orientation becomes a soft wish, then the path is shrunk
+towards its middle (:data:`~oacdsl.runtime.retarget.FOLLOW`), before the skill gives up. ``t``
+is read where it is at every keyframe (a cup the other hand holds may drift).
+
+The step's predicted effect decides the contact: when it says ``o <-> t``, the path ends with
+its core, and the core starts with a guarded approach along ``t``'s axis until they touch (or
+the wrist feels ``force``); the rest of the path is shifted by what that found and pressed
+``press`` on, and at the end ``o`` must touch ``t`` (one more guarded approach mends a contact
+lost on the way). When it says ``not o <-> t``, ``o`` must be off ``t`` at the end (raised
+straight up until it is). The other hand keeps an idle hand's hold, or, when it holds
+something other than a container ``t``, its goal fixed (as ``touch``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+
+import numpy as np
+
+from oacdsl.errors import RuntimeFailure
+from oacdsl.runtime.bodies import Body
+from oacdsl.runtime.motion.both import mover
+from oacdsl.runtime.retarget import FOLLOW, MIN_OFFSET_M, Retargeted, retarget, shifted, shrunk
+from oacdsl.runtime.shapes import lowest_z, world_corners
+from oacdsl.runtime.skills.base import SkillContext
+from oacdsl.runtime.transforms import MIN_JERK_PEAK, make_T, rot_z
+
+__all__ = ["follow", "reference_point"]
+
+HandAt = Callable[[Retargeted, int, float], np.ndarray]
+
+#: The corners of an object within this of its lowest one make its lowest end, m.
+END_SPAN_M = 0.01
+
+
+def reference_point(body: Body) -> np.ndarray:
+    """The point of an object a path follows, in its frame (m): its declared markers' middle,
+    else half its height on its axis."""
+    if body.points:
+        return np.mean(np.asarray(body.points, dtype=np.float64), axis=0)
+    return np.array([0.0, 0.0, 0.5 * body.height])
+
+
+def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequence[Sequence[float]] = (),
+           speed: float = 0.25, turn: float = math.radians(30.0), press: float = 0.003,
+           force: float = 10.0) -> None:
+    """Move the held ``obj`` along ``path`` relative to ``target`` (module doc); ``speed`` m/s,
+    ``turn`` rad, ``press`` m, ``force`` N."""
+    world, ctl = ctx.world, ctx.ctl
+    side = ctx.require_held(hand, obj)
+    if target not in world.layout.bodies or not ctx.body(target).solids:
+        raise RuntimeFailure(f"follow: {target!r} is no object of the scene")
+    if len(path) < 2:
+        raise RuntimeFailure(
+            f"follow: no path to follow for {obj} relative to {target}: compose the OAC from a"
+            " demonstration (oacc compose / reproduce) or write 'path [ … ]' on the step"
+        )
+    body_o, body_t = ctx.body(obj), ctx.body(target)
+    ref_o, ref_t = reference_point(body_o), reference_point(body_t)
+    t_obj, obj_in_hand = ctx.held_pose(side, obj)
+    grasp_in_obj = np.linalg.inv(obj_in_hand)
+
+    def frame(phi: float) -> tuple[np.ndarray, np.ndarray]:
+        t = world.body_pose(target)
+        return t[:3, :3] @ ref_t + t[:3, 3], t[:3, :3] @ rot_z(phi)
+
+    origin, r_t = frame(0.0)
+    rel = r_t.T @ (t_obj[:3, :3] @ ref_o + t_obj[:3, 3] - origin)
+    phi = math.atan2(float(rel[1]), float(rel[0])) if float(np.linalg.norm(rel[:2])) >= MIN_OFFSET_M else 0.0
+    r_f = frame(phi)[1]
+    r0 = r_f.T @ t_obj[:3, :3]  # the object's orientation at the start, in the turned frame
+    room = None
+    if body_t.container:
+        room = max(body_t.inner_radius - body_o.radius - FOLLOW.wall_gap_m, 0.0)
+    elif body_t.radius > 0:
+        room = max(body_t.radius - FOLLOW.overhang * body_o.radius, 0.0)
+    touch = ctx.expected is None or ctx.expected.touches(obj, target)
+    plan = retarget(np.asarray(path, dtype=np.float64), room_m=room, speed_m_s=speed, turn_rad=turn,
+                    stay=touch, core_speed_m_s=FOLLOW.contact_speed_m_s if touch else None)
+
+    def pose_at(r: Retargeted, k: int, lift_m: float = 0.0) -> np.ndarray:
+        """T_world_obj at keyframe ``k``, raised ``lift_m`` along the target's axis."""
+        o, rf = frame(phi)
+        rot = rf @ r.rotations[k] @ r0
+        return make_T(rot, o + rf @ (r.positions_m[k] + np.array([0.0, 0.0, lift_m])) - rot @ ref_o)
+
+    def hand_at(r: Retargeted, k: int, lift_m: float = 0.0) -> np.ndarray:
+        return pose_at(r, k, lift_m) @ grasp_in_obj
+
+    # the object's reference point in the grasp frame (homogeneous)
+    ref_in_grasp = np.append(obj_in_hand[:3, :3] @ ref_o + obj_in_hand[:3, 3], 1.0)
+    other = "l" if side == "r" else "r"
+    keep = None
+    if world.held.get(other) is not None and not (world.held.get(other) == target and body_t.container):
+        keep = ctl.ik.goal(other)
+    away = None  # half the room away from the other hand, when it holds the target (frame coords)
+    if world.held.get(other) == target and room:
+        o, rf = frame(phi)
+        d = rf.T @ (o - world.frame_pose(f"grasp_{other}")[:3, 3])
+        d[2] = 0.0
+        away = d / max(float(np.linalg.norm(d)), 1e-9) * room / 2
+    # the core starts with the object's lowest point ``hover`` above the target's top: the
+    # demonstrator's objects (and their markers) are not the robot's, so how high the path runs
+    # comes from the contact, not from the markers
+    c = plan.core
+    top = float(world_corners(body_t, world.body_pose(target))[:, 2].max())
+    if away is not None:  # two hands close together collide: the core on the target's far half
+        plan = shifted(plan, away, room)
+    if body_t.container and room is not None:
+        # the object's lowest end (a spoon's bowl, not its markers' middle) goes into the container:
+        # the core moved so that the end starts within the room of the axis
+        corners = world_corners(body_o, pose_at(plan, c))
+        end = corners[corners[:, 2] < corners[:, 2].min() + END_SPAN_M].mean(axis=0)
+        o, rf = frame(phi)
+        tip = (rf.T @ (end - o))[:2]
+        over = float(np.linalg.norm(tip))
+        if over > room:
+            plan = shifted(plan, np.append(-tip * (1 - room / over), 0.0), room)
+    lift = top + FOLLOW.hover_m - lowest_z(body_o, pose_at(plan, c))
+    plan, weight = _reachable(ctx, side, keep, plan, lambda r, k, _: hand_at(r, k, lift),
+                              f"the path of {obj} relative to {target}",
+                              lambda v: frame(phi)[1].T @ v, room, ref_in_grasp)
+    go = mover(ctl, side, keep, weight)
+
+    def touching() -> bool:
+        return world.touching(obj, target)
+
+    def approach(depth: float) -> None:
+        """Down along the target's axis by up to ``depth`` (m) until touching or felt."""
+        axis = frame(phi)[1][:, 2]
+        now = ctl.ik.goal(side)
+        go(make_T(now[:3, :3], now[:3, 3] - depth * axis), MIN_JERK_PEAK * depth / FOLLOW.approach_speed_m_s,
+           guard=lambda: touching() or float(np.linalg.norm(ctl.force_change(side))) > force)
+
+    def ref_height() -> float:
+        """The object's reference point above the target's, along its axis, now (m)."""
+        o, rf = frame(phi)
+        return float((rf.T @ (world.body_pose(obj)[:3, :3] @ ref_o + world.body_pose(obj)[:3, 3] - o))[2])
+
+    lift = top + FOLLOW.hover_m - lowest_z(body_o, pose_at(plan, c))
+    ctl.activity = f"bringing {obj} to {target}"
+    for pose, seconds in ctx.carry_path(side, hand_at(plan, c, lift), {obj, target}):
+        if seconds > 0:
+            go(pose, seconds)
+    if touch and not touching():
+        ctl.activity = f"bringing {obj} onto {target}"
+        ctl.wait(FOLLOW.settle_s, until=lambda: ctl.ik.residual(side).position_m < FOLLOW.reach_m / 2)
+        approach(FOLLOW.hover_m + body_t.height)
+        if body_t.container and lowest_z(body_o, world.body_pose(obj)) > top - END_SPAN_M:
+            # on the rim, not in: over the axis by as much as its end is off it, and down again
+            corners = world_corners(body_o, world.body_pose(obj))
+            end = corners[corners[:, 2] < corners[:, 2].min() + END_SPAN_M].mean(axis=0)
+            o, rf = frame(phi)
+            off = end - o - float((end - o) @ rf[:, 2]) * rf[:, 2]
+            now = ctl.ik.goal(side)
+            go(make_T(now[:3, :3], now[:3, 3] - off + FOLLOW.hover_m / 2 * rf[:, 2]), FOLLOW.settle_s)
+            approach(FOLLOW.hover_m + body_t.height)
+        if touching():  # the rest of the core from where they touch, its lowest keyframe there, pressed on
+            lift = ref_height() - press - float(plan.positions_m[c:, 2].min())
+    ctl.activity = f"following the demonstrated path of {obj} at {target}"
+    for k in range(c + 1, len(plan.times_s)):
+        go(hand_at(plan, k, lift), float(plan.times_s[k] - plan.times_s[k - 1]))
+    if touch:
+        if not ctl.wait(FOLLOW.rest_s, until=touching) and not touching():
+            # lost on the way: from above the core's middle, down again until they touch
+            mid = np.median(plan.positions_m[c:], axis=0)
+            k = c + int(np.argmin(np.linalg.norm(plan.positions_m[c:] - mid, axis=1)))
+            go(hand_at(plan, k, lift + FOLLOW.hover_m), FOLLOW.settle_s)
+            approach(2 * FOLLOW.hover_m + body_t.height)
+        if not ctl.wait(FOLLOW.rest_s, until=touching) and not touching():
+            raise RuntimeFailure(f"follow: {obj} does not touch {target} at the end of its path")
+    elif touching():
+        now = ctl.ik.goal(side)
+        go(make_T(now[:3, :3], now[:3, 3] + np.array([0.0, 0.0, FOLLOW.hover_m + body_t.height])),
+           MIN_JERK_PEAK * (FOLLOW.hover_m + body_t.height) / FOLLOW.approach_speed_m_s,
+           guard=lambda: not touching())
+        if touching():
+            raise RuntimeFailure(f"follow: {obj} still touches {target} at the end of its path")
+    if world.held[side] != obj:
+        raise RuntimeFailure(f"follow: {hand} lost {obj}")
+
+
+def _reachable(ctx: SkillContext, side: str, keep: np.ndarray | None, plan: Retargeted, hand_at: HandAt,
+               what: str, to_frame: Callable[[np.ndarray], np.ndarray], room: float | None,
+               obj_point: np.ndarray) -> tuple[Retargeted, float]:
+    """``(plan, orientation weight)``: the first of ``plan``'s variants whose keyframes the
+    whole-body IK reaches with the other hand's goal at ``keep``: each orientation weight, then the
+    core moved across the target by where the IK left the hand, then shrunk (module doc)."""
+    ik = ctx.ctl.ik
+    other = "l" if side == "r" else "r"
+    n, c = len(plan.times_s), plan.core
+    checks = sorted({c, c + (n - c) // 3, c + 2 * (n - c) // 3, n - 1})
+
+    def miss(r: Retargeted, weight: float) -> tuple[float, float, np.ndarray]:
+        """The worst keyframe's (distance, angle) and the mean offset the IK left (world), m."""
+        limit = FOLLOW.reach_rad if weight == FOLLOW.orientation_weights[0] else math.pi
+        worst, offsets = (0.0, 0.0), []
+        with ik.trial():
+            if keep is not None:
+                ik.set_hand_target(other, keep)
+            for k in checks:
+                goal = hand_at(r, k, 0.0)
+                ik.set_hand_target(side, goal, orientation_weight=weight)
+                ik.converge(150, tolerance_m=5e-4)
+                res = ik.residual(side)
+                got = ik.frame(f"grasp_{side}")
+                offsets.append(got[:3, 3] - goal[:3, 3])
+                # a keyframe of the core counts as reached while the object stays over its target
+                at = r.positions_m[k] + to_frame((got @ obj_point)[:3] - (goal @ obj_point)[:3])
+                over = room is not None and k >= c and float(np.linalg.norm(at[:2])) <= room
+                if (res.position_m > FOLLOW.reach_m and not over) or res.angle_rad > limit:
+                    worst = max(worst, (res.position_m, res.angle_rad))
+        return worst[0], worst[1], np.mean(offsets, axis=0)
+
+    best: tuple[float, float, Retargeted, float] | None = None
+    for factor in FOLLOW.shrink:
+        r = plan if factor == 1.0 else shrunk(plan, factor)
+        for weight in FOLLOW.orientation_weights:
+            d, a, off = miss(r, weight)
+            variants = [(d, a, r)]
+            if d or a:  # the core moved where the IK left the hand
+                moved = shifted(r, to_frame(off), room)
+                variants.append((*miss(moved, weight)[:2], moved))
+            for dv, av, rv in variants:
+                if dv == 0.0 and av == 0.0:
+                    return rv, weight
+                if best is None or dv < best[0]:
+                    best = (dv, av, rv, weight)
+    if best is None or best[0] > FOLLOW.give_up_m:
+        far = best[0] if best is not None else math.inf
+        raise RuntimeFailure(
+            f"follow: {what} is out of reach, even shrunk to {FOLLOW.shrink[-1]:g}: the best whole-body IK"
+            f" solution leaves the hand {far * 100:.0f} cm from a keyframe"
+        )
+    # near enough: the soft IK gets as close as it can, the guarded approach and the step's
+    # effect judge the rest
+    return best[2], best[3]

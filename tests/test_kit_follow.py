@@ -1,0 +1,52 @@
+"""KIT development clips with a named skill replaced by the generic ``follow``, reproduced and
+verified end to end (`oacc reproduce CLIP.mmm.xml --library tests/data/kit_follow`): the
+sub-action runs from its demonstrated path alone (docs/runtime.md, "follow"). Slow; each case
+skips when ../shared/mocap is absent.
+"""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+from _mocap import mocap_file
+
+ROOT = Path(__file__).resolve().parents[1]
+FOLLOW_KIT = ROOT / "tests" / "data" / "kit_follow"
+
+#: clip → (recording under shared/mocap, the composed steps, the step that follows a path)
+CLIPS = {
+    "Stir": ("kit_bimanual/Stir_files_motions_2941_Stir1_bc_s_right_03.mmm.xml",
+             ["grasp_both", "work_in", "take_out", "place_both"], "work_in"),
+}
+# Pour (bring_to's touch replaced by follow, tests/data/kit_follow/pour.oac) was verified on
+# seeds 0 and 1 by the closed loop of virtual markers; the verifier of issue 18 (relations from
+# the simulation's contacts) sees the carton touch the hand that holds the cup: not verified
+# yet, so not kept here (docs/runtime.md, "follow").
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("clip", sorted(CLIPS))
+def test_a_named_skill_replaced_by_follow_is_reproduced_and_verified(clip: str, tmp_path: Path) -> None:
+    pytest.importorskip("mujoco")
+    from oacdsl.pipeline import load_inputs, reproduce
+    from oacdsl.pipeline.inputs import default_name
+    from oacdsl.segmentation import AasParams
+
+    relative, steps, follows = CLIPS[clip]
+    recording = mocap_file(relative)
+    library = tmp_path / "kit_follow"
+    shutil.copytree(FOLLOW_KIT, library, ignore=shutil.ignore_patterns("learned", "drafts"))
+    inputs = load_inputs(recording, library, None, AasParams())
+    name = default_name(str(recording))
+    outcome = reproduce(inputs, name=name, out=tmp_path / "out", db=None, render=False, quiet=True)
+    result = outcome.result
+    assert outcome.exit_code == 0, result["verdict"]
+    assert [s["oac"] for s in result["compose"]["steps"]] == steps
+    assert result["verification"]["verified"] and result["verification"]["distance"] == 0
+    # the step ran the generic skill on the demonstrated path the composer wrote
+    text = (library / "learned" / f"{name}.oac").read_text(encoding="utf-8")
+    assert f"{follows}(" in text and "path [" in text
+    ran = next(s for s in result["run"]["steps"] if s["oac"] == follows)
+    assert ran["success"] and ran["params"]["path_keyframes"] >= 10
