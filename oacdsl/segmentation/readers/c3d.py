@@ -9,9 +9,9 @@ missing point). Groups come from the ``SUBJECTS`` group (``LABEL_PREFIXES`` or
 ``NAMES`` + ``:``) when present, else from label prefixes
 (:func:`~oacdsl.segmentation.grouping.prefix_groups`).
 
-Writing (:func:`write_c3d`): float storage, millimetres, labels ``group:marker``,
-a ``SUBJECTS`` group naming the groups, gaps as residual −1; written to a
-temporary file in the target folder and renamed.
+Writing (:func:`write_c3d`, directly with numpy: :mod:`.c3d_write`): float storage,
+millimetres, labels ``group:marker``, a ``SUBJECTS`` group naming the groups, gaps as
+residual −1; written to a temporary file in the target folder and renamed.
 """
 
 from __future__ import annotations
@@ -27,6 +27,7 @@ from oacdsl.errors import InvalidRecording, RecordingError
 from oacdsl.segmentation.grouping import prefix_groups
 from oacdsl.segmentation.readers._common import metres_per_unit, unique_names
 from oacdsl.segmentation.readers.c3d_check import check_c3d_data_size, check_c3d_structure
+from oacdsl.segmentation.readers.c3d_write import write_c3d_points
 from oacdsl.segmentation.readers.limits import check_coordinates, check_rate, read_regular
 from oacdsl.segmentation.recording import Recording
 
@@ -161,35 +162,12 @@ def _labels_for_writing(recording: Recording) -> list[str]:
 
 def write_c3d(recording: Recording, path: str | Path) -> Path:
     """Write ``recording`` as a float C3D in millimetres; atomically (temp file + rename)."""
-    import ezc3d
-
     path = Path(path)
     labels = _labels_for_writing(recording)
-    f, m = recording.n_frames, len(recording.marker_names)
-    gap = ~np.all(np.isfinite(recording.positions_m), axis=-1)  # (F, M)
-    xyz_mm = np.where(gap[..., None], 0.0, recording.positions_m * 1000.0)  # metres → mm
-    points = np.ones((4, m, f))
-    points[:3] = xyz_mm.transpose(2, 1, 0)
-    residuals = np.where(gap.T, -1.0, 0.0)[None]
-
-    c3d = ezc3d.c3d()
-    c3d["parameters"]["POINT"]["RATE"]["value"] = [float(recording.rate_hz)]
-    c3d["parameters"]["POINT"]["LABELS"]["value"] = tuple(labels)
-    c3d["parameters"]["POINT"]["UNITS"]["value"] = ["mm"]
-    c3d["data"]["points"] = points
-    c3d["data"]["meta_points"] = {"residuals": residuals, "camera_masks": np.zeros((7, m, f), dtype=bool)}
-    c3d["header"]["points"]["first_frame"] = int(recording.first_frame)
-    groups = [g for g in recording.groups]
-    if groups:
-        c3d.add_parameter("SUBJECTS", "USED", [len(groups)])
-        c3d.add_parameter("SUBJECTS", "USES_PREFIXES", [1])
-        c3d.add_parameter("SUBJECTS", "NAMES", groups)
-        c3d.add_parameter("SUBJECTS", "LABEL_PREFIXES", [f"{g}:" for g in groups])
-
     try:
-        # ezc3d appends ".c3d" to a name without it: keep that suffix on the temporary file
         with atomic_path(path, suffix=".tmp.c3d") as tmp:
-            c3d.write(str(tmp))
-    except (OSError, RuntimeError) as err:
+            write_c3d_points(tmp, labels, list(recording.groups), recording.rate_hz,
+                             int(recording.first_frame), recording.positions_m)
+    except (OSError, ValueError) as err:
         raise RecordingError(f"cannot write C3D: {err}", location=str(path)) from None
     return path
