@@ -113,3 +113,20 @@ def test_max_repairs_is_checked_before_the_simulation(capsys):
     assert main(["run", "dough", "--max-repairs", "-1", "--no-record"]) == 2
     assert capsys.readouterr().err.strip() == "oacc: error: --max-repairs: a whole number ≥ 0"
     assert main(["reproduce", "--max-repairs", "-2", "--no-record"]) == 2
+
+
+def test_a_step_that_changes_nothing_by_design_is_never_skipped():
+    """``keep`` (hold on: effect ``not h <-> nothing``, implied by its ``h <-> o``) runs even though
+    its effect holds; ``dip_in`` whose ``l <-> b`` already holds is skipped (KIT Scoop: skipping
+    its keeps merged the robot's changes and the run was not verified)."""
+    from oacdsl.compiler import load_library
+    from oacdsl.runtime.adaptive import _changes_nothing_by_design
+    from oacdsl.runtime.binding import Step
+    from oacdsl.world import WorldState
+
+    lib = load_library([ROOT / "library" / "kit"])
+    state = WorldState.of(["right_hand", "ladle", "bowl"], [("right_hand", "ladle"), ("ladle", "bowl")])
+    keep = Step(lib.oacs["keep"], {"h": "right_hand", "o": "ladle"})
+    dip = Step(lib.oacs["dip_in"], {"h": "right_hand", "l": "ladle", "b": "bowl"})
+    assert _changes_nothing_by_design(keep, state)
+    assert not _changes_nothing_by_design(dip, state)

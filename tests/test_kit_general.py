@@ -132,7 +132,7 @@ def test_oacc_run_closes_and_opens_the_bottle_from_the_command_line():
         capture_output=True, text=True, timeout=300, cwd=ROOT,
     )
     assert out.returncode == 0, out.stderr
-    assert "step 3/4 screw_on(left_hand, lid, bottle): ok" in out.stdout
+    assert "step 3 screw_on(left_hand, lid, bottle): ok" in out.stdout  # an adaptive run numbers what it ran
     assert "close_and_open: success" in out.stdout
     assert "balls" not in out.stdout  # no liquid in this task: no "0/0 balls in a bowl"
 

@@ -72,7 +72,7 @@ def test_mix_both_circles_both_tools_side_by_side_and_leaves_them_in_the_bowl():
 def test_mix_both_names_the_tool_too_short_for_the_bowl():
     # as a user runs it: one line naming the step and what to change, exit 1, no traceback
     cmd = [sys.executable, "-m", "oacdsl", "run", "mix_salad", "--scene", "kit_mixing_deeper", "--library",
-           "library", "--library", str(MIXING), "--no-record"]
+           "library", "--library", str(MIXING), "--no-record", "--strict"]  # the skill's failure, unrepaired
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=300, cwd=ROOT)
     assert proc.returncode == 1, proc.stderr
     error = proc.stderr.strip().splitlines()[-1]

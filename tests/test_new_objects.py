@@ -88,5 +88,5 @@ def test_oacc_run_pours_from_the_jug_from_the_command_line():
         cwd=ROOT,
     )
     assert out.returncode == 0, out.stderr
-    assert "step 3/3 place(left_hand, jug): ok" in out.stdout
+    assert "step 3 place(left_hand, jug): ok" in out.stdout  # an adaptive run numbers the steps it ran
     assert "pour_from_jug: success" in out.stdout

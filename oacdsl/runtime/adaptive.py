@@ -57,6 +57,15 @@ def _atoms(step: Step) -> tuple[Atom, ...]:
     return bind_atoms(step.oac.effect, step.binding)
 
 
+def _changes_nothing_by_design(step: Step, state: WorldState) -> bool:
+    """True when the step's effects follow from its own preconditions (``keep``: hold on for a
+    while, its effect ``not h <-> nothing`` implied by ``h <-> o``): such a step changes no
+    relation even in the demonstration, so its effects holding is no reason to skip it."""
+    pre = [a for a in bind_atoms(step.oac.pre, step.binding) if not a.negated and not a.about_nothing]
+    minimal = WorldState.of(state.instances, [(a.left, a.right) for a in pre if a.left != a.right])
+    return all(holds(x, minimal) for x in _atoms(step))
+
+
 class _Adaptive:
     def __init__(self, run: Run, max_repairs: int, engine: str) -> None:
         self.run, self.max_repairs, self.engine = run, max_repairs, engine
@@ -239,7 +248,7 @@ def run_adaptive(
         state = world.relations()
         label = _label(step.oac.name, step.binding)
         effects = _atoms(step)
-        if effects and all(holds(x, state) for x in effects):
+        if effects and all(holds(x, state) for x in effects) and not _changes_nothing_by_design(step, state):
             a.note("skipped", executed + 1, f"skipped {label}: {', '.join(atom_text(x) for x in effects)}"
                    f" already hold{'s' * (len(effects) == 1)}")
             a.done(step)
