@@ -119,19 +119,6 @@ def compose(
     """Compose ``steps`` into a new OAC called ``name`` (see the module docstring). Steps
     marked ``together`` (a split keyframe, :mod:`oacdsl.matching.split`) become a
     ``together { … }`` block, in their order."""
-    return _compose(name, steps, library, scene, instance_classes=instance_classes,
-                    paper_effects=paper_effects)
-
-
-def _compose(
-    name: str,
-    steps: Sequence[Step],
-    library: Library,
-    scene: Scene | None = None,
-    *,
-    instance_classes: Mapping[str, frozenset[str]] | None = None,
-    paper_effects: bool = False,
-) -> Composition:
     if not steps:
         raise MatchingError("nothing to compose: the demonstration has no sub-actions")
     if instance_classes is None:

@@ -33,7 +33,7 @@ from oacdsl.planning.replay import replay
 from oacdsl.planning.state import instance_classes
 from oacdsl.planning.task import Action, make_task, primitive_actions
 from oacdsl.runtime.binding import Step, bound_atoms
-from oacdsl.runtime.executor import Run, _check, _judge_call, _label, _pair, _pairs, run_step
+from oacdsl.runtime.executor import Run, _check, _judge_call, _label, _pair, _pairs, run_metrics, run_step
 from oacdsl.runtime.intent import predicted_states
 from oacdsl.runtime.results import RunResult, StepResult
 from oacdsl.world import WorldState
@@ -294,16 +294,7 @@ def run_adaptive(
     failed_step = None
     if not success:
         failed_step = a.failed or f"the composed OAC {_label(run.oac.name, run.binding)}"
-    filled = set(world.layout.liquids.values())
-    targets = [p.name for p in world.layout.placements if p.body.container and p.name not in filled]
-    metrics: dict[str, float | int] = {
-        "balls_total": world.balls_total,
-        "balls_in_bowl": sum(world.balls_inside(b) for b in targets),
-        "sim_time_s": round(world.time_s, 4),
-        "wall_time_s": round(time.perf_counter() - wall0, 4),
-        "regrasps": len(run.controller.regrasps),
-        "repairs": a.repairs,
-    }
+    metrics = {**run_metrics(run, wall0), "repairs": a.repairs}
     out = RunResult(run.oac.name, success, results, metrics, run.seed, states, judged, failed_step)
     out.adaptations = a.adaptations
     return out

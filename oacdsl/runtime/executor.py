@@ -45,7 +45,17 @@ from oacdsl.runtime.skills import IMPLEMENTATIONS, SkillContext
 from oacdsl.skills import SIGNATURES
 from oacdsl.world import NOTHING, WorldState
 
-__all__ = ["execute", "RunResult", "StepResult", "CallResult", "Run", "prepare", "run_prepared", "run_step"]
+__all__ = [
+    "execute",
+    "RunResult",
+    "StepResult",
+    "CallResult",
+    "Run",
+    "prepare",
+    "run_prepared",
+    "run_step",
+    "run_metrics",
+]
 
 _UNSTABLE = ("mjWARN_BADQACC", "mjWARN_BADQPOS", "mjWARN_BADQVEL", "mjWARN_BADCTRL")
 
@@ -254,18 +264,22 @@ def run_prepared(
         if failed is not None:
             break
     success = bool(results) and failed is None and len(results) == len(run.steps)
-    # containers that start empty: where liquids are poured to
-    filled = set(world.layout.liquids.values())
+    return RunResult(run.oac.name, success, results, run_metrics(run, wall0), seed, states, judged, failed)
+
+
+def run_metrics(run: Run, wall0: float) -> dict[str, float | int]:
+    """A finished run's figures: balls poured into containers that started empty, simulated and
+    wall time (s, since ``wall0``), regrasps internal to a step (not changes of the task)."""
+    world = run.world
+    filled = set(world.layout.liquids.values())  # containers that start empty: poured to
     targets = [p.name for p in world.layout.placements if p.body.container and p.name not in filled]
-    metrics: dict[str, float | int] = {
+    return {
         "balls_total": world.balls_total,
         "balls_in_bowl": sum(world.balls_inside(b) for b in targets),
         "sim_time_s": round(world.time_s, 4),
         "wall_time_s": round(time.perf_counter() - wall0, 4),
-        # regrasps internal to a step (a hand retaking what it turns): not changes of the task
         "regrasps": len(run.controller.regrasps),
     }
-    return RunResult(run.oac.name, success, results, metrics, seed, states, judged, failed)
 
 
 def _judge_call(call: Call, state: WorldState) -> CallResult:
