@@ -92,7 +92,8 @@ class ChunkGeometry:
         return lo, hi
 
     def instance_boxes(self, boxes: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-        """Per instance and run of frames, the box of all its markers (3, I, blocks) from :meth:`marker_boxes`."""
+        """Per instance and run of frames, the box of all its markers, (3, I, blocks) each, from
+        :meth:`marker_boxes`."""
         lo, hi = boxes
         spans = [
             (np.fmin.reduce(lo[:, a:b], axis=1), np.fmax.reduce(hi[:, a:b], axis=1))
@@ -169,7 +170,8 @@ class ChunkGeometry:
         total = sum(ra.size * rb.size for *_, ra, rb in chosen)
         pairs = np.empty(total, dtype=np.intp)
         out = np.empty((total, n_rows), dtype=np.float32)
-        tmp = np.empty(max((ra.size * rb.size for *_, ra, rb in chosen), default=0) * n_rows, dtype=np.float32)
+        largest = max((ra.size * rb.size for *_, ra, rb in chosen), default=0)
+        tmp = np.empty(largest * n_rows, dtype=np.float32)
         row = 0
         for off, a0, b0, kb, ra, rb in chosen:  # as squared(), on the rows chosen
             size = ra.size * rb.size
