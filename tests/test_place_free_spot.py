@@ -39,6 +39,24 @@ def test_free_spots_keep_off_every_footprint_and_prefer_the_hands_side():
     assert spots[0][1] >= 0  # the left hand's side of the robot first
 
 
+def test_free_spots_keep_room_for_the_hand_and_its_withdrawal():
+    """A spot where the hand, or the hand backing off after letting go, would hit a neighbour
+    is no free spot (a hand-over's cup set down beside another cup knocked it over)."""
+    from oacdsl.runtime.motion.tuning import TUNING
+
+    run = prepare(_library(), "open_and_put_down", layout="demonstrated", demonstrated=FIRST_FRAME)
+    world = run.world
+    bottle, r_bottle = world.body_pose("bottle")[:2, 3], world.layout.bodies["bottle"].radius
+    r = world.layout.bodies["lid"].radius
+    plain = free_spots(world, "l", "lid", r, limit=1000)
+    hand = (np.array([0.0, 0.05]), np.array([0.0, 0.05 + TUNING.withdraw_back_m]))  # hand and way out at +y
+    spots = free_spots(world, "l", "lid", r, limit=1000, hand_xy_m=hand)
+    assert spots and len(spots) < len(plain)
+    for p in spots:
+        for d in hand:
+            assert np.linalg.norm(p + d - bottle) >= r_bottle + TUNING.near_path_m / 2
+
+
 @pytest.mark.slow
 def test_a_lid_taken_off_its_bottle_is_put_down_on_the_table_not_on_the_bottle():
     run = prepare(_library(), "open_and_put_down", layout="demonstrated", demonstrated=FIRST_FRAME)

@@ -58,7 +58,8 @@ def test_story_truth_holds_for_seeds(story, sequence, seed):
 
 def test_the_paper_story_is_the_default_and_unknown_stories_are_refused():
     assert dough_demonstration(2013).truth == dough_demonstration(2013, story="paper").truth
-    with pytest.raises(SegmentationError, match="unknown story 'juggle'; the stories are paper, handover, overlap"):
+    known = "the stories are paper, handover, overlap"
+    with pytest.raises(SegmentationError, match=f"unknown story 'juggle'; {known}"):
         dough_demonstration(2013, story="juggle")
 
 
@@ -82,7 +83,20 @@ def test_story_composes_to_its_scripted_sub_actions(tmp_path, capsys, story, seq
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("story", ["overlap"])
+@pytest.mark.parametrize(
+    "story",
+    [
+        "overlap",
+        pytest.param(
+            "handover",
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="the right hand sets the handed-over cup down on a free spot of the crowded right"
+                " side of the table and its arm knocks the green cup over (or stops at 75 N)",
+            ),
+        ),
+    ],
+)
 def test_story_is_reproduced_on_the_robot_and_verified(tmp_path, capsys, story):
     pytest.importorskip("mujoco")
     rec = tmp_path / f"{story}.c3d"

@@ -24,10 +24,20 @@ __all__ = ["free_spots"]
 
 
 def free_spots(
-    world: SimWorld, side: str, obj: str, radius_m: float, tuning: Tuning = TUNING, limit: int = 8
+    world: SimWorld,
+    side: str,
+    obj: str,
+    radius_m: float,
+    tuning: Tuning = TUNING,
+    limit: int = 8,
+    hand_xy_m: tuple[np.ndarray, ...] = (),
 ) -> list[np.ndarray]:
     """Up to ``limit`` free (x, y) spots of the table (m) for ``obj`` (footprint radius
-    ``radius_m``) held by hand ``side``, best first (module docstring)."""
+    ``radius_m``) held by hand ``side``, best first (module docstring).
+
+    ``hand_xy_m``: where the hand is relative to the spot (m) while it sets ``obj`` down and
+    as it backs off; each keeps half of ``tuning.near_path_m`` clear of every footprint too,
+    so that letting go does not knock over a neighbour."""
     blocked = [(xy, r) for xy, r, _ in obstacles(world, {obj})]
     for s, held in world.held.items():
         if held is not None and held != obj:
@@ -43,7 +53,14 @@ def free_spots(
     for x in xs:
         for y in ys:
             p = np.array([x, y])
-            if all(float(np.linalg.norm(p - xy)) >= radius_m + r + tuning.spot_gap_m for xy, r in blocked):
+            room = radius_m + tuning.spot_gap_m
+            clear = all(float(np.linalg.norm(p - xy)) >= room + r for xy, r in blocked)
+            hand_clear = all(
+                float(np.linalg.norm(p + d - xy)) >= r + tuning.near_path_m / 2
+                for d in hand_xy_m
+                for xy, r in blocked
+            )
+            if clear and hand_clear:
                 wrong_side = float(y) * own < 0
                 spots.append((wrong_side, float(np.linalg.norm(p - here)), p))
     spots.sort(key=lambda s: (s[0], s[1]))
