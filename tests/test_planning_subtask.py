@@ -10,8 +10,8 @@ import pytest
 from oacdsl.compiler.loader import compile_sources
 from oacdsl.library import Library
 from oacdsl.matching.conditions import holds
-from oacdsl.planning import goal_task, parse_atoms, plan_goal, scene_state
 from oacdsl.planning import engines as engines_module
+from oacdsl.planning import goal_task, parse_atoms, plan_goal, scene_state
 from oacdsl.planning.subtask import sub_task
 
 pytest.importorskip("up_fast_downward")
@@ -95,7 +95,8 @@ def test_a_scene_as_small_as_its_sub_task_is_planned_whole():
 
 def test_the_sub_tasks_plan_is_a_plan_of_the_whole_scene():
     lib, scene, start, _ = _task("liquid0 <-> bowl0")
-    result = plan_goal(lib, scene, start, parse_atoms("liquid0 <-> bowl0, mixer0 <-> bowl1, left_hand <-> nothing"))
+    goal = parse_atoms("liquid0 <-> bowl0, mixer0 <-> bowl1, left_hand <-> nothing")
+    result = plan_goal(lib, scene, start, goal)
     assert result.plan is not None  # plan_goal replays it on the whole state by the matcher's semantics
     assert all(holds(a, result.states[-1]) for a in result.goal)
     assert result.states[-1].touches("liquid1", "cup1")  # what the sub-task left out is as it was

@@ -64,16 +64,19 @@ def _translate(folder: Path) -> None:
         from fast_downward.translate.main import main as translate
     except ImportError as error:
         raise PlanningError(f"{_EXTRA}: {error}") from None
-    args = [str(folder / "domain.pddl"), str(folder / "problem.pddl"), "--sas-file", str(folder / "output.sas")]
+    args = [str(folder / "domain.pddl"), str(folder / "problem.pddl")]
+    args += ["--sas-file", str(folder / "output.sas")]
     log = io.StringIO()
     with _TRANSLATING, redirect_stdout(log), redirect_stderr(log):
         try:
             options.set_options(args)
             translate()
         except SystemExit as error:  # the translator's way to refuse an input
-            raise PlanningError(f"fast-downward's translator: {str(error) or _last_line(log.getvalue())}") from None
+            why = str(error) or _last_line(log.getvalue())
+            raise PlanningError(f"fast-downward's translator: {why}") from None
         except Exception as error:
-            raise PlanningError(f"fast-downward's translator failed: {type(error).__name__}: {error}") from None
+            why = f"{type(error).__name__}: {error}"
+            raise PlanningError(f"fast-downward's translator failed: {why}") from None
 
 
 def run(task: Task, search: str | None = None) -> list[tuple[str, list[str]]] | None:
@@ -98,7 +101,8 @@ def run(task: Task, search: str | None = None) -> list[tuple[str, list[str]]] | 
             raise PlanningError(f"fast-downward failed (exit {done.returncode}): {why}")
         plan = folder / "plan.txt"
         if not plan.is_file():
-            raise PlanningError(f"fast-downward gave no plan and no proof that none exists (exit {done.returncode})")
+            code = done.returncode
+            raise PlanningError(f"fast-downward gave no plan and no proof that none exists (exit {code})")
         text = plan.read_text(encoding="utf-8")
     steps = []
     for line in text.splitlines():

@@ -27,8 +27,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from oacdsl.errors import PlanningError
-from oacdsl.planning.pddl import domain_text, problem_text
 from oacdsl.planning import downward
+from oacdsl.planning.pddl import domain_text, problem_text
 from oacdsl.planning.subtask import sub_task
 from oacdsl.planning.task import Task
 
