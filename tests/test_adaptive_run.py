@@ -107,6 +107,56 @@ def test_a_cup_dropped_during_the_carry_is_picked_up_again(dough_library):
     assert "precondition of pour not met" in replanned["text"]
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("cup", "xy", "hand", "far"),
+    [
+        ("green_cup", (0.45, 0.62), "left_hand", "right_hand"),  # demonstrated: the right hand
+        ("red_cup", (0.45, -0.62), "right_hand", "left_hand"),  # demonstrated: the left hand
+    ],
+)
+def test_a_cup_only_the_other_hand_reaches_is_taken_by_it(dough_library, cup, xy, hand, far):
+    run = prepare(dough_library, "dough", scene="kitchen", places={cup: xy})
+    result = run_adaptive(run)
+    _ends_with_the_demonstrated_effects(dough_library, result, run)
+    executed = _executed(result)
+    liquid = run.binding["liquid2" if cup == "green_cup" else "liquid1"]
+    # the near hand takes, pours and puts down the cup, in the demonstration's order; the far
+    # hand is never sent for it (no failed step, no safety stop)
+    assert f"grasp({hand}, {cup})" in executed and f"grasp({far}, {cup})" not in executed
+    assert f"pour({hand}, {cup}, {liquid}, orange_bowl)" in executed
+    assert all(s.success for s in result.steps)
+    assert executed.index(f"pour({hand}, {cup}, {liquid}, orange_bowl)") < executed.index(
+        "mix(right_hand, mixer, orange_bowl)"
+    )
+    [chosen] = [a for a in result.adaptations if a["kind"] == "replanned"]
+    assert f"{cup} is out of {far}'s reach" in chosen["text"] and f"{hand} takes it" in chosen["text"]
+
+
+def test_the_other_hand_takes_the_steps_up_to_letting_go():
+    """with_other_hand: the far hand's steps with the object become the other hand's, up to
+    the step that lets go of it; what follows stays; a busy other hand gives None."""
+    from oacdsl.runtime.binding import Step
+    from oacdsl.runtime.reach import FarHand, with_other_hand
+
+    lib = load_library([ROOT / "library"])
+    oacs = lib.oacs
+    right = "right_hand"
+    steps = [
+        Step(oacs["grasp"], {"h": right, "o": "green_cup"}),
+        Step(oacs["pour"], {"h": right, "c": "green_cup", "l": "liquid_two", "b": "orange_bowl"}),
+        Step(oacs["place"], {"h": right, "o": "green_cup"}),
+        Step(oacs["grasp"], {"h": right, "o": "mixer"}),
+    ]
+    far = FarHand(right, "left_hand", "green_cup", "")
+    got = with_other_hand(steps, far)
+    assert got is not None
+    assert [s.binding["h"] for s in got] == ["left_hand", "left_hand", "left_hand", right]
+    assert got[1].binding["c"] == "green_cup"
+    busy = [*steps[:1], Step(oacs["grasp"], {"h": "left_hand", "o": "red_cup"}), *steps[1:]]
+    assert with_other_hand(busy, far) is None
+
+
 def test_max_repairs_is_checked_before_the_simulation(capsys):
     from oacdsl.cli import main
 
