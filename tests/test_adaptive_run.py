@@ -180,3 +180,23 @@ def test_a_step_that_changes_nothing_by_design_is_never_skipped():
     dip = Step(lib.oacs["dip_in"], {"h": "right_hand", "l": "ladle", "b": "bowl"})
     assert _changes_nothing_by_design(keep, state)
     assert not _changes_nothing_by_design(dip, state)
+
+
+@pytest.mark.slow
+def test_a_hand_stated_to_hold_an_object_holds_it_when_the_run_starts(capsys):
+    """``--state "mixer <-> right_hand"``: the hand grasps the mixer before the run (not part of
+    it: the run's simulated time starts after), so that ``place`` can run at once."""
+    import json
+
+    from oacdsl.cli import main
+
+    lib = load_library([ROOT / "library"])
+    binding = {"h": "right_hand", "o": "mixer"}
+    run = prepare(lib, "place", binding, scene="kitchen", held={"right_hand": "mixer"})
+    assert run.world.relations().touches("mixer", "right_hand") and run.start_s > 0
+    args = ["run", "place", "--bind", "h=right_hand", "--bind", "o=mixer", "--no-record", "--json"]
+    assert main([*args, "--state", "mixer <-> right_hand"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["success"] and ["mixer", "nothing"] in doc["steps"][0]["observed"]
+    assert doc["metrics"]["sim_time_s"] == pytest.approx(doc["steps"][0]["duration_s"], abs=0.5)
+    assert main(args) == 1  # without it the hand holds nothing: place's precondition fails
