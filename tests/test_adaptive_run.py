@@ -49,7 +49,7 @@ def _ends_with_the_demonstrated_effects(library, result, run) -> None:
 
 
 @pytest.mark.slow
-def test_liquid_one_already_in_the_bowl_skips_the_first_pour(dough_library):
+def test_liquid_one_already_in_the_bowl_skips_the_first_pour(dough_library, tmp_path):
     run = prepare(dough_library, "dough", scene="kitchen", fill={"liquid_one": "orange_bowl"})
     result = run_adaptive(run)
     _ends_with_the_demonstrated_effects(dough_library, result, run)
@@ -57,6 +57,13 @@ def test_liquid_one_already_in_the_bowl_skips_the_first_pour(dough_library):
     skipped = [a["text"] for a in result.adaptations if a["kind"] == "skipped"]
     assert any("pour(left_hand, red_cup, liquid_one, orange_bowl)" in t for t in skipped), result.adaptations
     assert "adaptations" in result.to_json()
+    # the run store keeps them as `oacc run --db` records them, `oacc stats` lists them
+    from oacdsl.stats import RunStore
+
+    with RunStore(tmp_path / "runs.sqlite3") as store:
+        store.record_run_json(result.to_json(), command="run")
+        stored = store.adaptations("dough")
+    assert [a["text"] for a in stored] == [a["text"] for a in result.adaptations]
     # the strict run stops where the demonstration no longer fits
     again = prepare(dough_library, "dough", scene="kitchen", fill={"liquid_one": "orange_bowl"})
     strict = run_prepared(again)
