@@ -164,6 +164,35 @@ def test_the_other_hand_takes_the_steps_up_to_letting_go():
     assert with_other_hand(busy, far) is None
 
 
+@pytest.mark.slow
+def test_a_cup_dropped_as_the_carry_to_the_bowl_begins_is_taken_again(dough_library):
+    """The fault in the middle of a step: the left hand lets go of the red cup as the pour starts
+    to carry it over the bowl. The pour fails (no ball in the bowl), the repair takes the cup
+    again — with the left hand, the right's arm does not reach it — and the task goes on."""
+    run = prepare(dough_library, "dough", scene="kitchen")
+    dropped: list[float] = []
+
+    class Drop:
+        rate_hz = 50.0
+
+        def __call__(self, world):
+            if not dropped and run.controller.activity == "bringing red_cup over orange_bowl":
+                world.release("l")
+                dropped.append(world.time_s)
+
+    run.controller.add_observer(Drop())
+    result = run_adaptive(run)
+    assert len(dropped) == 1
+    _ends_with_the_demonstrated_effects(dough_library, result, run)
+    executed = _executed(result)
+    pour = "pour(left_hand, red_cup, liquid_one, orange_bowl)"
+    assert executed[:2] == ["grasp(left_hand, red_cup)", pour] and not result.steps[1].success
+    assert executed.count("grasp(left_hand, red_cup)") == 2 and result.steps[executed.index(pour, 2)].success
+    assert "grasp(right_hand, red_cup)" not in executed
+    replanned = [a["text"] for a in result.adaptations if a["kind"] == "replanned"]
+    assert replanned[0].startswith(f"replanned after step 2 {pour} failed")
+
+
 def test_max_repairs_is_checked_before_the_simulation(capsys):
     from oacdsl.cli import main
 
