@@ -5,12 +5,12 @@ posed by the rigid fit of the markers and two instances touch while the gap betw
 surfaces (:func:`~oacdsl.segmentation.shapefit.surface_gaps`; a hand: a palm-and-finger volume
 around its markers) stays within the pair's **tolerance**
 
-    tol = CONTACT_FRACTION × min(size_a, size_b) + NOISE_FACTOR × (fit_a + fit_b)
+    tol = CONTACT_FRACTION × min(size_a, size_b) + misfit_a + misfit_b + NOISE_FACTOR × (noise_a + noise_b)
 
-— a fraction of the smaller object's size across (a hand: its volume's thickness) plus the
-recording's measured noise, each shape's fit error (its declared against its recorded markers,
-and the rigid fit's residual) — not a fixed distance between markers. A long cucumber whose
-markers sit at one end touches the peeler at its other end; a spoon in a bowl touches it
+— a fraction of the smaller object's size across (a hand: its volume's thickness), how far each
+shape may be off its object (its declared markers' misfit to the recorded ones) and the
+recording's measured noise (the rigid fit's residual) — not a fixed distance between markers.
+A long cucumber whose markers sit at one end touches the peeler at its other end; a spoon in a bowl touches it
 whatever the scene's scale (the inside of a container counts as the container); a knife
 lifted off the board it lay on stops touching it.
 
@@ -55,7 +55,7 @@ __all__ = [
 #: Fraction of the smaller instance's size across that two surfaces may stay apart and touch
 #: (10 %: 8 mm for an 8 cm cup; the shapes are models, the markers sit on stalks).
 CONTACT_FRACTION = 0.10
-#: Multiples of the two shapes' fit errors added to the tolerance (3: their noise, with margin).
+#: Multiples of the two shapes' noise (rigid-fit residual) added to the tolerance (3 σ).
 NOISE_FACTOR = 3.0
 
 Spans = list[tuple[int, int]]
@@ -73,9 +73,10 @@ class GeometryContacts:
 
 
 def tolerance_m(a: PosedShape | HandVolume, b: PosedShape | HandVolume) -> float:
-    """The pair's contact tolerance, metres (module doc; a hand's fit error is 0)."""
-    fit = sum(x.fit_m for x in (a, b) if isinstance(x, PosedShape))
-    return CONTACT_FRACTION * min(a.extent_m, b.extent_m) + NOISE_FACTOR * fit
+    """The pair's contact tolerance, metres (module doc; a hand has neither misfit nor noise)."""
+    shapes = [x for x in (a, b) if isinstance(x, PosedShape)]
+    errors = sum(x.misfit_m + NOISE_FACTOR * x.noise_m for x in shapes)
+    return CONTACT_FRACTION * min(a.extent_m, b.extent_m) + errors
 
 
 def _runs(mask: np.ndarray) -> Spans:

@@ -7,8 +7,9 @@ rigid transform that maps the recorded constellation best onto the declared poin
 assignment of recorded to declared markers (the library does not say which is which; at most
 :data:`MAX_PERMUTED` markers, more are taken in order). The shape is used only when that fit is
 good (:data:`MAX_FIT_FRACTION` of the shape's largest extent): the declared markers must describe
-the recorded object. Its **fit error** (the RMS misfit of declared and recorded markers, with the
-rigid fit's own median residual) is the recording's noise that a contact decision allows for.
+the recorded object. Two errors remain, which a contact decision allows for: the **misfit** (RMS
+distance of the declared from the recorded markers: how far the model may be off the object) and
+the **noise** (the rigid fit's median residual over frames: marker jitter, a marker slipping).
 
 **Hands** (:class:`HandVolume`): a hand is not rigid and has no shape in the library; its volume
 is every point within ``radius_m`` of its markers and of the segments between them (palm and
@@ -69,14 +70,16 @@ class PosedShape:
         instance: the instance's name.
         model: its shape.
         T_world_object: (F, 4, 4) the class's object frame in the world, metres; NaN in gaps.
-        fit_m: the fit error, metres (module doc).
+        misfit_m: RMS distance of the declared from the recorded markers, metres (module doc).
+        noise_m: the rigid fit's median residual over frames, metres.
         extent_m: the middle of the shape's three bounding-box sizes, metres (its size across).
     """
 
     instance: str
     model: ShapeModel
     T_world_object: np.ndarray
-    fit_m: float
+    misfit_m: float
+    noise_m: float
     extent_m: float
 
 
@@ -120,8 +123,7 @@ def pose_shape(recording: Recording, instance: str, model: ShapeModel) -> tuple[
                       f" more than {MAX_FIT_FRACTION:.0%} of its {extents[2] * 1000:.0f} mm")
     T_world = poses.T_world_object @ invert(T_class_fit[best])
     residual = float(np.nanmedian(poses.residual_m)) if np.isfinite(poses.residual_m).any() else 0.0
-    fit = math.hypot(float(misfit[best]), residual)
-    return PosedShape(instance, model, T_world, fit, extents[1]), "posed"
+    return PosedShape(instance, model, T_world, float(misfit[best]), residual, extents[1]), "posed"
 
 
 def hand_volume(recording: Recording, instance: str) -> HandVolume:
