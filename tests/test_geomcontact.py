@@ -100,11 +100,12 @@ def test_markers_that_do_not_fit_the_declared_ones_fall_back():
 
 def test_contact_spans_bridge_hold_gaps_and_a_hand_resting_from_the_start():
     gap = np.array([0.0, 0.0, 0.0, 1, 1, 0, 0, 0, 1, 1, 1, 1, 0, 1, np.nan, 0.0, 0.0, 0.0])
-    assert _contact_spans(gap, 0.5, hold=2, bridge=2, hand=False) == [(0, 8), (12, 18)]
-    assert _contact_spans(gap, 0.5, hold=2, bridge=2, hand=True) == [(12, 18)]  # a resting hand
-    assert _contact_spans(gap, 0.5, hold=4, bridge=0, hand=False) == []  # every run shorter
+    assert _contact_spans(gap, 0.5, hold=2, bridge=2, hand=False) == ([(0, 8), (12, 18)], [])
+    # a hand within reach from the first frame: that run is left to the markers
+    assert _contact_spans(gap, 0.5, hold=2, bridge=2, hand=True) == ([(12, 18)], [(0, 8)])
+    assert _contact_spans(gap, 0.5, hold=4, bridge=0, hand=False) == ([], [])  # every run shorter
     nan_inside = np.array([1, 0, 0, np.nan, np.nan, 0, 1, 1, 1.0])
-    assert _contact_spans(nan_inside, 0.5, hold=1, bridge=0, hand=False) == [(1, 6)]
+    assert _contact_spans(nan_inside, 0.5, hold=1, bridge=0, hand=False) == ([(1, 6)], [])
     assert union_spans([(5, 8), (0, 2), (1, 3)]) == [(0, 3), (5, 8)]
     assert complement_spans([(0, 3), (5, 8)], 10) == [(3, 5), (8, 10)]
 

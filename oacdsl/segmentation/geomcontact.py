@@ -16,10 +16,11 @@ lifted off the board it lay on stops touching it.
 
 A pair's contact is a run of frames within the tolerance, lasting ``n`` frames (``AasParams``'
 hold) at least, with excursions of at most ``tool_bridge_s`` bridged; a frame without a pose
-keeps the state before it. A hand already within reach of an object at the first frame has not
-taken hold of it: that first run is left out (a demonstrator's hands rest beside the objects
-before the task starts); a hand that comes to an object and stays there holds it, moving or
-still.
+keeps the state before it. A hand that comes to an object and stays there holds it, moving or
+still. A hand already within the tolerance of an object at the first frame may only rest beside
+it (a demonstrator's hands rest by the objects before the task starts, and a modelled shape is
+not the object): geometry cannot tell that from a hold, so that first run is left to the markers
+(``GeometryContacts.undecided``).
 
 Pairs measured this way are decided by geometry alone (:class:`AdaptiveDetector
 <oacdsl.segmentation.adaptive.AdaptiveDetector>` overrides its marker rules for them; its
@@ -64,10 +65,13 @@ Spans = list[tuple[int, int]]
 @dataclass(frozen=True)
 class GeometryContacts:
     """Per measured instance pair (every one, ``[]`` when they never touch), the frame intervals
-    ``[a, b)`` of contact; ``report``: instance → ``"shape"``, ``"hand"`` or why its markers are used;
-    ``tolerance_m``: measured instance pair → its tolerance, metres."""
+    ``[a, b)`` of contact; ``undecided``: measured pair → the intervals geometry leaves to the
+    markers (a hand within reach from the first frame); ``report``: instance → ``"shape"``,
+    ``"hand"`` or why its markers are used; ``tolerance_m``: measured instance pair → its
+    tolerance, metres."""
 
     spans: dict[int, Spans]
+    undecided: dict[int, Spans]
     report: dict[str, str]
     tolerance_m: dict[int, float]
 
@@ -85,8 +89,9 @@ def _runs(mask: np.ndarray) -> Spans:
     return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))
 
 
-def _contact_spans(gap: np.ndarray, tol: float, hold: int, bridge: int, hand: bool) -> Spans:
-    """Runs of ``gap ≤ tol`` (NaN: the state before), bridged and at least ``hold`` frames long."""
+def _contact_spans(gap: np.ndarray, tol: float, hold: int, bridge: int, hand: bool) -> tuple[Spans, Spans]:
+    """Runs of ``gap ≤ tol`` (NaN: the state before), bridged and at least ``hold`` frames long,
+    and the frames left undecided (a hand's run from the first frame, module doc)."""
     known = np.isfinite(gap)
     within = np.zeros(gap.size, dtype=bool)
     within[known] = gap[known] <= tol
@@ -99,9 +104,8 @@ def _contact_spans(gap: np.ndarray, tol: float, hold: int, bridge: int, hand: bo
             spans[-1] = (spans[-1][0], b)
         else:
             spans.append((a, b))
-    if hand and spans and spans[0][0] == 0:  # resting beside it from the start: no hold
-        spans.pop(0)
-    return [(a, b) for a, b in spans if b - a >= hold]
+    undecided = [spans.pop(0)] if hand and spans and spans[0][0] == 0 else []
+    return [(a, b) for a, b in spans if b - a >= hold], undecided
 
 
 def geometric_contacts(
@@ -134,6 +138,7 @@ def geometric_contacts(
         report[name] = "shape"
     bridge = round(bridge_s * recording.rate_hz)
     spans: dict[int, Spans] = {}
+    undecided: dict[int, Spans] = {}
     tolerances: dict[int, float] = {}
     for q, (a, b) in enumerate(table.instance_pairs.tolist()):
         if a not in bodies or b not in bodies or (a in agents and b in agents):
@@ -143,9 +148,9 @@ def geometric_contacts(
         tol = tolerance_m(bodies[a], bodies[b])
         gap = surface_gaps(bodies[a], bodies[b])
         hand = a in agents or b in agents
-        spans[q] = _contact_spans(gap, tol, hold_frames, bridge, hand)
+        spans[q], undecided[q] = _contact_spans(gap, tol, hold_frames, bridge, hand)
         tolerances[q] = tol
-    return GeometryContacts(spans, report, tolerances)
+    return GeometryContacts(spans, undecided, report, tolerances)
 
 
 def union_spans(spans: Spans) -> Spans:
@@ -175,10 +180,12 @@ def complement_spans(spans: Spans, n_frames: int) -> Spans:
 def decided_by_geometry(geo: GeometryContacts, added: Mapping[int, Spans], removed: Mapping[int, Spans],
                         n_frames: int) -> tuple[dict[int, Spans], dict[int, Spans]]:
     """The adaptive detector's contacts ``added`` and ``removed`` (instance pair → intervals) with
-    every pair of ``geo`` decided by geometry: added where it touches, removed elsewhere (a
-    removal the detector had, the cross-hand rule's, stays)."""
+    every pair of ``geo`` decided by geometry: added where it touches, removed elsewhere but where
+    it leaves the pair to the markers (a removal the detector had, the cross-hand rule's, stays)."""
     new_added, new_removed = dict(added), dict(removed)
     for q, spans in geo.spans.items():
-        new_added[q] = list(spans)
-        new_removed[q] = union_spans([*removed.get(q, []), *complement_spans(spans, n_frames)])
+        undecided = geo.undecided.get(q, [])
+        new_added[q] = union_spans([*added.get(q, []), *spans]) if undecided else list(spans)
+        outside = complement_spans(union_spans([*spans, *undecided]), n_frames)
+        new_removed[q] = union_spans([*removed.get(q, []), *outside])
     return new_added, new_removed
