@@ -206,3 +206,20 @@ def test_segment_command_takes_the_shapes_from_the_scene(tmp_path, capsys):
         code = main(["segment", str(c3d), *argv])
         err = capsys.readouterr().err
         assert code == 2 and err.count("\n") == 1 and needle in err, err
+
+
+def test_the_pipeline_passes_the_scene_shapes_when_asked(tmp_path):
+    from oacdsl.compiler import load_library
+    from oacdsl.pipeline.inputs import Inputs
+
+    oac = tmp_path / "cutting.oac"
+    oac.write_text(LIBRARY, encoding="utf-8")
+    library = load_library([oac])
+    rec, _ = knife_on_board()
+    for contacts, knife in (("markers", None), ("geometry", "shape")):
+        inputs = Inputs(library, tmp_path, library.scenes["cutting"], "knife", AasParams(contacts=contacts),
+                        recording=rec)
+        seg = inputs.segmented()
+        assert seg.parameters.get("geometry", {}).get("knife") == knife
+        unmerged = inputs.unmerged()
+        assert unmerged is not None and unmerged().parameters.get("geometry", {}).get("knife") == knife

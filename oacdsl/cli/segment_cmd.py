@@ -38,6 +38,7 @@ examples:
   oacc segment Pour.mmm.xml --json            # KIT/MMM: hands recognised (note on stderr)
   oacc segment demo.c3d --scene library/ --scene-name kitchen --plot aas.png --graphs graphs/
   oacc segment Stir.mmm.xml --motion --plot-motion stir.png   # what moved, relative to what
+  oacc segment Cut.mmm.xml --scene library/kit --scene-name kit_cut --contacts geometry
 """
 
 
