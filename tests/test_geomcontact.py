@@ -19,7 +19,7 @@ from oacdsl.errors import SegmentationError
 from oacdsl.segmentation import AasParams, segment
 from oacdsl.segmentation.geomcontact import _contact_spans, complement_spans, union_spans
 from oacdsl.segmentation.readers import write_c3d
-from oacdsl.segmentation.shapefit import pose_shape
+from oacdsl.segmentation.shapefit import hand_volume, pose_shape, surface_gaps
 from oacdsl.segmentation.shapes import MAX_SURFACE_POINTS, Primitive
 from oacdsl.segmentation.takes import scaled
 
@@ -223,3 +223,16 @@ def test_the_pipeline_passes_the_scene_shapes_when_asked(tmp_path):
         assert seg.parameters.get("geometry", {}).get("knife") == knife
         unmerged = inputs.unmerged()
         assert unmerged is not None and unmerged().parameters.get("geometry", {}).get("knife") == knife
+
+
+def test_the_broad_phase_changes_no_decision():
+    rec, shapes = peeler_and_cucumber()
+    peeler = pose_shape(rec, "peeler", shapes["peeler"])[0]
+    hand = hand_volume(rec, "right_hand")
+    others = [pose_shape(rec, name, shapes[name])[0] for name in ("cucumber", "board")]
+    for other in (*others, hand):
+        exact = surface_gaps(peeler, other)
+        for tol in (0.005, 0.02):
+            bounded = surface_gaps(other, peeler, within_m=tol)
+            assert np.array_equal(exact <= tol, bounded <= tol)
+            assert (bounded <= exact + 1e-12).all()  # a lower bound where not measured

@@ -146,7 +146,7 @@ def geometric_contacts(
         if isinstance(bodies[a], HandVolume) and isinstance(bodies[b], HandVolume):
             continue
         tol = tolerance_m(bodies[a], bodies[b])
-        gap = surface_gaps(bodies[a], bodies[b])
+        gap = surface_gaps(bodies[a], bodies[b], within_m=tol)
         hand = a in agents or b in agents
         spans[q], undecided[q] = _contact_spans(gap, tol, hold_frames, bridge, hand)
         tolerances[q] = tol

@@ -26,7 +26,9 @@ from __future__ import annotations
 
 import itertools
 import math
+import warnings
 from dataclasses import dataclass
+from typing import TypeAlias
 
 import numpy as np
 
@@ -61,6 +63,8 @@ DEFAULT_HAND_SIZE_M = 0.16
 _SEGMENT_SAMPLES = 5  # points along each segment between two hand markers, ends included
 _FRAME_BLOCK = 256  # frames per block of the gap computation
 
+Frames: TypeAlias = "slice | np.ndarray"  # frames of a recording: a range or indices
+
 
 @dataclass(frozen=True)
 class PosedShape:
@@ -85,16 +89,34 @@ class PosedShape:
 
 @dataclass(frozen=True)
 class HandVolume:
-    """A hand as points (``points_m``: (F, P, 3), world, NaN in gaps) and a radius around them."""
+    """A hand: its markers (``markers_m``: (F, k, 3), world, NaN in gaps) and ``radius_m`` around
+    them and the segments between them."""
 
     instance: str
-    points_m: np.ndarray
+    markers_m: np.ndarray
     radius_m: float
 
     @property
     def extent_m(self) -> float:
         """Its size across: twice the radius around the back of the hand and the fingers."""
         return 2 * self.radius_m
+
+    def points(self, frames: Frames) -> np.ndarray:
+        """(F', P, 3) the markers and points along the segments between them in ``frames``."""
+        p = self.markers_m[frames]
+        s = np.linspace(0.0, 1.0, _SEGMENT_SAMPLES)[1:-1]
+        parts = [p] + [p[:, i, None, :] + s[None, :, None] * (p[:, j, None, :] - p[:, i, None, :])
+                       for i, j in itertools.combinations(range(p.shape[1]), 2)]
+        return np.concatenate(parts, axis=1)
+
+    def bounds(self, frames: Frames) -> tuple[np.ndarray, np.ndarray]:
+        """(F', 3) centres and (F',) radii of spheres holding the volume in ``frames``, metres."""
+        p = self.markers_m[frames]
+        with np.errstate(invalid="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # a frame without markers: NaN
+            centre = np.nanmean(p, axis=1)
+            reach = np.nanmax(np.linalg.norm(p - centre[:, None, :], axis=2), axis=1)
+        return centre, reach + self.radius_m
 
 
 def pose_shape(recording: Recording, instance: str, model: ShapeModel) -> tuple[PosedShape | None, str]:
@@ -131,11 +153,16 @@ def hand_volume(recording: Recording, instance: str) -> HandVolume:
     p = recording.group_positions(instance)  # (F, k, 3)
     size = instance_size_m(p)
     radius = HAND_RADIUS_FRACTION * (size if math.isfinite(size) else DEFAULT_HAND_SIZE_M)
-    parts = [p]
-    s = np.linspace(0.0, 1.0, _SEGMENT_SAMPLES)[1:-1]
-    for i, j in itertools.combinations(range(p.shape[1]), 2):
-        parts.append(p[:, i, None, :] + s[None, :, None] * (p[:, j, None, :] - p[:, i, None, :]))
-    return HandVolume(instance, np.concatenate(parts, axis=1), radius)
+    return HandVolume(instance, p, radius)
+
+
+def _shape_bounds(shape: PosedShape, frames: Frames) -> tuple[np.ndarray, np.ndarray]:
+    """(F', 3) centres and (F',) radii of spheres holding ``shape`` in ``frames``, metres."""
+    pts = shape.model.surface_points()
+    mid = (pts.min(axis=0) + pts.max(axis=0)) / 2
+    T = shape.T_world_object[frames]
+    centre = np.einsum("fij,j->fi", T[:, :3, :3], mid) + T[:, :3, 3]
+    return centre, np.full(len(centre), float(np.linalg.norm(pts - mid, axis=1).max()))
 
 
 def _to_object(T_world_object: np.ndarray, points_world: np.ndarray) -> np.ndarray:
@@ -144,14 +171,14 @@ def _to_object(T_world_object: np.ndarray, points_world: np.ndarray) -> np.ndarr
     return np.asarray(np.einsum("fij,fpj->fpi", inv[:, :3, :3], points_world) + inv[:, None, :3, 3])
 
 
-def _posed_surface(shape: PosedShape, frames: slice) -> np.ndarray:
+def _posed_surface(shape: PosedShape, frames: Frames) -> np.ndarray:
     """(F', P, 3) world points of ``shape``'s surface in ``frames``."""
     pts = shape.model.surface_points()
     T = shape.T_world_object[frames]
     return np.asarray(np.einsum("fij,pj->fpi", T[:, :3, :3], pts) + T[:, None, :3, 3])
 
 
-def _min_sdf(shape: PosedShape, points_world: np.ndarray, frames: slice) -> np.ndarray:
+def _min_sdf(shape: PosedShape, points_world: np.ndarray, frames: Frames) -> np.ndarray:
     """(F',) the smallest signed distance of (F', P, 3) world points to ``shape``, NaN in gaps."""
     local = _to_object(shape.T_world_object[frames], points_world)
     with np.errstate(invalid="ignore"):
@@ -160,9 +187,12 @@ def _min_sdf(shape: PosedShape, points_world: np.ndarray, frames: slice) -> np.n
     return np.asarray(out)
 
 
-def surface_gaps(a: PosedShape | HandVolume, b: PosedShape | HandVolume) -> np.ndarray:
+def surface_gaps(a: PosedShape | HandVolume, b: PosedShape | HandVolume,
+                 within_m: float = math.inf) -> np.ndarray:
     """(F,) gap between the surfaces of ``a`` and ``b``, metres (module doc); a pair of two hands
-    is not measured (an error)."""
+    is not measured (an error). Frames where spheres around the two are farther apart than
+    ``within_m`` get that lower bound of the gap instead (the broad phase: a long recording's
+    pairs are far apart in most frames)."""
     if isinstance(a, HandVolume) and isinstance(b, HandVolume):
         raise ValueError("two hands have no surface gap: they are measured by their markers")
     if isinstance(a, HandVolume):
@@ -172,9 +202,18 @@ def surface_gaps(a: PosedShape | HandVolume, b: PosedShape | HandVolume) -> np.n
     n = a.T_world_object.shape[0]
     out = np.full(n, np.nan)
     for lo in range(0, n, _FRAME_BLOCK):
-        f = slice(lo, min(n, lo + _FRAME_BLOCK))
+        block = slice(lo, min(n, lo + _FRAME_BLOCK))
+        ca, ra = _shape_bounds(a, block)
+        cb, rb = b.bounds(block) if isinstance(b, HandVolume) else _shape_bounds(b, block)
+        bound = np.linalg.norm(ca - cb, axis=1) - ra - rb
+        with np.errstate(invalid="ignore"):
+            far = bound > within_m  # NaN (a gap): measured, NaN again
+        out[block] = bound
+        f = np.flatnonzero(~far) + lo
+        if f.size == 0:
+            continue
         if isinstance(b, HandVolume):
-            out[f] = _min_sdf(a, b.points_m[f], f) - b.radius_m
+            out[f] = _min_sdf(a, b.points(f), f) - b.radius_m
         else:
             out[f] = np.fmin(_min_sdf(a, _posed_surface(b, f), f), _min_sdf(b, _posed_surface(a, f), f))
     return out
