@@ -17,8 +17,8 @@ fingers: the markers sit on the back of the hand and on the fingers), ``radius_m
 :data:`HAND_RADIUS_FRACTION` of the hand's size (its largest marker distance).
 
 **Gaps** (:func:`surface_gaps`): per frame, the distance between the two surfaces (negative:
-they overlap), from surface samples of each shape against the other's signed distance (both
-ways), or from the hand's points against the object's signed distance minus the hand's radius.
+they overlap), from surface samples of one shape (the one with fewer) against the other's
+signed distance, or from the hand's points against the object's signed distance minus the hand's radius.
 Metres; NaN where an instance's pose is unknown (fewer than three markers seen).
 """
 
@@ -166,16 +166,16 @@ def _shape_bounds(shape: PosedShape, frames: Frames) -> tuple[np.ndarray, np.nda
 
 
 def _to_object(T_world_object: np.ndarray, points_world: np.ndarray) -> np.ndarray:
-    """(F, P, 3) world points in the object frame of each frame's ``T_world_object`` (F, 4, 4)."""
-    inv = invert(T_world_object)
-    return np.asarray(np.einsum("fij,fpj->fpi", inv[:, :3, :3], points_world) + inv[:, None, :3, 3])
+    """(F, P, 3) world points in the object frame of each frame's ``T_world_object`` (F, 4, 4):
+    ``R^T (p - t)``, as rows ``(p - t) R``."""
+    return np.asarray(np.matmul(points_world - T_world_object[:, None, :3, 3], T_world_object[:, :3, :3]))
 
 
 def _posed_surface(shape: PosedShape, frames: Frames) -> np.ndarray:
     """(F', P, 3) world points of ``shape``'s surface in ``frames``."""
-    pts = shape.model.surface_points()
     T = shape.T_world_object[frames]
-    return np.asarray(np.einsum("fij,pj->fpi", T[:, :3, :3], pts) + T[:, None, :3, 3])
+    rotated = np.matmul(shape.model.surface_points()[None], np.swapaxes(T[:, :3, :3], 1, 2))
+    return np.asarray(rotated + T[:, None, :3, 3])
 
 
 def _min_sdf(shape: PosedShape, points_world: np.ndarray, frames: Frames) -> np.ndarray:
@@ -214,6 +214,7 @@ def surface_gaps(a: PosedShape | HandVolume, b: PosedShape | HandVolume,
             continue
         if isinstance(b, HandVolume):
             out[f] = _min_sdf(a, b.points(f), f) - b.radius_m
-        else:
-            out[f] = np.fmin(_min_sdf(a, _posed_surface(b, f), f), _min_sdf(b, _posed_surface(a, f), f))
+        else:  # the surface with fewer samples against the other one's signed distance
+            small, large = sorted((a, b), key=lambda x: len(x.model.surface_points()))
+            out[f] = _min_sdf(large, _posed_surface(small, f), f)
     return out

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -163,7 +164,11 @@ class ShapeModel:
 
     def surface_points(self) -> np.ndarray:
         """(P, 3) points on the shape's outer surface (points inside another primitive of the
-        compound dropped), at most :data:`MAX_SURFACE_POINTS`."""
+        compound dropped), at most :data:`MAX_SURFACE_POINTS`; computed once."""
+        return self._surface
+
+    @cached_property
+    def _surface(self) -> np.ndarray:
         spacing = SURFACE_SPACING_M
         while True:
             pts = np.concatenate([p.surface_points(spacing) for p in self.primitives])
@@ -173,7 +178,7 @@ class ShapeModel:
                 return pts
             spacing *= 1.25
 
-    @property
+    @cached_property
     def extents_m(self) -> tuple[float, float, float]:
         """The shape's bounding box sizes along its axes, sorted, metres."""
         pts = np.concatenate([p.surface_points(0.02) for p in self.primitives])
