@@ -141,9 +141,7 @@ def geometric_contacts(
     undecided: dict[int, Spans] = {}
     tolerances: dict[int, float] = {}
     for q, (a, b) in enumerate(table.instance_pairs.tolist()):
-        if a not in bodies or b not in bodies or (a in agents and b in agents):
-            continue
-        if isinstance(bodies[a], HandVolume) and isinstance(bodies[b], HandVolume):
+        if a not in bodies or b not in bodies or (a in agents and b in agents):  # two hands: markers
             continue
         tol = tolerance_m(bodies[a], bodies[b])
         gap = surface_gaps(bodies[a], bodies[b], within_m=tol)
