@@ -143,7 +143,7 @@ def _demonstrated(
         raise UsageError(f"{args.demonstration}: no such recording file")
     # grouped as oacc reproduce groups it: a recognised marker set (KIT) gives the hands
     grouped, _ = group_recording(read_recording(args.demonstration), None)
-    return demonstrated_positions(grouped, sc)
+    return demonstrated_positions(grouped, sc, library)
 
 
 def load_inputs(paths: list[str], scene: str | None) -> tuple[Any, str | None]:
