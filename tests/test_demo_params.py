@@ -104,6 +104,18 @@ def test_a_wipe_stroke_goes_sqrt2_times_the_median_radius(lib):
     assert values(found) == {"strokes": (3.0, ""), "length": (49.0, "mm")}  # 1.41 x 35mm
 
 
+def test_a_saw_stroke_goes_along_the_blade_not_clamped_to_the_targets_room(lib):
+    # a knife's strokes pass over the target (a cucumber 4.5 cm wide): only the blade bounds
+    # them (the skill does), where a wipe's stroke is clamped to the room on the target
+    scene = lib.scenes["kitchen"]
+    m = motion(moved="mixer", target="orange_bowl", radius_m=0.06, period_s=1.28, cycles=3.3)
+    found = step_params("saw", m, ("right_hand", "mixer", "orange_bowl"), lib, scene)
+    assert values(found) == {"strokes": (3.0, ""), "length": (85.0, "mm"), "period": (1.28, "s")}
+    assert "clamped" not in str(found.comment)
+    wipe = step_params("wipe", m, ("right_hand", "mixer", "orange_bowl"), lib, scene)
+    assert values(wipe)["length"] == (67.0, "mm")  # the room in the bowl
+
+
 @pytest.fixture
 def lib_dir(tmp_path: Path) -> Path:
     ignore = shutil.ignore_patterns("learned", "drafts")

@@ -14,6 +14,7 @@ from oacdsl.runtime.skills.mix_both import mix_both
 from oacdsl.runtime.skills.place import place
 from oacdsl.runtime.skills.pour import pour
 from oacdsl.runtime.skills.roll import roll
+from oacdsl.runtime.skills.saw import saw
 from oacdsl.runtime.skills.stir import stir
 from oacdsl.runtime.skills.stroke import stroke
 from oacdsl.runtime.skills.take_out import take_out
@@ -43,5 +44,6 @@ IMPLEMENTATIONS: dict[str, Skill] = {
     "twist": twist,
     "stroke": stroke,
     "roll": roll,
+    "saw": saw,
     "follow": follow,
 }
