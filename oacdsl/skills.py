@@ -443,6 +443,27 @@ SIGNATURES: dict[str, SkillSignature] = {
             ),
         ),
         SkillSignature(
+            "tip_out",
+            "take the held tool out of the container it is in, tip it over that container (a ladle"
+            " emptied into a cup), turn it back and bring it into another container until they touch",
+            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("c", ANY),
+             SkillArg("b", "Container")),
+            (
+                SkillParamSpec("tilt", "rad", _deg(90.0), 0.0, _deg(180.0), "how far the tool is tipped",
+                               MotionSource("tilt_max_rad", needs="tilt_rise_s")),
+                # the tip turns at a constant rate: its 10-90 % rise takes 0.8 of the duration
+                SkillParamSpec("duration", "s", 1.2, 0.3, 10.0,
+                               "time to tip it that far (no faster than the arms' joints allow)",
+                               MotionSource("tilt_rise_s", scale=1.25)),
+                SkillParamSpec("hover", "m", 0.04, 0.01, 0.20,
+                               "height above the other container's top where the descent starts"),
+                SkillParamSpec("force", "N", 8.0, 2.0, 30.0,
+                               "wrist force change on the way down that means something else is in the way"),
+                SkillParamSpec("press", "m", 0.003, 0.0, 0.03,
+                               "how far the tool is pressed on once it touches"),
+            ),
+        ),
+        SkillSignature(
             "twist",
             "turn the held object about its own axis on another one, regrasping between strokes"
             " (a lid screwed onto or off a bottle)",

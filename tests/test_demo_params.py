@@ -116,6 +116,17 @@ def test_a_saw_stroke_goes_along_the_blade_not_clamped_to_the_targets_room(lib):
     assert values(wipe)["length"] == (67.0, "mm")  # the room in the bowl
 
 
+def test_a_tip_out_takes_the_demonstrated_tilt_relative_to_the_container(lib):
+    # KIT Scoop: the ladle tipped 125 deg relative to the cup it scooped into, its rise in 0.69 s
+    scene = lib.scenes["kitchen"]
+    args = ("right_hand", "mixer", "red_cup", "orange_bowl")
+    m = motion(moved="mixer", target="red_cup", tilt_max_rad=math.radians(124.6), tilt_rise_s=0.69)
+    found = step_params("tip_out", m, args, lib, scene)
+    assert values(found) == {"tilt": (125.0, "deg"), "duration": (0.86, "s")}
+    # no tilt demonstrated (no rise found): the skill's defaults
+    assert step_params("tip_out", motion(moved="mixer", target="red_cup"), args, lib, scene).params == ()
+
+
 @pytest.fixture
 def lib_dir(tmp_path: Path) -> Path:
     ignore = shutil.ignore_patterns("learned", "drafts")

@@ -74,9 +74,7 @@ NOT_VERIFIED = {
 
 
 #: Verified but not faithful (the motion check, docs/verify.md): the others' motion is judged too.
-NOT_FAITHFUL = {
-    "Scoop": "motion: the ladle does not tilt after the cup (120° demonstrated)",
-}
+NOT_FAITHFUL: dict[str, str] = {}
 
 
 @pytest.mark.parametrize(
@@ -104,6 +102,6 @@ def test_kit_clip_is_reproduced_and_verified(clip: str, tmp_path: Path) -> None:
     verification = result["verification"]
     assert verification["verified"] and verification["distance"] == 0
     assert [a["op"] for a in verification["alignment"]] == ops
-    if clip not in NOT_FAITHFUL:  # Cut: the knife's strokes (saw), Stir: the spoon's circles
+    if clip not in NOT_FAITHFUL:  # Cut: the knife's strokes (saw); Scoop: the ladle tipped (tip_out)
         assert result["verdict"]["faithful"], result["verdict"]
     assert (library / "learned" / f"{name}.oac").is_file()

@@ -18,6 +18,7 @@ from oacdsl.runtime.skills.saw import saw
 from oacdsl.runtime.skills.stir import stir
 from oacdsl.runtime.skills.stroke import stroke
 from oacdsl.runtime.skills.take_out import take_out
+from oacdsl.runtime.skills.tip_out import tip_out
 from oacdsl.runtime.skills.touch import touch
 from oacdsl.runtime.skills.twist import twist
 from oacdsl.runtime.skills.wipe import wipe
@@ -41,6 +42,7 @@ IMPLEMENTATIONS: dict[str, Skill] = {
     "place_both": place_both,
     "stir": stir,
     "take_out": take_out,
+    "tip_out": tip_out,
     "twist": twist,
     "stroke": stroke,
     "roll": roll,
