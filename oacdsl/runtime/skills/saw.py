@@ -18,6 +18,8 @@ The other hand keeps its goal fixed while it holds something (as ``touch``).
 
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
@@ -98,7 +100,7 @@ def saw(
     for end in ends:
         a = make_T(middle[:3, :3], middle[:3, 3] + last * u)
         b = make_T(middle[:3, :3], middle[:3, 3] + end * u)
-        m.along(lambda s, a=a, b=b: interpolate(a, b, s), abs(end - last) / speed, keep_contact=on)
+        m.along(partial(interpolate, a, b), abs(end - last) / speed, keep_contact=on)
         last = end
     if not (m.hold_still(t.contact_wait_s, on) or on()):
         raise RuntimeFailure(f"saw: {tool} left {target} during its strokes")
