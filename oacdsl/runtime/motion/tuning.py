@@ -101,9 +101,9 @@ class Tuning:
 
     # --- tip a held object over a container --------------------------------------------------
     #: how many horizontal axes (evenly round) a tip is tried about; the best reached is taken
-    tip_azimuths: int = 8
+    tip_axis_tries: int = 8
     #: how many poses along a tip are checked for the tool's clearance from the other hand
-    tip_samples: int = 5
+    tip_pose_tries: int = 5
 
     # --- free spots on the table ------------------------------------------------------------
     #: spacing of the candidate spots, m, and the room kept between footprints there, m

@@ -7,7 +7,7 @@ top; turn the hand about a horizontal axis through its grasp point by ``tilt`` i
 joint speed), hold still a moment, and turn it back; then ``touch``'s way into ``b``
 (carried over it, a guarded approach until they touch or the wrist feels ``force``),
 pressed ``press`` on. The axis is the horizontal direction, among the tuning's
-``tip_azimuths``, whose fully tipped pose the whole-body IK reaches (within the reach
+``tip_axis_tries``, whose fully tipped pose the whole-body IK reaches (within the reach
 tolerance of the best) and along which the swinging tool keeps farthest from the other hand.
 The other hand keeps its goal fixed while it holds something (the cup tipped into stays where
 it is).
@@ -78,7 +78,7 @@ def tip_out(
         return make_T(rot_axis(axis, angle) @ start[:3, :3], start[:3, 3])
 
     axes = [np.array([math.cos(a), math.sin(a), 0.0])
-            for a in np.arange(t.tip_azimuths) * math.tau / t.tip_azimuths]
+            for a in np.arange(t.tip_axis_tries) * math.tau / t.tip_axis_tries]
     axis = _axis(ctx, side, tool, axes, tipped, tilt)
     seconds = max(duration, abs(tilt) / TURN_SPEED_RAD_S)
     ctx.ctl.activity = f"tipping {tool} over {source}"
@@ -106,7 +106,7 @@ def _axis(ctx: SkillContext, side: str, tool: str, axes: list[np.ndarray],
 
     def clearance(u: np.ndarray) -> float:
         gaps = (world_corners(body, tipped(u, a) @ tool_in_hand) - other
-                for a in np.linspace(0.0, tilt, TUNING.tip_samples))
+                for a in np.linspace(0.0, tilt, TUNING.tip_pose_tries))
         return min(float(np.linalg.norm(g, axis=1).min()) for g in gaps)
 
     near = [u for u, r in zip(axes, reach, strict=True) if r <= min(reach) + REACH_TOLERANCE_M]
