@@ -105,8 +105,8 @@ def main() -> int:
     seeds = [int(s) for s in args.seeds.split(",")]
     keep = Path(args.keep) if args.keep else None
     rows: dict[tuple[str, str], list[str]] = {}
-    print(f"{'clip':6} {'take':18} {'wall s':>6}  verified faithful  per seed (V faithful, v verified, x not)",
-          flush=True)
+    print(f"{'clip':6} {'take':18} {'wall s':>6}  verified faithful"
+          "  per seed (V faithful, v verified, x not)", flush=True)
     with tempfile.TemporaryDirectory(prefix="oac-takes-robot-") as tmp:
         for clip in clips:
             for take in takes:

@@ -183,7 +183,8 @@ def transfer_demo() -> Recording:
     left.move(3.5, bowl_at + [-0.145, -0.02, 0.20])
     right.hold(2.4).move(3.4, knife_at + [0.035, 0.0, 0.10], end_tau=0.95).hold(3.8)
     on_board = board_at + [0.08, 0.0, 0.015]
-    right.move(5.6, on_board + [0.035, 0.0, 0.10], via_m=[knife_at + [0.035, 0, 0.25]], end_tau=0.97).hold(6.0)
+    right.move(5.6, on_board + [0.035, 0.0, 0.10], via_m=[knife_at + [0.035, 0, 0.25]], end_tau=0.97)
+    right.hold(6.0)
     strokes(right, 10.0, np.array([-1.0, 0.0, 0.0]), 0.06, 2.0).hold(12.0)
     left.hold(12.0)
     bowl.hold(2.0).follow(left, 12.0)

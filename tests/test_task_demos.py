@@ -23,7 +23,8 @@ ROOT = Path(__file__).resolve().parents[1]
 def libraries(tmp: Path) -> list[Path]:
     out = []
     for name in ("kit", "examples"):
-        shutil.copytree(ROOT / "library" / name, tmp / name, ignore=shutil.ignore_patterns("learned", "drafts"))
+        ignore = shutil.ignore_patterns("learned", "drafts")
+        shutil.copytree(ROOT / "library" / name, tmp / name, ignore=ignore)
         out.append(tmp / name)
     return out
 
@@ -45,7 +46,8 @@ def composed_steps(task: str, tmp: Path) -> list[str]:
 #: The steps each synthetic demonstration composes to (the example OACs, matched).
 STEPS = {
     "Close": ["grasp(right_hand, bottle)", "grasp(left_hand, lid)", "screw_on(left_hand, lid, bottle)"],
-    "Open": ["grasp(right_hand, bottle)", "take_lid(left_hand, lid, bottle)", "screw_off(left_hand, lid, bottle)"],
+    "Open": ["grasp(right_hand, bottle)", "take_lid(left_hand, lid, bottle)",
+             "screw_off(left_hand, lid, bottle)"],
     "Peel": ["grasp(left_hand, cucumber)", "grasp(right_hand, peeler)", "peel(right_hand, peeler, cucumber)"],
     "Transfer": ["grasp(left_hand, mixing_bowl_green)", "grasp(right_hand, knife_black)",
                  "push_into(right_hand, knife_black, board)"],

@@ -141,8 +141,8 @@ def test_a_regrasp_within_a_step_is_no_change_of_the_task(tmp_path: Path) -> Non
     # the hand lets go of the lid for 1.2 s to take it again and turn it further (twist): the
     # runtime lists that window as internal; the relation holds through it, and only through it
     hand_lid = ("hand", "lid")
-    changes = ((0, frozenset()), (100, frozenset({hand_lid})), (300, frozenset()), (420, frozenset({hand_lid})),
-               (800, frozenset()))
+    changes = ((0, frozenset()), (100, frozenset({hand_lid})), (300, frozenset()),
+               (420, frozenset({hand_lid})), (800, frozenset()))
     plain = SimContacts(100.0, 900, ("hand", "lid"), changes, {})
     assert len(plain.segmentation(("hand", "lid")).keyframes) == 5  # + − + −: a let-go and a retake
     sim = SimContacts(100.0, 900, ("hand", "lid"), changes, {}, ((hand_lid, 295, 425),))
