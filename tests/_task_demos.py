@@ -207,8 +207,8 @@ def rollout_demo() -> Recording:
         hand.move(4.0, grip + lift, via_m=[grip + [0, 0.05, 0.06]]).hold(4.3)
         strokes(hand, 10.3, np.array([0.0, 1.0, 0.0]), 0.06, 2.0).hold(10.6)
     pin.hold(2.0).follow(right, 10.6).hold(12.0)
-    right.move(11.6, right.last_pose[0] + [0.12, -0.15, 0.12], start_tau=0.1).hold(12.0)
-    left.move(11.6, left.last_pose[0] + [-0.12, -0.15, 0.12], start_tau=0.1).hold(12.0)
+    right.move(11.1, right.last_pose[0] + [0.15, -0.15, 0.15], start_tau=0.3).hold(12.0)
+    left.move(11.1, left.last_pose[0] + [-0.15, -0.15, 0.15], start_tau=0.3).hold(12.0)
     return s.recording("synthetic RollOut")
 
 
