@@ -65,7 +65,7 @@ def test_a_synthetic_demonstration_composes_to_the_example_oacs(task: str, tmp_p
 
 #: Task → the layout the robot's run uses: the demonstration's first frame (the lid starts on
 #: the bottle only so) or the example scene's places (the dough, untracked, has no first frame).
-LAYOUT = {"Close": "demonstrated", "Open": "demonstrated", "RollOut": None}
+LAYOUT = {"Close": "demonstrated", "Open": "demonstrated", "RollOut": None, "Transfer": "demonstrated"}
 
 
 @pytest.mark.slow

@@ -54,6 +54,8 @@ class Tuning:
     #: how far inside an object's end a tool aims when it works at that end, m (a knife on a
     #: cucumber's free end; strokes along a board stop short of its edge)
     end_margin_m: float = 0.01
+    #: how far a stroking hand stays from what the other hand holds (its collision boxes, m)
+    hand_clearance_m: float = 0.02
 
     #: room left between a held object and a wall it is slid against, m
     gap_m: float = 0.003
