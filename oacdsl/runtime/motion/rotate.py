@@ -60,7 +60,7 @@ def _wound(ctx: MotionContext, m: Motion, pose: np.ndarray, axis: np.ndarray, ce
         return float(res.position_m + 0.1 * res.angle_rad)
 
     best: tuple[float, np.ndarray] | None = None
-    for share in m.tuning.turn_wind_back_shares:
+    for share in m.tuning.turn_wind_back_share:
         start = _turned(pose, axis, centre, -share * step)
         err = max(error(start), error(_turned(start, axis, centre, step)))
         if best is None or err < best[0] - m.tuning.turn_wind_back_gain_m:
