@@ -106,6 +106,12 @@ class Tuning:
     turn_wind_back_share: tuple[float, ...] = (0.0, 0.25, 0.5, 0.75, 1.0)
     turn_wind_back_gain_m: float = 0.002
 
+    # --- tip a held object over a container --------------------------------------------------
+    #: how many horizontal axes (evenly round) a tip is tried about; the best reached is taken
+    tip_axis_tries: int = 8
+    #: how many poses along a tip are checked for the tool's clearance from the other hand
+    tip_pose_tries: int = 5
+
     # --- free spots on the table ------------------------------------------------------------
     #: spacing of the candidate spots, m, and the room kept between footprints there, m
     spot_step_m: float = 0.04
