@@ -1,7 +1,7 @@
 """The hand-written examples of actions no KIT development clip has (``library/examples/``):
 verdict per seed and time per run.
 
-    python benchmarks/kit_examples.py [--seeds 0,1,2,3,4,5]
+    python benchmarks/kit_examples.py [--seeds 0,1,2,3,4,5] [--examples peel_cucumber,transfer_to_bowl]
 
 Each example OAC (``close_and_open``: twist; ``open_bottle``: twist from a lid that starts on
 its bottle, with the synthetic first frame of ``tests/test_kit_general.py``;
@@ -35,8 +35,14 @@ EXAMPLES = ("close_and_open", "open_bottle", "peel_cucumber", "transfer_to_bowl"
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seeds", default="0,1,2,3,4,5", help="seeds (0: the scene's places)")
-    seeds = [int(s) for s in parser.parse_args().seeds.split(",")]
-    for name in EXAMPLES:
+    parser.add_argument("--examples", default=",".join(EXAMPLES), help="which (default: all five)")
+    args = parser.parse_args()
+    seeds = [int(s) for s in args.seeds.split(",")]
+    names = [n.strip() for n in args.examples.split(",") if n.strip()]
+    unknown = [n for n in names if n not in EXAMPLES]
+    if unknown:
+        parser.error(f"not an example: {', '.join(unknown)} (valid: {', '.join(EXAMPLES)})")
+    for name in names:
         kw = {"layout": "demonstrated", "demonstrated": FIRST_FRAME} if name == "open_bottle" else {}
         verdicts, walls, builds = [], [], []
         for seed in seeds:

@@ -13,7 +13,10 @@ The keyframes: per relation, a change counts once the new value has held
 for a step or two is no change); a contact that lifts off for less than ``contact_gap_s``
 and comes back is held on (a stirring tool that rises off the bowl's floor between two
 touches); changes closer than ``contact_merge_s`` are one keyframe, at the last of them
-(as the AAS merges).
+(as the AAS merges). A hand that let go of an object only to take it again within one step
+(a turn continued in strokes, :mod:`oacdsl.runtime.motion.rotate`) is no change of the task:
+the runtime records each such regrasp, the file lists it under ``internal`` (the relation and
+its frames), and the relation holds through it.
 """
 
 from __future__ import annotations
@@ -47,6 +50,9 @@ class SimContacts:
     changes: tuple[tuple[int, frozenset[Relation]], ...]
     #: The AAS parameters the run's virtual markers are segmented with (``AasParams`` fields).
     aas: Mapping[str, Any]
+    #: (relation, from frame, to frame): a hand let go of an object and took it again within a
+    #: step (a regrasp); the relation holds through these frames.
+    internal: tuple[tuple[Relation, int, int], ...] = ()
 
     @classmethod
     def from_json(cls, doc: Mapping[str, Any], where: str = "contacts") -> SimContacts:
@@ -61,7 +67,7 @@ class SimContacts:
             if not rate > 0 or any(b[0] < a[0] for a, b in zip(changes, changes[1:], strict=False)):
                 raise ValueError("a positive rate and frames in order are needed")
             return cls(rate, int(doc["frames"]), tuple(str(i) for i in doc["instances"]), changes,
-                       dict(doc.get("aas", {})))
+                       dict(doc.get("aas", {})), internal_windows(doc.get("internal", ())))
         except (KeyError, TypeError, ValueError) as error:
             what = f"missing key {error}" if isinstance(error, KeyError) else str(error)
             raise InputError(f"not a contacts file: {what}", location=where) from None
@@ -76,6 +82,7 @@ class SimContacts:
             "aas": dict(self.aas),
             "changes": [{"frame": f, "relations": [list(r) for r in sorted(rels)]}
                         for f, rels in self.changes],
+            "internal": [{"relation": list(r), "from_frame": a, "to_frame": b} for r, a, b in self.internal],
         }
 
     def segmentation(
@@ -93,6 +100,9 @@ class SimContacts:
             for j, p in enumerate(pairs):
                 if p in rels:
                     on[start:stop, j] = True
+        for r, a, b in self.internal:  # a regrasp within a step: the hand holds on through it
+            if r in pairs:
+                on[max(a, 0):min(b, n), pairs.index(r)] = True
         hold = max(1, int(round(tolerances.contact_hold_s * self.rate_hz)))
         gap = int(round(tolerances.contact_gap_s * self.rate_hz))
         on = np.stack([_bridged(_debounced(on[:, j], hold), gap) for j in range(len(pairs))], axis=1) \
@@ -113,6 +123,18 @@ class SimContacts:
         params = {"source": "simulation contacts", "hold_s": tolerances.contact_hold_s,
                   "merge_s": tolerances.contact_merge_s}
         return Segmentation(source, self.rate_hz, n, names, keyframes, params)
+
+
+def internal_windows(items: Any) -> tuple[tuple[Relation, int, int], ...]:
+    """The ``internal`` list of a contacts document as (relation, from frame, to frame)."""
+    out = []
+    for item in items:
+        a, b = item["relation"]
+        start, stop = int(item["from_frame"]), int(item["to_frame"])
+        if stop < start:
+            raise ValueError(f"an internal window ends (frame {stop}) before it starts ({start})")
+        out.append((relation(str(a), str(b)), start, stop))
+    return tuple(out)
 
 
 def _debounced(x: np.ndarray, hold: int) -> np.ndarray:

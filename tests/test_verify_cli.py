@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from oacdsl.cli import main
+from oacdsl.errors import InputError
 from oacdsl.segmentation.readers import read_recording
 from oacdsl.segmentation.readers.c3d import write_c3d
 from oacdsl.verify_contacts import SimContacts, contacts_path, read_contacts, write_contacts
@@ -134,3 +135,38 @@ def test_the_runtime_records_contacts_only_when_they_change() -> None:
     assert doc["frames"] == 5 and doc["instances"] == ["a", "b"]
     assert [(c["frame"], c["relations"]) for c in doc["changes"]] == [(0, []), (2, [["a", "b"]]), (4, [])]
     assert np.isclose(doc["changes"][1]["time_s"], 0.02)
+
+
+def test_a_regrasp_within_a_step_is_no_change_of_the_task(tmp_path: Path) -> None:
+    # the hand lets go of the lid for 1.2 s to take it again and turn it further (twist): the
+    # runtime lists that window as internal; the relation holds through it, and only through it
+    hand_lid = ("hand", "lid")
+    changes = ((0, frozenset()), (100, frozenset({hand_lid})), (300, frozenset()),
+               (420, frozenset({hand_lid})), (800, frozenset()))
+    plain = SimContacts(100.0, 900, ("hand", "lid"), changes, {})
+    assert len(plain.segmentation(("hand", "lid")).keyframes) == 5  # + − + −: a let-go and a retake
+    sim = SimContacts(100.0, 900, ("hand", "lid"), changes, {}, ((hand_lid, 295, 425),))
+    seg = sim.segmentation(("hand", "lid"))
+    assert [(k.frame, sorted(k.state.relations)) for k in seg.keyframes] == [
+        (0, []), (100, [hand_lid]), (800, [])]
+    path = write_contacts(sim, tmp_path / "run.contacts.json")
+    assert read_contacts(path) == sim  # the windows are part of the file
+    doc = json.loads(path.read_text())
+    doc["internal"] = [{"relation": ["hand", "lid"], "from_frame": 400, "to_frame": 300}]
+    path.write_text(json.dumps(doc))
+    with pytest.raises(InputError, match="ends .* before it starts"):
+        read_contacts(path)
+
+
+def test_the_contacts_recorder_lists_the_controllers_regrasps_as_frames() -> None:
+    pytest.importorskip("mujoco")
+    from oacdsl.runtime.recorder import ContactRecorder
+
+    regrasps: list[tuple[float, float, str, str]] = []
+    rec = ContactRecorder(100.0, regrasps=regrasps)
+    layout = SimpleNamespace(hands={"left_hand": "l", "right_hand": "r"})
+    for k in range(5):
+        rec(SimpleNamespace(time_s=2.0 + k / 100, layout=layout,  # type: ignore[arg-type]
+                            relations=lambda: WorldState.of(("lid", "left_hand"), [])))
+    regrasps.append((2.013, 2.031, "l", "lid"))  # appended by the controller during the run
+    assert rec.to_json()["internal"] == [{"relation": ["left_hand", "lid"], "from_frame": 1, "to_frame": 5}]

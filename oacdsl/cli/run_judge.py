@@ -19,7 +19,7 @@ class RunJudge:
         from oacdsl.runtime.recorder import ContactRecorder
 
         self.markers = VirtualMarkers(run.world)
-        self.contacts = ContactRecorder(self.markers.rate_hz)
+        self.contacts = ContactRecorder(self.markers.rate_hz, regrasps=run.controller.regrasps)
         run.controller.add_observer(self.markers)
         run.controller.add_observer(self.contacts)
 

@@ -197,11 +197,13 @@ def compose_stage(
     outside_scene: Path | None = None,
     force: bool = False,
     recording: Recording | None = None,
+    also: Sequence[Path] = (),
 ) -> ComposeStage:
     """Compose the matched sub-actions (Algorithm 1) and write the new OAC into
     ``LIBRARY/learned/NAME.oac`` as ``oacc compose`` does (unchanged when it is already there).
     ``recording``: the steps carry the skill parameters of its demonstrated motion
-    (:mod:`oacdsl.matching.demoparams`; None: the paper's plain steps)."""
+    (:mod:`oacdsl.matching.demoparams`; None: the paper's plain steps). ``also``: the files of
+    the other libraries given (``--library`` repeated), which the new OAC is checked with."""
     from oacdsl.matching.demonstration import compose_demonstration
     from oacdsl.matching.emit import LEARNED, emit
 
@@ -227,7 +229,7 @@ def compose_stage(
         f" scene {scene.name})."
     ]
     emitted = emit(
-        [written], root / LEARNED / f"{name}.oac", library=library_path, header=header, force=force
+        [written], root / LEARNED / f"{name}.oac", library=library_path, header=header, force=force, also=also
     )
     doc = comp.to_json(str(emitted.path))
     doc["text"] = emitted.text

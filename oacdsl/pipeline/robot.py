@@ -74,7 +74,7 @@ def execute_stage(
     from oacdsl.runtime.recorder import ContactRecorder
 
     markers = VirtualMarkers(run.world)
-    contacts = ContactRecorder(markers.rate_hz)
+    contacts = ContactRecorder(markers.rate_hz, regrasps=run.controller.regrasps)
     run.controller.add_observer(markers)
     run.controller.add_observer(contacts)
     camera = StepCamera(run.world.model, run.steps, frames_dir) if frames_dir is not None else None
@@ -160,14 +160,14 @@ EXECUTION_FILE = "execution.c3d"
 def sim_contacts(recorder: Any, demo_params: AasParams, instances: list[str] | None = None) -> Any:
     """The contacts a ContactRecorder saw, as the verifier reads them (with the AAS parameters
     its virtual markers are segmented with)."""
-    from oacdsl.verify_contacts import SimContacts
+    from oacdsl.verify_contacts import SimContacts, internal_windows
     from oacdsl.world import relation
 
     doc = recorder.to_json()
     changes = tuple((int(c["frame"]), frozenset(relation(a, b) for a, b in c["relations"]))
                     for c in doc["changes"])
     return SimContacts(float(doc["rate_hz"]), int(doc["frames"]), tuple(doc["instances"]), changes,
-                       robot_params(demo_params).to_dict())
+                       robot_params(demo_params).to_dict(), internal_windows(doc.get("internal", ())))
 
 
 def write_execution(recording: Recording, contacts: Any, path: Path) -> list[Path]:

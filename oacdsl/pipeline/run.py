@@ -252,6 +252,8 @@ def _stages(
         return seg
 
     def compose() -> Any:
+        from oacdsl.matching.emit import library_files
+
         if matched.unmatched:
             from oacdsl.errors import MatchingError
 
@@ -270,6 +272,7 @@ def _stages(
             outside_scene=inputs.outside_scene,
             force=force,
             recording=seg.recording if demo_params else None,
+            also=[f for p in inputs.library_paths if p != inputs.library_path for f in library_files(p)],
         )
         from oacdsl.atomic import write_atomic
 

@@ -65,9 +65,10 @@ class Controller:
         self._tare = {s: world.wrist_force(s) for s in ("r", "l")}
         self.fingers: dict[str, dict[str, float]] = {s: dict(OPEN) for s in ("r", "l")}
         self.activity = "idle"
-        #: (simulated time s, hand side, object) of every regrasp internal to a step (a hand
-        #: that lets go and takes the object again to turn it further): not a change of the task
-        self.regrasps: list[tuple[float, str, str]] = []
+        #: (let go s, taken again s, hand side, object), simulated time, of every regrasp internal
+        #: to a step (a hand that lets go and takes the object again to turn it further): not a
+        #: change of the task (the contacts recorder keeps the hand on the object through it)
+        self.regrasps: list[tuple[float, float, str, str]] = []
         self._observe()
 
     def add_observer(self, observer: Observer) -> None:

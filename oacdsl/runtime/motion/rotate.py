@@ -47,6 +47,27 @@ def _turned(pose: np.ndarray, axis: np.ndarray, centre: np.ndarray, angle: float
     return make_T(r @ pose[:3, :3], centre + r @ (pose[:3, 3] - centre))
 
 
+def _wound(ctx: MotionContext, m: Motion, pose: np.ndarray, axis: np.ndarray, centre: np.ndarray,
+           step: float) -> np.ndarray:
+    """``pose`` (T_world_grasp, taking the object again) turned back about the object's axis so
+    that the next stroke of ``step`` (rad) stays in the arm's reach: of a few turns back (none,
+    a quarter, half, three quarters or all of the stroke) the one whose start and end the
+    whole-body IK reaches best (a hand taken again where the wrist is at the end of its range
+    in the turning direction follows a stroke only by leaving its position: the object, dragged
+    sideways, tilts off the target)."""
+    def error(t: np.ndarray) -> float:
+        res = ctx.ctl.ik.try_reach(m.side, t)
+        return float(res.position_m + 0.1 * res.angle_rad)
+
+    best: tuple[float, np.ndarray] | None = None
+    for share in m.tuning.turn_wind_back_share:
+        start = _turned(pose, axis, centre, -share * step)
+        err = max(error(start), error(_turned(start, axis, centre, step)))
+        if best is None or err < best[0] - m.tuning.turn_wind_back_gain_m:
+            best = (err, start)
+    return pose if best is None else best[1]
+
+
 def _top(ctx: MotionContext, target: str) -> float:
     """Height of ``target``'s highest point now, m."""
     from oacdsl.runtime.shapes import world_corners
@@ -133,15 +154,16 @@ def rotate_on(
     aside -= float(aside @ axis) * axis
     first[:3, 3] -= aside
 
-    def retake() -> None:
-        """Let go of the object (on the target), and take it again from the first pose."""
+    def retake(step: float) -> None:
+        """Let go of the object (on the target), and take it again from the first pose, turned
+        back so that the next stroke (``step`` rad) stays in reach."""
         ctl.activity = f"taking {obj} again"
         centre(ctx, m, obj, target, axis)
         ctl.activity = f"taking {obj} again"
         if not world.touching(obj, target):  # set it down on the target before letting go
             m.go(down(m.here(), t.turn_seat_m), t.settle_s, m.touching(obj, target))
         world.release(side)
-        ctl.regrasps.append((world.time_s, side, obj))
+        let_go_s = world.time_s
         # the palm holds it down while only the fingers open; the thumb stays where it is
         # (opened, or turned back to a folded thumb, it pushed a light object off the target;
         # fingers opening without the palm pressing turned it back by up to 16°)
@@ -156,13 +178,15 @@ def rotate_on(
         shift = world.body_pose(obj)[:3, 3] - origin
         again[:3, 3] += shift - float(shift @ axis) * axis
         again[:3, 3] += float((rest[:3, 3] - again[:3, 3]) @ axis) * axis
+        again = _wound(ctx, m, again, axis, world.body_pose(obj)[:3, 3], step)
         m.go(raised(again, t.retreat_rise_m), t.turn_back_s)
         m.go(again, t.open_s)
         close_on(ctx, m, obj, closed, "rotate")
         world.weld(side, obj)
+        ctl.regrasps.append((let_go_s, world.time_s, side, obj))
 
     if float(np.linalg.norm(aside)) > t.turn_off_axis_m:  # turning would swing the hand round the axis
-        retake()
+        retake(angle / n)
     turned = 0.0
     last = world.body_pose(obj)[:3, :3].copy()
     most = t.turn_strokes_factor * n
@@ -185,5 +209,6 @@ def rotate_on(
         turned += angle_about(axis, t_now[:3, :3], last)
         if abs(angle - turned) <= t.turn_enough_rad or k == most - 1:
             break
-        retake()
+        left = angle - turned
+        retake(left / max(1, math.ceil(abs(left) / max(stroke, 1e-6) - 1e-9)))
     return turned

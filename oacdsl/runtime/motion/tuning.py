@@ -54,6 +54,8 @@ class Tuning:
     #: how far inside an object's end a tool aims when it works at that end, m (a knife on a
     #: cucumber's free end; strokes along a board stop short of its edge)
     end_margin_m: float = 0.01
+    #: how far a stroking hand stays from what the other hand holds (its collision boxes, m)
+    hand_clearance_m: float = 0.02
 
     #: room left between a held object and a wall it is slid against, m
     gap_m: float = 0.003
@@ -98,6 +100,11 @@ class Tuning:
     #: most moves that bring the object back onto the target's axis, and the time of each, s
     turn_centre_tries: int = 4
     turn_centre_s: float = 0.25
+    #: how much of the next stroke a hand taking the object again may be turned back first
+    #: (shares of the stroke, tried in this order), and by how much (m of IK error, the angle
+    #: counted 0.1 m/rad) a turned-back pose must be reached better to be chosen over the first
+    turn_wind_back_share: tuple[float, ...] = (0.0, 0.25, 0.5, 0.75, 1.0)
+    turn_wind_back_gain_m: float = 0.002
 
     # --- tip a held object over a container --------------------------------------------------
     #: how many horizontal axes (evenly round) a tip is tried about; the best reached is taken

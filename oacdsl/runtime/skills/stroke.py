@@ -42,6 +42,19 @@ def _half_lengths(body_corners: np.ndarray, u: np.ndarray) -> tuple[float, float
     return float(0.5 * (d.max() + d.min())), float(0.5 * (d.max() - d.min()))
 
 
+def _clear_of(ctx: SkillContext, side: str, t_hand: np.ndarray, u: np.ndarray, obj: str) -> float:
+    """How far along ``u`` (m) the hand at ``t_hand`` (its tool's middle at 0 along ``u``) may
+    go before its collision boxes come within the tuning's hand clearance of ``obj``."""
+    from oacdsl.runtime.handgap import hand_box_poses
+
+    boxes = hand_box_poses(side, t_hand, ctx.ctl.fingers[side])
+    signs = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
+    front = max(float(((t_box[:3, :3] @ (signs * half).T).T + t_box[:3, 3])[:, :2].dot(u[:2]).max())
+                for t_box, half in boxes)
+    near = float(world_corners(ctx.body(obj), ctx.world.body_pose(obj))[:, :2].dot(u[:2]).min())
+    return near - front - TUNING.hand_clearance_m
+
+
 def stroke_direction(ctx: SkillContext, side: str, target: str) -> np.ndarray:
     """The horizontal unit direction of the strokes on ``target`` (module doc), world frame."""
     world = ctx.world
@@ -109,6 +122,12 @@ def stroke(
         shift = np.array([*(across + along * u[:2]), top + height]) - tip
         return make_T(t_tool[:3, :3], t_tool[:3, 3] + shift) @ np.linalg.inv(tool_in_hand)
 
+    held = world.held.get(other)
+    if held is not None and held != target:  # the stroking hand stops short of what the other holds
+        end = min(end, _clear_of(ctx, side, hand_at(0.0, 0.0), u, held))
+        run = min(run, end - (mid - half + tool_half + t.end_margin_m))
+        if run < t.end_margin_m:
+            raise RuntimeFailure(f"stroke: no room for strokes of {tool} on {target} before {held}")
     start = end - run
     ctl.activity = f"bringing {tool} over {target}"
     above = hand_at(start, LIFT_M)

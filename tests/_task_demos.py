@@ -1,0 +1,229 @@
+"""Synthetic demonstrations of the actions no KIT development clip has: Open, Close, Peel,
+Transfer and RollOut, for the example scenes of ``library/examples`` (issue 19).
+
+Each is a motion-capture recording as a person would make it, written with the rigid-body
+tracks of :mod:`oacdsl.segmentation.synth.kinematics` (minimum-jerk moves; a held object follows
+its hand): one marker group per tracked instance of the scene, four markers on each object
+(where its class declares ``markers``, there; else on its outside), five on each hand (KIT's
+``?HTS ?HPS ?IFD ?WTS ?WPS``, :func:`oacdsl.segmentation.synth.scene.hand_markers`), 100 Hz, no
+noise. World frame as the synthetic dough scene's: x to the demonstrator's right, y away from
+the demonstrator across the table, z up, metres; the table top at 0.75 m.
+
+``write(task, folder)`` writes one as C3D; ``TASKS`` maps a task to (its writer, the example
+scene, the OAC that runs it on the robot).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from oacdsl.segmentation.points import recording_from_points
+from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.synth.kinematics import Track, min_jerk, rot_y, rot_z
+from oacdsl.segmentation.synth.scene import hand_markers
+
+__all__ = ["TASKS", "write"]
+
+RATE_HZ = 100.0
+TABLE_Z_M = 0.75
+_HAND_LABELS = ("HTS", "HPS", "IFD", "WTS", "WPS")
+#: A hand taking something from above: the back of the hand (its x) up.
+FROM_ABOVE = rot_y(-np.pi / 2)
+
+
+def _cm(*points: tuple[float, float, float]) -> np.ndarray:
+    return np.array(points, dtype=float) / 100.0
+
+
+#: Body-frame markers (m) of each object: origin at the middle of its base, z up.
+MARKERS: dict[str, np.ndarray] = {
+    "bottle": _cm((4.5, 0, 13), (-4.5, 0, 9), (0, 4.5, 4), (0, -4.5, 11)),
+    "lid": _cm((3.5, 0, 2.5), (-1.75, 3.0, 2.5), (-1.75, -3.0, 1.0), (0, 0, 3.2)),
+    "cucumber": _cm((7, 0, 4.5), (-5, 0, 0), (-5, 0, 4.5), (3, 0, 1)),
+    "cutting_board_small": _cm((12, 7, 1.5), (-12, -7, 1.5), (-4, -4, 0), (3, 4, 1.5)),
+    "peeler": _cm((3, 0, 0.5), (-3, 0, 1.5), (0, 0, 14), (0, 0, 9)),
+    "board": _cm((14, 7, 1.5), (-14, -7, 1.5), (5, -3, 0), (-6, 4, 1.5)),
+    "knife_black": _cm((6, 0, 0), (-6, 0, 0), (0, 0, 16), (0, 0, 10)),
+    "mixing_bowl_green": _cm((12.5, 0, 12), (-12.5, 0, 12), (0, 12.5, 12), (0, 0, 0)),
+    "rolling_pin": _cm((0, 15.5, 14), (0, -15.5, 14), (3, 5, 6), (-3, -8, 6)),
+}
+
+
+class Story:
+    """The tracks of one demonstration on a shared time grid."""
+
+    def __init__(self, duration_s: float) -> None:
+        self.times_s = np.arange(int(round(duration_s * RATE_HZ)) + 1) / RATE_HZ
+        self.tracks: dict[str, Track] = {}
+
+    def body(self, name: str, position_m: tuple[float, float, float], yaw_rad: float = 0.0) -> Track:
+        track = Track(name, self.times_s, np.asarray(position_m, dtype=float), rot_z(yaw_rad))
+        self.tracks[name] = track
+        return track
+
+    def hand(self, side: str) -> Track:
+        x = 0.25 if side == "right" else -0.25
+        return self.body(f"{side}_hand", (x, 0.0, TABLE_Z_M + 0.1))
+
+    def recording(self, source: str) -> Recording:
+        groups, labels = {}, {}
+        for name, track in self.tracks.items():
+            track.finish()
+            if name.endswith("_hand"):
+                side = name.split("_")[0]
+                local = hand_markers(side)
+                labels[name] = [side[0].upper() + s for s in _HAND_LABELS]
+            else:
+                local = MARKERS[name]
+                labels[name] = [f"{name[:2].upper()}{k + 1}" for k in range(len(local))]
+            groups[name] = track.world_points(local)
+        return recording_from_points(groups, RATE_HZ, source, labels)
+
+
+def spin(track: Track, t1_s: float, angle_rad: float, axis_xy_m: np.ndarray) -> Track:
+    """Turn ``track`` by ``angle_rad`` about the vertical through ``axis_xy_m`` until ``t1_s``
+    (minimum-jerk; any angle, not the shortest arc)."""
+    start = track.cursor
+    track.hold(t1_s)  # allocates the frames, then overwritten
+    frames = np.arange(start, track.cursor)
+    p0, r0 = track.position_m[start - 1].copy(), track.rotation[start - 1].copy()
+    centre = np.array([axis_xy_m[0], axis_xy_m[1], 0.0])
+    u = (track.times_s[frames] - track.times_s[start - 1]) / (t1_s - track.times_s[start - 1])
+    for f, s in zip(frames, min_jerk(u), strict=True):
+        r = rot_z(angle_rad * s)
+        track.position_m[f] = centre + r @ (p0 - centre)
+        track.rotation[f] = r @ r0
+    return track
+
+
+def strokes(track: Track, t1_s: float, direction: np.ndarray, amplitude_m: float, period_s: float) -> Track:
+    """To and fro along ``direction`` from the last position: ``amplitude_m`` out and back
+    once per ``period_s`` (a raised cosine: starts and ends at rest where it began)."""
+    p0 = track.last_pose[0]
+    t0 = track.now_s
+    d = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
+    return track.path(t1_s, lambda t: p0 + (amplitude_m * 0.5 * (1 - np.cos(2 * np.pi * (t - t0) / period_s))
+                                            )[:, None] * d)
+
+
+def close_demo() -> Recording:
+    """Close: the right hand holds the bottle on the table, the left hand takes the lid, sets it
+    on the bottle and screws it on (240° clockwise seen from above); both hands keep holding."""
+    s = Story(12.0)
+    bottle_at, lid_at = np.array([0.12, 0.42, TABLE_Z_M]), np.array([-0.22, 0.40, TABLE_Z_M])
+    bottle = s.body("bottle", tuple(bottle_at))
+    lid = s.body("lid", tuple(lid_at))
+    right, left = s.hand("right"), s.hand("left")
+    right.hold(0.8).move(2.0, bottle_at + [0.055, 0.0, 0.08], end_tau=0.95)
+    left.hold(2.6).move(3.6, lid_at + [0.0, 0.0, 0.045], FROM_ABOVE, end_tau=0.95).hold(4.0)
+    on_top = bottle_at + [0.0, 0.0, 0.18 + 0.045]
+    left.move(6.0, on_top, via_m=[lid_at + [0, 0, 0.15], on_top + [0, 0, 0.1]], end_tau=0.97).hold(6.5)
+    spin(left, 10.5, np.radians(-240.0), bottle_at).hold(12.0)
+    bottle.hold(12.0)
+    lid.hold(3.6).follow(left, 12.0)
+    right.hold(12.0)
+    return s.recording("synthetic Close")
+
+
+def open_demo() -> Recording:
+    """Open: the lid on the bottle; the right hand holds the bottle, the left hand takes the
+    lid, unscrews it (240° counterclockwise) and lifts it off; both hands keep holding."""
+    s = Story(11.0)
+    bottle_at = np.array([0.12, 0.42, TABLE_Z_M])
+    bottle = s.body("bottle", tuple(bottle_at))
+    lid = s.body("lid", tuple(bottle_at + [0.0, 0.0, 0.181]))
+    right, left = s.hand("right"), s.hand("left")
+    right.hold(0.8).move(2.0, bottle_at + [0.055, 0.0, 0.08], end_tau=0.95)
+    top = bottle_at + [0.0, 0.0, 0.181 + 0.045]
+    left.hold(2.6).move(3.8, top, FROM_ABOVE, via_m=[top + [-0.05, 0, 0.15]], end_tau=0.95).hold(4.2)
+    spin(left, 8.2, np.radians(240.0), bottle_at).hold(8.6)
+    left.move(9.6, top + [0.0, 0.0, 0.08]).hold(11.0)
+    bottle.hold(11.0)
+    lid.hold(3.8).follow(left, 11.0)
+    right.hold(11.0)
+    return s.recording("synthetic Open")
+
+
+def peel_demo() -> Recording:
+    """Peel: the left hand takes the cucumber and holds it up, the right hand takes the peeler
+    and draws it along the cucumber, three strokes; both keep holding."""
+    s = Story(13.0)
+    cucumber_at, peeler_at = np.array([-0.15, 0.40, TABLE_Z_M]), np.array([0.25, 0.38, TABLE_Z_M])
+    cucumber = s.body("cucumber", tuple(cucumber_at))
+    s.body("cutting_board_small", (-0.30, 0.62, TABLE_Z_M))
+    peeler = s.body("peeler", tuple(peeler_at))
+    right, left = s.hand("right"), s.hand("left")
+    left.hold(0.8).move(2.0, cucumber_at + [-0.10, -0.04, 0.05], end_tau=0.95).hold(2.3)
+    left.move(3.5, cucumber_at + [-0.14, -0.14, 0.15])
+    right.hold(2.4).move(3.4, peeler_at + [0.035, 0.0, 0.13], end_tau=0.95).hold(3.8)
+    blade_on = left.position_m[left.frame(3.5)] + [0.10 + 0.01, 0.04, 0.045 - 0.05]  # peeler on the top
+    right.move(5.6, blade_on + [0.035, 0.0, 0.13], via_m=[peeler_at + [0.035, 0, 0.3]], end_tau=0.97)
+    right.hold(6.0)
+    strokes(right, 12.0, np.array([1.0, 0.0, 0.0]), 0.05, 2.0).hold(13.0)
+    left.hold(13.0)
+    cucumber.hold(2.0).follow(left, 13.0)
+    peeler.hold(3.4).follow(right, 13.0)
+    return s.recording("synthetic Peel")
+
+
+def transfer_demo() -> Recording:
+    """Transfer: the left hand takes the bowl and holds it up beside the board, the right hand
+    takes the knife and pushes it across the board towards the bowl, twice; both keep holding."""
+    s = Story(12.0)
+    bowl_at, board_at = np.array([-0.32, 0.42, TABLE_Z_M]), np.array([0.02, 0.45, TABLE_Z_M])
+    knife_at = np.array([0.30, 0.36, TABLE_Z_M])
+    bowl = s.body("mixing_bowl_green", tuple(bowl_at))
+    s.body("board", tuple(board_at), yaw_rad=np.pi / 2)  # long (30 cm) along x
+    knife = s.body("knife_black", tuple(knife_at), yaw_rad=np.pi / 2)
+    right, left = s.hand("right"), s.hand("left")
+    left.hold(0.8).move(2.0, bowl_at + [-0.125, 0.0, 0.12], end_tau=0.95).hold(2.3)
+    left.move(3.5, bowl_at + [-0.145, -0.02, 0.20])
+    right.hold(2.4).move(3.4, knife_at + [0.035, 0.0, 0.10], end_tau=0.95).hold(3.8)
+    on_board = board_at + [0.08, 0.0, 0.015]
+    right.move(5.6, on_board + [0.035, 0.0, 0.10], via_m=[knife_at + [0.035, 0, 0.25]], end_tau=0.97)
+    right.hold(6.0)
+    strokes(right, 10.0, np.array([-1.0, 0.0, 0.0]), 0.06, 2.0).hold(12.0)
+    left.hold(12.0)
+    bowl.hold(2.0).follow(left, 12.0)
+    knife.hold(3.4).follow(right, 12.0)
+    return s.recording("synthetic Transfer")
+
+
+def rollout_demo() -> Recording:
+    """RollOut: both hands take the rolling pin by its handles at once, set it on the (untracked)
+    dough, roll it to and fro three times, and let go of it together."""
+    s = Story(12.0)
+    pin_at = np.array([0.0, 0.36, TABLE_Z_M])
+    pin = s.body("rolling_pin", tuple(pin_at), yaw_rad=np.pi / 2)  # its long axis along x
+    right, left = s.hand("right"), s.hand("left")
+    right.hold(0.8).move(2.0, pin_at + [0.155, 0.0, 0.08], end_tau=0.95).hold(2.4)
+    left.hold(0.8).move(2.0, pin_at + [-0.155, 0.0, 0.08], end_tau=0.95).hold(2.4)
+    lift = np.array([0.0, 0.10, 0.012])  # onto the dough, 1.2 cm thick
+    for hand, side in ((right, 1.0), (left, -1.0)):
+        grip = pin_at + [side * 0.155, 0.0, 0.08]
+        hand.move(4.0, grip + lift, via_m=[grip + [0, 0.05, 0.06]]).hold(4.3)
+        strokes(hand, 10.3, np.array([0.0, 1.0, 0.0]), 0.06, 2.0).hold(10.6)
+    pin.hold(2.0).follow(right, 10.6).hold(12.0)
+    right.move(11.1, right.last_pose[0] + [0.15, -0.15, 0.15], start_tau=0.3).hold(12.0)
+    left.move(11.1, left.last_pose[0] + [-0.15, -0.15, 0.15], start_tau=0.3).hold(12.0)
+    return s.recording("synthetic RollOut")
+
+
+#: Task → (its demonstration, the example scene, the example OAC the robot runs directly).
+TASKS: dict[str, tuple[Callable[[], Recording], str, str]] = {
+    "Close": (close_demo, "bottle_lid", "close_and_open"),
+    "Open": (open_demo, "bottle_lid", "open_bottle"),
+    "Peel": (peel_demo, "peeling", "peel_cucumber"),
+    "Transfer": (transfer_demo, "transferring", "transfer_to_bowl"),
+    "RollOut": (rollout_demo, "rolling", "roll_the_pin"),
+}
+
+
+def write(task: str, folder: Path) -> Path:
+    """The synthetic demonstration of ``task`` written as ``folder/TASK.c3d``."""
+    from oacdsl.segmentation.readers import write_recording
+
+    return Path(write_recording(TASKS[task][0](), folder / f"synthetic_{task}.c3d"))
