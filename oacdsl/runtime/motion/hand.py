@@ -168,7 +168,8 @@ class Motion:
         if seconds is None:
             far = float(np.linalg.norm(goal[:3, 3] - now[:3, 3]))
             seconds = max(self.tuning.carry_s, far / self.tuning.carry_speed_m_s)
-        for pose, s in carry_path(self.ctx.world, self.side, now, goal, exclude, seconds, self.tuning):
+        for pose, s in carry_path(self.ctx.world, self.side, now, goal, exclude, seconds, self.tuning,
+                                  over_other_hand=True):
             if s > 0:
                 self.go(pose, s)
 
