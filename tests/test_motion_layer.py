@@ -167,3 +167,25 @@ def test_a_carry_flies_over_the_other_hand_while_it_holds_something(run):
     climb, via, end = over
     assert climb[1] > 0 and climb[0][2, 3] > top and via[0][2, 3] > top  # up first, then across
     assert np.allclose(end[0], goal)
+
+
+def test_only_a_carry_to_what_the_other_hand_holds_flies_over_that_hand(run, monkeypatch):
+    from oacdsl.runtime.motion import Motion
+    from oacdsl.runtime.motion import hand as hand_module
+
+    seen: list[bool] = []
+
+    def fake_path(*args, **kwargs):  # type: ignore[no-untyped-def]
+        seen.append(kwargs["over_other_hand"])
+        return []
+
+    monkeypatch.setattr(hand_module, "carry_path", fake_path)
+    m = Motion(run.context, "r")
+    run.world.held["l"] = "orange_bowl"
+    try:
+        m.carry(m.here(), {"green_cup", "orange_bowl"})  # to the bowl the left hand holds
+        m.carry(m.here(), {"green_cup"})  # elsewhere: the left hand may be above the way
+    finally:
+        run.world.held["l"] = None
+    m.carry(m.here(), {"green_cup"})
+    assert seen == [True, False, False]
