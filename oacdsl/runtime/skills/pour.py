@@ -194,7 +194,8 @@ def pour(
     best: tuple[float, np.ndarray] | None = None
     for a in candidates:
         u = np.array([math.cos(a), math.sin(a), 0.0])
-        err = max(ctx.reach_error(side, lifted(u, 1.0, 0.0)), ctx.reach_error(side, lifted(u, 0.0, 0.07)))
+        err = max(ctx.reach_error(side, lifted(u, 1.0, 0.0)),
+                  ctx.reach_error(side, lifted(u, 0.0, LIP_START_EXTRA_M)))
         if best is None or err < best[0]:
             best = (err, u)
         if err < REACH_TOLERANCE_M:
