@@ -78,9 +78,10 @@ def tip_local(body: Body, direction: np.ndarray) -> np.ndarray:
 
 
 def hand_corners(world: SimWorld, side: str) -> np.ndarray:
-    """(n, 3) corners of the bounding boxes of hand ``side``'s geoms (palm, finger plate,
-    thumb, as they are now) in its grasp frame ``grasp_{side}`` (m): where the hand is around
-    what it holds, to place with any pose of the grasp frame."""
+    """(8k, 3) corners of the bounding boxes of hand ``side``'s k geoms (palm, finger plate,
+    thumb, as they are now; eight per geom, one geom after the other) in its grasp frame
+    ``grasp_{side}`` (m): where the hand is around what it holds, to place with any pose of
+    the grasp frame."""
     m, d = world.model, world.data
     t_grasp = world.frame_pose(f"grasp_{side}")
     bodies = np.array(sorted(world.hand_bodies[side]))

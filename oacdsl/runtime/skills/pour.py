@@ -151,6 +151,21 @@ def pour(
 
     floor_z = t_bowl[2, 3] + bowl.floor
     hand_pts = hand_corners(world, side)
+    holder = ctx.other_holder(side, target)
+    keep = world.frame_pose(f"grasp_{holder}") if holder is not None else None
+    # the other hand holding the target keeps its place: the columns over its boxes (grown by
+    # the rim clearance) are kept clear by the source and this hand, as the rim is
+    boxes = np.zeros((0, 8, 3)) if keep is None or holder is None else (
+        hand_corners(world, holder) @ keep[:3, :3].T + keep[:3, 3]).reshape(-1, 8, 3)
+    box_lo = boxes[:, :, :2].min(axis=1) - TUNING.rim_clearance_m
+    box_hi = boxes[:, :, :2].max(axis=1) + TUNING.rim_clearance_m
+    box_top = boxes[:, :, 2].max(axis=1) + TUNING.rim_clearance_m
+
+    def below_holder(pts: np.ndarray) -> float:
+        """How far (m) the lowest of ``pts`` (world) over a box of the other hand is below
+        that box's top and the clearance (negative: clear; -inf: over none)."""
+        over = ((pts[None, :, :2] >= box_lo[:, None]) & (pts[None, :, :2] <= box_hi[:, None])).all(axis=2)
+        return float((box_top[:, None] - pts[None, :, 2])[over].max()) if over.any() else -math.inf
 
     def need(u: np.ndarray, s: float, base: float) -> float:
         """How much higher (m) than ``base`` above its place the lip must be at ``s`` of the
@@ -164,7 +179,9 @@ def pour(
         near = d < bowl.rim_radius + TUNING.end_margin_m
         low = np.where(d < bowl.inner_radius - TUNING.end_margin_m, floor_z, rim_z) + TUNING.end_margin_m
         out = float((low - pts[:, 2])[near].max()) if near.any() else 0.0
+        out = max(out, below_holder(pts))
         pts = hand_pts @ t_hand[:3, :3].T + t_hand[:3, 3]
+        out = max(out, below_holder(pts))
         over = np.hypot(pts[:, 0] - centre[0], pts[:, 1] - centre[1])
         near = over < bowl.rim_radius + TUNING.rim_clearance_m
         if near.any():
@@ -178,8 +195,6 @@ def pour(
         extra = max(need(u, min(1.0, max(0.0, s + ds)), base) for ds in (-1.0 / STEPS, 0.0, 1.0 / STEPS))
         return hand_at(u, tilt * s, base + max(0.0, extra))
 
-    holder = ctx.other_holder(side, target)
-    keep = world.frame_pose(f"grasp_{holder}") if holder is not None else None
 
     def reach(t_hand: np.ndarray) -> float:
         """How well the hand reaches ``t_hand``, the other hand keeping the target where it is."""
@@ -218,7 +233,10 @@ def pour(
         ctl.activity = f"resting {source} on {target}"
         t_src = world.body_pose(source)
         t_src[:2, 3] = centre[:2] + u[:2] * bowl.rim_radius
-        go(t_src @ np.linalg.inv(cup_in_hand), TUNING.shift_s)
+        t_go = t_src @ np.linalg.inv(cup_in_hand)
+        meets = below_holder(world_corners(cup, t_src)), below_holder(hand_pts @ t_go[:3, :3].T + t_go[:3, 3])
+        if max(meets) < 0:
+            go(t_go, TUNING.shift_s)  # else it rests where it is: the slide would meet the other hand
         m.hold_still()
     ctl.activity = f"bringing {source} over {target}"
     m.carry(lifted(u, 0.0, LIP_START_EXTRA_M), {source, target}, TUNING.work_carry_s)
