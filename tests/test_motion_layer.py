@@ -164,7 +164,7 @@ def test_a_carry_flies_over_the_other_hand_while_it_holds_something(run):
     finally:
         world.held["l"] = None
     assert plain[1][0][2, 3] < top  # the plain way would cross the hand's height
-    climb, via, end = over
+    climb, via, *_, end = over
     assert climb[1] > 0 and climb[0][2, 3] > top and via[0][2, 3] > top  # up first, then across
     assert np.allclose(end[0], goal)
 
