@@ -87,6 +87,10 @@ class MotionSource:
     #: a smaller demonstrated value is raised to it (a pour's balls leave the robot's cup
     #: reliably only from 125° on; people pour liquids at 90-110°).
     least: float | None = None
+    #: A length is clamped to the room on the skill's target (its last argument) unless this is
+    #: False: a saw's strokes go along the tool's blade, which passes over the target (a knife
+    #: across a cucumber 4.5 cm wide), so only the tool bounds them (the skill does).
+    within_target: bool = True
 
     def __post_init__(self) -> None:
         for name in (self.feature, self.needs):
@@ -412,6 +416,51 @@ SIGNATURES: dict[str, SkillSignature] = {
                 SkillParamSpec("press", "m", 0.004, 0.0, 0.02, "how far the tool is pressed into the target"),
                 SkillParamSpec("force", "N", 15.0, 3.0, 40.0,
                                "wrist force on the way down that means something else is in the way"),
+            ),
+        ),
+        SkillSignature(
+            "saw",
+            "bring the held tool (a knife) down onto an object until they touch and draw it to and"
+            " fro along its blade, pressed on (cutting a cucumber the other hand holds)",
+            (SkillArg("h", "Hand"), SkillArg("k", "Graspable"), SkillArg("t", ANY)),
+            (
+                SkillParamSpec("strokes", "", 3.0, 1.0, 20.0, "number of strokes there and back",
+                               MotionSource("cycles")),
+                # a sinusoid's median distance from its middle is 1/sqrt(2) of how far it goes;
+                # along the blade, not bounded by the target's width (the skill keeps it on the blade)
+                SkillParamSpec("length", "m", 0.03, 0.005, 0.10,
+                               "how far each stroke goes to either side (at most the blade allows)",
+                               MotionSource("radius_m", scale=1.41, needs="period_s", within_target=False)),
+                SkillParamSpec("period", "s", 1.2, 0.3, 5.0,
+                               "time of one stroke there and back (no faster than a slide)",
+                               MotionSource("period_s")),
+                SkillParamSpec("press", "m", 0.003, 0.0, 0.03,
+                               "how far the tool is pressed on once it touches"),
+                SkillParamSpec("hover", "m", 0.04, 0.01, 0.20,
+                               "height above the target's top where the descent starts"),
+                SkillParamSpec("force", "N", 8.0, 2.0, 30.0,
+                               "wrist force change on the way down that means something else is in the way"),
+            ),
+        ),
+        SkillSignature(
+            "tip_out",
+            "take the held tool out of the container it is in, tip it over that container (a ladle"
+            " emptied into a cup), turn it back and bring it into another container until they touch",
+            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("c", ANY),
+             SkillArg("b", "Container")),
+            (
+                SkillParamSpec("tilt", "rad", _deg(90.0), 0.0, _deg(180.0), "how far the tool is tipped",
+                               MotionSource("tilt_max_rad", needs="tilt_rise_s")),
+                # the tip turns at a constant rate: its 10-90 % rise takes 0.8 of the duration
+                SkillParamSpec("duration", "s", 1.2, 0.3, 10.0,
+                               "time to tip it that far (no faster than the arms' joints allow)",
+                               MotionSource("tilt_rise_s", scale=1.25)),
+                SkillParamSpec("hover", "m", 0.04, 0.01, 0.20,
+                               "height above the other container's top where the descent starts"),
+                SkillParamSpec("force", "N", 8.0, 2.0, 30.0,
+                               "wrist force change on the way down that means something else is in the way"),
+                SkillParamSpec("press", "m", 0.003, 0.0, 0.03,
+                               "how far the tool is pressed on once it touches"),
             ),
         ),
         SkillSignature(

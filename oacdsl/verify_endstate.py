@@ -81,14 +81,48 @@ def _orientation_name(tilt_rad: float, upright_max_rad: float = math.radians(45.
     return "on its side"
 
 
-def _ends(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(first, last): the median over the first/last few frames with a value, per column."""
-    ok = np.isfinite(x).all(axis=tuple(range(1, x.ndim)))
-    idx = np.flatnonzero(ok)
-    if idx.size == 0:
-        nan = np.full(x.shape[1:], np.nan)
+#: Frames read at a time when looking for the first and last frames that show an instance.
+_SCAN_FRAMES = 256
+
+
+def _edge_frames(recording: Recording, name: str, need: int,
+                 shown: Callable[[np.ndarray], np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """The first and the last ``need`` frame indices (increasing) whose (k, 3) positions of
+    ``name``'s markers are ``shown`` (a per-frame bool of (F, k, 3) blocks), read a block of
+    frames at a time from either end, not the whole recording's positions of the instance."""
+    idx = list(recording.groups[name])
+    n = recording.n_frames
+
+    def scan(starts: range) -> list[int]:
+        found: list[int] = []
+        for lo in starts:
+            frames = np.flatnonzero(shown(recording.positions_m[lo : lo + _SCAN_FRAMES, idx])) + lo
+            found += frames.tolist()
+            if len(found) >= need:
+                break
+        return found
+
+    first = scan(range(0, n, _SCAN_FRAMES))[:need]
+    backwards = range((n - 1) // _SCAN_FRAMES * _SCAN_FRAMES, -1, -_SCAN_FRAMES)
+    last = sorted(scan(backwards))[-need:] if first else []
+    return np.asarray(first, dtype=np.intp), np.asarray(last, dtype=np.intp)
+
+
+def _all_seen(x: np.ndarray) -> np.ndarray:
+    result: np.ndarray = np.isfinite(x).all(axis=(1, 2))
+    return result
+
+
+def _ends(recording: Recording, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """(first, last): the median over the first/last few frames that show every marker of
+    ``name``, per marker ((k, 3) each; NaN when no frame shows them all)."""
+    first, last = _edge_frames(recording, name, _ENDS, _all_seen)
+    if first.size == 0:
+        nan = np.full((len(recording.groups[name]), 3), np.nan)
         return nan, nan
-    return np.median(x[idx[:_ENDS]], axis=0), np.median(x[idx[-_ENDS:]], axis=0)
+    idx = list(recording.groups[name])
+    return (np.median(recording.positions_m[first][:, idx], axis=0),
+            np.median(recording.positions_m[last][:, idx], axis=0))
 
 
 def _tilt(recording: Recording, name: str) -> float | None:
@@ -97,14 +131,16 @@ def _tilt(recording: Recording, name: str) -> float | None:
     of its markers to the first such frame's constellation."""
     if len(recording.groups[name]) < MIN_MARKERS:
         return None
-    pts = recording.group_positions(name)
-    seen = np.isfinite(pts).all(axis=2)
-    ok = np.flatnonzero(seen.sum(axis=1) >= MIN_MARKERS)
-    if ok.size < 2:
+    first, last = _edge_frames(recording, name, 1,
+                               lambda x: np.isfinite(x).all(axis=2).sum(axis=1) >= MIN_MARKERS)
+    if first.size == 0 or first[0] == last[-1]:
         return None
-    first = np.where(seen[ok[0]][:, None], pts[ok[0]], np.nan)
-    constellation = first - np.nanmean(first, axis=0)
-    T, _ = fit_constellation(constellation, pts[[ok[-1]]])
+    idx = list(recording.groups[name])
+    pts = recording.positions_m[[int(first[0]), int(last[-1])]][:, idx]
+    seen = np.isfinite(pts).all(axis=2)
+    start = np.where(seen[0][:, None], pts[0], np.nan)
+    constellation = start - np.nanmean(start, axis=0)
+    T, _ = fit_constellation(constellation, pts[1:])
     if not np.isfinite(T[0, 2, 2]):
         return None
     return float(np.arccos(np.clip(T[0, 2, 2], -1.0, 1.0)))  # the start's up axis is the world's z
@@ -143,7 +179,7 @@ def end_state(
     start: dict[str, np.ndarray] = {}
     end: dict[str, np.ndarray] = {}
     for name in recording.instances:
-        start[name], end[name] = _ends(recording.group_positions(name))  # (k, 3) each
+        start[name], end[name] = _ends(recording, name)  # (k, 3) each
     objects = [n for n in recording.instances if not is_agent(n)]
     lows = [float(np.nanmin(start[n][:, 2])) for n in objects if np.isfinite(start[n]).any()]
     table = min(lows) if lows else 0.0

@@ -104,6 +104,29 @@ def test_a_wipe_stroke_goes_sqrt2_times_the_median_radius(lib):
     assert values(found) == {"strokes": (3.0, ""), "length": (49.0, "mm")}  # 1.41 x 35mm
 
 
+def test_a_saw_stroke_goes_along_the_blade_not_clamped_to_the_targets_room(lib):
+    # a knife's strokes pass over the target (a cucumber 4.5 cm wide): only the blade bounds
+    # them (the skill does), where a wipe's stroke is clamped to the room on the target
+    scene = lib.scenes["kitchen"]
+    m = motion(moved="mixer", target="orange_bowl", radius_m=0.06, period_s=1.28, cycles=3.3)
+    found = step_params("saw", m, ("right_hand", "mixer", "orange_bowl"), lib, scene)
+    assert values(found) == {"strokes": (3.0, ""), "length": (85.0, "mm"), "period": (1.28, "s")}
+    assert "clamped" not in str(found.comment)
+    wipe = step_params("wipe", m, ("right_hand", "mixer", "orange_bowl"), lib, scene)
+    assert values(wipe)["length"] == (67.0, "mm")  # the room in the bowl
+
+
+def test_a_tip_out_takes_the_demonstrated_tilt_relative_to_the_container(lib):
+    # KIT Scoop: the ladle tipped 125 deg relative to the cup it scooped into, its rise in 0.69 s
+    scene = lib.scenes["kitchen"]
+    args = ("right_hand", "mixer", "red_cup", "orange_bowl")
+    m = motion(moved="mixer", target="red_cup", tilt_max_rad=math.radians(124.6), tilt_rise_s=0.69)
+    found = step_params("tip_out", m, args, lib, scene)
+    assert values(found) == {"tilt": (125.0, "deg"), "duration": (0.86, "s")}
+    # no tilt demonstrated (no rise found): the skill's defaults
+    assert step_params("tip_out", motion(moved="mixer", target="red_cup"), args, lib, scene).params == ()
+
+
 @pytest.fixture
 def lib_dir(tmp_path: Path) -> Path:
     ignore = shutil.ignore_patterns("learned", "drafts")

@@ -95,10 +95,15 @@ def test_chunks_shrink_to_hold_the_distance_budget(mode: str, monkeypatch):
     budget = 1600 * 2 * 4 * 40  # bytes: distances and scratch of 40 frames
     monkeypatch.setattr(geometry, "MAX_CHUNK_DISTANCE_BYTES", budget)
     sizes: list[int] = []
-    distances, scratch = ChunkGeometry.distances, ChunkGeometry.scratch
+    distances, scratch, near = ChunkGeometry.distances, ChunkGeometry.scratch, ChunkGeometry.near_distances
 
     def watched_distances(self, x, blocks):
         pairs, dist = distances(self, x, blocks)
+        sizes.append(dist.nbytes)
+        return pairs, dist
+
+    def watched_near(self, x, blocks, *args):  # the paper's detector: only the pairs within reach
+        pairs, dist = near(self, x, blocks, *args)
         sizes.append(dist.nbytes)
         return pairs, dist
 
@@ -108,6 +113,7 @@ def test_chunks_shrink_to_hold_the_distance_budget(mode: str, monkeypatch):
         return buffer
 
     monkeypatch.setattr(ChunkGeometry, "distances", watched_distances)
+    monkeypatch.setattr(ChunkGeometry, "near_distances", watched_near)
     monkeypatch.setattr(ChunkGeometry, "scratch", watched_scratch)
     bounded = segment(rec, AasParams(mode=mode))
     assert sizes and max(sizes) <= budget // 2  # each of the two buffers within its half

@@ -205,11 +205,21 @@ def bottle_scene() -> dict[str, np.ndarray]:
     return {"bottle": bottle, "lid": lid, "left_hand": cluster(left, back), "right_hand": right}
 
 
-def test_a_hand_holding_a_still_bottle_touches_it_when_asked():
+def test_a_hand_holding_a_still_bottle_touches_it_by_default():
     rec = recording(bottle_scene())
-    without = {r for _, rs in run(rec) for r in rs}
+    without = {r for _, rs in run(rec, AdaptiveSettings(hold_still=False)) for r in rs}
     assert ("bottle", "left_hand") not in without  # nothing moves with it: co-motion cannot see it
-    with_hold = run(rec, AdaptiveSettings(hold_still=True))
+    with_hold = run(rec)
     on = [f for f, rs in with_hold if ("bottle", "left_hand") in rs]
     off = [f for f, rs in with_hold if on and f > on[0] and ("bottle", "left_hand") not in rs]
     assert on and 100 <= on[0] <= 160 and off and 440 <= off[0] <= 470, with_hold
+
+
+def test_holding_still_agrees_with_the_per_frame_reference():
+    rec = recording(bottle_scene())
+    params = AasParams()
+    for settings in (AdaptiveSettings(), AdaptiveSettings(hold_still=False)):
+        fast = segment(rec, params, detector=AdaptiveDetector(params.resolved(rec.rate_hz), settings))
+        assert fast.keyframes == segment_reference(rec, params, settings).keyframes
+    assert segment(rec).keyframes == segment_reference(rec, params).keyframes  # the defaults: with it
+    assert AdaptiveSettings().hold_still

@@ -8,7 +8,7 @@ run counters: slow (pure Python, float64) but easy to check by eye. The fast
 Modes: ``paper`` (Eq. 1 / Eq. 2 as printed), ``robust`` (the distance change as the
 least-squares slope over the frames within ``±half`` of each frame, summed frame by
 frame), and ``adaptive``: the robust rule per marker pair at each instance pair's own
-distance, OR the co-motion and tool intervals, AND NOT the cross-hand vetoes; co-motion
+distance, OR the co-motion, tool and holding-still intervals, AND NOT the cross-hand vetoes; co-motion
 frame by frame in :func:`~segeval.reference_comotion.comotion_reference`, the
 tool rule (:func:`~oacdsl.segmentation.tooluse.tool_contacts`, interval logic over those
 per-frame signals) shared with the detector.
@@ -120,6 +120,7 @@ def segment_reference(recording: Recording, params: AasParams | None = None,
 def _robust_reference(recording: Recording, params: AasParams, settings: Any = None) -> Segmentation:
     """Modes ``robust`` and ``adaptive``, frame by frame (see the module docstring)."""
     from oacdsl.segmentation.comotion import AdaptiveSettings
+    from oacdsl.segmentation.holding import resting_holds
     from oacdsl.segmentation.pairs import PairTable
     from oacdsl.segmentation.tooluse import agents_of, tool_contacts
     from segeval.reference_comotion import comotion_reference
@@ -151,7 +152,13 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
         )
         for q, (_, threshold) in found.learned.items():
             distance[q] = round(threshold, 4)
-        for target, per_pair in ((spans, held), (spans, tools.added), (vetoes, tools.removed)):
+        holds: dict[int, list[tuple[int, int]]] = {}
+        if settings.hold_still:  # a hand at rest on or around a still object (the detector's rule)
+            agents = agents_of(table.instances, settings.agent_pattern)
+            holds = resting_holds(recording, table, found.closest, agents, params.distance_m,
+                                  settings.move_speed_m_s, settings.lag_s, settings.tool_dwell_s)
+        sources = ((spans, held), (spans, tools.added), (spans, holds), (vetoes, tools.removed))
+        for target, per_pair in sources:
             for q, intervals in per_pair.items():
                 for a, b in intervals:  # as the detector reports them: clamped to the last decidable frame
                     on, off = min(a, n_frames - 1 - delay), min(b, n_frames - 1 - delay)

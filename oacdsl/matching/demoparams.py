@@ -15,7 +15,8 @@ that names a :class:`~oacdsl.skills.MotionSource` is set from the sub-action's
    reliably), a length no larger than the *room* the robot has on the skill's target
    (the object bound to the skill's last argument): a container's inner radius (its
    shell's radius less its wall), a box's half width, less the held tool's own radius
-   (the object bound to the skill's second argument) — then into the parameter's range
+   (the object bound to the skill's second argument; not a length along the tool,
+   ``MotionSource.within_target``: a saw's strokes) — then into the parameter's range
    (the skill's limits on the robot: speeds, angles, counts);
 4. **written** rounded as an author would (1°, 10 ms, 1 mm, whole counts), and the step
    gets a comment saying what the demonstration showed and what was scaled or clamped.
@@ -165,7 +166,7 @@ def _one(spec: SkillParamSpec, source: MotionSource, motion: SubActionMotion | N
         value = source.least
         what.append(f"raised to the robot's least ({_show(value, spec.unit)})")
         how.append("raised to the robot's least")
-    if spec.unit == "m" and room is not None and value > room:
+    if spec.unit == "m" and source.within_target and room is not None and value > room:
         value = room
         what.append(f"clamped to the room on the target ({_show(room, 'm')})")
         how.append("clamped to the target's room")

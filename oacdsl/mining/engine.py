@@ -1,19 +1,19 @@
 """Mining many recordings on Dask distributed: the client side of ``oacc mine``.
 
-:func:`mine` expands the recordings, checks the library once in the client, skips the
-recordings the job's table already holds (a killed job run again resumes), and sends one
-task per remaining recording (:func:`oacdsl.mining.task.analyse`) to the cluster: an embedded
-``LocalCluster`` of ``workers`` worker processes (one thread each) by default, or the cluster
-of a running ``dask scheduler`` at ``scheduler``. Results are written by the client alone, as
-they arrive, one transaction per recording (:mod:`oacdsl.mining.table`); a task that dies with its
-worker becomes an error row too. At the end the summary page is written
-(:mod:`oacdsl.mining.summary`).
+:func:`mine` expands the recordings, parses the library once in the client (a library that
+does not compile stops here; the parsed library goes to the workers with the job's spec),
+skips the recordings the job's table already holds (a killed job run again resumes), and
+sends the remaining recordings in batches (:func:`batch_size`; a task each,
+:func:`oacdsl.mining.task.analyse_batch`) to the cluster: an embedded cluster of ``workers``
+worker processes (one thread each, :mod:`oacdsl.mining.cluster`) by default, or the cluster of
+a running ``dask scheduler`` at ``scheduler``. Results are written by the client alone, as
+they arrive, one transaction per batch, so every recording's rows are in the table wholly or
+not at all (:mod:`oacdsl.mining.table`); a task that dies with its worker makes an error row of
+each of its recordings. At the end the summary page is written (:mod:`oacdsl.mining.summary`).
 """
 
 from __future__ import annotations
 
-import logging
-import os
 import sys
 import time
 from collections.abc import Callable, Sequence
@@ -22,11 +22,22 @@ from pathlib import Path
 from typing import IO, Any
 
 from oacdsl.errors import InputError, UsageError
+from oacdsl.mining.cluster import client_for, worker_count
 from oacdsl.mining.inputs import RecordingFile, expand_recordings
 from oacdsl.mining.table import TABLE_NAME, MineTable
-from oacdsl.mining.task import JobSpec, analyse
+from oacdsl.mining.task import JobSpec, analyse_batch
 
-__all__ = ["MineResult", "mine"]
+__all__ = ["MAX_BATCH", "MineResult", "batch_size", "mine"]
+
+#: Most recordings in one task (a killed job redoes at most this many per worker).
+MAX_BATCH = 8
+#: Tasks per worker a job aims at, at least (the last ones balance the workers' loads).
+TASKS_PER_WORKER = 8
+
+
+def batch_size(recordings: int, workers: int) -> int:
+    """Recordings per task: about :data:`TASKS_PER_WORKER` tasks per worker, 1 … :data:`MAX_BATCH`."""
+    return max(1, min(MAX_BATCH, -(-recordings // (TASKS_PER_WORKER * max(1, workers)))))
 
 
 @dataclass
@@ -86,29 +97,6 @@ class _Ticker:
             print(text, file=self.stream)
 
 
-def _client(workers: int | None, scheduler: str | None, dashboard: bool) -> tuple[Any, Any]:
-    try:
-        from dask.distributed import Client, LocalCluster
-    except ImportError as error:
-        raise UsageError(f"mining needs the 'scale' extra (pip install -e '.[scale]'): {error}") from None
-    if scheduler is not None:
-        try:
-            return Client(scheduler, timeout="30s"), None
-        except (OSError, TimeoutError) as error:
-            raise UsageError(f"--scheduler {scheduler}: cannot reach the Dask scheduler ({error})") from None
-    n = workers if workers is not None else max(1, os.cpu_count() or 1)
-    # the scheduler's HTTP server (health routes; the dashboard when asked) on a free port, never 8787
-    cluster = LocalCluster(
-        n_workers=n,
-        threads_per_worker=1,
-        processes=True,
-        dashboard_address=":0" if dashboard else None,
-        silence_logs=logging.ERROR,
-        scheduler_kwargs={"dashboard_address": ":0"},
-    )
-    return Client(cluster), cluster
-
-
 def _worker_error(rec: RecordingFile, error: BaseException) -> dict[str, Any]:
     first = (str(error).strip().splitlines() or [type(error).__name__])[0]
     return {
@@ -148,12 +136,12 @@ def mine(
     t0 = time.perf_counter()
     files = expand_recordings(recordings)
     paths = [str(Path(p)) for p in library]
-    open_library([Path(p) for p in paths])  # a library that does not compile fails here, once
+    parsed = open_library([Path(p) for p in paths])  # a library that does not compile fails here, once
     folder = Path(out)
     if folder.exists() and not folder.is_dir():
         raise InputError("not a folder: the job's output folder", location=str(folder))
     folder.mkdir(parents=True, exist_ok=True)
-    spec = JobSpec(paths, scene, _params_dict(params), compose)
+    spec = JobSpec(paths, scene, _params_dict(params), compose, parsed)
     with MineTable(folder / TABLE_NAME) as table:
         done = table.done_ids()
         todo = [r for r in files if r.id not in done]
@@ -161,7 +149,7 @@ def mine(
         address = None
         rows: list[dict[str, Any]] = []
         if todo:
-            client, cluster = _client(workers, scheduler, dashboard)
+            client, cluster = client_for(workers, scheduler, dashboard)
             try:
                 if dashboard:
                     address = client.dashboard_link
@@ -170,19 +158,23 @@ def mine(
                 from dask.distributed import as_completed
 
                 spec_future = client.scatter(spec, broadcast=True)
+                size = batch_size(len(todo), worker_count(client, workers, scheduler))
+                batches = [todo[i : i + size] for i in range(0, len(todo), size)]
                 futures = {
-                    client.submit(analyse, r.path, r.id, spec_future, pure=False, key=f"mine-{r.id}"): r
-                    for r in todo
+                    client.submit(analyse_batch, [(r.path, r.id) for r in b], spec_future, pure=False,
+                                  key=f"mine-{b[0].id}-{len(b)}"): b
+                    for b in batches
                 }
                 for future in as_completed(futures):
-                    rec = futures[future]
+                    batch = futures[future]
                     try:
-                        row = future.result()
+                        done_rows = future.result()
                     except Exception as error:  # the worker died (KilledWorker) or could not import
-                        row = _worker_error(rec, error)
-                    table.add(row)
-                    rows.append(row)
-                    ticker.tick(row["status"] != "ok")
+                        done_rows = [_worker_error(rec, error) for rec in batch]
+                    table.add_many(done_rows)
+                    for row in done_rows:
+                        rows.append(row)
+                        ticker.tick(row["status"] != "ok")
             finally:
                 client.close()
                 if cluster is not None:

@@ -1,6 +1,7 @@
 """An OAC's success measure over many seeds and sampled placements, on Dask (``oacc run --seeds``).
 
-Each run is one task (:func:`run_one`): a worker loads the library once, executes the OAC with
+Each run is one task (:func:`run_one`): the client loads the library once and ships it with the
+spec (each worker would otherwise parse it once more), a worker executes the OAC with
 the run's seed and placements, and returns the ``oacc run --json`` document with ``seed``,
 ``sample`` and ``places`` added. Sample 0 of a seed is the seed's own layout (as ``oacc run
 --seed``); sample k > 0 puts every object where the layout of a seed drawn from ``(seed, k)``
@@ -22,7 +23,8 @@ _LIBRARIES: dict[tuple[str, ...], Any] = {}
 
 
 class RunSpec:
-    """What every run of a job shares (picklable): library paths, the OAC, bindings, scene, fills."""
+    """What every run of a job shares (picklable): library paths, the OAC, bindings, scene, fills;
+    ``parsed``: the library as the client loaded it (None: each worker loads it once)."""
 
     def __init__(
         self,
@@ -35,11 +37,14 @@ class RunSpec:
     ):
         self.library, self.name, self.binding = tuple(library), name, dict(binding)
         self.scene, self.fill, self.places = scene, dict(fill or {}), dict(places or {})
+        self.parsed: Any = None
 
 
-def _library(paths: Sequence[str]) -> Any:
+def _library(paths: Sequence[str], parsed: Any = None) -> Any:
     from oacdsl.compiler import load_library
 
+    if parsed is not None:
+        return parsed
     key = tuple(paths)
     if key not in _LIBRARIES:
         _LIBRARIES[key] = load_library([Path(p) for p in paths])
@@ -53,7 +58,7 @@ def sampled_places(spec: RunSpec, seed: int, sample: int) -> dict[str, tuple[flo
     from oacdsl.runtime.binding import choose_scene, liquid_contents
     from oacdsl.runtime.layout import plan_layout
 
-    library = _library(spec.library)
+    library = _library(spec.library, spec.parsed)
     oac = library.oacs[spec.name]
     scene = choose_scene(library, oac, spec.scene, spec.binding)
     drawn = int(np.random.SeedSequence([seed, sample]).generate_state(1)[0])
@@ -77,7 +82,7 @@ def run_one(spec: RunSpec, seed: int, sample: int) -> dict[str, Any]:
 
         places = {**spec.places, **sampled_places(spec, seed, sample)}
         result = execute(
-            _library(spec.library),
+            _library(spec.library, spec.parsed),
             spec.name,
             spec.binding,
             spec.scene,
@@ -106,13 +111,19 @@ def run_many(
     (the caller records it); the documents sorted by seed and sample."""
     from dask.distributed import as_completed
 
-    from oacdsl.mining.engine import _client, _Ticker
+    from oacdsl.mining.cluster import client_for
+    from oacdsl.mining.engine import _Ticker
 
     jobs = [(s, k) for s in seeds for k in range(samples)]
     ticker = _Ticker(len(jobs), progress, "ran", "runs")
-    client, cluster = _client(workers, scheduler, False)
+    client, cluster = client_for(workers, scheduler, False)
     out = []
     try:
+        if spec.parsed is None:  # parsed here while the workers start, not once in each of them
+            from copy import copy
+
+            spec = copy(spec)
+            spec.parsed = _library(spec.library)
         shared = client.scatter(spec, broadcast=True)
         futures = {client.submit(run_one, shared, s, k, pure=False): (s, k) for s, k in jobs}
         for future in as_completed(futures):

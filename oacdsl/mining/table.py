@@ -95,6 +95,16 @@ class MineTable:
     def add(self, row: dict[str, Any]) -> bool:
         """Insert one recording's rows (from :func:`oacdsl.mining.task.analyse`) in one transaction;
         False when the recording is there already (nothing written)."""
+        return self.add_many([row]) == 1
+
+    def add_many(self, rows: list[dict[str, Any]]) -> int:
+        """Insert several recordings' rows in one transaction (one commit, not one per recording:
+        each waits for the disk); a recording already there is left as it is. Returns how many
+        recordings were added."""
+        with self._db:
+            return sum(self._insert(row) for row in rows)
+
+    def _insert(self, row: dict[str, Any]) -> bool:
         subs = row.get("subs", [])
         times = row.get("times_s", {})
         values = {
@@ -107,31 +117,30 @@ class MineTable:
             "compose_s": times.get("compose"),
             "finished_utc": datetime.now(timezone.utc).isoformat(timespec="seconds"),
         }
-        with self._db:
-            cur = self._db.execute(
-                f"INSERT OR IGNORE INTO recordings ({', '.join(_COLUMNS)})"
-                f" VALUES ({', '.join('?' for _ in _COLUMNS)})",
-                [values[k] for k in _COLUMNS],
-            )
-            if cur.rowcount == 0:
-                return False
-            self._db.executemany(
-                "INSERT INTO sub_actions VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
-                [
-                    (
-                        row["id"],
-                        s["index"],
-                        s["from_frame"],
-                        s["to_frame"],
-                        s["change"],
-                        s["class_change"],
-                        s["oac"],
-                        json.dumps(s["binding"], sort_keys=True) if s["binding"] is not None else None,
-                        s["draft"],
-                    )
-                    for s in subs
-                ],
-            )
+        cur = self._db.execute(
+            f"INSERT OR IGNORE INTO recordings ({', '.join(_COLUMNS)})"
+            f" VALUES ({', '.join('?' for _ in _COLUMNS)})",
+            [values[k] for k in _COLUMNS],
+        )
+        if cur.rowcount == 0:
+            return False
+        self._db.executemany(
+            "INSERT INTO sub_actions VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
+            [
+                (
+                    row["id"],
+                    s["index"],
+                    s["from_frame"],
+                    s["to_frame"],
+                    s["change"],
+                    s["class_change"],
+                    s["oac"],
+                    json.dumps(s["binding"], sort_keys=True) if s["binding"] is not None else None,
+                    s["draft"],
+                )
+                for s in subs
+            ],
+        )
         return True
 
     def recordings(self) -> list[dict[str, Any]]:

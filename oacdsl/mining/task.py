@@ -3,8 +3,11 @@
 :func:`analyse` runs in a Dask worker process (or in the client, for the in-process
 baseline); it never raises for a bad recording: every :class:`~oacdsl.errors.OacError`, and
 any other exception, becomes an error row naming the stage and the one-line message, so one
-broken file never ends a job. The library is loaded once per worker process and kept
-(:func:`_library`), keyed by its paths and their modification times.
+broken file never ends a job. The job's client parses the library once and ships it with the
+:class:`JobSpec` (pickled, a few kB); a spec without it loads the library from its paths once
+per worker process and keeps it (:func:`_library`), keyed by its paths and their modification
+times. :func:`analyse_batch` is one task of several recordings: a task per recording costs a
+scheduler round trip each, more than reading a small recording.
 """
 
 from __future__ import annotations
@@ -16,20 +19,23 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-__all__ = ["JobSpec", "analyse"]
+__all__ = ["JobSpec", "analyse", "analyse_batch"]
 
 _LIBRARIES: dict[tuple[Any, ...], Any] = {}
 
 
 class JobSpec:
     """What every task of a job shares (picklable): the library's paths, the scene's name (None:
-    found per recording), the AAS parameters as a dict, whether to compose."""
+    found per recording), the AAS parameters as a dict, whether to compose, and the library as
+    the client parsed it (None: each worker loads it from the paths)."""
 
-    def __init__(self, library: Sequence[str], scene: str | None, params: dict[str, Any], compose: bool):
+    def __init__(self, library: Sequence[str], scene: str | None, params: dict[str, Any], compose: bool,
+                 parsed: Any = None):
         self.library = tuple(str(p) for p in library)
         self.scene = scene
         self.params = dict(params)
         self.compose = compose
+        self.parsed = parsed
 
 
 def _stamp(paths: Sequence[str]) -> tuple[Any, ...]:
@@ -141,7 +147,7 @@ def analyse(path: str, rec_id: str, spec: JobSpec) -> dict[str, Any]:
         from oacdsl.pipeline.analyse import match_stage, segment_stage
         from oacdsl.segmentation.params import AasParams
 
-        library = _library(spec.library)
+        library = spec.parsed if spec.parsed is not None else _library(spec.library)
         rec, library, scene = _read(path, library, spec.scene)
         params = AasParams(**spec.params)
         row.update(
@@ -173,3 +179,8 @@ def analyse(path: str, rec_id: str, spec: JobSpec) -> dict[str, Any]:
             status="error", stage=stage, error=f"internal error: {type(error).__name__}: {error}"[:500]
         )
     return row
+
+
+def analyse_batch(items: Sequence[tuple[str, str]], spec: JobSpec) -> list[dict[str, Any]]:
+    """The rows of several recordings, ``(path, id)`` each, in order (one task)."""
+    return [analyse(path, rec_id, spec) for path, rec_id in items]

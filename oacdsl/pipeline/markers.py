@@ -298,7 +298,7 @@ class VirtualMarkers:
             if instances is not None and name not in instances:
                 continue
             blocks = [
-                np.einsum("fij,kj->fki", xmat[:, b], local) + xpos[:, b][:, None, :] for b, local in parts
+                np.matmul(local, xmat[:, b].transpose(0, 2, 1)) + xpos[:, b][:, None, :] for b, local in parts
             ]
             out[name] = np.concatenate(blocks, axis=1)
         return out

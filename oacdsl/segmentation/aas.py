@@ -182,15 +182,21 @@ def _changes(
         lo = max(0, start - det.history_frames)
         x = geometry.coordinates(lo, stop)
         known = near_blocks(lo, stop, tracker.touching) if near_blocks is not None else None
+        boxes = None
         if known is not None:  # the detector already knows which pairs come within reach
             blocks = known
         elif det.reach_m is None or n_q == 0:
             blocks = all_blocks
         else:
+            boxes = geometry.marker_boxes(x)
             with np.errstate(invalid="ignore"):
-                near = geometry.lower_bounds(x) <= det.reach_m + BOUND_MARGIN_M
+                near = geometry.lower_bounds(x, boxes=boxes) <= det.reach_m + BOUND_MARGIN_M
             blocks = np.flatnonzero(near | tracker.touching)
-        pairs, dist = geometry.distances(x, blocks)
+        pair_state = getattr(det, "pair_state", None)  # optional: the marker pairs it holds touching
+        if boxes is not None and pair_state is not None and det.reach_m is not None:
+            pairs, dist = geometry.near_distances(x, blocks, det.reach_m + BOUND_MARGIN_M, pair_state, boxes)
+        else:
+            pairs, dist = geometry.distances(x, blocks)
         chunk = DistanceChunk(
             start, stop, start - lo, recording.times_s[lo:stop], pairs, dist, recording.positions_m[lo:stop]
         )

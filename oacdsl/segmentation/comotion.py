@@ -69,8 +69,9 @@ class AdaptiveSettings:
         fill_gaps: a rigid object's marker missing while three of its markers are seen is
             put where the object's rigid fit places it (:mod:`oacdsl.segmentation.poses`).
         hold_still: a hand at rest on or around a still object touches it
-            (:mod:`oacdsl.segmentation.holding`; off by default, not yet measured where it
-            matters).
+            (:mod:`oacdsl.segmentation.holding`; on by default: on the KIT development clips it
+            changes no keyframe, hand F1, tool contact or composed take, and it finds a hand
+            holding a bottle still while the other hand turns its lid).
         merge: how keyframes are merged: ``"paper"`` (the paper's chains, at the last
             frame) or ``"connected"`` (only changes sharing an instance, at the first frame:
             :func:`~oacdsl.segmentation.keyframes.merge_keyframes`).
@@ -92,7 +93,7 @@ class AdaptiveSettings:
     rescale: bool = False
     fill_gaps: bool = True
     merge: str = "paper"
-    hold_still: bool = False
+    hold_still: bool = True
 
     def __post_init__(self) -> None:
         for name in ("static_distance_m", "move_speed_m_s", "rigid_ratio", "lag_s", "tool_dwell_s"):

@@ -57,7 +57,10 @@ class DistanceChunk:
     The first chunk holds at least two frames when the recording has two.
     Pairs that are not in ``pairs`` were left out by the broad phase: their
     instances stay farther apart than the detector's ``reach_m`` in every frame and
-    they are not touching. Without a reach, every pair is present.
+    they are not touching. Without a reach, every pair is present. A detector that
+    has the optional ``pair_state`` ((P,) bool, the marker pairs it holds touching)
+    gets, of the instance pairs within reach, only the marker pairs that can come
+    within reach or are touching (the others stay farther than ``reach_m`` throughout).
     """
 
     start: int

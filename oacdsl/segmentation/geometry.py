@@ -78,16 +78,9 @@ class ChunkGeometry:
             np.subtract(rows[a:b].transpose(2, 1, 0), centre, out=out[:, :, a:b], casting="unsafe")
         return out
 
-    def lower_bounds(self, x: np.ndarray, block: int = BOUND_BLOCK_FRAMES) -> np.ndarray:
-        """(Q,) per instance pair, a lower bound of all its marker distances in the chunk, metres.
-
-        Per run of ``block`` frames, each instance's markers lie in an axis-aligned
-        box; two boxes' gap bounds every distance between their markers in those
-        frames. NaN when the two instances are never both visible.
-        """
-        t = self.table
-        if t.n_instance_pairs == 0:
-            return np.zeros(0, dtype=np.float32)
+    def marker_boxes(self, x: np.ndarray, block: int = BOUND_BLOCK_FRAMES) -> tuple[np.ndarray, np.ndarray]:
+        """Per marker and run of ``block`` frames, the axis-aligned box of its positions: ``(lo, hi)``,
+        each (3, M', blocks) float32, metres (NaN where the marker is unseen in the whole run)."""
         n_blocks = -(-x.shape[2] // block)
         lo = np.full(x.shape[:2] + (n_blocks,), np.nan, dtype=np.float32)
         hi = lo.copy()
@@ -96,16 +89,33 @@ class ChunkGeometry:
             m = part.shape[2]
             np.fmin(lo[:, :, :m], part, out=lo[:, :, :m])
             np.fmax(hi[:, :, :m], part, out=hi[:, :, :m])
+        return lo, hi
+
+    def instance_boxes(self, boxes: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+        """Per instance and run of frames, the box of all its markers, (3, I, blocks) each, from
+        :meth:`marker_boxes`."""
+        lo, hi = boxes
         spans = [
             (np.fmin.reduce(lo[:, a:b], axis=1), np.fmax.reduce(hi[:, a:b], axis=1))
-            for a, b in pairwise(t.marker_offsets)
+            for a, b in pairwise(self.table.marker_offsets)
         ]
-        box_lo = np.stack([s[0] for s in spans], axis=1)  # (3, I, blocks)
-        box_hi = np.stack([s[1] for s in spans], axis=1)
+        return np.stack([s[0] for s in spans], axis=1), np.stack([s[1] for s in spans], axis=1)
+
+    def lower_bounds(self, x: np.ndarray, block: int = BOUND_BLOCK_FRAMES,
+                     boxes: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+        """(Q,) per instance pair, a lower bound of all its marker distances in the chunk, metres.
+
+        Per run of ``block`` frames, each instance's markers lie in an axis-aligned
+        box; two boxes' gap bounds every distance between their markers in those
+        frames. NaN when the two instances are never both visible. ``boxes``: this
+        chunk's :meth:`marker_boxes` when the caller has them.
+        """
+        t = self.table
+        if t.n_instance_pairs == 0:
+            return np.zeros(0, dtype=np.float32)
+        box_lo, box_hi = self.instance_boxes(boxes if boxes is not None else self.marker_boxes(x, block))
         a, b = t.instance_pairs[:, 0], t.instance_pairs[:, 1]
-        gap = np.maximum(box_lo[:, b] - box_hi[:, a], box_lo[:, a] - box_hi[:, b])
-        np.maximum(gap, np.float32(0), out=gap)  # NaN stays NaN
-        return np.fmin.reduce(np.sqrt(np.einsum("kqn,kqn->qn", gap, gap)), axis=1)
+        return _gap(box_lo[:, a], box_hi[:, a], box_lo[:, b], box_hi[:, b])
 
     def distances(self, x: np.ndarray, blocks: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Distances of all marker pairs of the instance pairs ``blocks``.
@@ -121,6 +131,60 @@ class ChunkGeometry:
         row = 0
         for q in blocks:
             size = self.squared(x, int(q), out[row:], tmp).shape[0]
+            row += size
+        np.sqrt(out, out=out)
+        return pairs, out
+
+    def near_distances(self, x: np.ndarray, blocks: np.ndarray, reach_m: float, touching: np.ndarray,
+                       boxes: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+        """As :meth:`distances`, but only of the marker pairs that can come within ``reach_m`` in the
+        chunk or are ``touching`` ((P,) bool per marker pair, table order).
+
+        Per instance pair ``(A, B)``, a marker of A whose box (:meth:`marker_boxes`) stays
+        farther than ``reach_m`` from B's box in every run of frames is farther than that from
+        every marker of B in every frame, and the other way round; the pairs of the markers left
+        (a cross product: every touching pair among them) are computed exactly as
+        :meth:`distances` computes them, bit for bit. A detector that only needs the pairs within
+        reach, and the pairs it holds touching, gets the same answer from either.
+        """
+        t = self.table
+        lo, hi = boxes
+        box_lo, box_hi = self.instance_boxes(boxes)
+        # (first pair of the block, first marker of A, of B, |B|, the markers of A and of B chosen)
+        chosen: list[tuple[int, int, int, int, np.ndarray, np.ndarray]] = []
+        for q in blocks:
+            ia, ib = (int(v) for v in t.instance_pairs[q])
+            a0, a1 = int(t.marker_offsets[ia]), int(t.marker_offsets[ia + 1])
+            b0, b1 = int(t.marker_offsets[ib]), int(t.marker_offsets[ib + 1])
+            with np.errstate(invalid="ignore"):
+                near_a = _gap(lo[:, a0:a1], hi[:, a0:a1], box_lo[:, ib, None], box_hi[:, ib, None]) <= reach_m
+                near_b = _gap(lo[:, b0:b1], hi[:, b0:b1], box_lo[:, ia, None], box_hi[:, ia, None]) <= reach_m
+            off = int(t.block_offsets[q])
+            held = np.flatnonzero(touching[off : int(t.block_offsets[q + 1])])
+            near_a[held // (b1 - b0)] = True
+            near_b[held % (b1 - b0)] = True
+            ra, rb = np.flatnonzero(near_a), np.flatnonzero(near_b)
+            if ra.size and rb.size:
+                chosen.append((off, a0, b0, b1 - b0, ra, rb))
+        n_rows = x.shape[2]
+        total = sum(ra.size * rb.size for *_, ra, rb in chosen)
+        pairs = np.empty(total, dtype=np.intp)
+        out = np.empty((total, n_rows), dtype=np.float32)
+        largest = max((ra.size * rb.size for *_, ra, rb in chosen), default=0)
+        tmp = np.empty(largest * n_rows, dtype=np.float32)
+        row = 0
+        for off, a0, b0, kb, ra, rb in chosen:  # as squared(), on the rows chosen
+            size = ra.size * rb.size
+            xa, xb = x[:, a0 + ra], x[:, b0 + rb]
+            blk = out[row : row + size].reshape(ra.size, rb.size, n_rows)
+            scratch = tmp[: size * n_rows].reshape(ra.size, rb.size, n_rows)
+            np.subtract(xa[0, :, None, :], xb[0, None, :, :], out=blk)
+            np.square(blk, out=blk)
+            for k in (1, 2):
+                np.subtract(xa[k, :, None, :], xb[k, None, :, :], out=scratch)
+                np.square(scratch, out=scratch)
+                blk += scratch
+            pairs[row : row + size] = (off + ra[:, None] * kb + rb[None, :]).reshape(-1)
             row += size
         np.sqrt(out, out=out)
         return pairs, out
@@ -150,6 +214,14 @@ class ChunkGeometry:
             np.square(scratch, out=scratch)
             blk += scratch
         return flat.reshape(ka * kb, n_rows)
+
+
+def _gap(lo_a: np.ndarray, hi_a: np.ndarray, lo_b: np.ndarray, hi_b: np.ndarray) -> np.ndarray:
+    """The smallest over the last axis (runs of frames) of the gap between boxes ``a`` and ``b``
+    ((3, …, blocks) float32 each), metres; NaN when no run sees both."""
+    gap = np.maximum(lo_b - hi_a, lo_a - hi_b)
+    np.maximum(gap, np.float32(0), out=gap)  # NaN stays NaN
+    return np.fmin.reduce(np.sqrt(np.einsum("k...,k...->...", gap, gap)), axis=-1)
 
 
 def _centre(positions: np.ndarray) -> np.ndarray:

@@ -22,6 +22,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from oacdsl.segmentation.comotion import _median_rows
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.scales import instance_size_m
@@ -31,17 +32,17 @@ __all__ = ["resting_holds"]
 Spans = list[tuple[int, int]]
 
 
-def _speeds(recording: Recording, name: str, lag: int) -> np.ndarray:
-    """(F,) median marker speed of instance ``name`` over ``lag`` frames, m/s (NaN in gaps)."""
-    p = recording.group_positions(name)
-    t = np.asarray(recording.times_s, dtype=np.float64)
-    out = np.full(recording.n_frames, np.nan)
-    if recording.n_frames > lag:
+def _speeds(points_m: np.ndarray, times_s: np.ndarray, lag: int) -> np.ndarray:
+    """(F,) median marker speed over ``lag`` frames of an instance's markers ``points_m`` (F, k, 3),
+    m/s (NaN in gaps)."""
+    n = points_m.shape[0]
+    out = np.full(n, np.nan)
+    if n > lag:
         with np.errstate(invalid="ignore"):
-            step = np.linalg.norm(p[lag:] - p[:-lag], axis=2)
-            seen = ~np.isnan(step).all(axis=1)
-            speed = np.full(step.shape[0], np.nan)
-            speed[seen] = np.nanmedian(step[seen], axis=1) / (t[lag:] - t[:-lag])[seen]
+            diff = points_m[lag:] - points_m[:-lag]
+            step = np.sqrt(diff[..., 0] * diff[..., 0] + diff[..., 1] * diff[..., 1]
+                           + diff[..., 2] * diff[..., 2])  # (F - lag, k), as np.linalg.norm(axis=2)
+            speed = _median_rows(np.ascontiguousarray(step.T)) / (times_s[lag:] - times_s[:-lag])
         out[lag:] = speed
         out[:lag] = speed[0]
     return out
@@ -68,13 +69,21 @@ def resting_holds(recording: Recording, table: PairTable, closest: Mapping[int, 
     lag = max(1, round(lag_s * rate))
     dwell = max(1, round(dwell_s * rate))
     names = table.instances
+    times = np.asarray(recording.times_s, dtype=np.float64)
     index = {(int(a), int(b)): q for q, (a, b) in enumerate(table.instance_pairs)}
+    points: dict[int, np.ndarray] = {}
     still: dict[int, np.ndarray] = {}
+    sizes: dict[int, float] = {}
+
+    def positions(i: int) -> np.ndarray:
+        if i not in points:
+            points[i] = recording.group_positions(names[i])
+        return points[i]
 
     def is_still(i: int) -> np.ndarray:
         if i not in still:
             with np.errstate(invalid="ignore"):
-                still[i] = _speeds(recording, names[i], lag) < move_speed_m_s
+                still[i] = _speeds(positions(i), times, lag) < move_speed_m_s
         return still[i]
 
     out: dict[int, Spans] = {}
@@ -83,15 +92,21 @@ def resting_holds(recording: Recording, table: PairTable, closest: Mapping[int, 
             q = index.get((min(h, x), max(h, x)))
             if x in agents or q is None or q not in closest:
                 continue
-            size = instance_size_m(recording.group_positions(names[x]))
+            d = closest[q]
+            with np.errstate(invalid="ignore"):  # a hold needs dwell frames within d of a still hand
+                candidate = (d <= reach_m) & is_still(h)
+            if not any(b - a >= dwell for a, b in _runs(candidate)):
+                continue
+            if x not in sizes:
+                sizes[x] = instance_size_m(positions(x))
+            size = sizes[x]
             if not np.isfinite(size):
                 continue
             with np.errstate(invalid="ignore"):
-                near = closest[q] <= min(size / 2, reach_m)
+                near = d <= min(size / 2, reach_m)
             resting = near & is_still(h) & is_still(x)
             moved = ~is_still(h)
             spans = []
-            d = closest[q]
             for a, b in _runs(resting):
                 before = d[max(0, a - dwell):a]
                 came = before[np.isfinite(before)]  # H came to X: its distance fell into the hold

@@ -49,6 +49,13 @@ class PaperDetector:
     def begin(self, recording: Recording, table: PairTable) -> None:
         self._state = np.zeros(table.n_pairs, dtype=bool)
 
+    @property
+    def pair_state(self) -> np.ndarray:
+        """(P,) bool: the marker pairs touching now. A pair that is not touching and stays
+        farther than ``reach_m`` in a chunk cannot change there, so the segmenter gives this
+        detector only the marker pairs within reach and these (``ChunkGeometry.near_distances``)."""
+        return self._state
+
     def step(self, chunk: DistanceChunk) -> PairChanges:
         n, h = self.n, chunk.history
         n_out = chunk.stop - chunk.start

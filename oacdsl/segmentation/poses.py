@@ -99,17 +99,29 @@ def fit_constellation(constellation_m: np.ndarray, points_m: np.ndarray) -> tupl
     pts = np.asarray(points_m, dtype=np.float64)
     usable = np.asarray(np.isfinite(ref).all(axis=1))
     seen = np.isfinite(pts).all(axis=2) & usable[None, :]  # (F, k)
-    w = seen.astype(np.float64)
-    n = w.sum(axis=1)  # (F,)
-    ok = n >= MIN_MARKERS
-    safe_n = np.where(ok, n, 1.0)
-    ref0 = np.where(np.isfinite(ref), ref, 0.0)
-    pts0 = np.where(seen[..., None], pts, 0.0)
-    c_ref = (w @ ref0) / safe_n[:, None]  # (F, 3) centroid of the constellation's visible markers
-    c_pts = np.einsum("fk,fkx->fx", w, pts0) / safe_n[:, None]
-    a = (ref0[None, :, :] - c_ref[:, None, :]) * w[..., None]  # (F, k, 3)
-    b = (pts0 - c_pts[:, None, :]) * w[..., None]
-    h = np.einsum("fki,fkj->fij", a, b)  # (F, 3, 3) cross-covariance
+    if seen.all() and ref.shape[0] >= MIN_MARKERS:  # every marker in every frame (virtual markers)
+        w: np.ndarray | None = None
+        n = np.full(len(pts), float(ref.shape[0]))
+        ok = np.ones(len(pts), dtype=bool)
+        safe_n = n
+        ref0, pts0 = ref, pts
+        c_ref = np.broadcast_to(ref.mean(axis=0), (len(pts), 3))
+        c_pts = pts.mean(axis=1)
+        centred = ref - c_ref[0]
+        # (F, 3, 3) cross-covariance Σ centred_i (p_i − c)ᵀ, without a centred copy of every frame
+        h = np.matmul(centred.T, pts) - centred.sum(axis=0)[None, :, None] * c_pts[:, None, :]
+    else:
+        w = seen.astype(np.float64)
+        n = w.sum(axis=1)  # (F,)
+        ok = n >= MIN_MARKERS
+        safe_n = np.where(ok, n, 1.0)
+        ref0 = np.where(np.isfinite(ref), ref, 0.0)
+        pts0 = np.where(seen[..., None], pts, 0.0)
+        c_ref = (w @ ref0) / safe_n[:, None]  # (F, 3) centroid of the constellation's visible markers
+        c_pts = np.matmul(w[:, None, :], pts0)[:, 0] / safe_n[:, None]  # batched matmul: einsum is slower
+        a = (ref0[None, :, :] - c_ref[:, None, :]) * w[..., None]  # (F, k, 3)
+        b = (pts0 - c_pts[:, None, :]) * w[..., None]
+        h = np.matmul(np.swapaxes(a, 1, 2), b)  # (F, 3, 3) cross-covariance
     u, _, vt = np.linalg.svd(h)
     v = np.swapaxes(vt, 1, 2)
     d = np.sign(np.linalg.det(v @ np.swapaxes(u, 1, 2)))
@@ -122,8 +134,10 @@ def fit_constellation(constellation_m: np.ndarray, points_m: np.ndarray) -> tupl
     T[:, :3, :3] = rot
     T[:, :3, 3] = trans
     T[:, 3, 3] = 1.0
-    mapped = np.einsum("fij,kj->fki", rot, ref0) + trans[:, None, :]
-    sq = ((mapped - pts0) ** 2).sum(axis=2) * w
+    mapped = np.matmul(ref0, np.swapaxes(rot, 1, 2)) + trans[:, None, :]
+    sq = ((mapped - pts0) ** 2).sum(axis=2)
+    if w is not None:
+        sq *= w
     residual = np.sqrt(sq.sum(axis=1) / safe_n)
     T[~ok] = np.nan
     residual[~ok] = np.nan

@@ -99,6 +99,12 @@ class Tuning:
     turn_centre_tries: int = 4
     turn_centre_s: float = 0.25
 
+    # --- tip a held object over a container --------------------------------------------------
+    #: how many horizontal axes (evenly round) a tip is tried about; the best reached is taken
+    tip_axis_tries: int = 8
+    #: how many poses along a tip are checked for the tool's clearance from the other hand
+    tip_pose_tries: int = 5
+
     # --- free spots on the table ------------------------------------------------------------
     #: spacing of the candidate spots, m, and the room kept between footprints there, m
     spot_step_m: float = 0.04

@@ -14,9 +14,11 @@ from oacdsl.runtime.skills.mix_both import mix_both
 from oacdsl.runtime.skills.place import place
 from oacdsl.runtime.skills.pour import pour
 from oacdsl.runtime.skills.roll import roll
+from oacdsl.runtime.skills.saw import saw
 from oacdsl.runtime.skills.stir import stir
 from oacdsl.runtime.skills.stroke import stroke
 from oacdsl.runtime.skills.take_out import take_out
+from oacdsl.runtime.skills.tip_out import tip_out
 from oacdsl.runtime.skills.touch import touch
 from oacdsl.runtime.skills.twist import twist
 from oacdsl.runtime.skills.wipe import wipe
@@ -40,8 +42,10 @@ IMPLEMENTATIONS: dict[str, Skill] = {
     "place_both": place_both,
     "stir": stir,
     "take_out": take_out,
+    "tip_out": tip_out,
     "twist": twist,
     "stroke": stroke,
     "roll": roll,
+    "saw": saw,
     "follow": follow,
 }

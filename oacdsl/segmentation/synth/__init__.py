@@ -18,9 +18,10 @@ import numpy as np
 from oacdsl.errors import SegmentationError
 from oacdsl.segmentation.points import recording_from_points
 from oacdsl.segmentation.recording import Recording
-from oacdsl.segmentation.synth.dough import FLIGHT_S, STORIES, Script, dough_script
+from oacdsl.segmentation.synth.dough import FLIGHT_S, Script, dough_script
 from oacdsl.segmentation.synth.realism import Gap, NoiseModel, add_noise, apply_gaps, random_gaps
 from oacdsl.segmentation.synth.reference import PaperRule, world_states
+from oacdsl.segmentation.synth.stories import STORIES, STORY_SCRIPTS
 from oacdsl.segmentation.synth.truth import pass_by_facts, time_script, truth_document
 
 __all__ = [
@@ -121,7 +122,7 @@ def dough_demonstration(
     if story not in STORIES:
         known = ", ".join(STORIES)
         raise SegmentationError(f"unknown story {story!r}; the stories are {known}", location=source)
-    script = dough_script(rng, rate_hz, flight_s, story)
+    script = dough_script(rng, rate_hz, flight_s, STORY_SCRIPTS[story])
     pairs, touching = world_states(script.markers_m, rate_hz, rule)
     timing = time_script(script, touching, pairs, rule, seed)
     gaps = _scripted_gaps(script, timing.raw, source, strict=story == "paper")

@@ -14,6 +14,7 @@ geometry not at all: the scene is laid out so that the paper's touching rule
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,7 +39,7 @@ from oacdsl.segmentation.synth.stage import (
     Step,
 )
 
-__all__ = ["FLIGHT_S", "GRAVITY_M_S2", "STORIES", "Script", "Step", "dough_script"]
+__all__ = ["FLIGHT_S", "GRAVITY_M_S2", "Script", "Step", "dough_script", "paper_story"]
 
 _RED_CUP_AT_M = np.array([-0.36, -0.02, TABLE_Z_M])
 _GREEN_CUP_AT_M = np.array([0.36, -0.02, TABLE_Z_M])
@@ -168,7 +169,10 @@ def paper_story(stage: Stage) -> int:
 
 
 def dough_script(
-    rng: np.random.Generator, rate_hz: float = 100.0, flight_s: float = FLIGHT_S, story: str = "paper"
+    rng: np.random.Generator,
+    rate_hz: float = 100.0,
+    flight_s: float = FLIGHT_S,
+    story: Callable[[Stage], int] = paper_story,
 ) -> Script:
     """Script the dough demonstration; ``rng`` varies durations by ±10 %.
 
@@ -176,12 +180,11 @@ def dough_script(
     0.3 s the liquid marker follows a parabola under gravity (the default 0.16 s: thrown
     slightly downwards); longer, it moves from the lip to the bowl on a straight line at a
     steady speed (about 0.2 m / ``flight_s``: a slow stream that lands later).
-    ``story``: one of :data:`STORIES` (the paper's order, a hand-over, both hands at once).
+    ``story`` writes the sub-actions onto the stage and returns the number of frames: the
+    paper's order, or one of :data:`~oacdsl.segmentation.synth.stories.STORY_SCRIPTS`.
     """
-    from oacdsl.segmentation.synth.stories import STORY_SCRIPTS
-
     stage = dough_stage(rng, rate_hz, flight_s)
-    n = STORY_SCRIPTS[story](stage)
+    n = story(stage)
     return Script(
         rate_hz,
         stage.times_s[:n],
@@ -192,6 +195,3 @@ def dough_script(
         stage.marks,
     )
 
-
-#: The stories ``oacc synth dough --story`` offers (see :mod:`oacdsl.segmentation.synth.stories`).
-STORIES = ("paper", "handover", "overlap")

@@ -28,7 +28,7 @@ from oacdsl.segmentation.synth.dough import (
 from oacdsl.segmentation.synth.scene import CUP_HANDLE_GRASP_M, TABLE_Z_M
 from oacdsl.segmentation.synth.stage import Stage
 
-__all__ = ["STORY_SCRIPTS", "handover_story", "overlap_story"]
+__all__ = ["STORIES", "STORY_SCRIPTS", "handover_story", "overlap_story"]
 
 #: Where the red cup changes hands: in front of the bowl, 15 cm up (its origin, world m).
 _HANDOVER_AT_M = np.array([0.0, -0.34, TABLE_Z_M + 0.15])
@@ -76,9 +76,13 @@ def overlap_story(stage: Stage) -> int:
     return mix_until_end(stage, max(stage[k].now_s for k in _ALL_BUT_MIXER) + dur(0.8))
 
 
-#: Story name → script, for :func:`~oacdsl.segmentation.synth.dough.dough_script`.
+#: Story name → script (``oacc synth dough --story``), for
+#: :func:`~oacdsl.segmentation.synth.dough.dough_script`.
 STORY_SCRIPTS: dict[str, Callable[[Stage], int]] = {
     "paper": paper_story,
     "handover": handover_story,
     "overlap": overlap_story,
 }
+
+#: The stories' names, the paper's order first.
+STORIES = tuple(STORY_SCRIPTS)
