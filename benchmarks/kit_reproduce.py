@@ -1,7 +1,7 @@
 """`oacc reproduce` on the KIT Bimanual development clips: time per clip and verified seeds.
 
     python benchmarks/kit_reproduce.py [--clips dough,Pour,Stir] [--seeds 0,1,2,3,4,5] [--repeats N]
-                                       [--keep DIR] [--library DIR]
+                                       [--keep DIR] [--library DIR] [--take NAME]
 
 For each clip and seed (0: the scene's own places, the command's default) the whole job runs
 in this process as `oacc reproduce CLIP.mmm.xml --library library/kit --no-render` does
@@ -18,6 +18,8 @@ Only the development clips are offered (and `dough`, the bundled demonstration);
 clips are never run here. `--keep DIR` keeps each run's folder (DIR/CLIP-SEED: report,
 execution.c3d and its contacts) for `oacc verify` later. `--library DIR`: another library of
 the KIT clips (`tests/data/kit_follow`: named skills replaced by the generic `follow`).
+`--take NAME`: reproduce another take of each clip instead, one of the standard takes
+(`oacc take --standard NAME`, e.g. `mirrored`: left-handed), written as MMM XML first.
 """
 
 from __future__ import annotations
@@ -60,6 +62,16 @@ def segmentation_only(recording: Path) -> None:
 
     rec, _ = group_recording(read_recording(recording), None)
     segment(rec, AasParams())
+
+
+def write_take(recording: Path, name: str, folder: Path) -> Path:
+    """The standard take ``name`` of ``recording``, written as MMM XML into ``folder``
+    (as ``oacc take --standard NAME`` writes it)."""
+    from oacdsl.segmentation.readers import read_recording, write_recording
+    from oacdsl.segmentation.takes import STANDARD_TAKES
+
+    take, _ = STANDARD_TAKES[name](read_recording(recording))
+    return write_recording(take, folder / recording.name.replace(".mmm.xml", f"_{name}.mmm.xml"), "mmm")
 
 
 #: CPU seconds of this process in each verify stage (filled by :func:`_timed_verify_stage`).
@@ -116,7 +128,15 @@ def main() -> int:
     parser.add_argument("--repeats", type=int, default=3, help="runs of the baseline")
     parser.add_argument("--keep", metavar="DIR", help="keep each run's folder in DIR/CLIP-SEED")
     parser.add_argument("--library", type=Path, default=ROOT / "library" / "kit", help="the KIT library")
+    parser.add_argument("--take", metavar="NAME",
+                        help="another take of each clip (oacc take --standard NAME)")
     args = parser.parse_args()
+    from oacdsl.segmentation.takes import STANDARD_TAKES
+
+    if args.take is not None and args.take not in STANDARD_TAKES:
+        print(f"--take {args.take}: not a standard take (valid: {', '.join(STANDARD_TAKES)})",
+              file=sys.stderr)
+        return 2
     if MOCAP is None:
         print("shared/mocap is absent: nothing to measure", file=sys.stderr)
         return 2
@@ -138,6 +158,8 @@ def main() -> int:
         ) if recording is not None else float("nan")
         walls, cpus, verdicts, shares, cpu_shares = [], [], [], [], []
         with tempfile.TemporaryDirectory() as tmp:
+            if recording is not None and args.take is not None:
+                recording = write_take(recording, args.take, Path(tmp))
             for seed in seeds:
                 out = keep / f"{clip}-{seed}" if keep is not None else None
                 VERIFY_CPU_S.clear()

@@ -128,3 +128,64 @@ def test_a_slide_that_loses_its_contact_is_lowered_until_it_touches_again(run):
     for _ in range(1000):
         lowest = path(0.0)
     assert float(pose[2, 3] - lowest[2, 3]) == pytest.approx(TUNING.seek_max_m)
+
+
+def test_hand_corners_are_the_hands_boxes_in_its_grasp_frame(run):
+    from oacdsl.runtime.motion import Motion
+    from oacdsl.runtime.shapes import hand_corners, hand_reach_below
+
+    world = run.world
+    before = hand_corners(world, "r")
+    t = world.frame_pose("grasp_r")
+    # the lowest corner in the world is how far the hand reaches below its grasp centre
+    assert -float((before @ t[:3, :3].T)[:, 2].min()) == pytest.approx(hand_reach_below(world, "r"))
+    m = Motion(run.context, "r")
+    m.rise(0.03, 0.5)
+    m.hold_still()
+    assert np.abs(hand_corners(world, "r") - before).max() < 0.002  # moved with the hand
+
+
+def test_a_carry_flies_over_the_other_hand_while_it_holds_something(run):
+    from oacdsl.runtime.motion.paths import carry_path, other_hand_obstacle
+
+    world = run.world
+    assert other_hand_obstacle(world, "r") is None  # the left hand holds nothing
+    xy, radius, top = None, 0.0, 0.0
+    world.held["l"] = "orange_bowl"  # as if it held it: where its boxes are is what counts
+    try:
+        xy, radius, top = other_hand_obstacle(world, "r")
+        t_l = world.frame_pose("grasp_l")
+        assert top > t_l[2, 3] and radius > 0.05  # the thumb and fingers reach past the grasp centre
+        now, goal = world.frame_pose("grasp_r"), world.frame_pose("grasp_r")
+        now[:3, 3] = (xy[0], xy[1] - 0.2, top - 0.05)
+        goal[:3, 3] = (xy[0], xy[1] + 0.2, top - 0.05)
+        plain = carry_path(world, "r", now, goal, {"orange_bowl", "green_cup"}, 2.0)
+        over = carry_path(world, "r", now, goal, {"orange_bowl", "green_cup"}, 2.0, over_other_hand=True)
+    finally:
+        world.held["l"] = None
+    assert plain[1][0][2, 3] < top  # the plain way would cross the hand's height
+    climb, via, *_, end = over
+    assert climb[1] > 0 and climb[0][2, 3] > top and via[0][2, 3] > top  # up first, then across
+    assert np.allclose(end[0], goal)
+
+
+def test_only_a_carry_to_what_the_other_hand_holds_flies_over_that_hand(run, monkeypatch):
+    from oacdsl.runtime.motion import Motion
+    from oacdsl.runtime.motion import hand as hand_module
+
+    seen: list[bool] = []
+
+    def fake_path(*args, **kwargs):  # type: ignore[no-untyped-def]
+        seen.append(kwargs["over_other_hand"])
+        return []
+
+    monkeypatch.setattr(hand_module, "carry_path", fake_path)
+    m = Motion(run.context, "r")
+    run.world.held["l"] = "orange_bowl"
+    try:
+        m.carry(m.here(), {"green_cup", "orange_bowl"})  # to the bowl the left hand holds
+        m.carry(m.here(), {"green_cup"})  # elsewhere: the left hand may be above the way
+    finally:
+        run.world.held["l"] = None
+    m.carry(m.here(), {"green_cup"})
+    assert seen == [True, False, False]

@@ -13,7 +13,8 @@ import numpy as np
 from oacdsl.runtime.bodies import Body
 from oacdsl.runtime.simworld import SimWorld
 
-__all__ = ["corners", "world_corners", "lowest_z", "highest_z", "long_axis", "tip_local", "hand_reach_below"]
+__all__ = ["corners", "world_corners", "lowest_z", "highest_z", "long_axis", "tip_local", "hand_reach_below",
+           "hand_corners"]
 
 
 def corners(body: Body) -> np.ndarray:
@@ -74,6 +75,20 @@ def tip_local(body: Body, direction: np.ndarray) -> np.ndarray:
     mid = 0.5 * (lo + hi)
     far = float((c @ d).max())
     return mid + (far - float(mid @ d)) * d
+
+
+def hand_corners(world: SimWorld, side: str) -> np.ndarray:
+    """(8k, 3) corners of the bounding boxes of hand ``side``'s k geoms (palm, finger plate,
+    thumb, as they are now; eight per geom, one geom after the other) in its grasp frame
+    ``grasp_{side}`` (m): where the hand is around what it holds, to place with any pose of
+    the grasp frame."""
+    m, d = world.model, world.data
+    t_grasp = world.frame_pose(f"grasp_{side}")
+    bodies = np.array(sorted(world.hand_bodies[side]))
+    signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
+    pts = [(m.geom_aabb[g, :3] + signs * m.geom_aabb[g, 3:]) @ d.geom_xmat[g].reshape(3, 3).T + d.geom_xpos[g]
+           for g in np.flatnonzero(np.isin(m.geom_bodyid, bodies))]
+    return (np.concatenate(pts) - t_grasp[:3, 3]) @ t_grasp[:3, :3]
 
 
 def hand_reach_below(world: SimWorld, side: str, r_world_grasp: np.ndarray | None = None) -> float:

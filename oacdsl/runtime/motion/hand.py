@@ -163,12 +163,17 @@ class Motion:
     def carry(self, goal: np.ndarray, exclude: set[str], seconds: float | None = None) -> None:
         """Carry the hand (and what it holds) to ``goal`` over the objects near the way
         (``exclude`` left out), in ``seconds`` (default: the tuning's carry time, longer for a
-        long way at its carry speed)."""
+        long way at its carry speed). A carry to what the other hand holds (it is in
+        ``exclude``: the way ends at it) flies over that hand too: its fingers reach around
+        and past what it holds."""
         now = self.here()
         if seconds is None:
             far = float(np.linalg.norm(goal[:3, 3] - now[:3, 3]))
             seconds = max(self.tuning.carry_s, far / self.tuning.carry_speed_m_s)
-        for pose, s in carry_path(self.ctx.world, self.side, now, goal, exclude, seconds, self.tuning):
+        world = self.ctx.world
+        to_other = world.held.get(self.other) in exclude
+        for pose, s in carry_path(world, self.side, now, goal, exclude, seconds, self.tuning,
+                                  over_other_hand=to_other):
             if s > 0:
                 self.go(pose, s)
 

@@ -14,11 +14,13 @@ import numpy as np
 
 from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M
 from oacdsl.runtime.motion.tuning import TUNING, Tuning
+from oacdsl.runtime.shapes import hand_corners
 
 if TYPE_CHECKING:
     from oacdsl.runtime.simworld import SimWorld
 
-__all__ = ["Obstacle", "obstacles", "clearance", "via_height", "carry_path", "segment_distance"]
+__all__ = ["Obstacle", "obstacles", "clearance", "via_height", "carry_path", "segment_distance",
+           "other_hand_obstacle"]
 
 #: (xy, footprint radius, top height) of an object on the table, m
 Obstacle = tuple[np.ndarray, float, float]
@@ -70,6 +72,19 @@ def via_height(
     return max(tops, default=-np.inf) + hanging_m + tuning.over_m
 
 
+def other_hand_obstacle(world: SimWorld, side: str) -> Obstacle | None:
+    """The other hand than ``side`` as an obstacle while it holds something (it is then out
+    among the objects; its thumb reaches some 9 cm past what it holds): the footprint and top
+    of its collision boxes now. None while it holds nothing."""
+    other = "l" if side == "r" else "r"
+    if world.held.get(other) is None:
+        return None
+    t = world.frame_pose(f"grasp_{other}")
+    pts = hand_corners(world, other) @ t[:3, :3].T + t[:3, 3]
+    xy = 0.5 * (pts[:, :2].min(axis=0) + pts[:, :2].max(axis=0))
+    return xy, float(np.linalg.norm(pts[:, :2] - xy, axis=1).max()), float(pts[:, 2].max())
+
+
 def carry_path(
     world: SimWorld,
     side: str,
@@ -78,17 +93,22 @@ def carry_path(
     exclude: set[str],
     duration_s: float,
     tuning: Tuning = TUNING,
+    over_other_hand: bool = False,
 ) -> list[tuple[np.ndarray, float]]:
     """Three (T_world_grasp, seconds) from hand pose ``now`` to ``goal``: a climb (0 s when none
     is needed), a point over the middle of the way, the goal; four when the slanting way down
     from the middle would pass too low over an object beside the goal (a cup set down next to
     another): then the hand crosses at the way's height to over the goal and comes straight
-    down."""
+    down. ``over_other_hand``: the other hand, while it holds something, is flown over too
+    (:func:`other_hand_obstacle`)."""
     hanging = HAND_BELOW_CENTRE_M
     held = world.held[side]
     if held is not None:
         hanging = max(hanging, float(world.frame_pose(f"grasp_{side}")[2, 3] - world.body_pose(held)[2, 3]))
     over = via_height(world, now[:3, 3], goal[:3, 3], exclude | ({held} if held else set()), hanging, tuning)
+    hand = other_hand_obstacle(world, side) if over_other_hand else None
+    if hand is not None and segment_distance(hand[0], now[:2, 3], goal[:2, 3]) - hand[1] < tuning.near_path_m:
+        over = max(over, hand[2] + hanging + tuning.over_m)
     via = now.copy()
     via[:2, 3] = 0.5 * (now[:2, 3] + goal[:2, 3])
     via[2, 3] = max(now[2, 3], goal[2, 3], over)

@@ -13,6 +13,14 @@ strong as the pouring hand's. A narrow target (a cup) is poured into from over i
 inner wall, lower and with a slower tilt where the balls roll out. A source resting on the
 target (a carton put onto the cup) is first slid onto its near rim, away from the other
 hand, and rests there a moment.
+
+The pouring hand keeps clear of the target: its palm and fingers reach around and past
+the cup they hold (a side grasp of a 7 cm carton: some 4 cm past its far side and up to
+its rim), so at every step of the tilt the lip is raised as much as the hand's collision
+boxes need to stay :data:`~oacdsl.runtime.motion.tuning.Tuning.rim_clearance_m` above the
+target's rim where they are over it, and no more: the hand passes over the rim half-way
+through the tilt, the balls leave the lip later, from its usual height (KIT Pour: the
+right thumb met the cup while pouring).
 """
 
 from __future__ import annotations
@@ -24,7 +32,7 @@ import numpy as np
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.bodies import Body
 from oacdsl.runtime.motion import TUNING, Motion, OtherHand
-from oacdsl.runtime.shapes import world_corners
+from oacdsl.runtime.shapes import hand_corners, world_corners
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
 from oacdsl.runtime.skills.bimanual import reach_both
 from oacdsl.runtime.transforms import make_T, rot_axis
@@ -52,6 +60,8 @@ NARROW_TARGET_M = 0.05
 NARROW_LIP_ABOVE_RIM_M = 0.015
 SLOW_FROM_RAD = math.radians(85.0)
 NARROW_SLOWDOWN = 4.0
+#: Poses the tilt is made of (the way back: half as many).
+STEPS = 40
 
 
 def _cup_pose(
@@ -140,26 +150,51 @@ def pour(
         return _cup_pose(base_r, lip_local, lip, axis, angle) @ np.linalg.inv(cup_in_hand)
 
     floor_z = t_bowl[2, 3] + bowl.floor
-
-    def clear_lift(u: np.ndarray) -> float:
-        """How much higher (m) the lip must go so that, at every tilt on the way (the lip
-        coming down from :data:`LIP_START_EXTRA_M` higher in the first half), the cup
-        stays above the target's rim where it is over the wall or beyond it, and above
-        its floor inside it."""
-        need = 0.0
-        for frac in np.linspace(0.0, 1.0, 13):
-            lift = LIP_START_EXTRA_M * max(0.0, 1.0 - 2.0 * frac)  # as the tilting motion lowers it
-            pts = world_corners(cup, hand_at(u, tilt * float(frac), lift) @ cup_in_hand)
-            d = np.hypot(pts[:, 0] - centre[0], pts[:, 1] - centre[1])
-            near = d < bowl.rim_radius + TUNING.end_margin_m
-            inside = d < bowl.inner_radius - TUNING.end_margin_m
-            low = np.where(inside, floor_z, rim_z) + TUNING.end_margin_m
-            if near.any():
-                need = max(need, float((low - pts[:, 2])[near].max()))
-        return need
-
+    hand_pts = hand_corners(world, side)
     holder = ctx.other_holder(side, target)
     keep = world.frame_pose(f"grasp_{holder}") if holder is not None else None
+    # the other hand holding the target keeps its place: the columns over its boxes (grown by
+    # the rim clearance) are kept clear by the source and this hand, as the rim is
+    boxes = np.zeros((0, 8, 3)) if keep is None or holder is None else (
+        hand_corners(world, holder) @ keep[:3, :3].T + keep[:3, 3]).reshape(-1, 8, 3)
+    box_lo = boxes[:, :, :2].min(axis=1) - TUNING.rim_clearance_m
+    box_hi = boxes[:, :, :2].max(axis=1) + TUNING.rim_clearance_m
+    box_top = boxes[:, :, 2].max(axis=1) + TUNING.rim_clearance_m
+
+    def below_holder(pts: np.ndarray) -> float:
+        """How far (m) the lowest of ``pts`` (world) over a box of the other hand is below
+        that box's top and the clearance (negative: clear; -inf: over none)."""
+        over = ((pts[None, :, :2] >= box_lo[:, None]) & (pts[None, :, :2] <= box_hi[:, None])).all(axis=2)
+        return float((box_top[:, None] - pts[None, :, 2])[over].max()) if over.any() else -math.inf
+
+    def need(u: np.ndarray, s: float, base: float) -> float:
+        """How much higher (m) than ``base`` above its place the lip must be at ``s`` of the
+        tilt so that the cup stays above the target's rim where it is over the wall or beyond
+        it and above its floor inside it, and the pouring hand (its palm and fingers reach
+        around and past the cup) stays :data:`TUNING.rim_clearance_m` above the rim wherever
+        it is over the target or its rim."""
+        t_hand = hand_at(u, tilt * s, base)
+        pts = world_corners(cup, t_hand @ cup_in_hand)
+        d = np.hypot(pts[:, 0] - centre[0], pts[:, 1] - centre[1])
+        near = d < bowl.rim_radius + TUNING.end_margin_m
+        low = np.where(d < bowl.inner_radius - TUNING.end_margin_m, floor_z, rim_z) + TUNING.end_margin_m
+        out = float((low - pts[:, 2])[near].max()) if near.any() else 0.0
+        out = max(out, below_holder(pts))
+        pts = hand_pts @ t_hand[:3, :3].T + t_hand[:3, 3]
+        out = max(out, below_holder(pts))
+        over = np.hypot(pts[:, 0] - centre[0], pts[:, 1] - centre[1])
+        near = over < bowl.rim_radius + TUNING.rim_clearance_m
+        if near.any():
+            out = max(out, float((rim_z + TUNING.rim_clearance_m - pts[:, 2])[near].max()))
+        return out
+
+    def lifted(u: np.ndarray, s: float, base: float) -> np.ndarray:
+        """The hand's pose at ``s`` of the tilt, the lip ``base`` higher than its place and as
+        much more as :func:`need` asks there and half a tilt step either side (the lip is as
+        low as the hand allows at every tilt: where the balls leave it is over the rim)."""
+        extra = max(need(u, min(1.0, max(0.0, s + ds)), base) for ds in (-1.0 / STEPS, 0.0, 1.0 / STEPS))
+        return hand_at(u, tilt * s, base + max(0.0, extra))
+
 
     def reach(t_hand: np.ndarray) -> float:
         """How well the hand reaches ``t_hand``, the other hand keeping the target where it is."""
@@ -171,16 +206,13 @@ def pour(
     to_cup = t_cup[:2, 3] - centre[:2]
     home = math.atan2(to_cup[1], to_cup[0])
     candidates = sorted((home + k * math.pi / 4 for k in range(-3, 5)), key=lambda a: abs(a - home))
-    best: tuple[float, np.ndarray, float] | None = None
+    best: tuple[float, np.ndarray] | None = None
     for a in candidates:
         u = np.array([math.cos(a), math.sin(a), 0.0])
-        extra = clear_lift(u)
-        err = max(
-            ctx.reach_error(side, hand_at(u, tilt, extra)),
-            ctx.reach_error(side, hand_at(u, 0.0, 0.07 + extra)),
-        )
+        err = max(ctx.reach_error(side, lifted(u, 1.0, 0.0)),
+                  ctx.reach_error(side, lifted(u, 0.0, LIP_START_EXTRA_M)))
         if best is None or err < best[0]:
-            best = (err, u, extra)
+            best = (err, u)
         if err < REACH_TOLERANCE_M:
             break
     if best is None or best[0] > 3 * REACH_TOLERANCE_M:
@@ -188,7 +220,7 @@ def pour(
             f"cannot pour from {source} into {target}: no tilted pose over {target} is in reach"
             f" of {hand} (best leaves the hand {best[0] * 100 if best else float('nan'):.0f} cm off)"
         )
-    _, u, extra = best
+    u = best[1]
 
     # a hand holding the target keeps it where it was (its goal fixed, as strong a task as the
     # pouring hand's: the whole-body IK would otherwise let it drift with the torso as the source tilts)
@@ -201,23 +233,24 @@ def pour(
         ctl.activity = f"resting {source} on {target}"
         t_src = world.body_pose(source)
         t_src[:2, 3] = centre[:2] + u[:2] * bowl.rim_radius
-        go(t_src @ np.linalg.inv(cup_in_hand), TUNING.shift_s)
+        t_go = t_src @ np.linalg.inv(cup_in_hand)
+        meets = below_holder(world_corners(cup, t_src)), below_holder(hand_pts @ t_go[:3, :3].T + t_go[:3, 3])
+        if max(meets) < 0:
+            go(t_go, TUNING.shift_s)  # else it rests where it is: the slide would meet the other hand
         m.hold_still()
     ctl.activity = f"bringing {source} over {target}"
-    start = hand_at(u, 0.0, extra + LIP_START_EXTRA_M)
-    m.carry(start, {source, target}, TUNING.work_carry_s)
+    m.carry(lifted(u, 0.0, LIP_START_EXTRA_M), {source, target}, TUNING.work_carry_s)
     ctl.activity = f"pouring {liquid} into {target}"
-    steps = 40
-    for k in range(1, steps + 1):
-        s = k / steps
+    for k in range(1, STEPS + 1):
+        s = k / STEPS
         slowdown = NARROW_SLOWDOWN if narrow and tilt * s > SLOW_FROM_RAD else 1.0
-        lift = extra + LIP_START_EXTRA_M * max(0.0, 1.0 - 2.0 * s)
-        go(hand_at(u, tilt * s, lift), slowdown * duration / steps)
+        go(lifted(u, s, LIP_START_EXTRA_M * max(0.0, 1.0 - 2.0 * s)), slowdown * duration / STEPS)
     m.hold_still(EMPTY_S, until=lambda: world.balls_inside(source, liquid) == 0)
     m.hold_still(TUNING.shift_s)
-    for k in range(1, steps // 2 + 1):
-        s = 1.0 - k / (steps // 2)
-        go(hand_at(u, tilt * s, extra + LIP_START_EXTRA_M * (1.0 - s)), 1.0 / (steps // 2))
+    back = STEPS // 2
+    for k in range(1, back + 1):
+        s = 1.0 - k / back
+        go(lifted(u, s, LIP_START_EXTRA_M * (1.0 - s)), 1.0 / back)
     inside = world.balls_inside(target, liquid)
     if inside < SUCCESS_FRACTION * total:
         left = world.balls_inside(source, liquid)
