@@ -39,6 +39,63 @@ def test_free_spots_keep_off_every_footprint_and_prefer_the_hands_side():
     assert spots[0][1] >= 0  # the left hand's side of the robot first
 
 
+def test_free_spots_keep_room_for_the_hand_and_its_withdrawal():
+    """A spot where the hand, or the hand backing off after letting go, would hit a neighbour
+    is no free spot (a hand-over's cup set down beside another cup knocked it over)."""
+    from oacdsl.runtime.motion.tuning import TUNING
+
+    run = prepare(_library(), "open_and_put_down", layout="demonstrated", demonstrated=FIRST_FRAME)
+    world = run.world
+    bottle, r_bottle = world.body_pose("bottle")[:2, 3], world.layout.bodies["bottle"].radius
+    r = world.layout.bodies["lid"].radius
+    plain = free_spots(world, "l", "lid", r, limit=1000)
+    hand = (np.array([0.0, 0.05]), np.array([0.0, 0.05 + TUNING.withdraw_back_m]))  # hand and way out at +y
+    spots = free_spots(world, "l", "lid", r, limit=1000, hand_xy_m=hand)
+    assert spots and len(spots) < len(plain)
+    for p in spots:
+        for d in hand:
+            assert np.linalg.norm(p + d - bottle) >= r_bottle + TUNING.near_path_m / 2
+
+
+def test_free_spots_keep_the_forearm_off_other_footprints():
+    """Seen from above, the forearm (the last part of elbow → hand) passes over no object at a
+    free spot: a cup set down beyond another was knocked over by the arm reaching over it."""
+    from oacdsl.runtime.motion.paths import segment_distance
+    from oacdsl.runtime.motion.tuning import TUNING
+
+    run = prepare(_library(), "open_and_put_down", layout="demonstrated", demonstrated=FIRST_FRAME)
+    world = run.world
+    bottle, r_bottle = world.body_pose("bottle")[:2, 3], world.layout.bodies["bottle"].radius
+    elbow = world.body_pose("elbow_l_link")[:2, 3]
+    spots = free_spots(world, "l", "lid", world.layout.bodies["lid"].radius, limit=1000)
+    assert spots
+    for p in spots:
+        start = p - (p - elbow) * min(1.0, TUNING.forearm_m / float(np.linalg.norm(p - elbow)))
+        assert segment_distance(bottle, start, p) >= r_bottle + TUNING.near_path_m / 2
+
+
+def test_a_way_down_beside_an_object_comes_straight_down_from_above_the_goal():
+    """A carry whose slanting way down would pass low over an object beside the goal crosses at
+    the way's height to above the goal first; with nothing beside the goal it stays three moves."""
+    from oacdsl.runtime.motion.paths import carry_path
+    from oacdsl.runtime.transforms import make_T
+
+    run = prepare(_library(), "open_and_put_down", layout="demonstrated", demonstrated=FIRST_FRAME)
+    world = run.world
+    bottle = world.body_pose("bottle")
+    top = bottle[2, 3] + world.layout.bodies["bottle"].height
+    start = make_T(np.eye(3), (bottle[0, 3], bottle[1, 3] + 0.35, top + 0.05))
+    beside = make_T(np.eye(3), (bottle[0, 3], bottle[1, 3] - 0.10, top - 0.10))  # low, just past the bottle
+    path = carry_path(world, "l", start, beside, set(), 2.0)
+    assert len(path) == 4
+    above, goal = path[2][0], path[3][0]
+    assert np.allclose(above[:2, 3], goal[:2, 3]) and above[2, 3] > goal[2, 3]
+    assert above[2, 3] == pytest.approx(path[1][0][2, 3])
+    assert sum(s for _, s in path[1:]) == pytest.approx(2.0)  # the climb comes on top
+    far = make_T(np.eye(3), (bottle[0, 3], bottle[1, 3] + 0.60, top - 0.10))  # away from every object
+    assert len(carry_path(world, "l", start, far, set(), 2.0)) == 3
+
+
 @pytest.mark.slow
 def test_a_lid_taken_off_its_bottle_is_put_down_on_the_table_not_on_the_bottle():
     run = prepare(_library(), "open_and_put_down", layout="demonstrated", demonstrated=FIRST_FRAME)

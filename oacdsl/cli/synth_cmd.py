@@ -10,6 +10,9 @@ import secrets
 import sys
 from pathlib import Path
 
+#: oacdsl.segmentation.synth.STORIES, spelled out so that building the parser imports no numpy.
+_STORIES = ("paper", "handover", "overlap")
+
 DESCRIPTION = """\
 Write a synthetic motion-capture demonstration of a scene as a C3D file (100 Hz
 unless --rate, millimetres, one subject prefix per instance: 'red_cup:RC1') and its ground truth
@@ -40,6 +43,7 @@ examples:
   oacc synth dough -o clean.c3d --clean         # no noise, no gaps
   oacc synth dough -o fast.c3d --rate 240 --jitter 0.5   # 240 Hz, 0.5 mm white jitter
   oacc synth dough -o fly.c3d --flight 1s       # the liquids are in the air for a second
+  oacc synth dough -o handover.c3d --story handover   # the red cup changes hands
 """
 
 
@@ -85,6 +89,14 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         help="time each liquid is in the air from its cup to the bowl, 0.05s to 1.5s"
         " (default: 0.16s, a thrown-down parabola; longer: a slow straight stream)",
     )
+    p.add_argument(
+        "--story",
+        choices=_STORIES,
+        default="paper",
+        help="the order of the sub-actions: 'paper' (the default, as above), 'handover' (the left"
+        " hand pours, then hands the empty red cup to the right hand, which sets it down on the"
+        " right) or 'overlap' (the right hand grasps and pours while the left hand is still at work)",
+    )
     p.set_defaults(func=run)
 
 
@@ -123,7 +135,7 @@ def run(args: argparse.Namespace) -> int:
     for written in (out, truth_file):  # a FIFO, a device, a read-only file: refused before any work
         check_target(written)
     demo = SCENES[args.scene](
-        seed=args.seed, source=out.name, rate_hz=args.rate, noise=noise, flight_s=flight
+        seed=args.seed, source=out.name, rate_hz=args.rate, noise=noise, flight_s=flight, story=args.story
     )
     recording = demo.clean if args.clean else demo.recording
     truth = dict(demo.truth, recording=out.name, clean=bool(args.clean))

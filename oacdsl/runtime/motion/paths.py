@@ -80,7 +80,10 @@ def carry_path(
     tuning: Tuning = TUNING,
 ) -> list[tuple[np.ndarray, float]]:
     """Three (T_world_grasp, seconds) from hand pose ``now`` to ``goal``: a climb (0 s when none
-    is needed), a point over the middle of the way, the goal."""
+    is needed), a point over the middle of the way, the goal; four when the slanting way down
+    from the middle would pass too low over an object beside the goal (a cup set down next to
+    another): then the hand crosses at the way's height to over the goal and comes straight
+    down."""
     hanging = HAND_BELOW_CENTRE_M
     held = world.held[side]
     if held is not None:
@@ -93,4 +96,25 @@ def carry_path(
     up[2, 3] = max(over, now[2, 3])  # climb first, then cross
     climb = tuning.climb_share * duration_s if over > now[2, 3] else 0.0
     half = 0.5 * duration_s
-    return [(up, climb), (via, half), (goal, half)]
+    if _slant_clear(world, via[:3, 3], goal[:3, 3], exclude | ({held} if held else set()), hanging, tuning):
+        return [(up, climb), (via, half), (goal, half)]
+    above = goal.copy()
+    above[2, 3] = via[2, 3]
+    return [(up, climb), (via, half), (above, 0.5 * half), (goal, 0.5 * half)]
+
+
+def _slant_clear(
+    world: SimWorld, a: np.ndarray, b: np.ndarray, exclude: set[str], hanging_m: float, tuning: Tuning
+) -> bool:
+    """Whether what hangs ``hanging_m`` below a hand going straight from a to b (m) passes
+    ``tuning.over_m`` above every object whose footprint comes within ``tuning.near_path_m``
+    of the way, at the way's height where it passes nearest."""
+    ab = b[:2] - a[:2]
+    span = float(ab @ ab)
+    for xy, r, top in obstacles(world, exclude):
+        if segment_distance(xy, a[:2], b[:2]) - r >= tuning.near_path_m:
+            continue
+        s = 0.0 if span < 1e-12 else float(np.clip((xy - a[:2]) @ ab / span, 0.0, 1.0))
+        if a[2] + s * (b[2] - a[2]) - hanging_m < top + tuning.over_m:
+            return False
+    return True

@@ -103,6 +103,9 @@ class Tuning:
     #: spacing of the candidate spots, m, and the room kept between footprints there, m
     spot_step_m: float = 0.04
     spot_gap_m: float = 0.04
+    #: the forearm seen from above (its last part before the hand), kept clear of other
+    #: footprints at a free spot, m
+    forearm_m: float = 0.3
 
     # --- press -----------------------------------------------------------------------------
     #: how far a held object is pressed on once it touches, m

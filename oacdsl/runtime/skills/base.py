@@ -52,13 +52,15 @@ REACH_TOLERANCE_RAD = 0.25
 @dataclass(frozen=True)
 class Pick:
     """How a hand took what it holds: the object's pose when it was picked up
-    (T_world_object), the grasp's approach direction (world, unit) and the objects it
-    stood on or touched then (its supports)."""
+    (T_world_object), the grasp's approach direction (world, unit), the objects it
+    stood on or touched then (its supports), and whether it was taken from the other hand
+    (a hand-over: its pose then is no place to set it down again)."""
 
     obj: str
     origin: np.ndarray
     approach: np.ndarray
     supports: frozenset[str]
+    from_hand: bool = False
 
 
 @dataclass

@@ -215,7 +215,7 @@ def secure(ctx: SkillContext, m: GraspMotion) -> None:
     names = finger_joint_names(side)
     now = world.joint_positions()
     ctl.set_fingers(side, {k: min(now[j] + SQUEEZE_RAD, m.closed[k]) for k, j in names.items()})
-    ctx.picked[side] = Pick(obj, m.t_obj, m.plan.approach, m.supports)
+    ctx.picked[side] = Pick(obj, m.t_obj, m.plan.approach, m.supports, from_hand=m.handover)
 
 
 def lifted(ctx: SkillContext, side: str, lift: float) -> np.ndarray:

@@ -5,7 +5,9 @@ Where it goes is read from the world state the step is predicted to leave
 (``SkillContext.expected``): when the object is to touch another free object (the sponge
 stays on the tray it wiped), it is set down on that object — where it is, when it touches
 it already, else above its middle; otherwise (or when it was picked up from that very
-object) it goes back to where it was picked up. Composition: carry over the spot, lower
+object) it goes back to where it was picked up, unless something stands there now, what it
+stood on is held, or it was taken from the other hand (a hand-over: that pose is in the
+air): then on the first free spot of the table. Composition: carry over the spot, lower
 onto the support (guarded by the wrist force), hold still, release, withdraw.
 """
 
@@ -62,7 +64,8 @@ def set_down_pose(
     r_obj = origin[:3, :3]  # standing as it stood when it was picked up
     if support is None and not _origin_free(ctx, obj, pick):
         r_obj = rot_z(math.atan2(t_obj[1, 0], t_obj[0, 0]))  # upright, turned as it is held now
-        xy, where = _free_spot(ctx, side, obj, t_obj_in_hand, r_obj), "a free spot of the table"
+        approach = pick.approach if pick is not None else None
+        xy, where = _free_spot(ctx, side, obj, t_obj_in_hand, r_obj, approach), "a free spot of the table"
     elif support is None or (pick is not None and support in pick.supports):
         xy, where = origin[:2, 3], "its place"  # back where it was picked up (it stood there)
     elif world.touching(obj, support):  # on the support already (a wipe, a ladle in a bowl): set it down here
@@ -75,11 +78,13 @@ def set_down_pose(
 
 
 def _origin_free(ctx: SkillContext, obj: str, pick: Pick | None) -> bool:
-    """Whether ``obj`` may go back where it was picked up: not when what it stood on there is
-    now held by a hand (a lid taken off the bottle the other hand holds up), nor when another
-    object's footprint now overlaps that spot."""
+    """Whether ``obj`` may go back where it was picked up: not when it was taken from the
+    other hand, when what it stood on there is now held by a hand (a lid taken off the bottle
+    the other hand holds up), nor when another object's footprint now overlaps that spot."""
     if pick is None:
         return True
+    if pick.from_hand:  # taken from the other hand: where that was is in the air, not a place
+        return False
     held = {o for o in ctx.world.held.values() if o is not None}
     if pick.supports & held:
         return False
@@ -91,12 +96,21 @@ def _origin_free(ctx: SkillContext, obj: str, pick: Pick | None) -> bool:
 
 
 def _free_spot(
-    ctx: SkillContext, side: str, obj: str, t_obj_in_hand: np.ndarray, r_obj: np.ndarray
+    ctx: SkillContext,
+    side: str,
+    obj: str,
+    t_obj_in_hand: np.ndarray,
+    r_obj: np.ndarray,
+    approach: np.ndarray | None,
 ) -> np.ndarray:
     """The first free spot of the table (:func:`~oacdsl.runtime.motion.spots.free_spots`) the hand
     reaches with ``obj`` turned as ``r_obj`` (as it stood when picked up) over it; raises when
     none is free or reachable."""
-    spots = free_spots(ctx.world, side, obj, ctx.body(obj).radius)
+    # the hand beside the object as it will stand, and where it backs off to (Motion.withdraw)
+    hand = (r_obj @ np.linalg.inv(t_obj_in_hand)[:3, 3])[:2]
+    back = np.array([0.0, 0.0, -1.0]) if approach is None else approach
+    offsets = (hand, hand - TUNING.withdraw_back_m * back[:2])
+    spots = free_spots(ctx.world, side, obj, ctx.body(obj).radius, hand_xy_m=offsets)
     if not spots:
         raise RuntimeFailure(f"place: no free spot on the table for {obj}")
     options = []
