@@ -18,6 +18,7 @@ a separate block: nothing may be tuned on them.
     python benchmarks/kit_bimanual.py --mode paper --mode adaptive
     python benchmarks/kit_bimanual.py --distance 100mm --speed 50mm/s --frames 2 --merge 0.3s
     python benchmarks/kit_bimanual.py --evaluation         # adds the held-out block
+    python benchmarks/kit_bimanual.py --mode adaptive --contacts geometry --library library/kit
 """
 
 from __future__ import annotations
@@ -42,9 +43,11 @@ from segeval.evaluate import (  # noqa: E402
 )
 from segeval.toolscore import KIT_TOOL_TARGETS, ToolScore, cross_hand_frames, score_tools  # noqa: E402
 
+from oacdsl.library import Library  # noqa: E402
 from oacdsl.segmentation import AasParams, segment  # noqa: E402
 from oacdsl.segmentation.grouping import recognise_preset  # noqa: E402
 from oacdsl.segmentation.readers import read_recording  # noqa: E402
+from oacdsl.segmentation.shapes import ShapeModel, scene_shapes  # noqa: E402
 from oacdsl.units import parse_quantity  # noqa: E402
 
 DEVELOPMENT = ("Pour", "Stir", "Mix", "Wipe", "Scoop", "Cut")
@@ -68,14 +71,25 @@ def clip_files(folder: Path, action: str) -> tuple[Path, Path]:
     return xml, xml.with_name(xml.name[: -len(".mmm.xml")] + ".labels.csv")
 
 
-def run_clip(folder: Path, action: str, params: AasParams,
-             tolerance: int) -> tuple[ClipScore, dict[str, Any], ToolScore, dict[str, int]]:
+def clip_shapes(library: Library | None, action: str) -> dict[str, ShapeModel] | None:
+    """The shapes of the clip's scene ``kit_<action>`` in ``library`` (None without one)."""
+    if library is None:
+        return None
+    scene = library.scenes.get(f"kit_{action.lower()}")
+    return scene_shapes(library, scene) if scene is not None else {}
+
+
+def run_clip(folder: Path, action: str, params: AasParams, tolerance: int,
+             library: Library | None = None) -> tuple[ClipScore, dict[str, Any], ToolScore, dict[str, int]]:
     xml, labels_path = clip_files(folder, action)
     recording, preset = recognise_preset(read_recording(xml))
     if preset != "kit":
         sys.exit(f"{xml}: the KIT marker set was not recognised")
     labels = read_labels(labels_path)
-    segmentation = segment(recording, params)
+    segmentation = segment(recording, params, shapes=clip_shapes(library, action))
+    if "geometry" in segmentation.parameters:
+        measured = segmentation.parameters["geometry"].items()
+        print(f"  {action}: " + ", ".join(f"{i} {how}" for i, how in measured))
     result = score_clip(action, segmentation, labels, tolerance)
     objects = {g: recording.group_positions(g) for g in recording.instances if g not in labels}
     reference = {hand: nearest_object(recording.group_positions(hand), objects, contact_from_labels(lab))
@@ -91,7 +105,7 @@ def describe(params: AasParams) -> str:
 
 
 def block(title: str, folder: Path, actions: tuple[str, ...], params: AasParams, tolerance: int,
-          verbose: bool) -> dict[str, Any]:
+          verbose: bool, library: Library | None = None) -> dict[str, Any]:
     print(f"  {title}")
     print(f"  {'clip':<9} {'P':>5} {'R':>5} {'F1':>5}  {'match/pred/lab':>14}  frames  touching (L | R)")
     total = Score()
@@ -99,7 +113,7 @@ def block(title: str, folder: Path, actions: tuple[str, ...], params: AasParams,
     clips = []
     tool_lines = []
     for action in actions:
-        result, reference, tools, cross = run_clip(folder, action, params, tolerance)
+        result, reference, tools, cross = run_clip(folder, action, params, tolerance, library)
         total += result.score
         tool_total += tools.score
         tool_lines.append(tool_text(tools, cross))
@@ -164,6 +178,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--speed", help="v, e.g. 100mm/s")
     ap.add_argument("--frames", type=int, help="n, frames")
     ap.add_argument("--merge", help="merge window, e.g. 0.3s")
+    ap.add_argument("--contacts", choices=("markers", "geometry"), default="markers",
+                    help="contacts between markers, or from the shapes of --library (mode adaptive)")
+    ap.add_argument("--library", help="the library whose scenes kit_<clip> give the shapes (library/kit)")
     ap.add_argument("--tolerance", type=int, default=3, help="frames an event may be off (default 3)")
     ap.add_argument("--evaluation", action="store_true",
                     help="also score the held-out evaluation clips (never tune on them)")
@@ -171,9 +188,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--json", metavar="OUT", help="also write the figures to this JSON file")
     args = ap.parse_args(argv)
     folder = data_folder(args.data)
+    library = None
+    if args.library:
+        from oacdsl.compiler import load_library
+
+        library = load_library([args.library])
     report: dict[str, Any] = {}
     for mode in args.mode or ["paper"]:
-        params = AasParams(mode=mode)
+        params = AasParams(mode=mode, contacts=args.contacts)
         if args.distance:
             params = replace(params, distance_m=parse_quantity(args.distance, "m"))
         if args.speed:
@@ -185,10 +207,11 @@ def main(argv: list[str] | None = None) -> int:
         print(describe(params) + f", events matched within ±{args.tolerance} frames")
         report[mode] = {"parameters": params.to_dict(),
                         "development": block("development clips", folder, DEVELOPMENT, params,
-                                             args.tolerance, args.verbose)}
+                                             args.tolerance, args.verbose, library)}
         if args.evaluation:
             report[mode]["evaluation"] = block("EVALUATION clips (held out: report only, never tune)",
-                                               folder, EVALUATION, params, args.tolerance, args.verbose)
+                                               folder, EVALUATION, params, args.tolerance, args.verbose,
+                                               library)
         print()
     if args.json:
         Path(args.json).write_text(json.dumps(report, indent=2), encoding="utf-8")

@@ -81,8 +81,9 @@ def _call(step: tuple[str, dict[str, str]]) -> str:
     return f"{name}({', '.join(binding.values())})"
 
 
-def compose_file(path: Path, library: Path) -> Outcome:
-    """Read, segment, match and compose ``path`` as ``oacc compose`` does."""
+def compose_file(path: Path, library: Path, contacts: str = "markers") -> Outcome:
+    """Read, segment, match and compose ``path`` as ``oacc compose`` does (``contacts``:
+    ``AasParams.contacts``, ``oacc compose --contacts``)."""
     from oacdsl.matching.demonstration import compose_demonstration, match_segmentation
     from oacdsl.matching.matcher import Matcher
     from oacdsl.pipeline.inputs import load_inputs
@@ -94,7 +95,7 @@ def compose_file(path: Path, library: Path) -> Outcome:
         return Outcome(status, detail, kf, time.perf_counter() - start, steps, bound)
 
     try:
-        inputs = load_inputs(path, [library], None, AasParams())
+        inputs = load_inputs(path, [library], None, AasParams(contacts=contacts))
     except OacError as err:
         return done("scene", err.message, None)
     try:
@@ -155,11 +156,11 @@ def compare(original: Outcome, take: Outcome, hands: dict[str, str]) -> tuple[st
 
 
 def run_take(
-    rec: Recording, take_name: str, library: Path, suffix: str, folder: Path
+    rec: Recording, take_name: str, library: Path, suffix: str, folder: Path, contacts: str = "markers"
 ) -> tuple[Outcome, dict[str, str]]:
     take, hands = STANDARD_TAKES[take_name](rec)
     path = write_recording(take, folder / f"{take_name}{suffix}")
-    return compose_file(path, library), hands
+    return compose_file(path, library, contacts), hands
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -170,6 +171,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--take", action="append", choices=list(STANDARD_TAKES),
                         help="a standard take (repeatable; default: all seven)")
     parser.add_argument("--markdown", action="store_true", help="print a Markdown table")
+    parser.add_argument("--contacts", choices=("markers", "geometry"), default="markers",
+                        help="contacts between markers (default) or from the library's shapes")
     args = parser.parse_args(argv)
     wanted = args.clip or [*DEVELOPMENT, "dough"]
     take_names = args.take or list(STANDARD_TAKES)
@@ -180,13 +183,13 @@ def main(argv: list[str] | None = None) -> int:
             folder.mkdir()
             suffix = ".c3d" if path.suffix == ".c3d" else ".mmm.xml"
             rec = read_recording(path)
-            base = compose_file(path, library)
+            base = compose_file(path, library, args.contacts)
             cells: list[Outcome] = []
             for take_name in take_names:
                 if base.steps is None:
                     cells.append(Outcome("-", "original fails", None, 0.0))
                     continue
-                outcome, hands = run_take(rec, take_name, library, suffix, folder)
+                outcome, hands = run_take(rec, take_name, library, suffix, folder, args.contacts)
                 if outcome.steps is not None:
                     outcome.status, outcome.detail = compare(base, outcome, hands or dict(IDENTITY))
                 cells.append(outcome)

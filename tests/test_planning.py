@@ -229,15 +229,21 @@ def test_fast_downward_and_pyperplan_plans_have_the_same_length(problem):
             assert all(holds(a, result.states[-1]) for a in goal)
 
 
-def test_oacc_run_state_sets_up_a_liquid_in_a_container_and_refuses_the_rest():
-    from oacdsl.planning.state import state_as_fills
+def test_oacc_run_state_sets_up_a_liquid_in_a_container_or_a_held_object_and_refuses_the_rest():
+    from oacdsl.planning.state import state_as_setup
 
-    fills = state_as_fills(library(), kitchen(), "orange_bowl <-> liquid_one, liquid_two <-> red_cup")
-    assert fills == {"liquid_one": "orange_bowl", "liquid_two": "red_cup"}
-    with pytest.raises(UsageError, match=r"^--state:1:25: the simulation can start a liquid in a container"):
-        state_as_fills(library(), kitchen(), "liquid_one <-> red_cup, mixer <-> right_hand")
+    fills, held = state_as_setup(library(), kitchen(), "orange_bowl <-> liquid_one, liquid_two <-> red_cup")
+    assert fills == {"liquid_one": "orange_bowl", "liquid_two": "red_cup"} and held == {}
+    fills, held = state_as_setup(library(), kitchen(), "liquid_one <-> red_cup, mixer <-> right_hand")
+    assert fills == {"liquid_one": "red_cup"} and held == {"right_hand": "mixer"}
+    with pytest.raises(UsageError, match=r"^--state:1:1: the simulation can start a liquid in a container"):
+        state_as_setup(library(), kitchen(), "red_cup <-> orange_bowl")
+    with pytest.raises(UsageError, match=r"^--state:1:1: the simulation can start"):
+        state_as_setup(library(), kitchen(), "left_hand <-> right_hand")
+    with pytest.raises(UsageError, match=r"^--state:1:23: a hand holds one object, an object one hand"):
+        state_as_setup(library(), kitchen(), "mixer <-> right_hand, red_cup <-> right_hand")
     with pytest.raises(UsageError, match="did you mean 'orange_bowl'"):
-        state_as_fills(library(), kitchen(), "liquid_one <-> orange_bow")
+        state_as_setup(library(), kitchen(), "liquid_one <-> orange_bow")
 
 
 def test_the_planner_leaves_nothing_in_the_working_folder(tmp_path, monkeypatch):

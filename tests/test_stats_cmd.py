@@ -62,7 +62,7 @@ def test_empty_or_missing_database_is_friendly_and_not_created(tmp_path, capsys)
     empty = tmp_path / "empty.sqlite3"
     RunStore(empty).close()
     assert main(["stats", "--db", str(empty), "--json"]) == 0
-    assert json.loads(capsys.readouterr().out) == {"db": str(empty), "runs": 0, "oacs": []}
+    assert json.loads(capsys.readouterr().out) == {"db": str(empty), "runs": 0, "oacs": [], "adaptations": []}
 
 
 def test_env_var_chooses_the_database(db, monkeypatch, capsys):
@@ -80,3 +80,28 @@ def test_foreign_file_is_a_one_line_error(tmp_path, capsys):
     assert main(["stats", "--db", str(other)]) == 2
     err = capsys.readouterr().err
     assert "not an oacdsl run database" in err and len(err.splitlines()) == 1
+
+
+def test_adaptations_are_counted_and_the_latest_listed(tmp_path, capsys):
+    path = tmp_path / "runs.sqlite3"
+    doc = {
+        "oac": "dough", "success": True, "steps": [], "metrics": {"sim_time_s": 30.0},
+        "adaptations": [
+            {"kind": "skipped", "step": 0, "text": "skipped pour(left_hand, red_cup, liquid_one, bowl)"},
+            {"kind": "replanned", "step": 2,
+             "text": "replanned after step 2 grasp(right_hand, green_cup) failed",
+             "plan": ["grasp(left_hand, green_cup)"]},
+        ],
+    }
+    with RunStore(path) as store:
+        store.record_run_json(doc)
+        store.record_run_json({**doc, "adaptations": doc["adaptations"][:1]})
+    assert main(["stats", "--db", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "Adaptations of adaptive runs (3 in 2 runs): 1 replanned, 2 skipped" in out
+    line = "dough  replanned after step 2 grasp(right_hand, green_cup) failed → grasp(left_hand, green_cup)"
+    assert line in out
+    assert main(["stats", "--db", str(path), "--json"]) == 0
+    adapted = json.loads(capsys.readouterr().out)["adaptations"]
+    assert [a["kind"] for a in adapted] == ["skipped", "replanned", "skipped"]
+    assert adapted[1]["plan"] == ["grasp(left_hand, green_cup)"]

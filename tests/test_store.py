@@ -139,7 +139,7 @@ def test_newer_schema_is_refused(tmp_path):
     conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION + 1}")
     conn.commit()
     conn.close()
-    with pytest.raises(StoreError, match=r"newer oacdsl \(schema version 2"):
+    with pytest.raises(StoreError, match=rf"newer oacdsl \(schema version {SCHEMA_VERSION + 1}"):
         RunStore(db)
 
 
@@ -226,3 +226,53 @@ def test_summarise_counts_rates_medians_and_last_failure():
     assert pour.last_run_utc == "t5"
     assert (pour.ci_low, pour.ci_high) == wilson_interval(2, 4)
     assert json.loads(json.dumps(pour.to_json()))["oac"] == "pour"
+
+
+ADAPTED = {
+    "oac": "dough",
+    "success": True,
+    "steps": [
+        {"oac": "grasp", "binding": {"h": "right_hand", "o": "red_cup"}, "success": True, "duration_s": 2.0}
+    ],
+    "metrics": {"sim_time_s": 30.0},
+    "adaptations": [
+        {"kind": "skipped", "step": 0, "text": "skipped pour(left_hand, red_cup, liquid_one, orange_bowl)"},
+        {"kind": "replanned", "step": 1,
+         "text": "grasp(left_hand, red_cup): red_cup is out of left_hand's reach",
+         "plan": ["grasp(right_hand, red_cup)", "pour(right_hand, red_cup, liquid_one, orange_bowl)"]},
+    ],
+}
+
+
+def test_an_adaptive_runs_adaptations_are_stored_in_order(tmp_path):
+    with RunStore(tmp_path / "runs.sqlite3") as store:
+        rid = store.record_run_json(ADAPTED, seed=3, command="run")
+        store.record_run_json({**ADAPTED, "oac": "other", "adaptations": []})
+        rows = store.adaptations()
+        assert [(r["run_id"], r["oac"], r["position"], r["kind"], r["step"]) for r in rows] == [
+            (rid, "dough", 0, "skipped", 0), (rid, "dough", 1, "replanned", 1)]
+        assert rows[0]["plan"] is None and rows[1]["plan"] == ADAPTED["adaptations"][1]["plan"]
+        assert rows[1]["text"].endswith("out of left_hand's reach") and rows[1]["time_utc"]
+        assert store.adaptations("other") == [] and len(store.adaptations("dough")) == 2
+
+
+def test_a_version_1_store_gets_the_adaptations_table_and_keeps_its_runs(tmp_path):
+    from oacdsl.stats.schema import _SCHEMA_V1
+
+    path = tmp_path / "old.sqlite3"
+    conn = sqlite3.connect(path)
+    conn.executescript(_SCHEMA_V1)
+    conn.execute(f"PRAGMA application_id = {APPLICATION_ID}")
+    conn.execute("PRAGMA user_version = 1")
+    conn.execute(
+        "INSERT INTO runs (run_id, time_utc, oac, success) VALUES ('old', '2026-01-01T00:00:00Z', 'dough', 1)"
+    )
+    conn.commit()
+    conn.close()
+    with RunStore(path, create=False) as store:
+        assert store.run_count() == 1 and store.adaptations() == []
+        store.record_run_json(ADAPTED)
+        assert len(store.adaptations()) == 2
+    conn = sqlite3.connect(path)
+    assert conn.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION == 2
+    conn.close()

@@ -83,6 +83,13 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     from oacdsl.cli.run_cmd import add_adaptive_options
 
     add_adaptive_options(p)
+    p.add_argument(
+        "--state",
+        metavar="ATOMS",
+        help='relations at the robot\'s start, checked against the scene: a liquid in a container'
+        ' ("liquid_one <-> orange_bowl", as --fill) or a hand holding an object ("knife <-> right_hand":'
+        " the hand grasps it before the run)",
+    )
     p.add_argument("--out", metavar="DIR", default="out", help="folder for the report (default: out/)")
     p.add_argument(
         "--db",
@@ -132,6 +139,10 @@ def run(args: argparse.Namespace) -> int:
     import dataclasses
 
     overrides = dataclasses.replace(overrides, strict=args.strict, max_repairs=args.max_repairs)
+    if args.state:
+        from oacdsl.planning.state import parse_atoms
+
+        parse_atoms(args.state, "--state")  # a syntax error fails before the recording is read
     db = None
     if not args.no_record:
         from oacdsl.stats import ensure_writable, resolve_db_path
@@ -168,6 +179,11 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"reproduce needs the 'robot' extra (pip install -e '.[robot]'): {error}") from None
     from oacdsl.cli.scene_check import check_overrides
 
+    if args.state:
+        from oacdsl.planning.state import state_as_setup
+
+        stated_fills, held = state_as_setup(inputs.library, inputs.scene, args.state)
+        overrides = dataclasses.replace(overrides, fill={**stated_fills, **overrides.fill}, held=held)
     check_overrides(inputs.library, inputs.scene, overrides)  # before anything is composed or written
 
     def warn(text: str) -> None:

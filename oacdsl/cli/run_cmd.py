@@ -95,7 +95,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         "--state",
         metavar="ATOMS",
         help='relations at the start, checked against the scene: a liquid in a container ("liquid_one <->'
-        ' orange_bowl"), as --fill',
+        ' orange_bowl", as --fill) or a hand holding an object ("mixer <-> right_hand": the hand grasps'
+        " it before the run)",
     )
     add_many_options(p)
     p.set_defaults(func=run)
@@ -142,7 +143,7 @@ def _demonstrated(
         raise UsageError(f"{args.demonstration}: no such recording file")
     # grouped as oacc reproduce groups it: a recognised marker set (KIT) gives the hands
     grouped, _ = group_recording(read_recording(args.demonstration), None)
-    return demonstrated_positions(grouped, sc)
+    return demonstrated_positions(grouped, sc, library)
 
 
 def load_inputs(paths: list[str], scene: str | None) -> tuple[Any, str | None]:
@@ -217,14 +218,14 @@ def run(args: argparse.Namespace) -> int:
     if args.state:
         import dataclasses
 
-        from oacdsl.planning.state import state_as_fills
+        from oacdsl.planning.state import state_as_setup
         from oacdsl.runtime.binding import choose_scene
 
         if args.name not in library.oacs:
             raise UsageError(f"no oac {args.name!r} in the library{did_you_mean(args.name, library.oacs)}")
         chosen = choose_scene(library, library.oacs[args.name], scene, bindings)
-        fills = {**state_as_fills(library, chosen, args.state), **overrides.fill}
-        overrides = dataclasses.replace(overrides, fill=fills)
+        stated_fills, held = state_as_setup(library, chosen, args.state)
+        overrides = dataclasses.replace(overrides, fill={**stated_fills, **overrides.fill}, held=held)
     if args.name in library.oacs and (overrides.places or overrides.fill):  # else prepare() names the problem
         from oacdsl.cli.scene_check import check_overrides
         from oacdsl.runtime.binding import choose_scene

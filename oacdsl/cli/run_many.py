@@ -57,8 +57,8 @@ def run_many_cmd(
     if args.place_samples < 1:
         raise UsageError(f"--place-samples {args.place_samples}: at least 1")
     kw = overrides.kwargs()
-    if kw.get("layout") or kw.get("balls"):
-        raise UsageError("--seeds takes --place and --fill, not --layout or balls")
+    if kw.get("layout") or kw.get("balls") or kw.get("held"):
+        raise UsageError("--seeds takes --place and --fill, not --layout, balls or a held object (--state)")
     db = None if args.no_record else ensure_writable(resolve_db_path(args.db))
     spec = RunSpec(library_paths, args.name, bindings, scene, kw.get("fill"), kw.get("places"))
     store = RunStore(db) if db is not None else None

@@ -38,6 +38,7 @@ examples:
   oacc segment Pour.mmm.xml --json            # KIT/MMM: hands recognised (note on stderr)
   oacc segment demo.c3d --scene library/ --scene-name kitchen --plot aas.png --graphs graphs/
   oacc segment Stir.mmm.xml --motion --plot-motion stir.png   # what moved, relative to what
+  oacc segment Cut.mmm.xml --scene library/kit --scene-name kit_cut --contacts geometry
 """
 
 
@@ -120,6 +121,13 @@ def add_aas_options(group: Any, mode_help: str = MODE_HELP) -> None:
     )
     group.add_argument("--merge", metavar="TIME", help="keyframe merge window (default: 0.3s; 0s = off)")
     group.add_argument("--mode", metavar="MODE", default=DEFAULT_MODE, help=mode_help)
+    group.add_argument(
+        "--contacts",
+        metavar="HOW",
+        default="markers",
+        help="markers (distances between markers, default) or geometry: surface to surface where"
+        " the library gives a class its shape and markers (mode adaptive; needs the scene's library)",
+    )
 
 
 def params_from_args(args: argparse.Namespace) -> Any:
@@ -132,6 +140,13 @@ def params_from_args(args: argparse.Namespace) -> Any:
     if args.mode not in DETECTORS:
         raise UsageError(f"--mode: unknown mode {args.mode!r}{did_you_mean(args.mode, DETECTORS)}")
     kwargs: dict[str, Any] = {"mode": args.mode}
+    contacts = getattr(args, "contacts", "markers")
+    if contacts not in ("markers", "geometry"):
+        raise UsageError(f"--contacts: {contacts!r} is neither markers nor geometry")
+    if contacts == "geometry":
+        if args.mode != "adaptive":
+            raise UsageError(f"--contacts geometry needs --mode adaptive, not {args.mode!r}")
+        kwargs["contacts"] = contacts
     if args.distance is not None:
         kwargs["distance_m"] = parse_quantity(args.distance, "m", what="--distance")
     if args.speed is not None:
@@ -150,7 +165,8 @@ def params_from_args(args: argparse.Namespace) -> Any:
 
 
 def load(args: argparse.Namespace) -> Any:
-    """The recording, grouped by --scene or --preset when given."""
+    """The recording, grouped by --scene or --preset when given (and ``args.shapes`` set: the
+    scene's shapes, for --contacts geometry)."""
     from oacdsl.errors import UsageError
     from oacdsl.segmentation.readers import read_recording
 
@@ -163,9 +179,17 @@ def load(args: argparse.Namespace) -> Any:
     if args.scene:
         from oacdsl.segmentation.grouping import apply_scene_groups
 
-        recording = apply_scene_groups(recording, pick_scene(args.scene, args.scene_name))
+        scene = pick_scene(args.scene, args.scene_name)
+        recording = apply_scene_groups(recording, scene)
+        if getattr(args, "contacts", "markers") == "geometry":
+            from oacdsl.compiler import load_library
+            from oacdsl.segmentation.shapes import scene_shapes
+
+            args.shapes = scene_shapes(load_library(args.scene), scene)
     elif args.scene_name:
         raise UsageError("--scene-name needs --scene FILE")
+    elif getattr(args, "contacts", "markers") == "geometry":
+        raise UsageError("--contacts geometry needs --scene: the library gives the classes' shapes")
     return recording
 
 
@@ -206,7 +230,8 @@ def run(args: argparse.Namespace) -> int:
         if written:
             check_target(written)
     recording = load(args)
-    seg = segment(recording, params, progress=_progress_printer(recording.n_frames))
+    seg = segment(recording, params, progress=_progress_printer(recording.n_frames),
+                  shapes=getattr(args, "shapes", None))
     motions = None
     if args.motion or args.plot_motion:
         from oacdsl.segmentation.motion import sub_action_motions
@@ -269,7 +294,8 @@ def format_table(seg: Any) -> str:
             f", change window = {format_quantity(p['change_window_s'], 's')}"
             if p.get("mode") != "paper" and "change_window_s" in p
             else ""
-        ),
+        )
+        + (f", contacts = {p['contacts']}" if p.get("contacts", "markers") != "markers" else ""),
         "",
         f"{'#':>3}  {'frame':>7}  {'time [s]':>9}  relations",
     ]

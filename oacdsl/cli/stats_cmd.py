@@ -9,7 +9,8 @@ from typing import Any
 
 _EPILOG = """\
 Every `oacc run` and `oacc reproduce` records the outcome of each OAC it executed
-(success, duration, error, binding) in a SQLite database: --db PATH, else $OACDSL_DB,
+(success, duration, error, binding), and what an adaptive run skipped or replanned,
+in a SQLite database: --db PATH, else $OACDSL_DB,
 else $XDG_DATA_HOME/oacdsl/runs.sqlite3 (default ~/.local/share/oacdsl/runs.sqlite3).
 The 95 % interval of the success rate is the Wilson score interval.
 """
@@ -38,6 +39,7 @@ def run(args: argparse.Namespace) -> int:
     path = resolve_db_path(args.db)
     check_store_path(path)  # a folder, a FIFO, a path under a file: an error, not "no runs yet"
     rows: list[dict[str, Any]] = []
+    adapted: list[dict[str, Any]] = []
     names: list[str] = []
     runs = 0
     if RunStore.exists(path) and path.stat().st_size > 0:
@@ -48,9 +50,10 @@ def run(args: argparse.Namespace) -> int:
                 hint = did_you_mean(args.oac, names)
                 raise UsageError(f"no runs of OAC '{args.oac}' recorded in {path}{hint}")
             rows = store.rows(args.oac)
+            adapted = store.adaptations(args.oac)
     table = summarise(rows)
     if args.json:
-        doc = {"db": str(path), "runs": runs, "oacs": [r.to_json() for r in table]}
+        doc = {"db": str(path), "runs": runs, "oacs": [r.to_json() for r in table], "adaptations": adapted}
         print(json.dumps(doc, indent=2))
         return 0
     if not table:
@@ -59,7 +62,29 @@ def run(args: argparse.Namespace) -> int:
         return 0
     print(f"{runs} run{'s' if runs != 1 else ''} recorded in {path}\n")
     _print_table(table)
+    _print_adaptations(adapted)
     return 0
+
+
+#: The latest adaptations ``oacc stats`` lists (``--json`` gives all).
+SHOWN_ADAPTATIONS = 10
+
+
+def _print_adaptations(adapted: list[dict[str, Any]]) -> None:
+    """How often adaptive runs skipped, replanned, … and the latest adaptations, one a line."""
+    if not adapted:
+        return
+    counts: dict[str, int] = {}
+    for a in adapted:
+        counts[a["kind"]] = counts.get(a["kind"], 0) + 1
+    n_runs = len({a["run_id"] for a in adapted})
+    kinds = ", ".join(f"{n} {kind}" for kind, n in sorted(counts.items()))
+    runs = f"{n_runs} run{'s' * (n_runs != 1)}"
+    sys.stdout.write(f"\nAdaptations of adaptive runs ({len(adapted)} in {runs}): {kinds}\n")
+    for a in adapted[-SHOWN_ADAPTATIONS:]:
+        text = str(a["text"]) + (f" → {', '.join(a['plan'])}" if a["plan"] else "")
+        text = text if len(text) <= 100 else text[:99] + "…"
+        sys.stdout.write(f"  {_when(a['time_utc'])}  {a['oac']}  {text}\n")
 
 
 def _pct(x: float) -> str:

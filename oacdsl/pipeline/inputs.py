@@ -37,6 +37,7 @@ from oacdsl.model import Scene
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import Keyframe, Segmentation
+from oacdsl.segmentation.shapes import ShapeModel
 from oacdsl.world import WorldState
 
 __all__ = [
@@ -145,13 +146,22 @@ class Inputs:
         if self.recording is None:
             return None
         recording, params = self.recording, dataclasses.replace(self.params, merge_s=0.0)
+        shapes = self.shapes()
 
         def run() -> Segmentation:
             from oacdsl.segmentation import segment
 
-            return segment(recording, params)
+            return segment(recording, params, shapes=shapes)
 
         return run
+
+    def shapes(self) -> dict[str, ShapeModel] | None:
+        """The scene's shapes when contacts are measured from geometry (``params.contacts``), else None."""
+        if self.params.contacts != "geometry":
+            return None
+        from oacdsl.segmentation.shapes import scene_shapes
+
+        return scene_shapes(self.library, self.scene)
 
     def segmented(self) -> Segmentation:
         """The segmentation given, or the recording segmented with ``params``."""
@@ -159,7 +169,7 @@ class Inputs:
             return self.segmentation
         from oacdsl.segmentation import segment
 
-        return segment(self.motion_capture(), self.params)
+        return segment(self.motion_capture(), self.params, shapes=self.shapes())
 
 
 def read_segmentation_json(path: Path) -> Segmentation:

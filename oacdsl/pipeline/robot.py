@@ -62,10 +62,11 @@ def execute_stage(
     from oacdsl.runtime.demo_layout import first_frame_positions
     from oacdsl.runtime.executor import prepare, run_prepared
     from oacdsl.runtime.layout import seed_note
+    from oacdsl.segmentation.shapes import scene_shapes
 
-    demonstrated = (
-        first_frame_positions(recording, [i.name for i in scene.tracked()]) if recording is not None else None
-    )
+    names = [i.name for i in scene.tracked()]
+    shapes = scene_shapes(library, scene)
+    demonstrated = first_frame_positions(recording, names, shapes) if recording is not None else None
     given = (overrides or SceneOverrides()).kwargs()
     run = prepare(library, oac, scene=scene, seed=seed, demonstrated=demonstrated, **given)
     if warn is not None and (moved := seed_note(run.world.layout)) is not None:

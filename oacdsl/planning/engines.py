@@ -1,16 +1,19 @@
-"""Plan a :class:`~oacdsl.planning.task.Task` with a real planner through unified-planning.
+"""Plan a :class:`~oacdsl.planning.task.Task` with a real planner.
 
-The task is written as PDDL (:mod:`oacdsl.planning.pddl`) and read by unified-planning's
-PDDL reader, so what is planned is exactly what ``oacc pddl`` writes. Engines:
+The task is written as PDDL (:mod:`oacdsl.planning.pddl`), so what is planned is exactly
+what ``oacc pddl`` writes. Engines:
 
-* ``fast-downward`` — Fast Downward (``up-fast-downward``, the planner inside the wheel):
-  an optimal search (A* with an admissible heuristic) for tasks with action costs and
-  the small tasks of the tests, the LAMA configuration otherwise;
-* ``pyperplan`` — pyperplan (``up-pyperplan``), after unified-planning's compilers removed
-  what it does not read (quantifiers, negative conditions, equality: the task is grounded).
+* ``fast-downward`` — Fast Downward, the planner inside the ``up-fast-downward`` wheel, run
+  on the PDDL files directly (:mod:`oacdsl.planning.downward`): an optimal search (A*) for
+  tasks with action costs and when asked (``optimal``), the LAMA configuration otherwise;
+* ``pyperplan`` — pyperplan (``up-pyperplan``) through unified-planning, which reads the
+  PDDL and whose compilers remove what pyperplan does not read (quantifiers, negative
+  conditions, equality: the task is grounded).
 
-Nothing here searches: a missing package or an engine failure is a
-:class:`~oacdsl.errors.PlanningError` naming the ``plan`` extra.
+A satisficing plan is looked for in a sub-task over the goal's instances and a few spares
+first (:mod:`oacdsl.planning.subtask`), then in the whole task. Nothing here searches: a
+missing package or an engine failure is a :class:`~oacdsl.errors.PlanningError` naming the
+``plan`` extra.
 """
 
 from __future__ import annotations
@@ -24,7 +27,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from oacdsl.errors import PlanningError
+from oacdsl.planning import downward
 from oacdsl.planning.pddl import domain_text, problem_text
+from oacdsl.planning.subtask import sub_task
 from oacdsl.planning.task import Task
 
 __all__ = ["ENGINES", "PlannedStep", "solve"]
@@ -128,8 +133,8 @@ def _compiled(problem: Any, engine: str) -> tuple[Any, Any]:
     return problem, back
 
 
-def solve(task: Task, engine: str = "fast-downward", *, optimal: bool = False) -> list[PlannedStep] | None:
-    """A plan for ``task`` (its steps, in order), or None when the engine proves there is none."""
+def _via_up(task: Task, engine: str, optimal: bool) -> list[tuple[str, list[str]]] | None:
+    """Plan ``task`` through unified-planning (pyperplan): (PDDL action, PDDL arguments) per step."""
     shortcuts, _ = _up()
     from unified_planning.engines import PlanGenerationResultStatus as Status
 
@@ -149,15 +154,43 @@ def solve(task: Task, engine: str = "fast-downward", *, optimal: bool = False) -
         return None
     if result.plan is None:
         raise PlanningError(f"{engine} gave no plan and no proof that none exists ({result.status.name})")
-    actions = {a.name: a for a in task.actions}
-    names = task.original()
-    steps: list[PlannedStep] = []
+    steps = []
     for instance in result.plan.actions:
         if back is not None:
             instance = back(instance)
-        action = actions[instance.action.name]
-        values = iter(names[str(p.object().name)] for p in instance.actual_parameters)
+        steps.append((instance.action.name, [str(p.object().name) for p in instance.actual_parameters]))
+    return steps
+
+
+def _solve(task: Task, engine: str, optimal: bool) -> list[PlannedStep] | None:
+    if engine == "fast-downward":
+        raw = downward.run(task, OPTIMAL_SEARCH if optimal or task.costs else None)
+    else:
+        raw = _via_up(task, engine, optimal)
+    if raw is None:
+        return None
+    actions = {a.name: a for a in task.actions}
+    names = task.original()
+    steps: list[PlannedStep] = []
+    for action_name, args in raw:
+        action = actions[action_name]
+        values = iter(names[arg] for arg in args)
         fixed = dict(action.fixed)
         binding = {p.name: fixed[p.name] if p.name in fixed else next(values) for p in action.oac.params}
         steps.append(PlannedStep(action.oac.name, binding, action.name))
     return steps
+
+
+def solve(task: Task, engine: str = "fast-downward", *, optimal: bool = False) -> list[PlannedStep] | None:
+    """A plan for ``task`` (its steps, in order), or None when the engine proves there is none.
+    A satisficing plan is looked for in the sub-task first (:mod:`oacdsl.planning.subtask`: the
+    goal's instances and a few spares), then, when that has none, in the whole task."""
+    if engine not in ENGINES:
+        raise PlanningError(f"unknown engine {engine!r} (choose {', '.join(ENGINES)})")
+    if not optimal and not task.costs:
+        part = sub_task(task)
+        if part is not None:
+            steps = _solve(part, engine, optimal)
+            if steps is not None:
+                return steps
+    return _solve(task, engine, optimal)

@@ -27,7 +27,7 @@ __all__ = [
     "instance_classes",
     "parse_atoms",
     "scene_state",
-    "state_as_fills",
+    "state_as_setup",
     "state_from_result",
     "stated",
 ]
@@ -140,31 +140,40 @@ def instance_classes(library: Library, scene: Scene) -> dict[str, frozenset[str]
     return {i.name: every[i.name] for i in scene.instances if not (i.environment or i.ignored)}
 
 
-def state_as_fills(library: Any, scene: Any, text: str) -> dict[str, str]:
-    """``oacc run --state``: stated relations the simulation can set up before a run, as
-    ``--fill`` entries — a liquid in a container (UsageError, located, for any other)."""
-    from oacdsl.geometry import ROLE_LIQUID, resolve_scene
+def state_as_setup(library: Any, scene: Any, text: str) -> tuple[dict[str, str], dict[str, str]]:
+    """``oacc run --state`` / ``oacc reproduce --state``: stated relations the simulation can set
+    up before a run: ``(fills, held)`` — a liquid in a container (as ``--fill``) and a hand
+    holding an object that stands on the table (hand → object; the hand grasps it before the
+    run starts). UsageError, located, for any other relation."""
+    from oacdsl.geometry import ROLE_HAND, ROLE_LIQUID, ROLE_OBJECT, resolve_scene
 
     atoms = parse_atoms(text, "--state")
     check_atoms(atoms, scene_state(scene).instances, "--state")
     shapes = {name: geo for name, geo in resolve_scene(library, scene).items() if geo is not None}
     fills: dict[str, str] = {}
+    held: dict[str, str] = {}
     for atom in atoms:
+        col = _column(atom)
         pair = (atom.left, atom.right)
-        for liquid, container in (pair, pair[::-1]):
-            if (
-                not atom.negated
-                and liquid in shapes
-                and container in shapes
-                and shapes[liquid].role == ROLE_LIQUID
-                and shapes[container].container
-            ):
-                fills[liquid] = container
+        roles = {n: shapes[n].role for n in pair if n in shapes}
+        done = False
+        for first, second in (pair, pair[::-1]):
+            if atom.negated or first not in roles or second not in roles:
+                continue
+            if roles[first] == ROLE_LIQUID and shapes[second].container:
+                fills[first] = second
+                done = True
+            elif roles[first] == ROLE_HAND and roles[second] == ROLE_OBJECT:
+                if first in held or second in held.values():
+                    raise UsageError(f"--state:1:{col}: a hand holds one object, an object one hand")
+                held[first] = second
+                done = True
+            if done:
                 break
-        else:
-            col = max(1, atom.span.column - 4) if atom.span is not None else 1
+        if not done:
             raise UsageError(
                 f"--state:1:{col}: the simulation can start a liquid in a container ('liquid_one <->"
-                " orange_bowl'); other relations are not set up before a run yet"
+                " orange_bowl') or a hand holding an object ('mixer <-> right_hand'); other relations"
+                " are not set up before a run"
             )
-    return fills
+    return fills, held

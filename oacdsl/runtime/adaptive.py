@@ -9,8 +9,9 @@ world state from the simulation's contacts:
   observed, the executor **replans** from the observed state to the composed OAC's effects
   with a real planner (:mod:`oacdsl.planning`), preferring the demonstrated steps still to
   come with their bindings (each costs 1, any other grounding of an OAC 10), and runs the
-  repair; a step whose skill failed is not chosen again with the same binding (a hand that
-  cannot reach a cup leaves the cup to the other hand);
+  repair; a step whose skill failed is not chosen again with the same binding;
+* a step that would send a hand for an object its arm does not reach while the other hand's
+  does is not run: the repair leaves the object to the other hand (:mod:`oacdsl.runtime.reach`);
 * at most ``max_repairs`` repairs; no plan is a clear failure naming the unreachable atoms.
 
 Every adaptation is recorded in ``RunResult.adaptations`` (the run's JSON). The per-step
@@ -35,6 +36,7 @@ from oacdsl.planning.task import Action, make_task, primitive_actions
 from oacdsl.runtime.binding import Step, bound_atoms
 from oacdsl.runtime.executor import Run, _check, _judge_call, _label, _pair, _pairs, run_metrics, run_step
 from oacdsl.runtime.intent import predicted_states
+from oacdsl.runtime.reach import FarHand, out_of_reach, with_other_hand
 from oacdsl.runtime.results import RunResult, StepResult
 from oacdsl.world import WorldState
 
@@ -150,6 +152,24 @@ class _Adaptive:
                 best = (cost, [*prefix, *rest])
         return None if best is None else best[1]
 
+    def hand_over(self, index: int, step: Step, far: FarHand) -> bool:
+        """Queue ``step`` and the steps after it with the other hand taking the object (up to
+        where it lets go), when they reach the goal by the matcher's semantics (False: not)."""
+        steps = with_other_hand([step, *self.queue], far)
+        if steps is None or self.repairs >= self.max_repairs:
+            return False
+        try:
+            after = replay_steps(self.library, self.run.world.relations(), steps)
+        except OacError:
+            return False
+        if not all(holds(g, after) for g in self.goal):
+            return False
+        self.repairs += 1
+        self.queue, self.demo = list(steps), list(steps)
+        label = _label(step.oac.name, step.binding)
+        self.note("replanned", index, f"{label}: {far.text}: {far.other} takes it", steps)
+        return True
+
     def repair(self, index: int, reason: str) -> bool:
         """Plan from the observed state to the goal and queue the plan (False: give up)."""
         state = self.run.world.relations()
@@ -240,7 +260,12 @@ def run_adaptive(
     states = [world.relations()]
     goal = bound_atoms(run.oac.effect, run.binding) if run.oac.composed else []
     top = _check(states[0], bound_atoms(run.oac.pre, run.binding), f"precondition of {run.oac.name} not met")
-    if top is not None and not a.repair(0, top):
+    if top is not None and a.goal and all(holds(g, states[0]) for g in a.goal):
+        # the effects say what ends, not what happens (KIT Cut: the knife leaves the cucumber):
+        # holding at the start they ask for nothing, so the demonstration's steps decide
+        a.note("followed", 0, f"{top}; the composed OAC's effects hold at the start: its steps run,"
+               " each skipped when its effects hold")
+    elif top is not None and not a.repair(0, top):
         a.queue = []
     executed = 0
     while a.queue and a.failed is None:
@@ -255,6 +280,12 @@ def run_adaptive(
             continue
         pre = bound_atoms(step.oac.pre, step.binding)
         error = _check(state, pre, f"precondition of {step.oac.name} not met")
+        far = out_of_reach(ctx, step, state) if error is None else None
+        if far is not None:  # the demonstrated hand takes an object only when its arm reaches it
+            a.banned.add(_key(step))
+            if not a.hand_over(executed + 1, step, far):
+                a.repair(executed + 1, f"{label}: {far.text}")
+            continue
         if error is not None:
             a.repair(executed + 1, f"{label}: {error}")
             continue

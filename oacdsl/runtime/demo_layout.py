@@ -8,7 +8,12 @@ one uniform scale ``s ≤ 1`` (the arrangement shrinks to fit, never grows):
 ``y = s·v`` and ``x = X_CENTRE + s·(u − ū)``, so the objects keep the demonstration's
 sides (left of the demonstrator → left of the robot) and their order along both axes.
 Objects closer than their footprints plus a gap are then pushed apart along the line
-joining them. Light: numpy only (the recording's reading is the caller's).
+joining them. An object's position is its markers' mean, but its height is that of its base
+where the library gives its class a shape that its markers pose (the same fit as contacts from
+geometry, :mod:`oacdsl.segmentation.shapefit`): a lid on its bottle then stands a bottle's
+height above the bottle's base (whatever the height of their markers), and
+:func:`oacdsl.runtime.layout.stacked_on` finds it on top (when both are posed). Light: numpy
+only (the recording's reading is the caller's).
 
 Units: metres throughout; the motion capture's z axis is up.
 """
@@ -21,8 +26,11 @@ from collections.abc import Mapping
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
+from oacdsl.library import Library
 from oacdsl.model import Scene
 from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.shapefit import pose_shape
+from oacdsl.segmentation.shapes import ShapeModel, scene_shapes
 
 __all__ = ["X_CENTRE_M", "demonstrated_positions", "first_frame_positions", "map_into_reach"]
 
@@ -34,8 +42,11 @@ X_RANGE_M = (0.50, 0.80)
 Y_LIMIT_M = 0.42
 
 
-def first_frame_positions(recording: Recording, names: list[str]) -> dict[str, np.ndarray]:
-    """Each named marker group's mean position (m) at the first frame where it is seen."""
+def first_frame_positions(recording: Recording, names: list[str],
+                          shapes: Mapping[str, ShapeModel] | None = None) -> dict[str, np.ndarray]:
+    """Each named marker group's markers' mean position (m) at the first frame where it is seen;
+    its height (z) is its base's where ``shapes`` gives it a shape that its markers pose there
+    (:func:`~oacdsl.segmentation.shapefit.pose_shape`)."""
     out: dict[str, np.ndarray] = {}
     for name in names:
         if name not in recording.groups:
@@ -46,17 +57,24 @@ def first_frame_positions(recording: Recording, names: list[str]) -> dict[str, n
         if frames.size:
             f = int(frames[0])
             out[name] = pos[f][seen[f]].mean(axis=0)
+            model = (shapes or {}).get(name)
+            posed = pose_shape(recording, name, model)[0] if model is not None else None
+            if posed is not None and np.isfinite(posed.T_world_object[f, 2, 3]):
+                out[name][2] = posed.T_world_object[f, 2, 3]  # the base's height
     return out
 
 
-def demonstrated_positions(recording: Recording, scene: Scene) -> dict[str, np.ndarray]:
+def demonstrated_positions(recording: Recording, scene: Scene,
+                           library: Library | None = None) -> dict[str, np.ndarray]:
     """First-frame positions (m) of the scene's tracked instances in ``recording``, whose
-    marker groups are named after the instances or listed by their ``markers``."""
+    marker groups are named after the instances or listed by their ``markers``; with the
+    ``library``, posed by their classes' shapes where it gives them (:func:`first_frame_positions`)."""
     if any(i.markers for i in scene.instances):
         from oacdsl.segmentation.grouping import apply_scene_groups
 
         recording = apply_scene_groups(recording, scene)
-    return first_frame_positions(recording, [i.name for i in scene.tracked()])
+    shapes = scene_shapes(library, scene) if library is not None else None
+    return first_frame_positions(recording, [i.name for i in scene.tracked()], shapes)
 
 
 def _frame(hands: Mapping[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

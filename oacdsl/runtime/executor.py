@@ -73,6 +73,24 @@ class Run:
     controller: Controller
     context: SkillContext
     seed: int | None = None
+    #: Simulated time (s) when the run proper starts (after a stated hold was set up).
+    start_s: float = 0.0
+
+
+def _set_up_holds(run: Run, held: Mapping[str, str]) -> None:
+    """Each hand of ``held`` grasps its object before the run (``--state "mixer <->
+    right_hand"``): the robot starts holding it (RuntimeFailure when that cannot be done)."""
+    hands = run.world.layout.hands
+    for hand, obj in sorted(held.items()):
+        if hand not in hands:
+            names = ", ".join(sorted(hands))
+            raise RuntimeFailure(f"--state: {hand!r} is not one of the robot's hands ({names})")
+        if obj not in run.context.objects():
+            raise RuntimeFailure(f"--state: {obj!r} is not on the table: no hand can start holding it")
+        try:
+            IMPLEMENTATIONS["reach_and_grasp"](run.context, hand, obj)
+        except RuntimeFailure as error:
+            raise RuntimeFailure(f"--state: could not set up {hand} holding {obj}: {error}") from None
 
 
 def prepare(
@@ -89,6 +107,7 @@ def prepare(
     balls: Mapping[str, int] | None = None,
     layout: str | None = None,
     demonstrated: Mapping[str, Any] | None = None,
+    held: Mapping[str, str] | None = None,
 ) -> Run:
     """Bind, lay out and build everything :func:`execute` needs (raises RuntimeFailure).
 
@@ -96,7 +115,8 @@ def prepare(
     ``fill``, ``balls`` and ``layout`` override it (the command line's ``--place``, …);
     ``demonstrated`` holds the recording's first-frame positions for ``layout demonstrated``
     (:func:`oacdsl.runtime.layout.plan_layout`). A liquid the OAC's own preconditions put
-    in a container (``l <-> c``) starts there unless ``fill`` says otherwise."""
+    in a container (``l <-> c``) starts there unless ``fill`` says otherwise. ``held`` (hand →
+    object) has each hand grasp its object first, before the observers see anything."""
     if isinstance(oac, str):
         if oac not in library.oacs:
             raise RuntimeFailure(f"no oac {oac!r} in the library{did_you_mean(oac, library.oacs)}")
@@ -122,9 +142,16 @@ def prepare(
         library, sc, contents, seed, places, balls=balls, layout=layout, demonstrated=demonstrated
     )
     world = SimWorld(build_model(plan, seed))
-    controller = Controller(world, WholeBodyIK(self_collision=self_collision), list(observers))
+    ik = WholeBodyIK(self_collision=self_collision)
+    controller = Controller(world, ik, [] if held else list(observers))
     context = SkillContext(controller, library, library.instance_classes(sc))
-    return Run(oac, sc, bound, steps, calls, world, controller, context, seed)
+    run = Run(oac, sc, bound, steps, calls, world, controller, context, seed)
+    if held:
+        _set_up_holds(run, held)
+        run.start_s = world.time_s
+        for observer in observers:
+            controller.add_observer(observer)
+    return run
 
 
 def _pair(a: str, b: str) -> list[str]:
@@ -276,7 +303,7 @@ def run_metrics(run: Run, wall0: float) -> dict[str, float | int]:
     return {
         "balls_total": world.balls_total,
         "balls_in_bowl": sum(world.balls_inside(b) for b in targets),
-        "sim_time_s": round(world.time_s, 4),
+        "sim_time_s": round(world.time_s - run.start_s, 4),
         "wall_time_s": round(time.perf_counter() - wall0, 4),
         "regrasps": len(run.controller.regrasps),
     }

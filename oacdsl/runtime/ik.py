@@ -226,14 +226,24 @@ class WholeBodyIK:
         self.robot.state.q = q
         self.robot.update_kinematics()
 
-    def try_reach(self, side: str, t_world_target: np.ndarray, iterations: int = 150) -> Residual:
+    def try_reach(
+        self, side: str, t_world_target: np.ndarray, iterations: int = 150, *, arm_only: bool = False
+    ) -> Residual:
         """Static solve towards a target without moving the robot: the residual the hand
-        would keep there (the IK state and targets are restored afterwards)."""
+        would keep there (the IK state and targets are restored afterwards). ``arm_only``:
+        with the platform and the torso held where they are (the arm's own workspace)."""
+        still = (*BASE_JOINTS, *TORSO_JOINTS) if arm_only else ()
         with self.trial():
-            other = "l" if side == "r" else "r"
-            self.hold_hand(other, weight=0.05)
-            self.set_hand_target(side, t_world_target)
-            return self.converge(iterations, tolerance_m=5e-4)
+            for name in still:
+                self.solver.mask_dof(name)
+            try:
+                other = "l" if side == "r" else "r"
+                self.hold_hand(other, weight=0.05)
+                self.set_hand_target(side, t_world_target)
+                return self.converge(iterations, tolerance_m=5e-4)
+            finally:
+                for name in still:
+                    self.solver.unmask_dof(name)
 
     def try_reach_both(self, targets: Mapping[str, np.ndarray], iterations: int = 150) -> float:
         """Static solve with each hand of ``targets`` (side → T_world_grasp) at its target, without

@@ -1,7 +1,7 @@
 """Command-line overrides of a scene's initial state, shared by ``oacc run`` and ``oacc reproduce``.
 
 Light on purpose (no MuJoCo): the command line builds a :class:`SceneOverrides` from
-``--place``, ``--fill`` and ``--layout`` before anything heavy is imported, and the
+``--place``, ``--fill``, ``--layout`` and ``--state`` before anything heavy is imported, and the
 executor passes it to :func:`oacdsl.runtime.layout.plan_layout`.
 """
 
@@ -23,6 +23,8 @@ class SceneOverrides:
     fill: Mapping[str, str] = field(default_factory=dict)
     balls: Mapping[str, int] = field(default_factory=dict)
     layout: str | None = None
+    #: ``--state "mixer <-> right_hand"``: hand → the object it holds when the run starts.
+    held: Mapping[str, str] = field(default_factory=dict)
     #: ``--strict``: run a composed OAC's demonstrated steps as they are (default: adaptive).
     strict: bool = False
     #: ``--max-repairs``: how often an adaptive run may replan.
@@ -35,6 +37,7 @@ class SceneOverrides:
             "fill": dict(self.fill),
             "balls": dict(self.balls),
             "layout": self.layout,
+            "held": dict(self.held),
         }
 
     def to_json(self) -> dict[str, Any]:
@@ -48,6 +51,8 @@ class SceneOverrides:
             doc["balls"] = dict(sorted(self.balls.items()))
         if self.layout:
             doc["layout"] = self.layout
+        if self.held:
+            doc["held"] = dict(sorted(self.held.items()))
         if self.strict:
             doc["strict"] = True
         return doc

@@ -13,7 +13,7 @@ chunk size. Memory is O(chunk × pairs), independent of the recording's length.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from itertools import pairwise
 
 import numpy as np
@@ -28,6 +28,7 @@ from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import Segmentation
+from oacdsl.segmentation.shapes import ShapeModel
 
 __all__ = ["segment", "DEFAULT_CHUNK_FRAMES", "MAX_INSTANCES", "MAX_PAIR_FRAMES", "check_work"]
 
@@ -77,13 +78,17 @@ def segment(
     chunk_frames: int = DEFAULT_CHUNK_FRAMES,
     detector: TouchDetector | None = None,
     progress: Progress | None = None,
+    shapes: Mapping[str, ShapeModel] | None = None,
 ) -> Segmentation:
     """Segment ``recording`` into keyframes (frame 0 = the initial world state).
 
     ``params`` defaults to :class:`AasParams` (the paper's mode). ``detector``
     overrides the one ``params.mode`` names (for experiments). ``progress(done,
     total)`` is called after each chunk with frame counts. The result does not
-    depend on ``chunk_frames``.
+    depend on ``chunk_frames``. ``shapes`` (instance → its class's shape,
+    :func:`~oacdsl.segmentation.shapes.scene_shapes`) are used with ``params.contacts ==
+    "geometry"`` (:mod:`~oacdsl.segmentation.geomcontact`); without them every instance is
+    measured by its markers.
     """
     given = params or AasParams()
     check_work(recording, given.frames)
@@ -98,6 +103,13 @@ def segment(
             location=recording.source,
         )
     det = detector if detector is not None else make_detector(params)
+    if params.contacts == "geometry":
+        use_shapes = getattr(det, "use_shapes", None)
+        if use_shapes is None:
+            raise SegmentationError(
+                f"the detector {type(det).__name__} does not measure contacts from geometry"
+            )
+        use_shapes(dict(shapes or {}))
     effective = getattr(det, "effective_params", None)  # optional: the detector rescales them
     run = effective(recording, given) if effective is not None else params
     _fit_chunk(recording, det.history_frames, chunk_frames)  # before the pair table (history: at least)
@@ -113,6 +125,9 @@ def segment(
     scale = getattr(det, "scale", None)
     if scale is not None:
         reported["scale"] = scale.to_dict()
+    measured = getattr(det, "geometry_report", None)
+    if params.contacts == "geometry" and measured is not None:
+        reported["geometry"] = dict(measured)
     return Segmentation(
         recording=recording.source,
         rate_hz=float(recording.rate_hz),

@@ -48,6 +48,7 @@ import numpy as np
 from oacdsl.errors import SegmentationError
 from oacdsl.segmentation.comotion import AdaptiveSettings, comotion
 from oacdsl.segmentation.detectors import DistanceChunk, PairChanges
+from oacdsl.segmentation.geomcontact import decided_by_geometry, geometric_contacts, union_spans
 from oacdsl.segmentation.geometry import BOUND_MARGIN_M
 from oacdsl.segmentation.holding import resting_holds
 from oacdsl.segmentation.pairs import PairTable
@@ -56,6 +57,7 @@ from oacdsl.segmentation.poses import RigidFill, fill_rigid_gaps
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.robust import RobustDetector
 from oacdsl.segmentation.scales import DemoScale, measure, scale_params, scale_settings
+from oacdsl.segmentation.shapes import ShapeModel
 from oacdsl.segmentation.tooluse import agents_of, tool_contacts
 
 __all__ = ["AdaptiveDetector", "AdaptiveSettings", "comotion"]
@@ -88,6 +90,13 @@ class AdaptiveDetector:
         self._combined = np.zeros(0, dtype=bool)
         self._managed = np.zeros(0, dtype=bool)
         self._near_bins: np.ndarray | None = None  # (Q, bins) bool: some frame of the bin within reach
+        self._shapes: dict[str, ShapeModel] | None = None  # contacts from geometry (use_shapes)
+        #: instance → how contacts were measured (``shape``, ``hand``, ``markers: why``), after begin()
+        self.geometry_report: dict[str, str] | None = None
+
+    def use_shapes(self, shapes: dict[str, ShapeModel]) -> None:
+        """Measure contacts from these instances' shapes (:mod:`oacdsl.segmentation.geomcontact`)."""
+        self._shapes = shapes
 
     @property
     def merges_connected(self) -> bool:
@@ -166,14 +175,15 @@ class AdaptiveDetector:
             holds = resting_holds(recording, table, found.closest, agents, self.params.distance_m,
                                   self._run.move_speed_m_s, self._run.lag_s, self._run.tool_dwell_s)
             for q, spans in holds.items():
-                union: list[tuple[int, int]] = []
-                for a, b in sorted([*added.get(q, []), *spans]):  # one flag per kind and pair
-                    if union and a <= union[-1][1]:
-                        union[-1] = (union[-1][0], max(union[-1][1], b))
-                    else:
-                        union.append((a, b))
-                added[q] = union
-        sources = [(1, {q: spans for q, (spans, _) in learned.items()}), (2, added), (3, tools.removed)]
+                added[q] = union_spans([*added.get(q, []), *spans])  # one flag per kind and pair
+        removed = dict(tools.removed)
+        if self._shapes is not None:  # pairs measured by geometry: decided by it alone
+            agents = agents_of(table.instances, self.settings.agent_pattern)
+            geo = geometric_contacts(recording, table, self._shapes, agents, self.params.n,
+                                     self._run.tool_bridge_s)
+            self.geometry_report = geo.report
+            added, removed = decided_by_geometry(geo, added, removed, recording.n_frames)
+        sources = [(1, {q: spans for q, (spans, _) in learned.items()}), (2, added), (3, removed)]
         for kind, per_pair in sources:
             for q, spans in per_pair.items():
                 events = []
@@ -311,3 +321,4 @@ class AdaptiveDetector:
             self._flags[done, k] = flag[j][block_end]
         self._combined[done] = state[block_end]
         return self._heads[eq[emit]], ef[emit], es[emit]
+

@@ -51,6 +51,7 @@ __all__ = [
     "AUTO_MIN_FRAMES",
     "AUTO_WINDOW_S",
     "DEFAULT_CHANGE_WINDOW_S",
+    "CONTACTS",
     "DEFAULT_MODE",
     "AasParams",
     "frames_in",
@@ -58,6 +59,10 @@ __all__ = [
 
 #: The touch detector used unless one is named (see the module docstring for why).
 DEFAULT_MODE = "adaptive"
+
+#: How contacts are measured: between markers (the paper's), or between the library's shapes
+#: posed by the markers (:mod:`oacdsl.segmentation.geomcontact`; mode ``adaptive`` only).
+CONTACTS = ("markers", "geometry")
 
 #: Seconds that ``frames=None`` spans at the recording's frame rate (the default ``hold_s``).
 AUTO_WINDOW_S = 0.1
@@ -93,6 +98,10 @@ class AasParams:
         change_window_s: seconds: the window of the least-squares slope that estimates
             the distance change (modes ``robust`` and ``adaptive``; ``paper`` uses the
             one-frame difference of Eq. 1/2).
+        contacts: ``"markers"`` (marker-to-marker distances) or ``"geometry"`` (surface to
+            surface where the library gives a class its shape and markers, the rest by
+            markers: :mod:`~oacdsl.segmentation.geomcontact`; mode ``adaptive`` only, and
+            only with the shapes given to :func:`~oacdsl.segmentation.aas.segment`).
     """
 
     distance_m: float = 0.15
@@ -102,6 +111,7 @@ class AasParams:
     mode: str = DEFAULT_MODE
     hold_s: float = AUTO_WINDOW_S
     change_window_s: float = DEFAULT_CHANGE_WINDOW_S
+    contacts: str = "markers"
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.distance_m) and self.distance_m > 0):
@@ -119,6 +129,13 @@ class AasParams:
         if not (math.isfinite(self.change_window_s) and self.change_window_s > 0):
             raise SegmentationError(
                 f"change window must be a positive duration, got {self.change_window_s} s"
+            )
+        if self.contacts not in CONTACTS:
+            raise SegmentationError(f"contacts must be one of {', '.join(CONTACTS)}, got {self.contacts!r}")
+        if self.contacts == "geometry" and self.mode != "adaptive":
+            raise SegmentationError(
+                f"contacts from geometry need mode adaptive, not {self.mode!r}"
+                + (" (mode paper is the paper's equations as printed)" if self.mode == "paper" else "")
             )
 
     def resolved(self, rate_hz: float) -> AasParams:
@@ -142,6 +159,8 @@ class AasParams:
     def to_dict(self) -> dict[str, Any]:
         """The parameters as plain JSON values (the ``parameters`` of ``--json``)."""
         out = asdict(self)
+        if self.contacts == "markers":  # the default: documents written before it stay the same
+            del out["contacts"]
         if math.isinf(self.speed_m_s):
             out["speed_m_s"] = None  # JSON has no infinity: null = no speed condition
         return out

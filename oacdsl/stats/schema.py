@@ -17,7 +17,7 @@ __all__ = ["APPLICATION_ID", "BUSY_TIMEOUT_MS", "REQUIRED", "SCHEMA_VERSION", "O
 #: ``PRAGMA application_id`` of an oacdsl run store: the bytes "OACD".
 APPLICATION_ID = 0x4F414344
 #: ``PRAGMA user_version`` this code writes; older files are migrated, newer refused.
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 #: How long a writer waits for another one's lock before giving up, milliseconds.
 BUSY_TIMEOUT_MS = 30_000
 
@@ -52,11 +52,26 @@ CREATE VIEW outcome_rows AS
     FROM outcomes AS o JOIN runs AS r USING (run_id);
 """
 
-#: The tables and views a run store has.
-REQUIRED = frozenset({"runs", "outcomes", "outcome_rows"})
+#: Version 2: what an adaptive run changed (issue 22), one row per adaptation, in order:
+#: ``kind`` (skipped, replanned, followed, failed), ``step`` (how many steps had run), ``text``,
+#: ``plan`` (the repair's steps as a JSON list of labels, or NULL).
+_ADAPTATIONS_V2 = """
+CREATE TABLE adaptations (
+    run_id   TEXT NOT NULL REFERENCES runs(run_id) ON DELETE CASCADE,
+    position INTEGER NOT NULL,
+    kind     TEXT NOT NULL,
+    step     INTEGER,
+    text     TEXT NOT NULL,
+    plan     TEXT,
+    PRIMARY KEY (run_id, position)
+);
+"""
 
-#: Migrations from version N to N+1 (none yet: version 1 is the first).
-_MIGRATIONS: dict[int, str] = {}
+#: The tables and views a run store has.
+REQUIRED = frozenset({"runs", "outcomes", "outcome_rows", "adaptations"})
+
+#: Migrations from version N to N+1 (a new file is made at version 1 and migrated).
+_MIGRATIONS: dict[int, str] = {1: _ADAPTATIONS_V2}
 
 
 @dataclass(frozen=True)

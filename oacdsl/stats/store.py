@@ -26,6 +26,7 @@ from typing import Any
 from urllib.parse import quote
 
 from oacdsl.errors import StoreError
+from oacdsl.stats.adapted import decoded, rows_of
 from oacdsl.stats.paths import ENV_VAR
 from oacdsl.stats.schema import (
     _MIGRATIONS,
@@ -169,11 +170,13 @@ class RunStore:
         command: str | None = None,
         run_id: str | None = None,
         time_utc: str | None = None,
+        adaptations: Sequence[Mapping[str, Any]] = (),
     ) -> str:
         """Store one run (its own OAC's outcome and its steps') in one transaction; return its id.
 
         ``fidelity`` is the closed-loop fidelity in [0, 1] (1 = the robot's sequence of
-        world-state changes equals the demonstration's), ``edit_distance`` the distance behind it.
+        world-state changes equals the demonstration's), ``edit_distance`` the distance behind it;
+        ``adaptations`` what an adaptive run changed (``kind``, ``step``, ``text``, ``plan``).
         """
         if fidelity is not None and not 0.0 <= fidelity <= 1.0:
             raise ValueError(f"fidelity must be within [0, 1], got {fidelity}")
@@ -208,6 +211,9 @@ class RunStore:
                     ),
                 )
                 self._conn.executemany("INSERT INTO outcomes VALUES (?, ?, ?, ?, ?, ?, ?)", rows)
+                self._conn.executemany(
+                    "INSERT INTO adaptations VALUES (?, ?, ?, ?, ?, ?)", rows_of(rid, adaptations)
+                )
         except sqlite3.DatabaseError as e:
             raise self._fail(f"cannot record the run: {e}") from None
         return rid
@@ -235,7 +241,8 @@ class RunStore:
                 Outcome(run.oac, steps[0].binding or run.binding, run.success, steps[0].duration_s, error),
                 [],
             )
-        return self.record(run, steps, **meta)
+        adapted = [a for a in doc.get("adaptations") or [] if isinstance(a, Mapping)]
+        return self.record(run, steps, adaptations=adapted, **meta)
 
     # -- reading -----------------------------------------------------------------------------------
     def _query(self, sql: str, args: tuple[Any, ...] = ()) -> sqlite3.Cursor:
@@ -267,6 +274,19 @@ class RunStore:
             row["success"] = bool(row["success"])
             out.append(row)
         return out
+
+    def adaptations(self, oac: str | None = None) -> list[dict[str, Any]]:
+        """Every adaptation of an adaptive run (joined with its run: ``time_utc``, the run's
+        ``oac``), oldest first; ``plan`` decoded (a list, or None); ``oac``: runs of that OAC."""
+        sql = (
+            "SELECT a.run_id, r.time_utc, r.oac, a.position, a.kind, a.step, a.text, a.plan"
+            " FROM adaptations AS a JOIN runs AS r USING (run_id)"
+        )
+        args: tuple[Any, ...] = ()
+        if oac is not None:
+            sql, args = sql + " WHERE r.oac = ?", (oac,)
+        cur = self._query(sql + " ORDER BY r.rowid, a.position", args)
+        return decoded(cur.description, cur.fetchall(), self._fail)
 
     def oac_names(self) -> list[str]:
         """The OACs with at least one recorded outcome, sorted."""

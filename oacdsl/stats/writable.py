@@ -61,6 +61,7 @@ def ensure_writable(path: str | os.PathLike[str]) -> Path:
             if (damage := store.integrity()) != "ok":
                 raise StoreError(f"damaged run database: {damage[:200]}; move it aside", location=str(db))
             store.rows()  # what the report reads at the end: every row decodes (StoreError if not)
+            store.adaptations()
             store._conn.execute("BEGIN IMMEDIATE")
             try:  # a real write (rolled back): a read-only mount or an immutable file fails here
                 store._conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")

@@ -1,0 +1,125 @@
+"""Which hand takes an object: the one whose arm reaches it (adaptive execution, issue 22).
+
+The whole-body IK reaches nearly every spot on the table with either hand: the platform
+shifts and turns, the torso leans. But a hand taken across the body that way sweeps its arm
+over the other objects and presses into them (the left hand sent for a cup 50 cm to the
+right stopped at 153 N). How far a hand's *arm alone* — platform and torso held still —
+stays from an object's grasp tells the near hand from the far one: at the dough scene's
+start the left arm misses the red cup by 5 cm and the green cup by 25 cm, the right arm the
+opposite.
+
+:func:`out_of_reach` looks at a step about to run: when it makes a hand that holds nothing
+touch an object standing on the table (a grasp), the arm of that hand misses the object by
+more than :data:`ARM_MISS_M` and the other hand, holding nothing either, misses it by less
+than half as much, the object is the other hand's to take. The adaptive executor
+(:mod:`oacdsl.runtime.adaptive`) then runs the same steps with the other hand, up to the step
+that lets go of the object (:func:`with_other_hand`), when they still reach the goal, else
+replans with the far hand's binding excluded.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from oacdsl.errors import RuntimeFailure
+from oacdsl.matching.conditions import bind_atoms
+from oacdsl.runtime.binding import Step
+from oacdsl.world import WorldState
+
+__all__ = ["ARM_MISS_M", "FarHand", "arm_miss_m", "out_of_reach", "with_other_hand"]
+
+#: An arm that misses an object's grasp by more than this (m) with the platform and the torso
+#: still does not take it when the other arm misses it by less than half as much.
+ARM_MISS_M = 0.3
+
+
+@dataclass(frozen=True)
+class FarHand:
+    """A step's hand that should leave its object to the other hand, and why."""
+
+    hand: str
+    other: str
+    obj: str
+    text: str
+
+
+def arm_miss_m(ctx: Any, hand: str, obj: str) -> float:
+    """How far (m) ``hand``'s arm alone stays from the nearest of ``obj``'s grasps."""
+    from oacdsl.runtime.skills.grasp import grasp_candidates
+
+    side = ctx.side(hand)
+    plans = grasp_candidates(ctx, hand, obj)
+    if not plans:
+        return float("inf")
+    return min(ctx.ctl.ik.try_reach(side, p.grasp, arm_only=True).position_m for p in plans)
+
+
+def _reaches(
+    step: Step, state: WorldState, hands: set[str], objects: frozenset[str]
+) -> list[tuple[str, str]]:
+    """(hand, object) for each free hand the step makes touch an object on the table."""
+    out = []
+    for atom in bind_atoms(step.oac.effect, step.binding):
+        if atom.negated or atom.about_nothing:
+            continue
+        for hand, obj in ((atom.left, atom.right), (atom.right, atom.left)):
+            if hand in hands and obj in objects and state.touches_nothing(hand):
+                out.append((hand, obj))
+    return out
+
+
+def out_of_reach(ctx: Any, step: Step, state: WorldState) -> FarHand | None:
+    """Why ``step``'s hand should leave its object to the other hand (module docstring), or
+    None when it takes it as demonstrated."""
+    hands = dict(ctx.world.layout.hands)
+    if len(hands) != 2:
+        return None
+    for hand, obj in _reaches(step, state, set(hands), ctx.objects()):
+        other = next(h for h in hands if h != hand)
+        if not state.touches_nothing(other):
+            continue
+        try:
+            miss = arm_miss_m(ctx, hand, obj)
+            if miss <= ARM_MISS_M:
+                continue
+            other_miss = arm_miss_m(ctx, other, obj)
+        except RuntimeFailure:  # no grasp declared: the skill itself will say so
+            continue
+        if other_miss < miss / 2:
+            text = (
+                f"{obj} is out of {hand}'s reach (its arm alone misses it by {100 * miss:.0f} cm,"
+                f" {other}'s by {100 * other_miss:.0f} cm)"
+            )
+            return FarHand(hand, other, obj, text)
+    return None
+
+
+def _lets_go(step: Step, hand: str, obj: str) -> bool:
+    """True when ``step``'s effects free ``hand`` or part it from ``obj``."""
+    for atom in bind_atoms(step.oac.effect, step.binding):
+        if atom.left == hand and atom.about_nothing and not atom.negated:
+            return True
+        if atom.negated and {atom.left, atom.right} == {hand, obj}:
+            return True
+    return False
+
+
+def with_other_hand(steps: Sequence[Step], far: FarHand) -> list[Step] | None:
+    """``steps`` (the first takes ``far.obj`` with ``far.hand``) with ``far.other`` in place of
+    ``far.hand`` up to and including the step that lets go of the object; None when a step of
+    that stretch already uses the other hand (it is busy then)."""
+    out: list[Step] = []
+    swapping = True
+    for step in steps:
+        if swapping:
+            if far.other in step.binding.values():
+                return None
+            binding = {k: far.other if v == far.hand else v for k, v in step.binding.items()}
+            out.append(dataclasses.replace(step, binding=binding))
+            swapping = not _lets_go(step, far.hand, far.obj)
+        else:
+            out.append(step)
+    return out
