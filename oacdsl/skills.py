@@ -513,7 +513,13 @@ SIGNATURES: dict[str, SkillSignature] = {
                     "lean of each tool from the vertical, its handle towards its hand",
                 ),
                 SkillParamSpec(
-                    "depth", "m", 0.035, 0.0, 0.10, "height of the tips above the floor while they circle"
+                    "depth", "m", 0.0, 0.0, 0.10,
+                    "height of the tips above the floor while they circle (0: on it, pressed on)"
+                ),
+                SkillParamSpec(
+                    "lean", "rad", 0.0, 0.0, _deg(60.0),
+                    "at the end each tool's tip to the far side of its spot, the tool leaned this far"
+                    " towards the robot (let go of, it comes to rest on the rim)",
                 ),
                 SkillParamSpec(
                     "force", "N", 10.0, 3.0, 30.0, "wrist force change that stops a tool going down"

@@ -10,8 +10,10 @@ Per object that is not an agent (a hand), in each recording:
   not the ladle standing in it; ``in`` when x's class is an open container); else ``table``
   (its lowest marker at most ``table_band_m`` above where it was at the first frame: markers
   sit at different heights on each object), ``fell`` (more than ``fell_m`` below that and
-  below the *table level*, the lowest marker of any object at the first frame) or ``air``
-  (higher, touching nothing that holds it).
+  below the *table level*, the lowest marker of any object at the first frame), ``in``/``on``
+  x when it ends higher than that and *leans on* x: touches x (not a hand, liquid or held),
+  whose lowest marker is lower (a salad server left in a bowl, its handle on the rim and its
+  markers outside the bowl's footprint), or ``air`` (higher, touching nothing that holds it).
 - **orientation** relative to its start (rigid fit of ≥ 3 markers,
   :mod:`oacdsl.segmentation.poses`): the angle between the axis that pointed up at the first
   frame and the vertical at the end; ``upright`` below ``upright_max_rad``, ``upside down``
@@ -167,6 +169,29 @@ def _holds_up(x: str, o: str, end: Mapping[str, np.ndarray], final: WorldState,
     return bool(inside and low >= x_low - 0.01 and centre[2] > x_low)
 
 
+def _leans_on(o: str, objects: list[str], end: Mapping[str, np.ndarray], start: Mapping[str, np.ndarray],
+              final: WorldState, is_agent: Callable[[str], bool], is_liquid: Callable[[str], bool],
+              tolerances: VerifyTolerances) -> list[tuple[float, str]]:
+    """(lowest marker height, x) of each object ``x`` that ``o`` leans on: ``o`` ends above
+    the table band, no hand holds it, and it touches ``x`` (neither a hand, nor a liquid, nor
+    held by a hand) whose lowest marker is below ``o``'s. Nothing stays above the table
+    untouched by a hand unless what it touches holds it up: a salad spoon left in a bowl with
+    its handle on the rim, whose markers (on the handle) are outside the bowl's footprint."""
+    low = float(np.nanmin(end[o][:, 2]))
+    if low <= float(np.nanmin(start[o][:, 2])) + tolerances.table_band_m:
+        return []
+    out = []
+    for x in objects:
+        if x == o or is_liquid(x) or not final.touches(o, x) or not np.isfinite(end[x]).any():
+            continue
+        if any(final.touches(h, x) for h in final.instances if is_agent(h)):
+            continue
+        x_low = float(np.nanmin(end[x][:, 2]))
+        if x_low < low:
+            out.append((x_low, x))
+    return out
+
+
 def end_state(
     recording: Recording,
     final: WorldState,
@@ -199,8 +224,9 @@ def end_state(
                      if x != o and _holds_up(x, o, end, final, is_agent, is_liquid, tolerances)
                      and not (_radius(end[o]) > _radius(end[x])
                               and _holds_up(o, x, end, final, is_agent, is_liquid, tolerances))]
-            if under:
-                by = max(under)[1]
+            leans = [] if under else _leans_on(o, objects, end, start, final, is_agent, is_liquid, tolerances)
+            if under or leans:
+                by = max(under)[1] if under else max(leans)[1]
                 support = "in" if is_container(by) else "on"
             else:
                 # its own lowest marker as it stood at the start: markers sit at different

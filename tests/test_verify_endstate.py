@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -48,3 +49,45 @@ def test_a_tipped_cup_and_one_off_the_table() -> None:
     a, b = ends.objects["a"], ends.objects["b"]
     assert a.orientation == "on its side" and a.tilt_rad is not None and abs(a.tilt_rad - math.pi / 2) < 1e-6
     assert b.support == "fell" and b.orientation == "upright"
+
+
+def test_an_object_left_leaning_on_another_is_supported_by_it() -> None:
+    # a server left in a bowl, its handle over the rim: its markers (on the handle) end
+    # outside the bowl's footprint and 10 cm above the table, touching only the bowl
+    bowl = np.concatenate([_ring(0.12, 0.12), _ring(0.0, 0.0, k=1)])
+    lying = np.array([[0.10 + 0.05 * i, 0.3, 0.0] for i in range(4)])
+    leaning = np.array([[0.10 + 0.04 * i, 0.0, 0.10 + 0.03 * i] for i in range(4)])
+    rec = _recording({"bowl": np.stack([bowl, bowl]), "spoon": np.stack([lying, leaning]),
+                      "hand": np.stack([lying + [0, 0.3, 0], lying + [0, 0.3, 0.3]])})
+    agent = lambda n: n == "hand"  # noqa: E731
+    ends = end_state(rec, WorldState.of(("bowl", "spoon", "hand"), [("bowl", "spoon")]), agent,
+                     lambda n: n == "bowl", VerifyTolerances())
+    assert (ends.objects["spoon"].support, ends.objects["spoon"].supporter) == ("in", "bowl")
+    # touching nothing, or only what a hand holds up, it is in the air
+    for pairs in ([], [("bowl", "spoon"), ("bowl", "hand")]):
+        ends = end_state(rec, WorldState.of(("bowl", "spoon", "hand"), pairs), agent,
+                         lambda n: n == "bowl", VerifyTolerances())
+        assert ends.objects["spoon"].support == "air"
+
+
+def test_the_mix_demonstration_leaves_both_servers_leaning_in_the_bowl() -> None:
+    from _mocap import mocap_file
+
+    from oacdsl.pipeline import load_inputs
+    from oacdsl.segmentation import AasParams
+    from oacdsl.verify_execution import verify_execution
+
+    i = load_inputs(mocap_file("kit_bimanual/Mix_files_motions_3121_Mix1_salad_gb_parallel_08.mmm.xml"),
+                    Path(__file__).resolve().parents[1] / "library" / "kit", None, AasParams())
+    rec = i.recording
+    # the spoon's markers end 10 cm above the table, their centre outside the bowl's rim ...
+    pts, bowl = rec.group_positions("salad_spoon")[-1], rec.group_positions("mixing_bowl_green")[-1]
+    out = np.linalg.norm(pts.mean(axis=0)[:2] - bowl.mean(axis=0)[:2])
+    assert out > np.linalg.norm(bowl[:, :2] - bowl.mean(axis=0)[:2], axis=1).max() + 0.03
+    assert pts[:, 2].min() - rec.group_positions("salad_spoon")[0][:, 2].min() > 0.08
+    # ... leaning on its side and touching the bowl only (no hand): it is in the bowl, as the fork
+    o = verify_execution(rec, rec, scene=i.scene, library=i.library, params=i.params)
+    demo = {c.name: c.demonstration for c in o.checks}
+    assert demo["end_state.salad_spoon.support"] == "in mixing_bowl_green"
+    assert demo["end_state.salad_spoon.orientation"].startswith("on its side")
+    assert demo["end_state.salad_fork.support"] == "in mixing_bowl_green"

@@ -125,6 +125,10 @@ class Tuning:
     press_m: float = 0.003
     #: time of a press, s
     press_s: float = 0.2
+    #: how far below where it touched a held tool is kept while it moves along a surface, m
+    #: (a light touch: pressed 2 mm while circling, a salad server shifted in the hand's weld
+    #: and the fingers lost its handle; not pressed, its contact flickered: KIT Mix)
+    slide_press_m: float = 0.001
 
     # --- rise / lift -----------------------------------------------------------------------
     #: how far a held object is lifted off what it touches, m

@@ -6,11 +6,13 @@ Each tool works on its hand's half of the container: its tip
 the middle, on the line from the right hand to the left hand, the tool turned tip down and
 leaning ``tilt`` from the vertical with its handle towards its hand (so the hands stay
 apart and above the rim). Both arms move together (the lockstep of
-:mod:`~oacdsl.runtime.skills.bimanual`): over the rim, down to ``depth`` above the floor,
-``turns`` circles of ``radius`` (m) in ``period`` (s) each — both tips in phase, so that
-the distance between them never changes; the radius is clamped so that each tool stays
-clear of the wall — and then down onto the floor until each tool touches the container
-(the OAC's effect: both tools touch it), pressed on a moment. The container is read
+:mod:`~oacdsl.runtime.skills.bimanual`): over the rim, down onto the floor until each tool
+touches the container (``depth`` 0, the default) or to ``depth`` above the floor,
+``turns`` circles of ``radius`` (m) in ``period`` (s) each, both tips in phase, so that
+the distance between them never changes (the radius is clamped so that each tool stays
+clear of the wall). On the floor the tips circle pressed lightly on it: each tool touches
+the container while it mixes, as the demonstrated servers touch the bowl. Then both are
+set on the floor (the OAC's effect: both tools touch it) and pressed on a moment. The container is read
 where it is when the skill starts.
 """
 
@@ -29,7 +31,7 @@ from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext, cm
 from oacdsl.runtime.skills.bimanual import reach_both
 from oacdsl.runtime.skills.tooltip import HeldTool, held_tool, pointing
-from oacdsl.runtime.transforms import MIN_JERK_PEAK
+from oacdsl.runtime.transforms import MIN_JERK_PEAK, rot_axis
 from oacdsl.skills import SIGNATURES
 
 __all__ = ["mix_both", "MIX_SPREAD", "SIGNATURE"]
@@ -81,6 +83,18 @@ def _landed(ctx: SkillContext, side: str, tool: str, container: str, force: floa
     return ctx.world.touching(tool, container) or _felt(ctx, side, force)
 
 
+def _land(ctx: SkillContext, down: Mapping[str, np.ndarray], tools: Mapping[str, str], container: str,
+          travel: float, force: float) -> None:
+    """Both hands towards ``down`` (T_world_grasp each) over ``travel`` (m), each stopping
+    when its tool touches ``container`` or its wrist feels ``force`` (N)."""
+    move_both(
+        ctx.ctl,
+        down,
+        MIN_JERK_PEAK * travel / TUNING.approach_speed_m_s,
+        {s: partial(_landed, ctx, s, tools[s], container, force) for s in down},
+    )
+
+
 def _path(ctx: SkillContext, phases: Sequence[Mapping[str, np.ndarray]], seconds: Sequence[float]) -> None:
     for goals, s in zip(phases, seconds, strict=True):
         if s > 0:
@@ -101,6 +115,7 @@ def mix_both(
     tilt: float = D["tilt"],
     depth: float = D["depth"],
     force: float = D["force"],
+    lean: float = D["lean"],
 ) -> None:
     """Mix in ``container`` with ``t1`` held by ``h1`` and ``t2`` held by ``h2`` at once:
     ``turns`` circles of ``radius`` (m), ``period`` (s) each, the tips ``depth`` (m) above the
@@ -165,7 +180,9 @@ def mix_both(
         )
     # the tips' height while circling: raised as far as both hands need to stay clear of the rim
     lift = max(0.0, *(short(s, depth) for s in sides))
-    level = {s: spot[s] + (depth + lift) * up for s in sides}
+    on_floor = depth + lift <= 0
+    # on the floor: dipped to a hover above it, then down until each tool touches it
+    level = {s: spot[s] + (TUNING.hover_m if on_floor else depth + lift) * up for s in sides}
 
     def at(angle: float, rr: float) -> dict[str, np.ndarray]:
         d = rr * (math.cos(angle) * e1 + math.sin(angle) * across)
@@ -191,26 +208,45 @@ def mix_both(
     travel = max(float(np.linalg.norm(above[s][:3, 3] - start[s][:3, 3])) for s in sides)
     guards = {s: partial(_felt, ctx, s, force) for s in sides}
     move_both(ctl, start, MIN_JERK_PEAK * travel / TUNING.approach_speed_m_s, guards)
+    if on_floor:
+        _land(ctx, {s: hand(s, spot[s] - AIM_BELOW_FLOOR_M * up) for s in sides}, tools, container,
+              TUNING.hover_m + AIM_BELOW_FLOOR_M, force)
+        for s in sides:  # circling lightly pressed on where each touched
+            tip = held_tool(ctx, s, tools[s]).tip_world()
+            level[s] = spot[s] + float((tip - spot[s]) @ up - TUNING.slide_press_m) * up
     ctl.activity = f"mixing in {container} with {t1} and {t2}"
     n = CIRCLE_POINTS
     for k in range(1, max(1, round(turns)) * n + 1):
         move_both(ctl, at(2 * math.pi * k / n, r * min(1.0, k / n)), period / n)
-    move_both(ctl, at(0.0, 0.0), TUNING.settle_s)
     ctl.activity = f"resting {t1} and {t2} in {container}"
-    down = {s: hand(s, spot[s] - AIM_BELOW_FLOOR_M * up) for s in sides}
-    move_both(
-        ctl,
-        down,
-        MIN_JERK_PEAK * (depth + lift + AIM_BELOW_FLOOR_M) / TUNING.approach_speed_m_s,
-        {s: partial(_landed, ctx, s, tools[s], container, force) for s in sides},
-    )
-    # each hand holds its tool pressed lightly on (stopped where it was, an arm lags its
-    # command and springs back: the tool rose off the floor)
-    pressed = {s: world.frame_pose(f"grasp_{s}") for s in sides}
-    for t in pressed.values():
-        t[2, 3] -= REST_PRESS_M
-    move_both(ctl, pressed, TUNING.settle_s)
-    ctl.wait(TUNING.settle_s)
+    if lean > 0:
+        # to the near side of each spot, then leaning away from the robot about the head's far
+        # edge (each tool in its own plane: the two never cross), on the floor
+        e1 = -e1  # away from the robot (leaning towards it, the arms reach 15° at most)
+        reach = inner - half - TUNING.wall_margin_m
+        back = math.sqrt(max(reach * reach - offset * offset, 0.0))
+        r_lean = rot_axis(np.cross(up, e1), lean)
+        move_both(ctl, {s: hand(s, level[s] - back * e1) for s in sides},
+                  MIN_JERK_PEAK * back / TUNING.approach_speed_m_s)
+        for s in sides:
+            edge = level[s] - back * e1 + half * e1
+            r_work[s] = r_lean @ r_work[s]
+            level[s] = edge + r_lean @ (level[s] - back * e1 - edge)
+            spot[s] = spot[s] + float((level[s] - spot[s]) @ e1) * e1
+        move_both(ctl, {s: hand(s, level[s]) for s in sides}, TUNING.lift_s)
+        _land(ctx, {s: hand(s, level[s] - TUNING.hover_m * up) for s in sides}, tools, container,
+              TUNING.hover_m, force)
+    else:
+        move_both(ctl, at(0.0, 0.0), TUNING.settle_s)
+        _land(ctx, {s: hand(s, spot[s] - AIM_BELOW_FLOOR_M * up) for s in sides}, tools, container,
+              depth + lift + AIM_BELOW_FLOOR_M, force)
+        # each hand holds its tool pressed lightly on (stopped where it was, an arm lags its
+        # command and springs back: the tool rose off the floor)
+        pressed = {s: world.frame_pose(f"grasp_{s}") for s in sides}
+        for t in pressed.values():
+            t[2, 3] -= REST_PRESS_M
+        move_both(ctl, pressed, TUNING.settle_s)
+        ctl.wait(TUNING.settle_s)
     missing = [tools[s] for s in sides if not world.touching(tools[s], container)]
     if missing:
         raise RuntimeFailure(f"mix_both: {' and '.join(missing)} in {container} but not touching it")
