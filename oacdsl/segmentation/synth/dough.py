@@ -29,11 +29,9 @@ from oacdsl.segmentation.synth.scene import (
 )
 from oacdsl.segmentation.synth.stage import (
     BOWL_AT_M,
-    CONTACT_TAU,
     GRAVITY_M_S2,
     R_REST,
     REST_M,
-    TURN,
     UP_M,
     Stage,
     Step,
@@ -117,21 +115,13 @@ def mix_until_end(stage: Stage, start_s: float) -> int:
     rh, mixer = stage["right_hand"], stage["mixer"]
     dur = stage.dur
     stage.sync(start_s)
-    # reach the mixer in one quick move that passes low over the green cup (a pass-by)
+    # reach the mixer in one quick move that passes low over the green cup (a pass-by); the
+    # control points: low over the green cup, then above the mixer, so the hand comes down onto it
     t0 = rh.now_s
-    t_reach = t0 + dur(1.5)
-    p, r = mixer.last_pose
-    target = (p + r @ MIXER_HANDLE_GRASP_M, r @ _R_MIXER_HAND)
-    # first control point: low over the green cup; second: above the mixer, so the hand comes down onto it
-    via = target[0] + _MIXER_VIA_M
-    rh.move(t_reach, *target, via_m=via, end_tau=CONTACT_TAU, turn_until=TURN)
-    stage.marks["pass_by"] = t0 + 0.5 * (t_reach - t0)
-    stage.steps.append(Step("grasp", ("right_hand", "mixer"), t_reach, (("right_hand", "mixer"),), ()))
-    stage.marks["grasp_mixer"] = t_reach
-    t_closed = t_reach + dur(0.35)
-    stage.grips["right_hand"].append((t_reach, t_closed, 1.0))
-    rh.hold(t_closed)
-    mixer.hold(t_closed)
+    t_closed = stage.grasp(
+        t0, "right_hand", "mixer", MIXER_HANDLE_GRASP_M, _R_MIXER_HAND, +1.0, via_m=_MIXER_VIA_M, reach_s=1.5
+    )
+    stage.marks["pass_by"] = t0 + 0.5 * (stage.marks["grasp_mixer"] - t0)
     # lift over the bowl, lower the beaters in, mix in slow circles until the end
     t_over = t_closed + dur(1.3)
     over = BOWL_AT_M + np.array([0.0, 0.0, 0.20])

@@ -106,16 +106,26 @@ class Stage:
 
     # -- hands and cups (each move starts at ``t_s`` and returns when it ends, seconds) -----
     def grasp(
-        self, t_s: float, h: str, obj: str, grasp_m: np.ndarray, r_obj_hand: np.ndarray, side: float
+        self,
+        t_s: float,
+        h: str,
+        obj: str,
+        grasp_m: np.ndarray,
+        r_obj_hand: np.ndarray,
+        side: float,
+        via_m: np.ndarray | None = None,
+        reach_s: float = 1.2,
     ) -> float:
-        """Reach ``obj``'s point ``grasp_m`` (its frame, m), arriving from ``side``, and close the hand."""
+        """Reach ``obj``'s point ``grasp_m`` (its frame, m) in about ``reach_s`` (s), arriving from
+        ``side`` (or through the control points ``via_m``, m from the grasp point), and close the hand."""
         hd, ob = self.tracks[h], self.tracks[obj]
         if hd.cursor - 1 < hd.frame(t_s):  # the hand waits at rest until the reach starts
             hd.hold(t_s)
-        t_reach = t_s + self.dur(1.2)
+        t_reach = t_s + self.dur(reach_s)
         p, r = ob.last_pose
         target = (p + r @ grasp_m, r @ r_obj_hand)
-        hd.move(t_reach, *target, via_m=target[0] + approach(side), end_tau=CONTACT_TAU, turn_until=TURN)
+        via = target[0] + (approach(side) if via_m is None else via_m)
+        hd.move(t_reach, *target, via_m=via, end_tau=CONTACT_TAU, turn_until=TURN)
         self.steps.append(Step("grasp", (h, obj), t_reach, ((h, obj),), ()))
         self.marks.setdefault(f"grasp_{obj}", t_reach)
         t_closed = t_reach + self.dur(0.35)
