@@ -66,7 +66,7 @@ def _apply(touching: set[Relation], rel: Relation, value: bool) -> None:
 
 
 def merge_keyframes(keyframes: Sequence[Keyframe], window_s: float, at_onset: bool = False,
-                    connected: bool = False) -> list[Keyframe]:
+                    connected: bool = False, agents: frozenset[str] | None = None) -> list[Keyframe]:
     """The paper's merging: keyframes closer than ``window_s`` seconds form a group.
 
     A keyframe joins a group when it is less than ``window_s`` after the group's
@@ -87,11 +87,16 @@ def merge_keyframes(keyframes: Sequence[Keyframe], window_s: float, at_onset: bo
     shares an instance with the group's changes (the carton grasped and the carton reaching
     the cup; not the left hand's grasp and the right hand's): independent changes keep their
     own frames, however close in time.
+
+    ``agents`` (with ``connected``; the adaptive detector's hands): a group stands at the first of
+    its changes that begins or ends an agent's contact (where the group's action began: the carton
+    grasped, then reaching the cup), and a group of changes between objects only (a liquid leaving
+    the cup, then reaching the bowl) at its last frame, as the paper places it.
     """
     if not keyframes:
         return []
     if connected:
-        return _merge_connected(keyframes, window_s, at_onset)
+        return _merge_connected(keyframes, window_s, at_onset, agents)
     groups: list[list[Keyframe]] = [[keyframes[0]]]
     for kf in keyframes[1:]:
         if kf.time_s - groups[-1][-1].time_s < window_s - TIME_EPS_S:
@@ -120,13 +125,15 @@ class _Group:
     last_s: float  # time of the latest member
 
 
-def _merge_connected(keyframes: Sequence[Keyframe], window_s: float, at_onset: bool) -> list[Keyframe]:
+def _merge_connected(keyframes: Sequence[Keyframe], window_s: float, at_onset: bool,
+                     agents: frozenset[str] | None = None) -> list[Keyframe]:
     """:func:`merge_keyframes` with ``connected``: groups are chains in time *and* in instances.
 
     Each change (keyframe ``i`` against ``i - 1``) joins the open groups whose latest member is
     within the window and that share an instance with it (joining them); else it opens a group.
-    A group's relations take their last values at its anchor (its first or last member's frame;
-    frame 0 for a group within the window of the start); the states are rebuilt from them.
+    A group's relations take their last values at its anchor (its first or last member's frame,
+    or with ``agents`` its first member that changes an agent's relation, else its last; frame 0
+    for a group within the window of the start); the states are rebuilt from them.
     """
     states = [kf.state for kf in keyframes]
     groups: list[_Group] = []
@@ -152,6 +159,9 @@ def _merge_connected(keyframes: Sequence[Keyframe], window_s: float, at_onset: b
             for rel in states[i - 1].relations ^ states[i].relations:
                 final[rel] = rel in states[i].relations
         anchor = keyframes[members[0]] if at_onset else keyframes[members[-1]]
+        if agents is not None:
+            by_agent = [i for i in members if _touched(states[i - 1], states[i]) & agents]
+            anchor = keyframes[by_agent[0]] if by_agent else keyframes[members[-1]]
         if keyframes[members[0]].time_s - start.time_s < window_s - TIME_EPS_S:
             anchor = start  # early flicker folds into the initial state
         anchored.append((anchor.frame, anchor.time_s, final))

@@ -19,12 +19,16 @@ must give the same keyframes, so :func:`measure` finds the recording's scales an
   with the scale.
 - **time** factor: length / speed (durations).
 
-Speeds are multiplied by the speed factor, durations by the time factor; distances and ratios
-(``margin``, ``rigid_ratio``) stay. Distances are *not* multiplied by the length factor: the
-hands' size measures the demonstrator, not the objects (a subject with smaller hands handles
-the same cup; on the KIT Scoop clip, whose subject's hands are 5 % smaller, a 5 % shorter reach
-found the ladle in the cup 0.3 s late and changed the composed OAC). The length factor serves
-the time factor only: a take 15 % larger is 15 % faster, not quicker. The factors are clamped to
+Speeds are multiplied by the speed factor, durations by the time factor; ratios (``margin``,
+``rigid_ratio``) stay. Of the distances only ``d`` (``AasParams.distance_m``, the *largest*
+contact distance, a cap) follows the length factor, and only upwards: a larger demonstrator in a
+larger scene holds a tool farther from its target's markers (a take 15 % larger put Pour's carton
+and Mix's spoon beyond 150 mm of the cup's and the bowl's markers), while a smaller one needs no
+tighter cap (the hands' size measures the demonstrator, not the objects: on the KIT Scoop clip,
+whose subject's hands are 5 % smaller, a 5 % shorter reach found the ladle in the cup 0.3 s late
+and changed the composed OAC). The per-pair distances are learned, the static one
+(``static_distance_m``) stays. The length factor also serves the time factor: a take 15 % larger
+is 15 % faster, not quicker. The factors are clamped to
 [:data:`MIN_FACTOR`, :data:`MAX_FACTOR`] so that a recording without motion or markers cannot
 make a constant vanish.
 """
@@ -151,10 +155,11 @@ def measure(recording: Recording, agents: tuple[str, ...] = ()) -> DemoScale:
 
 
 def scale_params(params: AasParams, scale: DemoScale) -> AasParams:
-    """``params`` for a recording of ``scale``: speeds and durations rescaled (not ``d``); an
-    explicit ``frames`` count is kept."""
+    """``params`` for a recording of ``scale``: speeds and durations rescaled, ``d`` grown by a
+    length factor above 1 (never shrunk: module doc); an explicit ``frames`` count is kept."""
     return replace(
         params,
+        distance_m=params.distance_m * max(1.0, scale.length),
         speed_m_s=params.speed_m_s * scale.speed,
         hold_s=params.hold_s * scale.time,
         change_window_s=params.change_window_s * scale.time,
