@@ -137,22 +137,28 @@ def _merge_connected(keyframes: Sequence[Keyframe], window_s: float, at_onset: b
     """
     states = [kf.state for kf in keyframes]
     groups: list[_Group] = []
+    active: list[_Group] = []  # groups whose latest member may still be within the window (in order)
     for i in range(1, len(keyframes)):
         names, t = _touched(states[i - 1], states[i]), keyframes[i].time_s
-        near = [g for g in groups if t - g.last_s < window_s - TIME_EPS_S and g.names & names]
+        active = [g for g in active if t - g.last_s < window_s - TIME_EPS_S]  # times only grow
+        near = [g for g in active if g.names & names]
         group = near[0] if near else _Group([], set(), t)
         if not near:
             groups.append(group)
+            active.append(group)
         for other in near[1:]:
             group.members += other.members
             group.names |= other.names
-            groups.remove(other)
+            other.members = []  # joined: left out below
+            active.remove(other)
         group.members.append(i)
         group.names |= names
         group.last_s = t
     start = keyframes[0]
     anchored: list[tuple[int, float, dict[Relation, bool]]] = []
     for g in groups:
+        if not g.members:
+            continue
         members = sorted(g.members)
         final: dict[Relation, bool] = {}
         for i in members:
