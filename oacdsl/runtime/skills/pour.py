@@ -30,11 +30,11 @@ import math
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
+from oacdsl.runtime.armroom import arm_room
 from oacdsl.runtime.bodies import Body
 from oacdsl.runtime.motion import TUNING, Motion, OtherHand
 from oacdsl.runtime.shapes import hand_corners, world_corners
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
-from oacdsl.runtime.skills.bimanual import reach_both
 from oacdsl.runtime.transforms import make_T, rot_axis
 from oacdsl.skills import SIGNATURES
 
@@ -195,25 +195,25 @@ def pour(
         extra = max(need(u, min(1.0, max(0.0, s + ds)), base) for ds in (-1.0 / STEPS, 0.0, 1.0 / STEPS))
         return hand_at(u, tilt * s, base + max(0.0, extra))
 
-
-    def reach(t_hand: np.ndarray) -> float:
-        """How well the hand reaches ``t_hand``, the other hand keeping the target where it is."""
-        if keep is None or holder is None:
-            return ctx.reach_error(side, t_hand)
-        return reach_both(ctx, {side: t_hand, holder: keep})
-
     ctl.activity = f"planning to pour {liquid} into {target}"
     to_cup = t_cup[:2, 3] - centre[:2]
     home = math.atan2(to_cup[1], to_cup[0])
     candidates = sorted((home + k * math.pi / 4 for k in range(-3, 5)), key=lambda a: abs(a - home))
+    # the nearest side to where the cup is from which the arm reaches the tilted poses (on the
+    # way: the start, half-way, fully tilted) with its links clear of the table and the objects
+    # there (the IK sees neither: tilting the cup across its body, an arm laid its forearm on
+    # the bowl and its elbow on the table)
     best: tuple[float, np.ndarray] | None = None
     for a in candidates:
         u = np.array([math.cos(a), math.sin(a), 0.0])
-        err = max(ctx.reach_error(side, lifted(u, 1.0, 0.0)),
-                  ctx.reach_error(side, lifted(u, 0.0, LIP_START_EXTRA_M)))
+        postures = ctl.ik.reach_postures(
+            side, [lifted(u, 0.0, LIP_START_EXTRA_M), lifted(u, 0.5, 0.0), lifted(u, 1.0, 0.0)])
+        err = max(r.miss_m for r, _ in postures[::2])
         if best is None or err < best[0]:
             best = (err, u)
-        if err < REACH_TOLERANCE_M:
+        if err < REACH_TOLERANCE_M and all(
+                arm_room(world, side, q, {source}) >= TUNING.arm_room_m for _, q in postures):
+            best = (err, u)
             break
     if best is None or best[0] > 3 * REACH_TOLERANCE_M:
         raise RuntimeFailure(
