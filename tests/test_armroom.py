@@ -52,3 +52,14 @@ def test_an_arm_reaching_below_the_table_top_has_no_room_and_one_above_it_has(ru
     (_, posture), = ik.reach_postures("r", [high])
     assert arm_room(world, "r", posture) > 0.0
     assert arm_room(world, "l", posture) > 0.02  # the other arm, at home, is not in the table
+
+
+def test_reach_postures_at_a_motions_pace_lag_a_far_target(run):
+    """One solver step per target (a control tick) leaves a target 20 cm away further off than
+    a static solve does: the IK's joint speed limits (how far it keeps up with a fast motion)."""
+    ik = run.controller.ik
+    far = ik.frame("grasp_r")
+    far[2, 3] += 0.2
+    (_, _), (paced, _) = ik.reach_postures("r", [ik.frame("grasp_r"), far], [150, 1])
+    (_, _), (settled, _) = ik.reach_postures("r", [ik.frame("grasp_r"), far])
+    assert paced.position_m > 0.1 > 0.01 > settled.position_m

@@ -259,17 +259,19 @@ class WholeBodyIK:
                     self.solver.unmask_dof(name)
 
     def reach_postures(
-        self, side: str, targets: Sequence[np.ndarray], iterations: int = 150
+        self, side: str, targets: Sequence[np.ndarray], iterations: int | Sequence[int] = 150
     ) -> list[tuple[Residual, dict[str, float]]]:
-        """Static solves towards each of ``targets`` (T_world_grasp) in turn, each from the
-        last one's posture (a path through them), without moving the robot: the residual and
-        the posture (:meth:`joints`) at each."""
+        """Solves towards each of ``targets`` (T_world_grasp) in turn, each from the last one's
+        posture (a path through them), without moving the robot: the residual and the posture
+        (:meth:`joints`) at each. ``iterations``: solver steps per target, or one count for
+        each (a motion's control ticks per target: how far the IK keeps up with it at its pace)."""
+        counts = [iterations] * len(targets) if isinstance(iterations, int) else list(iterations)
         out = []
         with self.trial():
             self.hold_hand("l" if side == "r" else "r", weight=0.05)
-            for target in targets:
+            for target, n in zip(targets, counts, strict=True):
                 self.set_hand_target(side, target)
-                out.append((self.converge(iterations, tolerance_m=5e-4), self.joints()))
+                out.append((self.converge(n, tolerance_m=5e-4), self.joints()))
         return out
 
     def try_reach_both(self, targets: Mapping[str, np.ndarray], iterations: int = 150) -> float:
