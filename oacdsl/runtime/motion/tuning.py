@@ -111,7 +111,7 @@ class Tuning:
     #: posture a skill chooses among others (the IK does not see them), m
     arm_room_m: float = 0.02
     #: solver steps a static solve of a pose may take (the IK settling there before a motion)
-    pose_settle_iterations: int = 150
+    pose_solve_tries: int = 150
 
     # --- tip a held object over a container --------------------------------------------------
     #: how many horizontal axes (evenly round) a tip is tried about; the best reached is taken

@@ -3,8 +3,9 @@
 The cup's rim point facing the target (the *lip*) is brought above the target, a few
 centimetres off its centre, and the cup is turned about a horizontal axis through the
 lip until it is upside down enough for every ball to fall out; then it is turned back.
-The direction the cup comes from is chosen among a few azimuths around the target, by
-asking the whole-body IK which fully tilted pose it can reach best. The pour succeeds
+The direction the cup comes from is the nearest of a few azimuths around the target whose
+tilt the whole-body IK follows at the control loop's pace with the arm's links clear of the
+table and the objects (:mod:`oacdsl.runtime.armroom`). The pour succeeds
 when at least :data:`SUCCESS_FRACTION` of the liquid's balls end inside the target,
 counted by the simulation.
 
@@ -214,7 +215,7 @@ def pour(
     # centimetres, and balls miss) with its links clear of the table and the objects there (the
     # IK sees neither: tilting the cup across its body, an arm laid its forearm on the bowl and
     # its elbow on the table)
-    ticks = [TUNING.pose_settle_iterations] + [
+    ticks = [TUNING.pose_solve_tries] + [
         max(1, round(step_s(k / STEPS) / CONTROL_DT_S)) for k in range(1, STEPS + 1)]
     best: tuple[float, np.ndarray] | None = None
     for a in candidates:
