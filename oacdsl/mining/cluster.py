@@ -6,12 +6,14 @@ worker, a monitor in the client, and seconds of graceful shutdown at the end of 
 job here is short and a worker that dies is an error row, not a restart. The workers are
 forked from this process before the scheduler starts (:mod:`oacdsl.mining.forked`: they
 start with the job's modules imported); where there is no ``fork`` (Windows) each is a new
-process (``python -m distributed.cli.dask_spec``). New processes run their numerical
-libraries with one thread (``OMP/MKL/OPENBLAS_NUM_THREADS=1``, as Dask's nannies set them): ``n``
-single-threaded workers on ``n`` cores, not ``n × n`` threads; forked ones share the client's
-libraries, and ``oacc`` sets the same before it loads them. The workers run without Dask's
-statistical profiler and poll their health less often (:data:`WORKER_CONFIG`), the scheduler
-too (:data:`SCHEDULER_CONFIG`).
+process (``python -m distributed.cli.dask_spec``).
+
+New processes run their numerical libraries with one thread (``OMP/MKL/OPENBLAS_NUM_THREADS=1``,
+as Dask's nannies set them): ``n`` single-threaded workers on ``n`` cores, not ``n × n``
+threads. Forked ones keep the client's libraries as loaded (``oacc mine`` of 40 recordings on
+2 workers took the same CPU time with one BLAS thread as with the default). The workers run
+without Dask's statistical profiler and poll their health less often (:data:`WORKER_CONFIG`),
+the scheduler too (:data:`SCHEDULER_CONFIG`).
 
 :func:`close` ends a job in order: the client first (the scheduler forgets the job's data),
 then each worker closes gracefully, then the scheduler, so that no side reads a connection
