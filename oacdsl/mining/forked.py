@@ -87,7 +87,7 @@ def fork_workers(
     children = []
     for _ in range(n):
         reader, writer = ctx.Pipe(duplex=False)
-        args = (reader, dict(options), dict(env), dict(config))
+        args = (reader, os.getpid(), dict(options), dict(env), dict(config))
         process = ctx.Process(target=_child_main, args=args, daemon=True)
         process.start()
         reader.close()
@@ -95,8 +95,24 @@ def fork_workers(
     return children
 
 
-def _child_main(conn: Any, options: dict[str, Any], env: dict[str, str], config: dict[str, Any]) -> None:
+def _die_with(parent: int) -> None:
+    """Linux: the kernel kills this process when the client's thread that forked it ends, so that a
+    client killed outright leaves no worker behind (to print that its scheduler is gone)."""
+    try:
+        import ctypes
+
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):  # not Linux: the worker closes when its scheduler is gone
+        pass
+    if os.getppid() != parent:  # the client died before the line above
+        os._exit(0)
+
+
+def _child_main(
+    conn: Any, parent: int, options: dict[str, Any], env: dict[str, str], config: dict[str, Any]
+) -> None:
     """A forked child: wait for the scheduler's address, then be a worker until closed."""
+    _die_with(parent)
     os.environ.update(env)
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # ^C in the terminal is the client's to handle
     signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not the client's handler: until the worker runs, just end
@@ -131,7 +147,8 @@ async def _serve(address: str, options: dict[str, Any]) -> None:
 
     def close() -> None:
         if not closing:
-            closing.append(asyncio.ensure_future(worker.close(reason="the job is done")))
+            # a task still running (the job was interrupted) is not waited for: its results are lost anyway
+            closing.append(asyncio.ensure_future(worker.close(reason="the job is done", executor_wait=False)))
 
     loop.add_signal_handler(signal.SIGTERM, close)
     await worker.finished()
