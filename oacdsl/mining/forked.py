@@ -108,11 +108,24 @@ def _die_with(parent: int) -> None:
         os._exit(0)
 
 
+def _one_malloc_arena() -> None:
+    """glibc: every thread allocates from the main arena, as a loop in the main thread does.
+    A task runs in a worker's thread, and a thread's own arena gives memory back to the system
+    and takes it again all the time: 7 times the page faults per recording, ~8 % more CPU."""
+    try:
+        import ctypes
+
+        ctypes.CDLL(None).mallopt(-8, 1)  # M_ARENA_MAX
+    except (OSError, AttributeError):  # not glibc
+        pass
+
+
 def _child_main(
     conn: Any, parent: int, options: dict[str, Any], env: dict[str, str], config: dict[str, Any]
 ) -> None:
     """A forked child: wait for the scheduler's address, then be a worker until closed."""
     _die_with(parent)
+    _one_malloc_arena()
     os.environ.update(env)
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # ^C in the terminal is the client's to handle
     signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not the client's handler: until the worker runs, just end
