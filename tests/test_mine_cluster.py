@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -83,3 +84,25 @@ def test_without_fork_the_workers_are_new_processes_with_the_same_settings(monke
     assert result == (os.getpid(), False, False)
     _, err = capfd.readouterr()
     assert "Traceback" not in err
+
+
+@pytest.mark.slow
+def test_a_library_that_does_not_compile_stops_the_started_job_before_anything_is_written(tmp_path, capfd):
+    pytest.importorskip("distributed")
+    import multiprocessing
+
+    from oacdsl.cli import main
+
+    recordings = tmp_path / "recordings"
+    recordings.mkdir()
+    dough = Path(__file__).resolve().parents[1] / "data" / "dough.c3d"
+    (recordings / "dough.c3d").write_bytes(dough.read_bytes())
+    (tmp_path / "lib").mkdir()
+    (tmp_path / "lib" / "x.oac").write_text("oac broken(\n", encoding="utf-8")
+    out = tmp_path / "mined"
+    argv = ["mine", str(recordings), "--library", str(tmp_path / "lib"), "--out", str(out), "--workers", "2"]
+    assert main(argv) == 1
+    _, err = capfd.readouterr()
+    assert err.count("\n") == 1 and "x.oac:1:" in err and "error" in err
+    assert not out.exists()
+    assert multiprocessing.active_children() == []  # the workers that had started are gone
