@@ -139,13 +139,22 @@ def client_for(
         raise
 
 
+async def _stop_forked(cluster: Any) -> None:
+    await asyncio.gather(*(w.child.stop() for w in list(cluster.workers.values()) if hasattr(w, "child")))
+
+
 def close(client: Any, cluster: Any) -> None:
-    """End a job in order (module doc): the client, then the embedded cluster if any."""
+    """End a job in order (module doc): the client, then the embedded cluster if any: its forked
+    workers close themselves while the scheduler still knows them (a worker the scheduler
+    retired first may hear from its next heartbeat that it is unknown, and log an error)."""
     try:
         client.close()
     finally:
         if cluster is not None:
-            cluster.close()
+            try:
+                cluster.sync(_stop_forked, cluster)
+            finally:
+                cluster.close()
 
 
 def worker_count(client: Any, workers: int | None, scheduler: str | None) -> int:

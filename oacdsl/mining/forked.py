@@ -111,7 +111,7 @@ def _die_with(parent: int) -> None:
 def _one_malloc_arena() -> None:
     """glibc: every thread allocates from the main arena, as a loop in the main thread does.
     A task runs in a worker's thread, and a thread's own arena gives memory back to the system
-    and takes it again all the time: 7 times the page faults per recording, ~8 % more CPU."""
+    and takes it again all the time (7 times the page faults per recording, and their CPU)."""
     try:
         import ctypes
 
