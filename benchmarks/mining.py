@@ -96,7 +96,7 @@ class Measure:
         wall, after = time.perf_counter() - t0, os.times()
         self.wall.append(wall)
         self.own_cpu.append(after[0] + after[1] - before[0] - before[1])
-        self.child_cpu.append(after[2] + after[3] - before[2] - before[3])
+        self.child_cpu.append(max(0.0, after[2] + after[3] - before[2] - before[3]))
         return out
 
     def median(self) -> float:
