@@ -27,12 +27,13 @@ import json
 import logging
 import os
 import sys
+import uuid
 from collections.abc import Sequence
 from typing import Any
 
 from oacdsl.errors import UsageError
 
-__all__ = ["SCHEDULER_CONFIG", "WORKER_CONFIG", "WORKER_ENV", "client_for", "close", "worker_count"]
+__all__ = ["SCHEDULER_CONFIG", "WORKER_CONFIG", "WORKER_ENV", "client_for", "close", "share", "worker_count"]
 
 #: Dask settings of the embedded cluster's workers: no statistical profiler (it samples every
 #: thread's stack 100 times a second: ~3 % of a core while idle, more while a task runs) and
@@ -137,6 +138,17 @@ def client_for(
     except BaseException:
         cluster.close()
         raise
+
+
+def _itself(obj: Any) -> Any:
+    return obj
+
+
+def share(client: Any, obj: Any, name: str) -> Any:
+    """``obj`` on the cluster, as a future the job's tasks take as an argument: held by the first
+    worker that comes up and copied to another when one of its tasks needs it. (``scatter``
+    would first wait, polling every 0.1 s, for a worker to exist.)"""
+    return client.submit(_itself, obj, pure=False, key=f"{name}-{uuid.uuid4().hex}")
 
 
 async def _stop_forked(cluster: Any) -> None:

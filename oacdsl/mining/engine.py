@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import IO, Any
 
 from oacdsl.errors import InputError, UsageError
-from oacdsl.mining.cluster import client_for, close, worker_count
+from oacdsl.mining.cluster import client_for, close, share, worker_count
 from oacdsl.mining.inputs import RecordingFile, expand_recordings
 from oacdsl.mining.table import TABLE_NAME, MineTable
 from oacdsl.mining.task import PRELOAD, JobSpec, analyse_batch
@@ -132,7 +132,7 @@ def _results(client: Any, spec: JobSpec, work: list[list[RecordingFile]]) -> Ite
     """Each task's rows as it finishes (a task that died with its worker: an error row each)."""
     from dask.distributed import as_completed
 
-    shared = client.scatter(spec, broadcast=True)
+    shared = share(client, spec, "mine-spec")
     futures = {
         client.submit(analyse_batch, [(r.path, r.id) for r in b], shared, pure=False,
                       key=f"mine-{b[0].id}-{len(b)}"): b

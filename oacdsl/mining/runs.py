@@ -114,7 +114,7 @@ def run_many(
     (the caller records it); the documents sorted by seed and sample."""
     from dask.distributed import as_completed
 
-    from oacdsl.mining.cluster import client_for, close
+    from oacdsl.mining.cluster import client_for, close, share
     from oacdsl.mining.engine import _Ticker
 
     jobs = [(s, k) for s in seeds for k in range(samples)]
@@ -127,7 +127,7 @@ def run_many(
 
             spec = copy(spec)
             spec.parsed = _library(spec.library)
-        shared = client.scatter(spec, broadcast=True)
+        shared = share(client, spec, "run-spec")
         futures = {client.submit(run_one, shared, s, k, pure=False): (s, k) for s, k in jobs}
         for future in as_completed(futures):
             s, k = futures[future]
