@@ -244,3 +244,21 @@ def test_the_kit_follow_library_compiles_and_uses_follow() -> None:
     skills = {d.name: d.skill for m in result.modules for d in m.decls if getattr(d, "kind", "") == "oac"}
     assert skills["work_in"] == skills["bring_to"] == skills["wipe_held"] == "follow"
     assert "stir" not in skills  # the named skill's OAC is not there: the matcher takes work_in
+
+
+def test_a_core_is_kept_from_going_deeper_than_where_it_touched() -> None:
+    # a knife cutting into the demonstrator's cucumber went 5 cm below where it first touched:
+    # the robot's rigid cucumber stops it there, and the rest of the core stays on it
+    from oacdsl.runtime.retarget import floored, retarget
+
+    t = np.arange(30) * 0.1
+    z = np.where(t < 0.5, 0.2 - 0.3 * t, -0.02 - 0.05 * np.abs(np.sin(2.0 * (t - 0.5))))
+    x = np.where(t < 0.5, 0.3 - 0.5 * t, 0.02 * np.sin(4.0 * t))
+    path = np.column_stack([t, x, np.zeros_like(t), z, np.zeros((len(t), 3))])
+    r = retarget(path, room_m=None, speed_m_s=10.0, turn_rad=math.pi)
+    f = floored(r)
+    first = r.positions_m[r.core, 2]
+    assert r.positions_m[r.core:, 2].min() < first - 0.03  # the demonstrated cut goes deeper
+    assert np.all(f.positions_m[f.core:, 2] >= first - 1e-12)  # the robot's stays on top
+    assert np.allclose(f.positions_m[f.core:, :2], r.positions_m[r.core:, :2])  # the strokes are kept
+    assert np.allclose(f.positions_m[: f.core], r.positions_m[: r.core])  # the way in too
