@@ -262,3 +262,27 @@ def test_a_core_is_kept_from_going_deeper_than_where_it_touched() -> None:
     assert np.all(f.positions_m[f.core:, 2] >= first - 1e-12)  # the robot's stays on top
     assert np.allclose(f.positions_m[f.core:, :2], r.positions_m[r.core:, :2])  # the strokes are kept
     assert np.allclose(f.positions_m[: f.core], r.positions_m[: r.core])  # the way in too
+
+
+def test_a_core_is_fitted_onto_a_solid_targets_top() -> None:
+    # a knife drawn 8 cm across and 5 cm along a cucumber 4.5 cm wide (its box's y) and 15 cm long:
+    # across, the core is shrunk to the box less its margins and moved onto it; along, it stays
+    from oacdsl.runtime.retarget import FOLLOW, boxed, retarget
+
+    t = np.arange(30) * 0.1
+    x = np.where(t < 0.5, 0.3 - 0.5 * t, -0.08 * (t - 0.5) / 2.4)
+    y = np.where(t < 0.5, 0.0, 0.025 * np.sin(4.0 * t))
+    path = np.column_stack([t, x, y, np.full_like(t, 0.02), np.zeros((len(t), 3))])
+    r = retarget(path, room_m=None, speed_m_s=10.0, turn_rad=math.pi)
+    c = r.core
+    turn = np.array([[0.0, -1.0], [1.0, 0.0]])  # the frame's x is the box's y
+    lo = np.array([-0.075, -0.0225]) + FOLLOW.top_margin_m
+    hi = np.array([0.075, 0.0225]) - FOLLOW.top_margin_m
+    before = r.positions_m[c:, :2] @ turn.T
+    assert np.ptp(before[:, 1]) > hi[1] - lo[1]  # the demonstrated core leaves the cucumber
+    b = boxed(r, turn, np.zeros(2), lo, hi)
+    q = b.positions_m[c:, :2] @ turn.T
+    assert np.all(q >= lo - 1e-12) and np.all(q <= hi + 1e-12)
+    assert np.ptp(q[:, 0]) == pytest.approx(np.ptp(before[:, 0]))  # the strokes along it are kept
+    assert np.allclose(b.positions_m[:, 2], r.positions_m[:, 2])  # heights untouched
+    assert np.allclose(b.positions_m[0], r.positions_m[0])  # the way in starts where it did
