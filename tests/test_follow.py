@@ -286,3 +286,8 @@ def test_a_core_is_fitted_onto_a_solid_targets_top() -> None:
     assert np.ptp(q[:, 0]) == pytest.approx(np.ptp(before[:, 0]))  # the strokes along it are kept
     assert np.allclose(b.positions_m[:, 2], r.positions_m[:, 2])  # heights untouched
     assert np.allclose(b.positions_m[0], r.positions_m[0])  # the way in starts where it did
+    # held at its low end: the core goes as far to the other end as it fits, its strokes kept
+    f = boxed(r, turn, np.zeros(2), lo, hi, far=(0, 1.0))
+    qf = f.positions_m[c:, :2] @ turn.T
+    assert qf[:, 0].max() == pytest.approx(hi[0]) and np.all(qf >= lo - 1e-12)
+    assert np.ptp(qf[:, 0]) == pytest.approx(np.ptp(before[:, 0]))

@@ -227,14 +227,16 @@ def floored(r: Retargeted) -> Retargeted:
 
 
 def boxed(r: Retargeted, to_box: np.ndarray, offset_m: np.ndarray, lo_m: np.ndarray,
-          hi_m: np.ndarray) -> Retargeted:
+          hi_m: np.ndarray, far: tuple[int, float] | None = None) -> Retargeted:
     """``r`` with its core fitted into a rectangle on a solid target's top: ``to_box`` (2, 2)
     turns the frame's xy into the rectangle's, where the point that must stay inside (the
     object's lowest end) is at ``to_box @ p + offset_m`` for a keyframe at ``p``; along each of
     the rectangle's axes the core is shrunk about its middle until it spans at most
     ``hi_m - lo_m``, then moved in as little as needed (the way in blends into it). A cucumber
     is 15 cm long and 4.5 cm wide: the room about its middle (``room_m``) does not see that
-    a knife drawn 5 cm across it leaves it."""
+    a knife drawn 5 cm across it leaves it. ``far`` = (axis, sign): the core then goes as far
+    to that side along that axis of the rectangle as it can (the end of a cucumber away from
+    the hand that holds it)."""
     pos = r.positions_m.copy()
     q = pos[r.core :, :2] @ to_box.T + offset_m
     middle = 0.5 * (q.min(axis=0) + q.max(axis=0))
@@ -242,7 +244,10 @@ def boxed(r: Retargeted, to_box: np.ndarray, offset_m: np.ndarray, lo_m: np.ndar
     scale = np.where(span > hi_m - lo_m, np.maximum(hi_m - lo_m, 0.0) / np.maximum(span, 1e-12), 1.0)
     q = middle + (q - middle) * scale
     q += np.clip(q.min(axis=0), lo_m, None) - q.min(axis=0)  # the low side in
-    q -= np.maximum(q.max(axis=0) - hi_m, 0.0)  # the high side in (the low side wins when too narrow)
+    q -= np.maximum(q.max(axis=0) - hi_m, 0.0)  # the high side in
+    if far is not None:
+        a, sign = far
+        q[:, a] += float(hi_m[a] - q[:, a].max()) if sign > 0 else float(lo_m[a] - q[:, a].min())
     core = (q - offset_m) @ to_box  # to_box is a rotation: its inverse is its transpose
     delta = np.zeros((len(r.times_s), 2))
     delta[r.core :] = core - pos[r.core :, :2]

@@ -136,7 +136,7 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
         holder = world.frame_pose(f"grasp_{other}")[:3, 3] if world.held.get(other) == target else None
         move = onto_top(body_o, pose_at(plan, c), body_t, world.body_pose(target), frame(phi)[1], holder)
         plan = shifted(plan, move, None if holder is not None else room)
-        plan = on_top(plan, body_o, pose_at(plan, c), body_t, world.body_pose(target), frame(phi)[1])
+        plan = on_top(plan, body_o, pose_at(plan, c), body_t, world.body_pose(target), frame(phi)[1], holder)
     lift = top + FOLLOW.hover_m - lowest_z(body_o, pose_at(plan, c))
     plan, weight = _reachable(ctx, side, keep, plan, lambda r, k, _: hand_at(r, k, lift),
                               f"the path of {obj} relative to {target}",

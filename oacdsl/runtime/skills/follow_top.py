@@ -31,17 +31,23 @@ def lowest_end(body: Body, t_world_obj: np.ndarray) -> np.ndarray:
 
 
 def on_top(plan: Retargeted, body_o: Body, t_world_obj: np.ndarray, body_t: Body,
-           t_world_target: np.ndarray, r_frame: np.ndarray) -> Retargeted:
+           t_world_target: np.ndarray, r_frame: np.ndarray, holder: np.ndarray | None = None) -> Retargeted:
     """``plan`` with its core fitted so that the object's lowest end (at ``t_world_obj`` for the
     core's first keyframe) stays over the solid target's box, :data:`FOLLOW`'s ``top_margin_m``
-    inside its edges (:func:`~oacdsl.runtime.retarget.boxed`)."""
+    inside its edges (:func:`~oacdsl.runtime.retarget.boxed`). With ``holder`` (where the other
+    hand holds the target, world): as far towards the box's end away from it as it fits."""
     end = lowest_end(body_o, t_world_obj)
     local = t_world_target[:3, :3].T @ (end - t_world_target[:3, 3])
     to_box = (t_world_target[:3, :3].T @ r_frame)[:2, :2]
     offset = local[:2] - to_box @ plan.positions_m[plan.core, :2]
     own = box_corners(body_t)
     lo, hi = own.min(axis=0)[:2] + FOLLOW.top_margin_m, own.max(axis=0)[:2] - FOLLOW.top_margin_m
-    return boxed(plan, to_box, offset, lo, hi)
+    far = None
+    if holder is not None:
+        u = 0.5 * (lo + hi) - (t_world_target[:3, :3].T @ (holder - t_world_target[:3, 3]))[:2]
+        a = int(np.argmax(np.abs(u)))
+        far = (a, float(np.sign(u[a])))
+    return boxed(plan, to_box, offset, lo, hi, far)
 
 
 def onto_top(body_o: Body, t_world_obj: np.ndarray, body_t: Body, t_world_target: np.ndarray,
