@@ -219,13 +219,13 @@ class Motion:
     def slide_back(self, offset_m: np.ndarray, seconds: float, touching: Guard, pressed_m: float) -> None:
         """The way back of a stroke that goes one way (a peeler along a cucumber), on the surface:
         the press ``pressed_m`` (how far the hand's goal is below where the tool touches, m)
-        eased by the tuning's ``slide_back_ease`` share of what it has over the light slide
+        eased by the tuning's ``slide_back_ease_share`` of what it has over the light slide
         press, slid by ``offset_m`` (world) keeping the contact (``touching``; :meth:`along`'s
         seek), then pressed as before. Lifted back through the air, the tool left the object
         between strokes: a contact lost and made again each time, which the demonstrated
         stroke does not have."""
         t = self.tuning
-        ease = t.slide_back_ease * max(pressed_m - t.slide_press_m, 0.0)
+        ease = t.slide_back_ease_share * max(pressed_m - t.slide_press_m, 0.0)
         self.go(raised(self.here(), ease), t.press_s)
         self.slide(offset_m, seconds, keep_contact=touching)
         self.press(ease)
