@@ -192,12 +192,15 @@ def verify_stage(
     demo_recording: Recording | None = None,
     contacts: Any = None,
     folder: Path | None = None,
+    any_hands: bool = False,
 ) -> VerifyStage:
     """Judge the robot's execution against the demonstration (:func:`~oacdsl.verify_execution.
     verify_execution`: relations from the simulation's contacts, end state, motion), after
     segmenting and matching the robot's virtual markers with the same AAS and library (the
     report's robot sub-actions; where that AAS disagrees with the contacts is a finding). With
-    ``folder``, the robot's recording and contacts are written there (``execution.c3d``)."""
+    ``folder``, the robot's recording and contacts are written there (``execution.c3d``).
+    ``any_hands``: the robot's two hands may be exchanged consistently (the runtime exchanged
+    them: a left-handed demonstration in a scene laid out for the right hand)."""
     from oacdsl.matching import Matcher
     from oacdsl.matching.demonstration import match_segmentation
     from oacdsl.matching.transient import agents_of, stable_segmentation
@@ -223,7 +226,7 @@ def verify_stage(
 
             outcome = verify_execution(demo_recording, recording, scene=scene, library=library,
                                        params=demo_params, contacts=sim, demo_segmentation=demonstration,
-                                       execution_aas=seg)
+                                       execution_aas=seg, any_hands=any_hands)
             v = outcome.relations
         else:  # a segmentation only: the relations as the AAS of the virtual markers sees them
             demo_kfs = stable_segmentation(demonstration, agents.__contains__)[0].keyframes

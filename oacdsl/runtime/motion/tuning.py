@@ -106,6 +106,13 @@ class Tuning:
     turn_wind_back_share: tuple[float, ...] = (0.0, 0.25, 0.5, 0.75, 1.0)
     turn_wind_back_gain_m: float = 0.002
 
+    # --- arm postures --------------------------------------------------------------------------
+    #: room kept between an arm's links (upper arm to wrist) and the table or the objects in a
+    #: posture a skill chooses among others (the IK does not see them), m
+    arm_room_m: float = 0.02
+    #: solver steps a static solve of a pose may take (the IK settling there before a motion)
+    pose_solve_tries: int = 150
+
     # --- tip a held object over a container --------------------------------------------------
     #: how many horizontal axes (evenly round) a tip is tried about; the best reached is taken
     tip_axis_tries: int = 8
