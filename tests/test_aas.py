@@ -8,6 +8,7 @@ from _aas_helpers import path, recording, still, summary
 
 from oacdsl.errors import RecordingError, SegmentationError
 from oacdsl.segmentation import AasParams, segment
+from oacdsl.segmentation.adaptive import AdaptiveDetector, AdaptiveSettings
 from oacdsl.segmentation.recording import Recording
 
 # These tests check the paper's Eq. 1 and Eq. 2 as printed, so they name mode="paper";
@@ -51,10 +52,14 @@ def test_pass_by_is_no_touch():
     # the same path, but the hand stops next to the cup: that is a touch. By the paper's
     # one-frame difference from frame 200, whose step is tangential (the distance changes by
     # 0.99 mm, under v Δt = 1 mm); by the default detector's slope over ±5 frames two frames
-    # later, when the window no longer holds enough of the approach.
+    # later, when the window no longer holds enough of the approach. The default detector rescales
+    # its windows by the demonstration's pace (1 m/s, twice the reference: ±2 frames), and sees
+    # the rest at frame 200 too.
     stop = recording({"hand": path(F, [(0, (-2.0, 0.05, 0)), (200, (0.0, 0.05, 0))]), "cup": still(F, CUP)})
     assert summary(segment(stop, AasParams(mode="paper"))) == [(0, []), (200, [("cup", "hand")])]
-    assert summary(segment(stop)) == [(0, []), (202, [("cup", "hand")])]
+    fixed = AdaptiveDetector(AasParams().resolved(stop.rate_hz), AdaptiveSettings(rescale=False))
+    assert summary(segment(stop, detector=fixed)) == [(0, []), (202, [("cup", "hand")])]
+    assert summary(segment(stop)) == [(0, []), (200, [("cup", "hand")])]
 
 
 def test_slow_pass_by_touches_when_n_is_too_small():

@@ -148,8 +148,8 @@ def test_compose_writes_the_demonstrated_pours_and_no_demo_params_does_not(capsy
     assert all(p is None for s, p in zip(doc["steps"], params, strict=True) if s["oac"] != "pour")
     text = (lib_dir / "learned" / "dough.oac").read_text()
     assert "pour(hand1, cup1, liquid1, bowl) { duration 0.81s  tilt 125deg }" in text
-    assert ("# demonstrated (red_cup relative to world, frames 207-506): tilt 125deg from tilt 110deg,"
-            " raised to the robot's least (125deg); duration 0.81s from tilt rise 0.65s, x1.25") in text
+    assert ("# demonstrated (red_cup relative to world, frames 207-505): tilt 125deg from tilt 110deg,"
+            " raised to the robot's least (125deg); duration 0.81s from tilt rise 0.64s, x1.25") in text
     assert "# skill defaults: the motion has no cycles" in text  # the mix: no oscillation before its keyframe
     learned = load_library([lib_dir]).oacs["dough"]
     plain_path = tmp_path / "plain.oac"

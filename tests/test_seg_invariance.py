@@ -105,9 +105,10 @@ def test_the_pace_halves_on_a_take_twice_as_slow_and_grows_with_the_scale():
     assert measure(rec, ()) == DemoScale()  # no hands: the constants stay
 
 
-def test_rescaled_parameters_keep_lengths_and_an_explicit_frame_count():
+def test_rescaled_parameters_grow_d_only_and_keep_an_explicit_frame_count():
     p = scale_params(AasParams(frames=3), DemoScale(length=1.2, speed=0.5))
-    assert p.distance_m == 0.15 and p.frames == 3
+    assert p.distance_m == pytest.approx(0.18) and p.frames == 3  # a larger demonstrator: a longer reach
+    assert scale_params(AasParams(), DemoScale(length=0.9, speed=0.5)).distance_m == 0.15  # never shorter
     assert p.speed_m_s == pytest.approx(0.05) and p.merge_s == pytest.approx(0.3 * 2.4)
     assert p.hold_s == pytest.approx(0.24) and p.change_window_s == pytest.approx(0.24)
 
@@ -136,7 +137,7 @@ def test_a_kit_clip_twice_as_slow_keeps_its_keyframes_when_rescaled(clip):
             abs(f2 / 2 - f1) <= 1 for (f1, _), (f2, _) in zip(base, got, strict=True))
 
     assert same(AdaptiveSettings(rescale=True))
-    assert not same(AdaptiveSettings())  # fixed speeds and durations: other keyframes
+    assert not same(AdaptiveSettings(rescale=False))  # fixed speeds and durations: other keyframes
 
 
 # --- merging connected changes only -----------------------------------------------------------
@@ -165,7 +166,7 @@ def test_connected_merge_drops_a_bounce_and_folds_early_flicker():
 def test_the_options_agree_with_the_per_frame_reference():
     rec = with_gap(recording(carry()), "cup.1", 1.0, 0.3)
     params = AasParams(merge_s=0.3)
-    for settings in (AdaptiveSettings(), AdaptiveSettings(rescale=True, merge="connected")):
+    for settings in (AdaptiveSettings(), AdaptiveSettings(rescale=False, merge="paper")):
         det = AdaptiveDetector(params.resolved(rec.rate_hz), settings)
         fast = segment(rec, params, detector=det)
         assert fast.keyframes == segment_reference(rec, params, settings).keyframes

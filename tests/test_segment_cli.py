@@ -38,14 +38,17 @@ def test_json_document(demo, capsys):
     assert list(doc) == ["recording", "rate_hz", "frames", "parameters", "instances", "keyframes"]
     assert doc["recording"] == str(demo) and doc["rate_hz"] == 100.0 and doc["frames"] == F
     assert doc["instances"] == ["cup", "hand", "liquid", "wand"]
-    assert doc["parameters"] == {"distance_m": 0.15, "speed_m_s": 0.1, "frames": 3, "merge_s": 0.3,
-                                 "mode": "adaptive", "hold_s": 0.1, "change_window_s": 0.1}  # the default
-    # the default detector's slope over ±5 frames sees the rest one frame after the paper's
-    # one-frame difference (101), and the departure two frames before it (201)
+    params = dict(doc["parameters"])
+    scale = params.pop("scale")  # the demonstration's pace against the reference's: its constants rescaled
+    assert params == {"distance_m": 0.15, "speed_m_s": 0.1, "frames": 3, "merge_s": 0.3,
+                      "mode": "adaptive", "hold_s": 0.1, "change_window_s": 0.1}  # the default
+    assert scale == pytest.approx({"length": 1.0, "speed": 0.9, "time": 1 / 0.9})
+    # the default detector's slope over ±5 frames (±6 at this pace) sees the rest two frames
+    # after the paper's one-frame difference (101), and the departure three frames before it (201)
     assert doc["keyframes"] == [
         {"frame": 0, "time_s": 0.0, "relations": [["cup", "liquid"]]},
-        {"frame": 102, "time_s": 1.02, "relations": [["cup", "hand"], ["cup", "liquid"], ["hand", "liquid"]]},
-        {"frame": 199, "time_s": 1.99, "relations": [["cup", "liquid"]]},
+        {"frame": 103, "time_s": 1.03, "relations": [["cup", "hand"], ["cup", "liquid"], ["hand", "liquid"]]},
+        {"frame": 198, "time_s": 1.98, "relations": [["cup", "liquid"]]},
     ]
 
 

@@ -14,6 +14,7 @@ from oacdsl.matching.demonstration import compose_demonstration, match_segmentat
 from oacdsl.matching.split import split_change
 from oacdsl.model import Module, Oac
 from oacdsl.segmentation import segment
+from oacdsl.segmentation.adaptive import AdaptiveDetector, AdaptiveSettings
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.readers import read_recording
 from oacdsl.segmentation.recording import Recording
@@ -110,17 +111,24 @@ def dough():
     return read_recording(ROOT / "data" / "dough.c3d"), lib, lib.scenes["kitchen"]
 
 
+def _paper_merge(params: AasParams, rate_hz: float) -> AdaptiveDetector:
+    """The default detector with the paper's merging and fixed constants (no rescaling)."""
+    return AdaptiveDetector(params.resolved(rate_hz), AdaptiveSettings(merge="paper", rescale=False))
+
+
 @pytest.mark.parametrize("delay_s", [2.9, 3.0, 3.2])
 def test_the_left_hand_letting_go_while_the_right_grasps(dough, delay_s):
     """The left hand's part of the dough task delayed by about 3 s: its cup is set down while the
-    right hand grasps the green cup (one keyframe). It composes to the dough's steps, those two
-    in a together block, and the new OAC compiles and prints back to itself."""
+    right hand grasps the green cup (one keyframe under the paper's merging). It composes to the
+    dough's steps, those two in a together block, and the new OAC compiles and prints back to
+    itself."""
     rec, lib, scene = dough
     take = shifted(rec, ["left_hand", "red_cup", "liquid_one"], delay_s)
-    seg = segment(take, AasParams())
+    seg = segment(take, AasParams(), detector=_paper_merge(AasParams(), take.rate_hz))
     unmerged = dataclasses.replace(AasParams(), merge_s=0.0)
+    raw = _paper_merge(unmerged, take.rate_hz)
     matches = match_segmentation(seg, Matcher.from_library(lib, scene),
-                                 unmerged=lambda: segment(take, unmerged))
+                                 unmerged=lambda: segment(take, unmerged, detector=raw))
     assert all(m.matched for m in matches)
     split = [m for m in matches if m.split is not None]
     assert len(split) == 1 and split[0].result.chosen is None
@@ -143,6 +151,21 @@ def test_the_left_hand_letting_go_while_the_right_grasps(dough, delay_s):
     # the pour after it is step 5 but starts at keyframe 3
     assert f"hand2 <-> nothing,  # step {3 if first == 'grasp' else 4} grasp, keyframe 2" in text
     assert "cup2 <-> liquid2  # step 5 pour, keyframe 3" in text
+
+
+@pytest.mark.parametrize("delay_s", [2.9, 3.0, 3.2])
+def test_by_default_independent_changes_of_the_two_hands_stay_apart(dough, delay_s):
+    """The same take with the default detector (connected merging): the left hand's let-go and
+    the right hand's grasp are two keyframes, no OAC matches both at once (coincident.py), so
+    they compose to two steps in the order they were seen, nothing split."""
+    rec, lib, scene = dough
+    take = shifted(rec, ["left_hand", "red_cup", "liquid_one"], delay_s)
+    matches = match_segmentation(segment(take, AasParams()), Matcher.from_library(lib, scene))
+    assert all(m.matched for m in matches) and all(m.split is None and not m.joined for m in matches)
+    comp = compose_demonstration("dough_overlap", matches, lib, scene).composition
+    names = [s.oac.name for s in comp.steps]
+    assert names[:2] + names[4:] == ["grasp", "pour", "pour", "place", "grasp", "mix"]
+    assert sorted(names[2:4]) == ["grasp", "place"] and not any(c.together for c in comp.oac.steps)
 
 
 def test_the_bundled_demonstration_is_not_split(dough):

@@ -1,6 +1,9 @@
 """The six KIT development clips with events up to 0.6 s apart merged into one keyframe: the
 keyframes that then match no OAC as a whole are split, and the clips compose to the steps of the
-default 0.3 s window (issue 20, "simultaneous changes of the two hands")."""
+0.3 s window (issue 20, "simultaneous changes of the two hands"). Segmented with the paper's
+merging and fixed constants (``AdaptiveSettings(merge="paper", rescale=False)``), which join
+changes of both hands into one keyframe; the default detector keeps them apart
+(tests/test_coincident.py, tests/test_takes_compose.py)."""
 
 from __future__ import annotations
 
@@ -13,6 +16,8 @@ from _mocap import mocap_file
 from oacdsl.matching import Matcher
 from oacdsl.matching.demonstration import compose_demonstration, match_segmentation
 from oacdsl.pipeline.inputs import load_inputs
+from oacdsl.segmentation import segment
+from oacdsl.segmentation.adaptive import AdaptiveDetector, AdaptiveSettings
 from oacdsl.segmentation.params import AasParams
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -23,9 +28,17 @@ CLIPS = ["Pour", "Stir", "Mix", "Wipe", "Scoop", "Cut"]
 def composed(clip: str, merge_s: float) -> tuple[list[list[str]], int]:
     """The composed steps, a together block as one sorted list, and how many sub-actions were split."""
     xml = next(mocap_file("kit_bimanual").glob(f"{clip}_*.mmm.xml"))
-    inputs = load_inputs(xml, [KIT], None, dataclasses.replace(AasParams(), merge_s=merge_s))
-    matches = match_segmentation(inputs.segmented(), Matcher.from_library(inputs.library, inputs.scene),
-                                 unmerged=inputs.unmerged())
+    params = dataclasses.replace(AasParams(), merge_s=merge_s)
+    inputs = load_inputs(xml, [KIT], None, params)
+    rec = inputs.motion_capture()
+
+    def paper_merge(p: AasParams) -> AdaptiveDetector:
+        return AdaptiveDetector(p.resolved(rec.rate_hz), AdaptiveSettings(merge="paper", rescale=False))
+
+    unmerged = dataclasses.replace(params, merge_s=0.0)
+    matches = match_segmentation(segment(rec, params, detector=paper_merge(params)),
+                                 Matcher.from_library(inputs.library, inputs.scene),
+                                 unmerged=lambda: segment(rec, unmerged, detector=paper_merge(unmerged)))
     assert all(m.matched for m in matches), [m.explanation for m in matches if not m.matched]
     comp = compose_demonstration(f"kit_{clip.lower()}", matches, inputs.library, inputs.scene).composition
     groups: list[list[str]] = []

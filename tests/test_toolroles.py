@@ -19,9 +19,11 @@ L, R = "left_hand", "right_hand"
 #: clip → [(frame, relations made, relations broken)] of the default (adaptive) segmentation.
 EXPECTED: dict[str, list[tuple[int, set[tuple[str, str]], set[tuple[str, str]]]]] = {
     "Mix": [  # the servers are taken, mix in the bowl and are left in it (rules 1, 2, 3, 5)
-        (12, {(L, FORK), (R, SPOON)}, set()),
+        (10, {(L, FORK)}, set()),  # the two hands' changes keep their own frames (connected merging)
+        (12, {(R, SPOON)}, set()),
         (24, {(BOWL, FORK), (BOWL, SPOON)}, set()),
-        (58, set(), {(L, FORK), (R, SPOON)}),
+        (56, set(), {(L, FORK)}),
+        (58, set(), {(R, SPOON)}),
     ],
     "Wipe": [  # the plate is put into the draining rack and stays there (rule 2)
         (11, {(L, "plate_dish")}, set()),
@@ -34,10 +36,11 @@ EXPECTED: dict[str, list[tuple[int, set[tuple[str, str]], set[tuple[str, str]]]]
     ],
     "Scoop": [  # the cup is held by the bowl, not on it (rule 4); the ladle goes back in (rule 2)
         (17, {("cup_small", L)}, set()),
-        (22, {("ladle", BOWL), ("ladle", R)}, set()),
+        (21, {("ladle", BOWL), ("ladle", R)}, set()),  # a group stands at its hand's change
         (35, {("cup_small", "ladle")}, {("ladle", BOWL)}),
         (52, {("ladle", BOWL)}, {("cup_small", "ladle")}),
-        (66, set(), {("cup_small", L), ("ladle", R)}),
+        (63, set(), {("ladle", R)}),
+        (66, set(), {("cup_small", L)}),
     ],
     "Cut": [  # the knife cuts the cucumber held on the board, not the board (rules 4, 5)
         (12, {("cucumber_attachment", L)}, set()),
@@ -72,6 +75,6 @@ def test_development_clip_keyframes_are_what_the_labels_say(action):
 def test_pour_and_stir_keep_their_keyframes():
     """Both objects held: nothing is left behind when they are set down (rule 2 does not apply)."""
     pour = changes("Pour")
-    assert [f for f, _, _ in pour] == [14, 19, 22, 56]
+    assert [f for f, _, _ in pour] == [14, 20, 54]  # the carton grasped, then reaching the cup: one group
     assert ("cup_small", "milk_small") in pour[-1][2]
-    assert [f for f, _, _ in changes("Stir")] == [21, 27, 48, 56]
+    assert [f for f, _, _ in changes("Stir")] == [19, 21, 27, 48, 55, 56]

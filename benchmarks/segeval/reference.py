@@ -149,6 +149,7 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
             settings.tool_dwell_s,
             settings.tool_bridge_s,
             settings.rest_m,
+            params.distance_m * (1 + settings.margin),
         )
         for q, (_, threshold) in found.learned.items():
             distance[q] = round(threshold, 4)
@@ -209,7 +210,8 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
         if not keyframes or state_i != keyframes[-1].state:
             keyframes.append(Keyframe(i, times[i], state_i))
     if params.mode == "adaptive" and settings is not None and settings.merge == "connected":
-        merged = merge_keyframes(keyframes, params.merge_s, at_onset=True, connected=True)
+        agents = frozenset(table.instances[i] for i in agents_of(table.instances, settings.agent_pattern))
+        merged = merge_keyframes(keyframes, params.merge_s, connected=True, agents=agents)
     else:
         merged = merge_keyframes(keyframes, params.merge_s)
     return Segmentation(

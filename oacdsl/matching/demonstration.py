@@ -15,6 +15,7 @@ from typing import Any
 
 from oacdsl.errors import MatchingError, did_you_mean
 from oacdsl.library import Library
+from oacdsl.matching.coincident import Joined, coincidence_window_s, join_coincident, matches_whole
 from oacdsl.matching.composer import Composition, Step, compose
 from oacdsl.matching.drafts import propose_draft
 from oacdsl.matching.matcher import Matcher
@@ -50,6 +51,9 @@ class SubActionMatch:
     #: For a sub-action that matches no OAC as a whole: its parts, each matched
     #: (:mod:`oacdsl.matching.split`); None when it matched, or could not be split.
     split: Split | None = None
+    #: Keyframes inside it between near-coincident independent changes whose union its OAC
+    #: matches (:mod:`oacdsl.matching.coincident`), not keyframes of their own.
+    joined: tuple[Joined, ...] = ()
 
     @property
     def matched(self) -> bool:
@@ -92,6 +96,8 @@ class SubActionMatch:
         }
         if self.transient:
             doc["transient"] = [t.to_json() for t in self.transient]
+        if self.joined:
+            doc["joined"] = [j.to_json() for j in self.joined]
         if self.split is not None:
             doc["split"] = self.split.to_json()
         return doc
@@ -151,20 +157,21 @@ def reaching(library: Library, name: str) -> frozenset[str]:
 
 def match_segmentation(
     segmentation: Segmentation, matcher: Matcher, mode: Mode | None = None, transient_s: float = TRANSIENT_S,
-    unmerged: Callable[[], Segmentation] | None = None,
+    unmerged: Callable[[], Segmentation] | None = None, coincident_s: float | None = None,
 ) -> list[SubActionMatch]:
     """Match every sub-action of ``segmentation``, in time order.
 
     Keyframes of transient states (an object in flight for less than ``transient_s``
     seconds, :mod:`oacdsl.matching.transient`) delimit no sub-action; the agents are the
-    matcher's instances of class ``Hand``. A sub-action that matches no OAC is split into
-    parts when it can be (:mod:`oacdsl.matching.split`); ``unmerged`` gives the recording's
-    segmentation without the merge window (called only then), whose keyframes say when each
-    changed relation changed.
+    matcher's instances of class ``Hand``. Two near-coincident independent changes (keyframes
+    less than ``coincident_s`` apart; default: the segmentation's merge window in its own time,
+    :mod:`oacdsl.matching.coincident`; 0 = off) are one sub-action when an OAC matches their
+    union. A sub-action that matches no OAC is split into parts when it can be
+    (:mod:`oacdsl.matching.split`); ``unmerged`` gives the recording's segmentation without the
+    merge window (called only then), whose keyframes say when each changed relation changed.
     """
     agents = agents_of(matcher.instance_classes)
     stable, dropped = stable_segmentation(segmentation, agents.__contains__, transient_s)
-    subs = stable.sub_actions()
     rule = mode or matcher.mode
     untracked = matcher.untracked
 
@@ -184,21 +191,32 @@ def match_segmentation(
         times = _change_times(raw[0], sub, b, a) if raw else None
         return split_change(match, b, a, untracked.names if untracked is not None else frozenset(), times)
 
-    if untracked is not None:  # relations of untracked instances: predicted along the way
+    def run(subs: list[SubAction]) -> tuple[list[SubAction], list[tuple[MatchResult, Split | None]]]:
+        if untracked is None:
+            plain = []
+            for sa in subs:
+                r = match(sa.before, sa.after)
+                plain.append((r, split(sa.before, sa.after, sa) if r.chosen is None else None))
+            return subs, plain
+        # relations of untracked instances: predicted along the way
         done = untracked.match_sequence([(sa.before, sa.after) for sa in subs], match,
                                         lambda k, b, a: split(b, a, subs[k]))
-        subs = [dataclasses.replace(sa, start=dataclasses.replace(sa.start, state=r.before),
+        return [dataclasses.replace(sa, start=dataclasses.replace(sa.start, state=r.before),
                                     end=dataclasses.replace(sa.end, state=r.after))
-                for sa, (r, _) in zip(subs, done, strict=True)]
-    else:
-        done = []
-        for sa in subs:
-            r = match(sa.before, sa.after)
-            done.append((r, split(sa.before, sa.after, sa) if r.chosen is None else None))
+                for sa, (r, _) in zip(subs, done, strict=True)], done
+
+    subs, done = run(stable.sub_actions())
+    window = coincidence_window_s(segmentation) if coincident_s is None else coincident_s
+    joined: tuple[Joined, ...] = ()
+    if window > 0 and len(subs) > 1:
+        stable, joined = join_coincident(stable, matches_whole(subs, match, untracked), window)
+        if joined:
+            subs, done = run(stable.sub_actions())
     out = []
     for sa, (result, parts) in zip(subs, done, strict=True):
         inside = tuple(t for t in dropped if sa.start.frame < t.keyframe.frame < sa.end.frame)
-        out.append(SubActionMatch(sa, result, inside, parts))
+        together = tuple(j for j in joined if sa.start.frame < j.keyframe.frame < sa.end.frame)
+        out.append(SubActionMatch(sa, result, inside, parts, together))
     return out
 
 

@@ -117,8 +117,10 @@ def segment(
     frames, which, values = _changes(recording, table, det, chunk_frames, progress)
     relations = [table.relation(q) for q in range(table.n_instance_pairs)]
     raw = keyframes_from_changes(table.instances, relations, frames - det.delay_frames, which, values, times)
-    if getattr(det, "merges_connected", False):  # connected changes only, at the first frame
-        keyframes = merge_keyframes(raw, run.merge_s, at_onset=True, connected=True)
+    if getattr(det, "merges_connected", False):  # connected changes only, anchored by the hands
+        find = getattr(det, "agents", None)  # optional: the detector's agents
+        agents = frozenset(table.instances[i] for i in find(table.instances)) if find else None
+        keyframes = merge_keyframes(raw, run.merge_s, connected=True, agents=agents)
     else:
         keyframes = merge_keyframes(raw, run.merge_s)
     reported = params.to_dict()

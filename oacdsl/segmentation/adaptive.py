@@ -100,8 +100,13 @@ class AdaptiveDetector:
 
     @property
     def merges_connected(self) -> bool:
-        """Merge keyframes of connected changes only, at their first frame (``settings.merge``)."""
+        """Merge keyframes of connected changes only, a group at its first change of a hand's
+        contact, else at its last frame (``settings.merge``)."""
         return self.settings.merge == "connected"
+
+    def agents(self, instances: tuple[str, ...] | list[str]) -> list[int]:
+        """Indices of the agents among ``instances`` (``settings.agent_pattern``)."""
+        return list(agents_of(instances, self.settings.agent_pattern))
 
     def _rigid(self, recording: Recording) -> list[str]:
         """The instances whose gaps are filled: every one but the agents (a hand is not rigid)."""
@@ -166,6 +171,7 @@ class AdaptiveDetector:
             self._run.tool_dwell_s,
             self._run.tool_bridge_s,
             self._run.rest_m,
+            self.params.distance_m * (1 + self._run.margin),
         )
         last = recording.n_frames - 1
         collected: dict[int, list[tuple[int, int, int]]] = {}

@@ -61,20 +61,20 @@ class AdaptiveSettings:
             :mod:`oacdsl.segmentation.toolroles`; 5 mm: marker jitter and a hand's tremor).
         rescale: every speed and duration above (and ``AasParams``' ``v``, ``n``, change
             and merge windows) is taken as the reference demonstration's and rescaled by the
-            recording's own pace (:mod:`oacdsl.segmentation.scales`) before segmenting.
-            Off by default: measured on other takes of the KIT clips it fixes the slower
-            takes but moves the Pour clip's carton grasp by a frame, into the merge window
-            of the carton reaching the cup (docs/segmentation-adaptive.md). Lengths are never
-            rescaled.
+            recording's own pace (:mod:`oacdsl.segmentation.scales`) before segmenting (on:
+            a take twice as slow keeps its keyframes; docs/segmentation-adaptive.md). Lengths are
+            never rescaled.
         fill_gaps: a rigid object's marker missing while three of its markers are seen is
             put where the object's rigid fit places it (:mod:`oacdsl.segmentation.poses`).
         hold_still: a hand at rest on or around a still object touches it
             (:mod:`oacdsl.segmentation.holding`; on by default: on the KIT development clips it
             changes no keyframe, hand F1, tool contact or composed take, and it finds a hand
             holding a bottle still while the other hand turns its lid).
-        merge: how keyframes are merged: ``"paper"`` (the paper's chains, at the last
-            frame) or ``"connected"`` (only changes sharing an instance, at the first frame:
-            :func:`~oacdsl.segmentation.keyframes.merge_keyframes`).
+        merge: how keyframes are merged: ``"connected"`` (the default: only changes sharing an
+            instance, a group at its first change of an agent's contact, else its last frame;
+            :func:`~oacdsl.segmentation.keyframes.merge_keyframes`) or ``"paper"`` (the paper's
+            chains, at the last frame). Independent changes of the two hands stay apart; matching
+            joins them where one OAC matches both (:mod:`oacdsl.matching.coincident`).
 
     The defaults sit inside the range that scores best on the KIT development
     clips (``docs/segmentation-adaptive.md`` lists the sensitivity).
@@ -90,9 +90,9 @@ class AdaptiveSettings:
     tool_dwell_s: float = 0.5
     tool_bridge_s: float = 0.2
     rest_m: float = 0.005
-    rescale: bool = False
+    rescale: bool = True
     fill_gaps: bool = True
-    merge: str = "paper"
+    merge: str = "connected"
     hold_still: bool = True
 
     def __post_init__(self) -> None:

@@ -66,7 +66,7 @@ def _apply(touching: set[Relation], rel: Relation, value: bool) -> None:
 
 
 def merge_keyframes(keyframes: Sequence[Keyframe], window_s: float, at_onset: bool = False,
-                    connected: bool = False) -> list[Keyframe]:
+                    connected: bool = False, agents: frozenset[str] | None = None) -> list[Keyframe]:
     """The paper's merging: keyframes closer than ``window_s`` seconds form a group.
 
     A keyframe joins a group when it is less than ``window_s`` after the group's
@@ -87,11 +87,16 @@ def merge_keyframes(keyframes: Sequence[Keyframe], window_s: float, at_onset: bo
     shares an instance with the group's changes (the carton grasped and the carton reaching
     the cup; not the left hand's grasp and the right hand's): independent changes keep their
     own frames, however close in time.
+
+    ``agents`` (with ``connected``; the adaptive detector's hands): a group stands at the first of
+    its changes that begins or ends an agent's contact (where the group's action began: the carton
+    grasped, then reaching the cup), and a group of changes between objects only (a liquid leaving
+    the cup, then reaching the bowl) at its last frame, as the paper places it.
     """
     if not keyframes:
         return []
     if connected:
-        return _merge_connected(keyframes, window_s, at_onset)
+        return _merge_connected(keyframes, window_s, at_onset, agents)
     groups: list[list[Keyframe]] = [[keyframes[0]]]
     for kf in keyframes[1:]:
         if kf.time_s - groups[-1][-1].time_s < window_s - TIME_EPS_S:
@@ -120,38 +125,49 @@ class _Group:
     last_s: float  # time of the latest member
 
 
-def _merge_connected(keyframes: Sequence[Keyframe], window_s: float, at_onset: bool) -> list[Keyframe]:
+def _merge_connected(keyframes: Sequence[Keyframe], window_s: float, at_onset: bool,
+                     agents: frozenset[str] | None = None) -> list[Keyframe]:
     """:func:`merge_keyframes` with ``connected``: groups are chains in time *and* in instances.
 
     Each change (keyframe ``i`` against ``i - 1``) joins the open groups whose latest member is
     within the window and that share an instance with it (joining them); else it opens a group.
-    A group's relations take their last values at its anchor (its first or last member's frame;
-    frame 0 for a group within the window of the start); the states are rebuilt from them.
+    A group's relations take their last values at its anchor (its first or last member's frame,
+    or with ``agents`` its first member that changes an agent's relation, else its last; frame 0
+    for a group within the window of the start); the states are rebuilt from them.
     """
     states = [kf.state for kf in keyframes]
     groups: list[_Group] = []
+    active: list[_Group] = []  # groups whose latest member may still be within the window (in order)
     for i in range(1, len(keyframes)):
         names, t = _touched(states[i - 1], states[i]), keyframes[i].time_s
-        near = [g for g in groups if t - g.last_s < window_s - TIME_EPS_S and g.names & names]
+        active = [g for g in active if t - g.last_s < window_s - TIME_EPS_S]  # times only grow
+        near = [g for g in active if g.names & names]
         group = near[0] if near else _Group([], set(), t)
         if not near:
             groups.append(group)
+            active.append(group)
         for other in near[1:]:
             group.members += other.members
             group.names |= other.names
-            groups.remove(other)
+            other.members = []  # joined: left out below
+            active.remove(other)
         group.members.append(i)
         group.names |= names
         group.last_s = t
     start = keyframes[0]
     anchored: list[tuple[int, float, dict[Relation, bool]]] = []
     for g in groups:
+        if not g.members:
+            continue
         members = sorted(g.members)
         final: dict[Relation, bool] = {}
         for i in members:
             for rel in states[i - 1].relations ^ states[i].relations:
                 final[rel] = rel in states[i].relations
         anchor = keyframes[members[0]] if at_onset else keyframes[members[-1]]
+        if agents is not None:
+            by_agent = [i for i in members if _touched(states[i - 1], states[i]) & agents]
+            anchor = keyframes[by_agent[0]] if by_agent else keyframes[members[-1]]
         if keyframes[members[0]].time_s - start.time_s < window_s - TIME_EPS_S:
             anchor = start  # early flicker folds into the initial state
         anchored.append((anchor.frame, anchor.time_s, final))

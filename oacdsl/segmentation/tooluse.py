@@ -72,6 +72,7 @@ def tool_contacts(
     dwell_s: float,
     bridge_s: float,
     rest_m: float = 0.005,
+    hold_m: float | None = None,
 ) -> ToolContacts:
     """Tool contacts and cross-hand vetoes (see the module docstring).
 
@@ -79,7 +80,8 @@ def tool_contacts(
     ``closest``: instance pair → (F,) closest marker distance, metres (inf beyond
     reach, NaN in a gap: a gap inside a tool contact does not end it); ``reach_m``: ``d``;
     ``dwell_s``, ``bridge_s``: seconds; ``rest_m``: metres a distance at rest varies
-    (:mod:`oacdsl.segmentation.toolroles`).
+    (:mod:`oacdsl.segmentation.toolroles`); ``hold_m``: metres, an excursion between two
+    contacts that stays within it is bridged (None: ``reach_m``, only ``bridge_s``).
     """
     agent_set = set(agents)
     if not agent_set:
@@ -114,6 +116,7 @@ def tool_contacts(
                 continue
             near = np.zeros(n_frames, dtype=bool)
             unknown = np.zeros(n_frames, dtype=bool)
+            kept = np.zeros(n_frames, dtype=bool)  # within hold_m: does not end a contact
             for tool, target in ((x, a), (a, x)):
                 for h in agent_set:
                     wielded = holds[(h, tool)] & ~holds[(h, target)]
@@ -127,9 +130,11 @@ def tool_contacts(
                         reach = np.fmin(reach, to_other)
                     with np.errstate(invalid="ignore"):
                         close = reach < reach_m
+                        if hold_m is not None:
+                            kept |= wielded & (reach < hold_m)
                     near |= wielded & close
                     unknown |= wielded & gap & ~close
-            near = _bridge(near, bridge, unknown & ~near)
+            near = _bridge(near, bridge, (unknown | kept) & ~near)
             spans = [(s, e) for s, e in _runs(near) if e - s >= dwell]
             if spans:
                 added[q] = spans
@@ -155,7 +160,8 @@ def tool_contacts(
 
 def _bridge(mask: np.ndarray, frames: int, unknown: np.ndarray) -> np.ndarray:
     """``mask`` with each run of False between two True runs set True when it is at most
-    ``frames`` long or unknown throughout (a gap neither ends nor starts a contact)."""
+    ``frames`` long or ``unknown`` throughout (a gap, or within the hold distance: neither ends
+    nor starts a contact)."""
     out = mask.copy()
     for a, b in _runs(~mask):
         if a > 0 and b < mask.size and (b - a <= frames or unknown[a:b].all()):
