@@ -129,6 +129,10 @@ class Tuning:
     #: (a light touch: pressed 2 mm while circling, a salad server shifted in the hand's weld
     #: and the fingers lost its handle; not pressed, its contact flickered: KIT Mix)
     slide_press_m: float = 0.001
+    #: how much of a stroke's press over that light one is eased on the stroke's way back on the
+    #: surface (``Motion.slide_back``; eased to the light press, the peeler sprang off the
+    #: cucumber for 0.2 s; not eased, it chattered on it for 0.5 s: synthetic Peel, seed 0)
+    slide_back_ease_share: float = 0.5
 
     # --- rise / lift -----------------------------------------------------------------------
     #: how far a held object is lifted off what it touches, m
