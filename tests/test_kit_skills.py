@@ -255,3 +255,16 @@ def test_a_knife_set_down_on_its_narrow_blade_stays_standing():
     assert result.success, result.error
     run.controller.wait(1.0)  # after the hand withdrew, the knife still stands
     assert run.world.body_pose("knife")[2, 2] > 0.99  # upright (< 8° of tilt)
+
+
+def test_place_both_leaves_a_knife_standing_on_its_narrow_blade():
+    """place_both, as place, lets go of what each hand felt the support under while the arm
+    still presses it on: stopped where the hand really was, the arm, relieved of its lag, rose
+    and lifted the knife a few mm off the table, and let go of there it tipped over."""
+    run, result = run_task("put_both_back", "kit_blade_cup", seed=1)
+    assert result.success, result.error
+    run.controller.wait(1.0)  # after the hands withdrew, the knife still stands
+    world = run.world
+    assert world.held == {"l": None, "r": None}
+    assert world.body_pose("knife")[2, 2] > 0.99  # upright (< 8° of tilt)
+    assert world.body_pose("cup")[2, 2] > 0.99

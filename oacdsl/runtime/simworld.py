@@ -6,7 +6,8 @@ Touching relations (the runtime's world state) come from MuJoCo contacts between
 bodies of two different tracked instances: a hand is all of its hand's bodies (palm,
 finger plate, thumb), a liquid touches what any of its balls touches, and the table
 (environment) and the rest of the robot take no part. Two liquids whose balls meet (both
-poured into one bowl) are mixed, not touching: that pair is never reported.
+poured into one bowl) are mixed, not touching: that pair is never reported. Whether an
+object rests on something (``supported``: another object or the table) is asked apart.
 """
 
 from __future__ import annotations
@@ -60,6 +61,12 @@ class SimWorld:
                     self._body_instance[b] = index[inst]
                     self.hand_bodies[side].append(b)
         self._geom_instance = self._body_instance[m.geom_bodyid]
+        # what can bear an object set down: another object or the environment (the table),
+        # neither the robot nor a liquid's balls
+        robot_root = m.body_rootid[m.body("base_link").id]
+        liquid_bodies = np.isin(self._body_instance, [index[liq] for liq in built.balls])
+        robot_bodies = m.body_rootid == robot_root
+        self._bears = ~(robot_bodies | liquid_bodies)[m.geom_bodyid]
         # two liquids in one container are mixed, not "touching": their pairs are ignored
         liquid_index = [index[liq] for liq in built.balls]
         self._ignored = {(min(a, b), max(a, b)) for a in liquid_index for b in liquid_index if a != b}
@@ -165,6 +172,19 @@ class SimWorld:
 
     def touching(self, a: str, b: str) -> bool:
         return self.relations().touches(a, b)
+
+    def supported(self, obj: str) -> bool:
+        """True when ``obj`` touches something that can bear it: another object or the
+        environment (the table), not the robot (a hand holding it) nor a liquid's balls."""
+        g = self.contact_geoms()
+        if len(g) == 0:
+            return False
+        own = self.instances.index(obj)
+        inst = self._geom_instance[g]
+        for mine, other in ((0, 1), (1, 0)):
+            if np.any((inst[:, mine] == own) & (inst[:, other] != own) & self._bears[g[:, other]]):
+                return True
+        return False
 
     def fingers_touch(self, side: str, obj: str) -> bool:
         """True when the finger plate or the thumb (not just the palm) touches ``obj``."""

@@ -26,12 +26,15 @@ def move_both(
     duration_s: float,
     guards: Mapping[str, Callable[[], bool]] | None = None,
     weights: Mapping[str, float] | None = None,
+    stop_at_model: bool = False,
 ) -> dict[str, bool]:
     """Move each hand of ``goals`` (side → T_world_grasp) there in ``duration_s``, together;
     the motion ends when it is over or every guarded hand stopped. Returns, per side, whether
-    its guard stopped it. ``weights``: a hand's orientation weight (the IK's default otherwise)."""
+    its guard stopped it. ``weights``: a hand's orientation weight (the IK's default otherwise).
+    ``stop_at_model``: a stopped hand keeps its commanded pose (the IK model's), pressing on by
+    the arm's lag, instead of stopping where it really is (``Controller.drive``)."""
     paths = {s: partial(interpolate, ctl.ik.goal(s), goal) for s, goal in goals.items()}
-    return ctl.drive(paths, duration_s, guards, weights=weights)
+    return ctl.drive(paths, duration_s, guards, weights=weights, stop_at_model=stop_at_model)
 
 
 class Move(Protocol):

@@ -49,6 +49,13 @@ def _felt(ctl: Controller, side: str, force: float) -> bool:
     return float(np.linalg.norm(ctl.force_change(side))) > force
 
 
+def _set_on(ctx: SkillContext, side: str, obj: str, force: float) -> bool:
+    """The wrist of ``side`` felt more than ``force`` (N) and its ``obj`` rests on something.
+    Both hands go down at once: the jolt of one object meeting the table reaches the other
+    wrist through the body (a knife still 3 cm up was let go of and fell over)."""
+    return _felt(ctx.ctl, side, force) and ctx.world.supported(obj)
+
+
 def reach_both(ctx: SkillContext, targets: Mapping[str, np.ndarray]) -> float:
     """The larger residual (m, angle weighted 0.1 m/rad) of a static whole-body solve
     with both hands at ``targets`` (side → T_world_grasp); the IK is left as it was."""
@@ -155,7 +162,8 @@ def place_both(
 ) -> None:
     """Set down ``o1`` held by ``h1`` and ``o2`` held by ``h2`` at the same time (where each
     step's predicted effect says, as ``place``); each descent stops when its wrist feels
-    ``force`` (N). One object held by both hands is set down where it is."""
+    ``force`` (N) with its object on the support, and both are still a moment before they let
+    go. One object held by both hands is set down where it is."""
     world, ctl = ctx.world, ctx.ctl
     sides = _sides(ctx, h1, h2, "place_both")
     for hand, obj in ((h1, o1), (h2, o2)):
@@ -181,7 +189,11 @@ def place_both(
         ctl,
         {s: down(t, depth) for s, t in hover.items()},
         MIN_JERK_PEAK * depth / TUNING.set_down_speed_m_s,
-        {s: partial(_felt, ctl, s, force) for s in sides},
+        {s: partial(_set_on, ctx, s, o, force) for s, o in zip(sides, (o1, o2), strict=True)},
+        # as ``place``: a hand that felt the support keeps pressing by its arm's lag; stopped
+        # where it really is, the arm, relieved, rose and lifted its object a few mm off the
+        # support, and a knife standing on its blade, let go of there, dropped and tipped over
+        stop_at_model=True,
     )
     if o1 == o2 and any(felt.values()):
         felt = dict.fromkeys(sides, True)  # the support took the object from both hands
@@ -190,6 +202,7 @@ def place_both(
         raise RuntimeFailure(
             f"the wrist of {' and '.join(missing)} felt no support after lowering {cm(depth)}"
         )
+    ctl.wait(TUNING.settle_s)  # as ``place``: the arms, which lag their commands, come to rest
     ctl.activity = f"releasing {o1} and {o2}"
     for s in sides:
         world.release(s)
