@@ -86,14 +86,7 @@ def test_story_composes_to_its_scripted_sub_actions(tmp_path, capsys, story, seq
 @pytest.mark.parametrize(
     "story",
     [
-        pytest.param(
-            "overlap",
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="regression from the pour's per-step rim clearance (verified before it): while the"
-                " right hand holds the green cup, the left hand's red cup touches the bowl during its pour",
-            ),
-        ),
+        "overlap",
         pytest.param(
             "handover",
             marks=pytest.mark.xfail(
