@@ -62,14 +62,12 @@ def via_height(
     exclude: set[str],
     hanging_m: float,
     tuning: Tuning = TUNING,
-    also: Sequence[Obstacle] = (),
 ) -> float:
     """Height for a hand frame moving over a → b (xy) so that what hangs ``hanging_m`` below it
-    clears every obstacle (and those of ``also``) within ``tuning.near_path_m`` of the way by
-    ``tuning.over_m``."""
+    clears every obstacle within ``tuning.near_path_m`` of the way by ``tuning.over_m``."""
     tops = [
         top
-        for xy, r, top in [*obstacles(world, exclude), *also]
+        for xy, r, top in obstacles(world, exclude)
         if segment_distance(xy, a[:2], b[:2]) - r < tuning.near_path_m
     ]
     return max(tops, default=-np.inf) + hanging_m + tuning.over_m
@@ -116,14 +114,16 @@ def carry_path(
     from the middle would pass too low over an object beside the goal (a cup set down next to
     another): then the hand crosses at the way's height to over the goal and comes straight
     down. ``over_other_hand``: the other hand, while it holds something, is flown over too
-    (:func:`other_hand_obstacle`). What the other hand holds is an obstacle like those on the
-    table (:func:`held_by_other`)."""
+    (:func:`other_hand_obstacle`). The slanting way down also keeps clear of what the other
+    hand holds (:func:`held_by_other`), but the way's height does not fly over it: that hand is
+    above what it holds (a knife held up by its handle; the cucumber carried over the knife
+    met the hand, 70 N)."""
     hanging = HAND_BELOW_CENTRE_M
     held = world.held[side]
     if held is not None:
         hanging = max(hanging, float(world.frame_pose(f"grasp_{side}")[2, 3] - world.body_pose(held)[2, 3]))
     also, leave = held_by_other(world, side, exclude), exclude | ({held} if held else set())
-    over = via_height(world, now[:3, 3], goal[:3, 3], leave, hanging, tuning, also)
+    over = via_height(world, now[:3, 3], goal[:3, 3], leave, hanging, tuning)
     hand = other_hand_obstacle(world, side) if over_other_hand else None
     if hand is not None and segment_distance(hand[0], now[:2, 3], goal[:2, 3]) - hand[1] < tuning.near_path_m:
         over = max(over, hand[2] + hanging + tuning.over_m)
