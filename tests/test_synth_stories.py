@@ -86,21 +86,15 @@ def test_story_composes_to_its_scripted_sub_actions(tmp_path, capsys, story, seq
 @pytest.mark.parametrize(
     "story",
     [
-        pytest.param(
-            "overlap",
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="regression from the pour's per-step rim clearance (verified before it): while the"
-                " right hand holds the green cup, the left hand's red cup touches the bowl during its pour",
-            ),
-        ),
+        "overlap",
         pytest.param(
             "handover",
             marks=pytest.mark.xfail(
                 strict=True,
-                reason="the right hand sets the handed-over cup down on the only free spot of the crowded"
-                " right side of the table, between the green cup and the mixer, and brushes the green cup"
-                " there (extra contacts; the end state and the 20 balls are right)",
+                reason="the right hand sets the handed-over cup down on one of the two free spots of the"
+                " crowded right side (0.54, -0.42), 6 cm beside the green cup; taking the green cup and"
+                " then the mixer, its fingers and palm brush the red cup and push it 6 cm (extra"
+                " red_cup <-> right_hand; the end state and the 20 balls are right)",
             ),
         ),
     ],

@@ -8,19 +8,20 @@ object near the way, and comes down to the goal.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M
 from oacdsl.runtime.motion.tuning import TUNING, Tuning
-from oacdsl.runtime.shapes import hand_corners
+from oacdsl.runtime.shapes import hand_corners, highest_z
 
 if TYPE_CHECKING:
     from oacdsl.runtime.simworld import SimWorld
 
 __all__ = ["Obstacle", "obstacles", "clearance", "via_height", "carry_path", "segment_distance",
-           "other_hand_obstacle"]
+           "other_hand_obstacle", "held_by_other"]
 
 #: (xy, footprint radius, top height) of an object on the table, m
 Obstacle = tuple[np.ndarray, float, float]
@@ -85,6 +86,19 @@ def other_hand_obstacle(world: SimWorld, side: str) -> Obstacle | None:
     return xy, float(np.linalg.norm(pts[:, :2] - xy, axis=1).max()), float(pts[:, 2].max())
 
 
+def held_by_other(world: SimWorld, side: str, exclude: set[str]) -> list[Obstacle]:
+    """What the other hand than ``side`` holds (unless in ``exclude``) as an obstacle: its
+    footprint and highest point now. Held up beside the way (a bottle whose lid this hand
+    has just taken off), it is as much in the way as an object standing on the table."""
+    other = "l" if side == "r" else "r"
+    held = world.held.get(other)
+    if held is None or held in exclude:
+        return []
+    t = world.body_pose(held)
+    body = world.layout.bodies[held]
+    return [(t[:2, 3].copy(), body.radius, highest_z(body, t))]
+
+
 def carry_path(
     world: SimWorld,
     side: str,
@@ -100,12 +114,16 @@ def carry_path(
     from the middle would pass too low over an object beside the goal (a cup set down next to
     another): then the hand crosses at the way's height to over the goal and comes straight
     down. ``over_other_hand``: the other hand, while it holds something, is flown over too
-    (:func:`other_hand_obstacle`)."""
+    (:func:`other_hand_obstacle`). The slanting way down also keeps clear of what the other
+    hand holds (:func:`held_by_other`), but the way's height does not fly over it: that hand is
+    above what it holds (a knife held up by its handle; the cucumber carried over the knife
+    met the hand, 70 N)."""
     hanging = HAND_BELOW_CENTRE_M
     held = world.held[side]
     if held is not None:
         hanging = max(hanging, float(world.frame_pose(f"grasp_{side}")[2, 3] - world.body_pose(held)[2, 3]))
-    over = via_height(world, now[:3, 3], goal[:3, 3], exclude | ({held} if held else set()), hanging, tuning)
+    also, leave = held_by_other(world, side, exclude), exclude | ({held} if held else set())
+    over = via_height(world, now[:3, 3], goal[:3, 3], leave, hanging, tuning)
     hand = other_hand_obstacle(world, side) if over_other_hand else None
     if hand is not None and segment_distance(hand[0], now[:2, 3], goal[:2, 3]) - hand[1] < tuning.near_path_m:
         over = max(over, hand[2] + hanging + tuning.over_m)
@@ -116,7 +134,8 @@ def carry_path(
     up[2, 3] = max(over, now[2, 3])  # climb first, then cross
     climb = tuning.climb_share * duration_s if over > now[2, 3] else 0.0
     half = 0.5 * duration_s
-    if _slant_clear(world, via[:3, 3], goal[:3, 3], exclude | ({held} if held else set()), hanging, tuning):
+    reach = world.layout.bodies[held].radius if held is not None else 0.0
+    if _slant_clear(world, via[:3, 3], goal[:3, 3], leave, hanging, tuning, also, reach):
         return [(up, climb), (via, half), (goal, half)]
     above = goal.copy()
     above[2, 3] = via[2, 3]
@@ -124,17 +143,26 @@ def carry_path(
 
 
 def _slant_clear(
-    world: SimWorld, a: np.ndarray, b: np.ndarray, exclude: set[str], hanging_m: float, tuning: Tuning
+    world: SimWorld, a: np.ndarray, b: np.ndarray, exclude: set[str], hanging_m: float, tuning: Tuning,
+    also: Sequence[Obstacle] = (), reach_m: float = 0.0,
 ) -> bool:
-    """Whether what hangs ``hanging_m`` below a hand going straight from a to b (m) passes
-    ``tuning.over_m`` above every object whose footprint comes within ``tuning.near_path_m``
-    of the way, at the way's height where it passes nearest."""
+    """Whether what hangs ``hanging_m`` below a hand going straight from a to b (m), reaching
+    ``reach_m`` out from the hand's line (a held object's footprint), passes ``tuning.over_m``
+    above every object (and those of ``also``) whose footprint comes within
+    ``tuning.near_path_m`` of the way: at the way's height where it passes nearest, and
+    wherever along it their footprints overlap (a lid carried off the bottle the other hand
+    holds, its way down starting beside the bottle)."""
     ab = b[:2] - a[:2]
     span = float(ab @ ab)
-    for xy, r, top in obstacles(world, exclude):
+    along = np.linspace(0.0, 1.0, 21)
+    for xy, r, top in [*obstacles(world, exclude), *also]:
         if segment_distance(xy, a[:2], b[:2]) - r >= tuning.near_path_m:
             continue
         s = 0.0 if span < 1e-12 else float(np.clip((xy - a[:2]) @ ab / span, 0.0, 1.0))
         if a[2] + s * (b[2] - a[2]) - hanging_m < top + tuning.over_m:
+            return False
+        pts = a[None, :] + along[:, None] * (b - a)[None, :]
+        over = np.linalg.norm(pts[:, :2] - xy, axis=1) < r + reach_m
+        if (pts[over, 2] - hanging_m < top + tuning.over_m).any():
             return False
     return True

@@ -19,8 +19,9 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import TUNING, Motion
+from oacdsl.runtime.motion.hand import other_side
 from oacdsl.runtime.motion.spots import free_spots
-from oacdsl.runtime.skills.base import Pick, SkillContext
+from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, Pick, SkillContext
 from oacdsl.runtime.transforms import make_T, rot_z
 from oacdsl.skills import SIGNATURES
 
@@ -104,8 +105,10 @@ def _free_spot(
     approach: np.ndarray | None,
 ) -> np.ndarray:
     """The first free spot of the table (:func:`~oacdsl.runtime.motion.spots.free_spots`) the hand
-    reaches with ``obj`` turned as ``r_obj`` (as it stood when picked up) over it; raises when
-    none is free or reachable."""
+    reaches with ``obj`` turned as ``r_obj`` (as it stood when picked up) where the guarded
+    descent onto it ends (reached only above it, the descent stopped short of the table), while
+    the other hand keeps what it holds where it is (reached only by letting the other hand's
+    bottle rise, the lid hung above the table); raises when none is free or reachable."""
     # the hand beside the object as it will stand, and where it backs off to (Motion.withdraw)
     hand = (r_obj @ np.linalg.inv(t_obj_in_hand)[:3, 3])[:2]
     back = np.array([0.0, 0.0, -1.0]) if approach is None else approach
@@ -114,10 +117,15 @@ def _free_spot(
     if not spots:
         raise RuntimeFailure(f"place: no free spot on the table for {obj}")
     options = []
-    for xy in spots:
-        height = ctx.support_height(xy, exclude=obj)
-        t_obj = make_T(r_obj, (xy[0], xy[1], height + TUNING.hover_m))
+    for xy in spots:  # reached where the guarded descent ends, below the support, not only above it
+        t_obj = make_T(r_obj, (xy[0], xy[1], ctx.support_height(xy, exclude=obj) - TUNING.support_search_m))
         options.append((t_obj @ np.linalg.inv(t_obj_in_hand), xy))
+    other = other_side(side)
+    if ctx.world.held.get(other) is not None:  # with the other hand keeping what it holds where it is
+        keep = ctx.ctl.ik.goal(other)
+        both = [(t, xy) for t, xy in options
+                if ctx.ctl.ik.try_reach_both({side: t, other: keep}) < REACH_TOLERANCE_M]
+        options = both or options
     return ctx.first_reachable(side, options, f"a free spot of the table for {obj}")
 
 

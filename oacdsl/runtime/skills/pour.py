@@ -22,6 +22,10 @@ boxes need to stay :data:`~oacdsl.runtime.motion.tuning.Tuning.rim_clearance_m` 
 target's rim where they are over it, and no more: the hand passes over the rim half-way
 through the tilt, the balls leave the lip later, from its usual height (KIT Pour: the
 right thumb met the cup while pouring).
+
+When the other hand holds something else, the emptied source is carried back to where it
+was brought from, out of the target's way: the other hand may work over the target next
+(two hands at once), and an idle hand yields to the torso as the other one works.
 """
 
 from __future__ import annotations
@@ -253,6 +257,7 @@ def pour(
             go(t_go, TUNING.shift_s)  # else it rests where it is: the slide would meet the other hand
         m.hold_still()
     ctl.activity = f"bringing {source} over {target}"
+    came_from = m.here()
     m.carry(lifted(u, 0.0, LIP_START_EXTRA_M), {source, target}, TUNING.work_carry_s)
     ctl.activity = f"pouring {liquid} into {target}"
     for k in range(1, STEPS + 1):
@@ -270,3 +275,15 @@ def pour(
             f"pour: only {inside} of {total} balls of {liquid} ended in {target}"
             f" ({left} still in {source}; needed {math.ceil(SUCCESS_FRACTION * total)})"
         )
+    other = world.held.get("l" if side == "r" else "r")
+    if other is not None and other != target and not _over(came_from, centre, bowl.rim_radius + cup.radius):
+        # the other hand holds something else: it may work over the target next (two hands at
+        # once); the emptied source, held up over the target, would be in its way (and an idle
+        # hand yields to the torso as the other works): it goes back where it was brought from
+        ctl.activity = f"taking {source} off {target}"
+        m.carry(came_from, {source, target}, TUNING.work_carry_s)
+
+
+def _over(t_hand: np.ndarray, centre: np.ndarray, radius_m: float) -> bool:
+    """Whether the hand pose ``t_hand`` is within ``radius_m`` of ``centre`` seen from above."""
+    return bool(np.hypot(*(t_hand[:2, 3] - centre[:2])) < radius_m)
