@@ -22,7 +22,7 @@ def corners(body: Body) -> np.ndarray:
     out = []
     for s in body.solids:
         d = s.dims
-        if s.kind == "box":
+        if s.kind in ("box", "rack"):
             hx, hy, h = d["length"] / 2, d["width"] / 2, d["height"]
         elif s.kind == "sphere":
             hx = hy = d["radius"]

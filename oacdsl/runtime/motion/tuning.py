@@ -120,6 +120,18 @@ class Tuning:
     #: footprints at a free spot, m
     forearm_m: float = 0.3
 
+    # --- set down turned as demonstrated (touch's tilt) ---------------------------------------
+    #: a held object is turned to the demonstrated end tilt only when it is held farther from it
+    #: than this, rad (a cup held upright, demonstrated 1-5° off, is brought down as it is held)
+    reorient_min_rad: float = 0.5
+    #: turns about its own axis tried for a round object set on edge (or horizontal tilt axes round
+    #: the compass), and for any other object set into a slot (it fits one way of four)
+    stand_spins: int = 12
+    stand_square_spins: int = 4
+    #: wrist force change that stops a descent into a slot, N, unless the skill's own is higher (a
+    #: plate hanging from its rim pulled the wrist by 8 N as it went down, touching nothing)
+    slot_force_n: float = 20.0
+
     # --- press -----------------------------------------------------------------------------
     #: how far a held object is pressed on once it touches, m
     press_m: float = 0.003
