@@ -131,6 +131,9 @@ class Tuning:
     #: wrist force change that stops a descent into a slot, N, unless the skill's own is higher (a
     #: plate hanging from its rim pulled the wrist by 8 N as it went down, touching nothing)
     slot_force_n: float = 20.0
+    #: a still moment after a carry that turned the held object, s (an arm that turned a 0.4 kg
+    #: plate on edge lagged its command by centimetres, and went down from there onto a wall)
+    turn_settle_s: float = 1.0
 
     # --- press -----------------------------------------------------------------------------
     #: how far a held object is pressed on once it touches, m
@@ -158,6 +161,9 @@ class Tuning:
     reclose_s: float = 0.7
     #: time for the fingers to open, s
     open_s: float = 0.4
+    #: a hand whose boxes would reach this much lower, opened, than they do now opens only its
+    #: fingers and keeps its thumb, m (the thumb of a pinch on a plate's rim swung down into a rack)
+    open_drop_m: float = 0.02
     #: how far an open hand backs off along its grasp's approach, m, and rises meanwhile, m
     withdraw_back_m: float = 0.12
     withdraw_rise_m: float = 0.03
