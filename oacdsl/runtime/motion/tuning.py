@@ -126,8 +126,8 @@ class Tuning:
     reorient_min_rad: float = 0.5
     #: turns about its own axis tried for a round object set on edge (or horizontal tilt axes round
     #: the compass), and for any other object set into a slot (it fits one way of four)
-    stand_spins: int = 12
-    stand_square_spins: int = 4
+    stand_spin_tries: int = 12
+    stand_square_spin_tries: int = 4
     #: wrist force change that stops a descent into a slot, N, unless the skill's own is higher (a
     #: plate hanging from its rim pulled the wrist by 8 N as it went down, touching nothing)
     slot_force_n: float = 20.0

@@ -64,7 +64,7 @@ def _slot_poses(ctx: SkillContext, obj: str, target: str, hover: float, t: Tunin
     own axis when it is round (the tuning's spins)."""
     body, t_t = ctx.body(obj), ctx.world.body_pose(target)
     thick = float(np.ptp(hull_points(body)[:, 2]))
-    spins = t.stand_spins if body.round else t.stand_square_spins
+    spins = t.stand_spin_tries if body.round else t.stand_square_spin_tries
     out: list[Goal] = []
     for k, s in enumerate(slots(ctx.body(target))):
         if thick >= s.width_m:
@@ -92,7 +92,7 @@ def _tilted_poses(ctx: SkillContext, obj: str, target: str, tilt: float, hover: 
     delta = tilt - tilt_now(ctx, obj, target)
     depth = hover + float(np.ptp(tgt[:, 2]))
     out: list[Goal] = []
-    for a in round_angles(t.stand_spins):
+    for a in round_angles(t.stand_spin_tries):
         r_obj = rot_axis(np.array([math.cos(a), math.sin(a), 0.0]), delta) @ t_o[:3, :3]
         out.append((placed_by_box(ctx.body(obj), r_obj, mid[:2], top + hover), depth, f"the top of {target}",
                     None))
