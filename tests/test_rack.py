@@ -1,6 +1,7 @@
 """A support with slots (``shape rack(…)``, docs/language.md): compile checks, the slots the
-runtime derives, the MuJoCo build, and a held plate set on edge into a slot by ``touch``'s
-demonstrated ``tilt`` (library/kit: KIT Wipe's draining rack)."""
+runtime derives and the MuJoCo build (library/kit: KIT Wipe's draining rack). A plate set on
+edge into a slot by ``touch``'s demonstrated ``tilt`` is exercised by the Wipe reproduction
+(tests/test_kit_reproduce.py) and the composer's tilt by tests/test_kit_compose.py."""
 
 from __future__ import annotations
 
@@ -64,8 +65,10 @@ def test_the_rack_is_built_of_a_board_and_walls_with_slots_between() -> None:
 
     lib = load_library([ROOT / "library" / "kit"])
     model = build_model(plan_layout(lib, lib.scenes["kit_wipe"])).model
-    names = [model.geom(i).name for i in range(model.ngeom) if model.geom(i).name.startswith("draining_rack/")]
+    names = [model.geom(i).name for i in range(model.ngeom)
+             if model.geom(i).name.startswith("draining_rack/")]
     assert len(names) == 6
     walls = sorted(float(model.geom(n).pos[1]) for n in names if "wall" in n)
     gaps = np.diff(walls) - 0.005
     assert gaps == pytest.approx([(0.20 - 5 * 0.005) / 4] * 4)
+
