@@ -14,7 +14,7 @@ import pytest
 from oacdsl.compiler import compile_paths
 from oacdsl.compiler.loader import load_library
 from oacdsl.runtime.bodies import bodies_for_scene
-from oacdsl.runtime.racks import rack_boxes, slots
+from oacdsl.runtime.racks import rack_boxes
 from oacdsl.runtime.turning import on_edge
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -39,7 +39,7 @@ def test_a_rack_needs_whole_slots_that_fit_its_width_and_a_floor_below_its_top(t
 def test_the_kit_draining_rack_has_four_slots_across_its_width_between_five_walls() -> None:
     lib = load_library([ROOT / "library" / "kit"])
     rack = bodies_for_scene(lib, lib.scenes["kit_wipe"])["draining_rack"]
-    found = slots(rack)
+    found = rack.slots
     assert len(found) == 4
     pitch = (0.20 - 0.005) / 4
     assert [s.floor_m[1] for s in found] == pytest.approx([-0.0975 + pitch * (k + 0.5) for k in range(4)])

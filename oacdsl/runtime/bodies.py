@@ -29,6 +29,7 @@ from oacdsl.geometry import (
 )
 from oacdsl.library import Library
 from oacdsl.model import Scene
+from oacdsl.runtime.racks import Slot, rack_slots, rack_volume
 
 __all__ = ["Solid", "Body", "body_from", "bodies_for_scene", "DEFAULT_DENSITY", "colour_for", "mesh_extent"]
 
@@ -77,8 +78,6 @@ class Solid:
             r = d["radius"]
             return math.pi * r**2 * (d["height"] - 2 * r) + 4 / 3 * math.pi * r**3
         if self.kind == "rack":
-            from oacdsl.runtime.racks import rack_volume
-
             return rack_volume(d)
         if self.kind == "shell":
             r, inner = d["radius"], d["radius"] - d["wall"]
@@ -150,6 +149,11 @@ class Body:
         """Height of the container's floor (inside) above the base, m (0 when none)."""
         s = self.shell
         return 0.0 if s is None else s.at[2] + s.dims.get("floor", s.dims["wall"])
+
+    @property
+    def slots(self) -> list[Slot]:
+        """The slots of its racks (``shape rack``; none when it has no rack), object frame."""
+        return [slot for s in self.solids if s.kind == "rack" for slot in rack_slots(s.dims, s.at)]
 
     @property
     def round(self) -> bool:

@@ -10,14 +10,10 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 from oacdsl.geometry import RACK_FLOOR_M, RACK_WALL_M
 
-if TYPE_CHECKING:
-    from oacdsl.runtime.bodies import Body, Solid
-
-__all__ = ["Slot", "rack_boxes", "rack_volume", "slots"]
+__all__ = ["Slot", "rack_boxes", "rack_slots", "rack_volume"]
 
 Vec = tuple[float, float, float]
 
@@ -59,18 +55,10 @@ def rack_volume(d: Mapping[str, float]) -> float:
     return length * width * floor + (n + 1) * length * wall * (height - floor)
 
 
-def slots(body: Body) -> list[Slot]:
-    """The slots of every rack among ``body``'s solids (none when it has no rack)."""
-    out = []
-    for s in body.solids:
-        if s.kind == "rack":
-            out += _solid_slots(s)
-    return out
-
-
-def _solid_slots(s: Solid) -> list[Slot]:
-    length, width, height, n, wall, floor = _sizes(s.dims)
-    x, y, z = s.at
+def rack_slots(d: Mapping[str, float], at: Vec = (0.0, 0.0, 0.0)) -> list[Slot]:
+    """The slots of a rack with sizes ``d`` whose base's middle is at ``at`` (object frame, m)."""
+    length, width, height, n, wall, floor = _sizes(d)
+    x, y, z = at
     pitch = (width - wall) / n
     first = y - width / 2 + wall / 2 + pitch / 2  # the middle of the first slot
     return [Slot((x, first + k * pitch, z + floor), (0.0, 1.0, 0.0), pitch - wall, length, height - floor)

@@ -29,7 +29,6 @@ from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.handgap import hand_box_poses
 from oacdsl.runtime.hands import OPEN, finger_joint_names
 from oacdsl.runtime.motion import Motion, Tuning, down, other_side
-from oacdsl.runtime.racks import slots
 from oacdsl.runtime.shapes import world_corners
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext, cm, fmt_xyz
 from oacdsl.runtime.transforms import make_T, rot_axis
@@ -66,7 +65,7 @@ def _slot_poses(ctx: SkillContext, obj: str, target: str, hover: float, t: Tunin
     thick = float(np.ptp(hull_points(body)[:, 2]))
     spins = t.stand_spin_tries if body.round else t.stand_square_spin_tries
     out: list[Goal] = []
-    for k, s in enumerate(slots(ctx.body(target))):
+    for k, s in enumerate(ctx.body(target).slots):
         if thick >= s.width_m:
             continue
         floor = t_t[:3, :3] @ np.asarray(s.floor_m) + t_t[:3, 3]
@@ -175,7 +174,7 @@ def set_turned(ctx: SkillContext, m: Motion, obj: str, target: str, tilt: float,
     until the wrist feels ``force`` (N) or it reaches the floor); True when they touch."""
     side = m.side
     body_t = ctx.body(target)
-    into_slot = on_edge(tilt) and bool(slots(body_t))
+    into_slot = on_edge(tilt) and bool(body_t.slots)
     poses = _slot_poses(ctx, obj, target, hover, m.tuning) if into_slot else []
     if into_slot and not poses:
         raise RuntimeFailure(f"touch: {obj} fits no slot of {target} on edge")
