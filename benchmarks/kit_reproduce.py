@@ -9,8 +9,9 @@ in this process as `oacc reproduce CLIP.mmm.xml --library library/kit --no-rende
 copied to a temporary folder). Printed per clip: the median wall and CPU seconds over all its
 runs, the verdict per seed (V: verified and faithful, v: verified, not faithful, x: not
 verified, with the failed checks on stderr; `oacc verify`, docs/verify.md), the verify stage's
-share of the run (its wall seconds over the other stages'; `vcpu`: this process's CPU seconds in
-the stage over the rest of the run's: on a shared machine the wall clock measures the load),
+share of the run (what verifying adds: its wall seconds over the other stages' wall seconds;
+`vcpu`: the same with this process's CPU seconds in each stage, `result.json`'s `cpu_s`: on a
+shared machine the wall clock measures the load),
 and the ratio against the baseline measured in the same process:
 the segmentation alone (reading the recording and `oacc segment`'s AAS), median of
 ``--repeats`` runs. Target: < 30 s per clip (median wall, two cores).
@@ -74,29 +75,11 @@ def write_take(recording: Path, name: str, folder: Path) -> Path:
     return write_recording(take, folder / recording.name.replace(".mmm.xml", f"_{name}.mmm.xml"), "mmm")
 
 
-#: CPU seconds of this process in each verify stage (filled by :func:`_timed_verify_stage`).
-VERIFY_CPU_S: list[float] = []
-
-
-def _timed_verify_stage():  # type: ignore[no-untyped-def]
-    """``robot.verify_stage`` wrapped to note its CPU seconds in :data:`VERIFY_CPU_S`."""
-    from oacdsl.pipeline import robot
-
-    stage = robot.verify_stage
-
-    def timed_stage(*args, **kwargs):  # type: ignore[no-untyped-def]
-        cpu = time.process_time()
-        try:
-            return stage(*args, **kwargs)
-        finally:
-            VERIFY_CPU_S.append(time.process_time() - cpu)
-
-    return robot, stage, timed_stage
-
-
 def reproduce_once(recording: Path | None, seed: int, work: Path, out: Path | None = None,
-                   kit: Path = ROOT / "library" / "kit") -> tuple[str, str, float]:
-    """(V/v/x, verdict and failed checks, the verify stage's share) of one `oacc reproduce` run."""
+                   kit: Path = ROOT / "library" / "kit") -> tuple[str, str, float, float]:
+    """(V/v/x, verdict and failed checks, the verify stage's wall share, its CPU share) of one
+    `oacc reproduce` run: the stage's seconds over the other stages' seconds (what verifying adds),
+    wall clock and this process's CPU time over the same stages (``result.json``'s ``stages``)."""
     from oacdsl.pipeline import load_inputs, reproduce
     from oacdsl.pipeline.inputs import default_name
     from oacdsl.segmentation import AasParams
@@ -113,10 +96,12 @@ def reproduce_once(recording: Path | None, seed: int, work: Path, out: Path | No
     verdict = outcome.result["verdict"]
     mark = "x" if not verdict.get("success") else "V" if verdict.get("faithful", True) else "v"
     failed = ", ".join(verdict.get("failed_checks", []))
-    stages = {s["name"]: s.get("duration_s") or 0.0 for s in outcome.result.get("stages", [])}
-    total = sum(stages.values())
-    share = stages.get("verify", 0.0) / max(total - stages.get("verify", 0.0), 1e-9)
-    return mark, f"{failed} | {verdict.get('summary', '')}", share
+    shares = []
+    for key in ("duration_s", "cpu_s"):
+        stages = {s["name"]: s.get(key) or 0.0 for s in outcome.result.get("stages", [])}
+        rest = sum(stages.values()) - stages.get("verify", 0.0)
+        shares.append(stages.get("verify", 0.0) / max(rest, 1e-9))
+    return mark, f"{failed} | {verdict.get('summary', '')}", shares[0], shares[1]
 
 
 def main() -> int:
@@ -147,8 +132,6 @@ def main() -> int:
         return 2
     seeds = [int(s) for s in args.seeds.split(",")]
     keep = Path(args.keep) if args.keep else None
-    robot, plain, timed_stage = _timed_verify_stage()
-    robot.verify_stage = timed_stage
     print(f"{'clip':6} {'wall s':>7} {'cpu s':>6} {'seg s':>6} {'ratio':>6} {'verify':>6} {'vcpu':>5}"
           "  verified faithful  per seed (V faithful, v verified, x not)", flush=True)
     for clip in clips:
@@ -162,10 +145,9 @@ def main() -> int:
                 recording = write_take(recording, args.take, Path(tmp))
             for seed in seeds:
                 out = keep / f"{clip}-{seed}" if keep is not None else None
-                VERIFY_CPU_S.clear()
-                (mark, summary, share), wall, cpu = timed(
+                (mark, summary, share, cpu_share), wall, cpu = timed(
                     lambda s=seed, r=recording, o=out: reproduce_once(r, s, Path(tmp), o, args.library))
-                cpu_shares.append(sum(VERIFY_CPU_S) / max(cpu - sum(VERIFY_CPU_S), 1e-9))
+                cpu_shares.append(cpu_share)
                 walls.append(wall)
                 cpus.append(cpu)
                 shares.append(share)
@@ -178,7 +160,6 @@ def main() -> int:
         share, cpu_share = statistics.median(shares), statistics.median(cpu_shares)
         print(f"{clip:6} {wall:7.1f} {cpu:6.1f} {base:6.2f} {wall / base:6.1f} {share:6.0%} {cpu_share:5.0%}"
               f"  {n_v}/{len(seeds)} {n_f}/{len(seeds)}  " + " ".join(verdicts), flush=True)
-    robot.verify_stage = plain
     return 0
 
 

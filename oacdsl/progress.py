@@ -40,18 +40,21 @@ def format_duration(seconds: float) -> str:
 
 @dataclass
 class StageRecord:
-    """One stage: ``status`` is ok, failed or skipped; ``duration_s`` in seconds."""
+    """One stage: ``status`` is ok, failed or skipped; ``duration_s`` in seconds of wall
+    clock, ``cpu_s`` in seconds of this process's CPU time (user + system) in the stage."""
 
     name: str
     status: str
     duration_s: float | None = None
     detail: str | None = None
+    cpu_s: float | None = None
 
     def to_json(self) -> dict[str, Any]:
         return {
             "name": self.name,
             "status": self.status,
             "duration_s": self.duration_s,
+            "cpu_s": self.cpu_s,
             "detail": self.detail,
         }
 
@@ -60,7 +63,8 @@ class Progress:
     """Stage-by-stage progress on ``stream`` (default ``sys.stderr``).
 
     ``stages`` is the planned list of stage names (or just their number) for the ``[i/n]``
-    counter. ``clock`` returns seconds (injectable for tests).
+    counter. ``clock`` returns wall seconds, ``cpu_clock`` the process's CPU seconds (both
+    injectable for tests).
     """
 
     def __init__(
@@ -70,11 +74,13 @@ class Progress:
         stream: IO[str] | None = None,
         quiet: bool = False,
         clock: Callable[[], float] = time.perf_counter,
+        cpu_clock: Callable[[], float] = time.process_time,
     ) -> None:
         self.total = stages if isinstance(stages, int) else len(stages)
         self.stream = stream if stream is not None else sys.stderr
         self.quiet = quiet
         self.clock = clock
+        self.cpu_clock = cpu_clock
         self.live = not quiet and _isatty(self.stream)
         self._records: list[StageRecord] = []
         self._current: str | None = None
@@ -106,19 +112,19 @@ class Progress:
         self._current, self._prefix = name, f"{self._counter()} {name}"
         if self.live:
             self._write(f"{self._prefix} …")
-        start = self.clock()
+        start, cpu = self.clock(), self.cpu_clock()
         try:
             yield self
         except BaseException as error:
             took = self.clock() - start
             reason = str(error).splitlines()[0] if str(error) else type(error).__name__
-            self._records.append(StageRecord(name, "failed", took, reason))
+            self._records.append(StageRecord(name, "failed", took, reason, self.cpu_clock() - cpu))
             self._end(f"{self._prefix} failed after {format_duration(took)}")
             raise
         finally:
             self._current = None
         took = self.clock() - start
-        self._records.append(StageRecord(name, "ok", took))
+        self._records.append(StageRecord(name, "ok", took, cpu_s=self.cpu_clock() - cpu))
         self._end(f"{self._prefix} done in {format_duration(took)}")
 
     def note(self, text: str) -> None:

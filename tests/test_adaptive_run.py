@@ -236,3 +236,25 @@ def test_a_hand_stated_to_hold_an_object_holds_it_when_the_run_starts(capsys):
     assert doc["success"] and ["mixer", "nothing"] in doc["steps"][0]["observed"]
     assert doc["metrics"]["sim_time_s"] == pytest.approx(doc["steps"][0]["duration_s"], abs=0.5)
     assert main(args) == 1  # without it the hand holds nothing: place's precondition fails
+
+
+def test_the_hands_are_exchanged_for_a_task_whose_objects_stand_on_the_other_arms_sides(dough_library):
+    """exchanged_hands: the dough as demonstrated (each hand takes what stands on its side)
+    keeps its hands; the same steps left-handed (a mirrored take in the same scene: the right
+    hand sent for the red cup on the left, the left hand for the green cup and the mixer on the
+    right) get both hands exchanged, every step of it."""
+    from oacdsl.runtime.adaptive import _with_hands
+    from oacdsl.runtime.reach import exchanged_hands
+
+    run = prepare(dough_library, "dough", scene="kitchen")
+    assert exchanged_hands(run.context, run.steps) is None
+    swap = {"left_hand": "right_hand", "right_hand": "left_hand"}
+    mirrored = _with_hands(run, swap)
+    assert mirrored.steps[0].binding["h"] == "right_hand"  # grasp(hand1, red_cup), left-handed
+    found = exchanged_hands(run.context, mirrored.steps)
+    assert found is not None
+    hands, text = found
+    assert hands == swap and "exchanged" in text
+    back = _with_hands(mirrored, hands)
+    assert [s.binding for s in back.steps] == [s.binding for s in run.steps]
+    assert back.binding == run.binding

@@ -244,3 +244,50 @@ def test_the_kit_follow_library_compiles_and_uses_follow() -> None:
     skills = {d.name: d.skill for m in result.modules for d in m.decls if getattr(d, "kind", "") == "oac"}
     assert skills["work_in"] == skills["bring_to"] == skills["wipe_held"] == "follow"
     assert "stir" not in skills  # the named skill's OAC is not there: the matcher takes work_in
+
+
+def test_a_core_is_kept_from_going_deeper_than_where_it_touched() -> None:
+    # a knife cutting into the demonstrator's cucumber went 5 cm below where it first touched:
+    # the robot's rigid cucumber stops it there, and the rest of the core stays on it
+    from oacdsl.runtime.retarget import floored, retarget
+
+    t = np.arange(30) * 0.1
+    z = np.where(t < 0.5, 0.2 - 0.3 * t, -0.02 - 0.05 * np.abs(np.sin(2.0 * (t - 0.5))))
+    x = np.where(t < 0.5, 0.3 - 0.5 * t, 0.02 * np.sin(4.0 * t))
+    path = np.column_stack([t, x, np.zeros_like(t), z, np.zeros((len(t), 3))])
+    r = retarget(path, room_m=None, speed_m_s=10.0, turn_rad=math.pi)
+    f = floored(r)
+    first = r.positions_m[r.core, 2]
+    assert r.positions_m[r.core:, 2].min() < first - 0.03  # the demonstrated cut goes deeper
+    assert np.all(f.positions_m[f.core:, 2] >= first - 1e-12)  # the robot's stays on top
+    assert np.allclose(f.positions_m[f.core:, :2], r.positions_m[r.core:, :2])  # the strokes are kept
+    assert np.allclose(f.positions_m[: f.core], r.positions_m[: r.core])  # the way in too
+
+
+def test_a_core_is_fitted_onto_a_solid_targets_top() -> None:
+    # a knife drawn 8 cm across and 5 cm along a cucumber 4.5 cm wide (its box's y) and 15 cm long:
+    # across, the core is shrunk to the box less its margins and moved onto it; along, it stays
+    from oacdsl.runtime.retarget import FOLLOW, boxed, retarget
+
+    t = np.arange(30) * 0.1
+    x = np.where(t < 0.5, 0.3 - 0.5 * t, -0.08 * (t - 0.5) / 2.4)
+    y = np.where(t < 0.5, 0.0, 0.025 * np.sin(4.0 * t))
+    path = np.column_stack([t, x, y, np.full_like(t, 0.02), np.zeros((len(t), 3))])
+    r = retarget(path, room_m=None, speed_m_s=10.0, turn_rad=math.pi)
+    c = r.core
+    turn = np.array([[0.0, -1.0], [1.0, 0.0]])  # the frame's x is the box's y
+    lo = np.array([-0.075, -0.0225]) + FOLLOW.top_margin_m
+    hi = np.array([0.075, 0.0225]) - FOLLOW.top_margin_m
+    before = r.positions_m[c:, :2] @ turn.T
+    assert np.ptp(before[:, 1]) > hi[1] - lo[1]  # the demonstrated core leaves the cucumber
+    b = boxed(r, turn, np.zeros(2), lo, hi)
+    q = b.positions_m[c:, :2] @ turn.T
+    assert np.all(q >= lo - 1e-12) and np.all(q <= hi + 1e-12)
+    assert np.ptp(q[:, 0]) == pytest.approx(np.ptp(before[:, 0]))  # the strokes along it are kept
+    assert np.allclose(b.positions_m[:, 2], r.positions_m[:, 2])  # heights untouched
+    assert np.allclose(b.positions_m[0], r.positions_m[0])  # the way in starts where it did
+    # held at its low end: the core goes as far to the other end as it fits, its strokes kept
+    f = boxed(r, turn, np.zeros(2), lo, hi, far=(0, 1.0))
+    qf = f.positions_m[c:, :2] @ turn.T
+    assert qf[:, 0].max() == pytest.approx(hi[0]) and np.all(qf >= lo - 1e-12)
+    assert np.ptp(qf[:, 0]) == pytest.approx(np.ptp(before[:, 0]))

@@ -17,13 +17,16 @@ FOLLOW_KIT = ROOT / "tests" / "data" / "kit_follow"
 
 #: clip → (recording under shared/mocap, the composed steps, the step that follows a path)
 CLIPS = {
+    "Cut": ("kit_bimanual/Cut_files_motions_3021_Cut1_c_0_05cm_03.mmm.xml",
+            ["grasp", "grasp", "hold_on_board", "work_on", "finish_cut", "place", "place"], "work_on"),
     "Stir": ("kit_bimanual/Stir_files_motions_2941_Stir1_bc_s_right_03.mmm.xml",
              ["grasp_both", "work_in", "take_out", "place_both"], "work_in"),
 }
-# Pour (bring_to's touch replaced by follow, tests/data/kit_follow/pour.oac) was verified on
-# seeds 0 and 1 by the closed loop of virtual markers; the verifier of issue 18 (relations from
-# the simulation's contacts) sees the carton touch the hand that holds the cup: not verified
-# yet, so not kept here (docs/runtime.md, "follow").
+# Cut: saw replaced by follow (tests/data/kit_follow/cut.oac: work_on), the knife's path fitted
+# onto the cucumber's top. Pour (bring_to's touch replaced by follow, tests/data/kit_follow/pour.oac)
+# was verified on seeds 0 and 1 by the closed loop of virtual markers; the verifier of issue 18
+# (relations from the simulation's contacts) sees the tilted carton touch the hand that holds the
+# cup: not verified yet, so not kept here (docs/runtime.md, "follow").
 
 
 @pytest.mark.slow

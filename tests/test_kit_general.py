@@ -139,16 +139,20 @@ def test_oacc_run_closes_and_opens_the_bottle_from_the_command_line():
 
 class Strokes:
     """Observer: while ``tool`` touches ``target``, the tool's position (m, world), 100 times a
-    second; and the number of separate contacts (a stroke each)."""
+    second; and the longest time without a contact since the first (s)."""
 
     rate_hz = 100.0
 
     def __init__(self, tool, target):
-        self.tool, self.target, self.contacts, self.points, self._was = tool, target, 0, [], False
+        self.tool, self.target, self.points, self._was = tool, target, [], False
+        self.longest_gap_s, self._left = 0.0, None
 
     def __call__(self, world):
         now = world.touching(self.tool, self.target)
-        self.contacts += now and not self._was
+        if self._was and not now:
+            self._left = world.time_s
+        if now and not self._was and self._left is not None:
+            self.longest_gap_s = max(self.longest_gap_s, world.time_s - self._left)
         self._was = now
         if now:
             self.points.append(world.body_pose(self.tool)[:3, 3].copy())
@@ -161,7 +165,10 @@ def test_stroke_peels_the_cucumber_the_other_hand_holds_away_from_that_hand():
     result = run_prepared(run)
     assert result.success, result.error
     assert ["cucumber", "peeler"] in result.steps[-1].observed
-    assert peeler.contacts == 3  # three strokes, each one way, the peeler back through the air
+    # the peeler slides back on the cucumber between strokes: never off it for more than a few
+    # control ticks (lifted back through the air, it left the cucumber for 1.3 s each time: a
+    # change the demonstration does not have)
+    assert peeler.longest_gap_s < 0.1, peeler.longest_gap_s
     world = run.world
     # along the cucumber (its length, x), from near the left hand towards its free end
     along = world.body_pose("cucumber")[:3, 0]
@@ -170,6 +177,9 @@ def test_stroke_peels_the_cucumber_the_other_hand_holds_away_from_that_hand():
     assert np.ptp(way) > 0.05
     free_end = float((world.body_pose("cucumber")[:3, 3] - hand) @ along)
     assert np.sign(way[-1] - way[0]) == np.sign(free_end)
+    # three strokes towards the free end: the way crosses its middle that way three times
+    side = np.sign(free_end) * (way - 0.5 * (way.min() + way.max())) > 0
+    assert int(np.count_nonzero(side[1:] & ~side[:-1])) == 3
 
 
 def test_oacc_run_pushes_across_the_board_towards_the_held_bowl():

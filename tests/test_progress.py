@@ -19,7 +19,8 @@ def clock(*times):
 
 def test_plain_lines_when_not_a_terminal():
     out = io.StringIO()
-    p = Progress(["segment", "match", "compose"], stream=out, clock=clock(0.0, 0.4, 1.0, 13.5))
+    p = Progress(["segment", "match", "compose"], stream=out, clock=clock(0.0, 0.4, 1.0, 13.5),
+                 cpu_clock=clock(5.0, 5.25, 5.5, 13.0))
     with p.stage("segment"):
         p.note("reading")  # notes only show on a terminal
     with p.stage("match"):
@@ -31,9 +32,10 @@ def test_plain_lines_when_not_a_terminal():
         "[3/3] compose skipped: nothing matched",
     ]
     assert p.records() == [
-        {"name": "segment", "status": "ok", "duration_s": 0.4, "detail": None},
-        {"name": "match", "status": "ok", "duration_s": 12.5, "detail": None},
-        {"name": "compose", "status": "skipped", "duration_s": None, "detail": "nothing matched"},
+        {"name": "segment", "status": "ok", "duration_s": 0.4, "cpu_s": 0.25, "detail": None},
+        {"name": "match", "status": "ok", "duration_s": 12.5, "cpu_s": 7.5, "detail": None},
+        {"name": "compose", "status": "skipped", "duration_s": None, "cpu_s": None,
+         "detail": "nothing matched"},
     ]
     assert p.elapsed_s == pytest.approx(12.9)
 
@@ -59,12 +61,13 @@ def test_quiet_prints_nothing_but_records():
 
 def test_a_failing_stage_is_reported_and_the_error_propagates():
     out = io.StringIO()
-    p = Progress(["segment"], stream=out, clock=clock(0.0, 0.25))
+    p = Progress(["segment"], stream=out, clock=clock(0.0, 0.25), cpu_clock=clock(1.0, 1.125))
     with pytest.raises(ValueError, match="bad marker"), p.stage("segment"):
         raise ValueError("bad marker\nmore detail")
     assert out.getvalue() == "[1/1] segment failed after 0.25 s\n"
     assert p.records() == [
-        {"name": "segment", "status": "failed", "duration_s": 0.25, "detail": "bad marker"}
+        {"name": "segment", "status": "failed", "duration_s": 0.25, "cpu_s": 0.125,
+         "detail": "bad marker"}
     ]
 
 

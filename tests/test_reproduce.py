@@ -295,8 +295,19 @@ def test_virtual_markers_sit_on_the_surfaces() -> None:
     near_cup = np.linalg.norm(balls[:, None] - points["red_cup"][0][None], axis=2).min()
     near_hand = np.linalg.norm(balls[:, None] - points["left_hand"][0][None], axis=2).min()
     assert near_cup < ROBOT_DISTANCE_M < near_hand
+    run_.world.step(5)
+    markers(run_.world)
     rec = markers.to_recording()
-    assert rec.n_frames == 1 and set(rec.instances) == set(points)
+    assert rec.n_frames == 2 and set(rec.instances) == set(points)
+    # the recording built in one copy is the one the points give
+    from oacdsl.segmentation.points import recording_from_points
+
+    expected = recording_from_points(markers.points(), markers.rate_hz, "robot")
+    assert (rec.marker_names, dict(rec.groups)) == (expected.marker_names, dict(expected.groups))
+    np.testing.assert_array_equal(rec.positions_m, expected.positions_m)
+    np.testing.assert_array_equal(rec.times_s, expected.times_s)
+    sub = markers.to_recording(instances=["red_cup", "left_hand"])
+    assert sub.instances == ("left_hand", "red_cup")
 
 
 def test_readme_main_command_runs_reproduce(capsys: pytest.CaptureFixture[str]) -> None:

@@ -1,9 +1,10 @@
 """Mining many recordings on Dask distributed: the client side of ``oacc mine``.
 
-:func:`mine` expands the recordings, parses the library once in the client (a library that
-does not compile stops here; the parsed library goes to the workers with the job's spec),
-skips the recordings the job's table already holds (a killed job run again resumes), and
-sends the remaining recordings in batches (:func:`batch_size`; a task each,
+:func:`mine` expands the recordings, skips those the job's table already holds (a killed job
+run again resumes), starts the cluster, parses the library once in the client while the
+workers come up (a library that does not compile stops the job there, before anything is
+written; the parsed library goes to the workers with the job's spec), and sends the
+remaining recordings in batches (:func:`batches`; a task each,
 :func:`oacdsl.mining.task.analyse_batch`) to the cluster: an embedded cluster of ``workers``
 worker processes (one thread each, :mod:`oacdsl.mining.cluster`) by default, or the cluster of
 a running ``dask scheduler`` at ``scheduler``. Results are written by the client alone, as
@@ -16,28 +17,37 @@ from __future__ import annotations
 
 import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, Any
 
 from oacdsl.errors import InputError, UsageError
-from oacdsl.mining.cluster import client_for, worker_count
+from oacdsl.mining.cluster import client_for, close, share, worker_count
 from oacdsl.mining.inputs import RecordingFile, expand_recordings
 from oacdsl.mining.table import TABLE_NAME, MineTable
-from oacdsl.mining.task import JobSpec, analyse_batch
+from oacdsl.mining.task import PRELOAD, JobSpec, analyse_batch
 
-__all__ = ["MAX_BATCH", "MineResult", "batch_size", "mine"]
+__all__ = ["MAX_BATCH", "MineResult", "batches", "mine"]
 
 #: Most recordings in one task (a killed job redoes at most this many per worker).
 MAX_BATCH = 8
-#: Tasks per worker a job aims at, at least (the last ones balance the workers' loads).
-TASKS_PER_WORKER = 8
+#: A task takes about 1/GUIDE of the recordings left per worker (guided self-scheduling).
+GUIDE = 2
 
 
-def batch_size(recordings: int, workers: int) -> int:
-    """Recordings per task: about :data:`TASKS_PER_WORKER` tasks per worker, 1 … :data:`MAX_BATCH`."""
-    return max(1, min(MAX_BATCH, -(-recordings // (TASKS_PER_WORKER * max(1, workers)))))
+def batches(items: Sequence[Any], workers: int) -> list[list[Any]]:
+    """``items`` cut into tasks, in order: each about the recordings still left over
+    :data:`GUIDE` × ``workers``, from :data:`MAX_BATCH` down to 1. Large batches while much
+    is left keep the scheduler's round trips few (each costs ~5 ms of CPU in the client and
+    as much in a worker, against ~0.1 s per recording); single recordings at the end let the
+    workers finish together instead of one waiting for the other's last large batch."""
+    out, i = [], 0
+    while i < len(items):
+        size = min(MAX_BATCH, -(-(len(items) - i) // (GUIDE * max(1, workers))))
+        out.append(list(items[i : i + size]))
+        i += size
+    return out
 
 
 @dataclass
@@ -109,6 +119,32 @@ def _worker_error(rec: RecordingFile, error: BaseException) -> dict[str, Any]:
     }
 
 
+def _not_done(files: list[RecordingFile], path: Path) -> list[RecordingFile]:
+    """The recordings the table at ``path`` (if any) does not hold yet."""
+    if not path.exists():
+        return list(files)
+    with MineTable(path) as table:
+        done = table.done_ids()
+    return [r for r in files if r.id not in done]
+
+
+def _results(client: Any, spec: JobSpec, work: list[list[RecordingFile]]) -> Iterator[list[dict[str, Any]]]:
+    """Each task's rows as it finishes (a task that died with its worker: an error row each)."""
+    from dask.distributed import as_completed
+
+    shared = share(client, spec, "mine-spec")
+    futures = {
+        client.submit(analyse_batch, [(r.path, r.id) for r in b], shared, pure=False,
+                      key=f"mine-{b[0].id}-{len(b)}"): b
+        for b in work
+    }
+    for future in as_completed(futures):
+        try:
+            yield future.result()
+        except Exception as error:  # the worker died (KilledWorker) or could not import
+            yield [_worker_error(rec, error) for rec in futures[future]]
+
+
 def mine(
     recordings: Sequence[str],
     library: Sequence[str | Path],
@@ -136,50 +172,37 @@ def mine(
     t0 = time.perf_counter()
     files = expand_recordings(recordings)
     paths = [str(Path(p)) for p in library]
-    parsed = open_library([Path(p) for p in paths])  # a library that does not compile fails here, once
     folder = Path(out)
     if folder.exists() and not folder.is_dir():
         raise InputError("not a folder: the job's output folder", location=str(folder))
-    folder.mkdir(parents=True, exist_ok=True)
-    spec = JobSpec(paths, scene, _params_dict(params), compose, parsed)
-    with MineTable(folder / TABLE_NAME) as table:
-        done = table.done_ids()
-        todo = [r for r in files if r.id not in done]
-        ticker = _Ticker(len(todo), progress)
-        address = None
-        rows: list[dict[str, Any]] = []
-        if todo:
-            client, cluster = client_for(workers, scheduler, dashboard)
-            try:
+    todo = _not_done(files, folder / TABLE_NAME)
+    ticker = _Ticker(len(todo), progress)
+    address = None
+    rows: list[dict[str, Any]] = []
+    # the cluster starts first: its workers come up while this process parses the library
+    client, cluster = client_for(workers, scheduler, dashboard, PRELOAD) if todo else (None, None)
+    try:
+        parsed = open_library([Path(p) for p in paths])  # a library that does not compile fails here, once
+        folder.mkdir(parents=True, exist_ok=True)
+        spec = JobSpec(paths, scene, _params_dict(params), compose, parsed)
+        with MineTable(folder / TABLE_NAME) as table:
+            if client is not None:
                 if dashboard:
                     address = client.dashboard_link
                     if note is not None:
                         note(f"Dask dashboard: {address}")
-                from dask.distributed import as_completed
-
-                spec_future = client.scatter(spec, broadcast=True)
-                size = batch_size(len(todo), worker_count(client, workers, scheduler))
-                batches = [todo[i : i + size] for i in range(0, len(todo), size)]
-                futures = {
-                    client.submit(analyse_batch, [(r.path, r.id) for r in b], spec_future, pure=False,
-                                  key=f"mine-{b[0].id}-{len(b)}"): b
-                    for b in batches
-                }
-                for future in as_completed(futures):
-                    batch = futures[future]
-                    try:
-                        done_rows = future.result()
-                    except Exception as error:  # the worker died (KilledWorker) or could not import
-                        done_rows = [_worker_error(rec, error) for rec in batch]
+                size = worker_count(client, workers, scheduler)
+                for done_rows in _results(client, spec, batches(todo, size)):
                     table.add_many(done_rows)
                     for row in done_rows:
                         rows.append(row)
                         ticker.tick(row["status"] != "ok")
-            finally:
-                client.close()
-                if cluster is not None:
-                    cluster.close()
-        summary = write_summary(table, folder, library=paths)
+                close(client, cluster)
+                client = None
+            summary = write_summary(table, folder, library=paths)
+    finally:
+        if client is not None:
+            close(client, cluster)
     errors = sum(1 for r in rows if r["status"] != "ok")
     return MineResult(
         len(files),

@@ -17,7 +17,10 @@ from typing import IO, Any
 
 import numpy as np
 
-__all__ = ["RunSpec", "run_many", "run_one", "sampled_places"]
+__all__ = ["PRELOAD", "RunSpec", "run_many", "run_one", "sampled_places"]
+
+#: Modules a run imports: imported before the embedded cluster's workers are forked.
+PRELOAD = ("oacdsl.runtime.executor", "oacdsl.runtime.binding", "oacdsl.runtime.layout")
 
 _LIBRARIES: dict[tuple[str, ...], Any] = {}
 
@@ -111,12 +114,12 @@ def run_many(
     (the caller records it); the documents sorted by seed and sample."""
     from dask.distributed import as_completed
 
-    from oacdsl.mining.cluster import client_for
+    from oacdsl.mining.cluster import client_for, close, share
     from oacdsl.mining.engine import _Ticker
 
     jobs = [(s, k) for s in seeds for k in range(samples)]
     ticker = _Ticker(len(jobs), progress, "ran", "runs")
-    client, cluster = client_for(workers, scheduler, False)
+    client, cluster = client_for(workers, scheduler, False, PRELOAD)
     out = []
     try:
         if spec.parsed is None:  # parsed here while the workers start, not once in each of them
@@ -124,7 +127,7 @@ def run_many(
 
             spec = copy(spec)
             spec.parsed = _library(spec.library)
-        shared = client.scatter(spec, broadcast=True)
+        shared = share(client, spec, "run-spec")
         futures = {client.submit(run_one, shared, s, k, pure=False): (s, k) for s, k in jobs}
         for future in as_completed(futures):
             s, k = futures[future]
@@ -144,7 +147,5 @@ def run_many(
             out.append(doc)
             ticker.tick(not doc.get("success"))
     finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        close(client, cluster)
     return sorted(out, key=lambda d: (d["seed"], d["sample"]))

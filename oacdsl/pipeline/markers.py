@@ -74,7 +74,6 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.segmentation.params import AasParams
-from oacdsl.segmentation.points import recording_from_points
 from oacdsl.segmentation.recording import Recording
 
 __all__ = [
@@ -287,22 +286,34 @@ class VirtualMarkers:
     def n_frames(self) -> int:
         return len(self.times_s)
 
-    def points(self, instances: Sequence[str] | None = None) -> dict[str, np.ndarray]:
-        """Instance → (F, k, 3) marker positions in the world frame, metres."""
+    def _blocks(self, instances: Sequence[str] | None) -> list[tuple[str, list[np.ndarray]]]:
+        """(instance, its parts' (F, k, 3) world positions, metres) in instance order."""
         if not self._xpos:
             raise RuntimeFailure("the run recorded no marker frames")
         xpos = np.asarray(self._xpos)  # (F, B, 3)
         xmat = np.asarray(self._xmat).reshape(len(self._xmat), -1, 3, 3)  # (F, B, 3, 3)
-        out = {}
-        for name, parts in self._groups:
-            if instances is not None and name not in instances:
-                continue
-            blocks = [
-                np.matmul(local, xmat[:, b].transpose(0, 2, 1)) + xpos[:, b][:, None, :] for b, local in parts
-            ]
-            out[name] = np.concatenate(blocks, axis=1)
-        return out
+        return [
+            (name, [np.matmul(local, xmat[:, b].transpose(0, 2, 1)) + xpos[:, b][:, None, :]
+                    for b, local in parts])
+            for name, parts in self._groups
+            if instances is None or name in instances
+        ]
+
+    def points(self, instances: Sequence[str] | None = None) -> dict[str, np.ndarray]:
+        """Instance → (F, k, 3) marker positions in the world frame, metres."""
+        return {name: np.concatenate(blocks, axis=1) for name, blocks in self._blocks(instances)}
 
     def to_recording(self, source: str = "robot", instances: Sequence[str] | None = None) -> Recording:
-        """The markers as a recording at :attr:`rate_hz` (markers ``instance:mK``)."""
-        return recording_from_points(self.points(instances), self.rate_hz, source)
+        """The markers as a recording at :attr:`rate_hz` (markers ``instance:mK``): the same
+        recording as ``recording_from_points(self.points(instances), ...)``, built with one copy
+        of the (F, M, 3) positions instead of two."""
+        blocks = self._blocks(instances)
+        names: list[str] = []
+        index: dict[str, tuple[int, ...]] = {}
+        for name, parts in blocks:
+            k = sum(p.shape[1] for p in parts)
+            index[name] = tuple(range(len(names), len(names) + k))
+            names.extend(f"{name}:m{i + 1}" for i in range(k))
+        positions = np.concatenate([p for _, parts in blocks for p in parts], axis=1)
+        times = np.arange(positions.shape[0]) / float(self.rate_hz)
+        return Recording(source, float(self.rate_hz), times, tuple(names), positions, index)

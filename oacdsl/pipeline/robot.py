@@ -12,6 +12,7 @@ demonstration's (:func:`oacdsl.verify.verify`).
 from __future__ import annotations
 
 from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -191,12 +192,15 @@ def verify_stage(
     demo_recording: Recording | None = None,
     contacts: Any = None,
     folder: Path | None = None,
+    any_hands: bool = False,
 ) -> VerifyStage:
     """Judge the robot's execution against the demonstration (:func:`~oacdsl.verify_execution.
     verify_execution`: relations from the simulation's contacts, end state, motion), after
     segmenting and matching the robot's virtual markers with the same AAS and library (the
     report's robot sub-actions; where that AAS disagrees with the contacts is a finding). With
-    ``folder``, the robot's recording and contacts are written there (``execution.c3d``)."""
+    ``folder``, the robot's recording and contacts are written there (``execution.c3d``).
+    ``any_hands``: the robot's two hands may be exchanged consistently (the runtime exchanged
+    them: a left-handed demonstration in a scene laid out for the right hand)."""
     from oacdsl.matching import Matcher
     from oacdsl.matching.demonstration import match_segmentation
     from oacdsl.matching.transient import agents_of, stable_segmentation
@@ -206,36 +210,42 @@ def verify_stage(
 
     instances = list(demonstration.instances)
     recording = markers.to_recording("robot (virtual markers)", instances=instances)
-    params = robot_params(demo_params)
-    seg = segment(recording, params)
-    matcher = Matcher.from_library(library, scene)
-    robot_matches = match_segmentation(seg, matcher)
-    agents = agents_of(matcher.instance_classes)
     sim = sim_contacts(contacts, demo_params) if contacts is not None else None
-    files = write_execution(recording, sim, folder / EXECUTION_FILE) if folder is not None else []
-    outcome = None
-    if demo_recording is not None:
-        from oacdsl.verify_execution import verify_execution
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        # the files are written while the verdict is computed (numpy and the file write let go
+        # of the interpreter lock; both only read the recording)
+        writing = pool.submit(write_execution, recording, sim, folder / EXECUTION_FILE) \
+            if folder is not None else None
+        params = robot_params(demo_params)
+        seg = segment(recording, params)
+        matcher = Matcher.from_library(library, scene)
+        agents = agents_of(matcher.instance_classes)
+        outcome = None
+        if demo_recording is not None:
+            from oacdsl.verify_execution import verify_execution
 
-        outcome = verify_execution(demo_recording, recording, scene=scene, library=library,
-                                   params=demo_params, contacts=sim, demo_segmentation=demonstration,
-                                   execution_aas=seg)
-        v = outcome.relations
-    else:  # a segmentation only: the relations as the AAS of the virtual markers sees them
-        demo_kfs = stable_segmentation(demonstration, agents.__contains__)[0].keyframes
-        robot_kfs = stable_segmentation(seg, agents.__contains__)[0].keyframes
-        v = verify(
-            [k.state for k in demo_kfs],
-            [k.state for k in robot_kfs],
-            demonstration_frames=[k.frame for k in demo_kfs],
-            robot_frames=[k.frame for k in robot_kfs],
-            demonstration_times_s=[k.time_s for k in demo_kfs],
-            robot_times_s=[k.time_s for k in robot_kfs],
-            instances=instances,
-        )
+            outcome = verify_execution(demo_recording, recording, scene=scene, library=library,
+                                       params=demo_params, contacts=sim, demo_segmentation=demonstration,
+                                       execution_aas=seg, any_hands=any_hands)
+            v = outcome.relations
+        else:  # a segmentation only: the relations as the AAS of the virtual markers sees them
+            demo_kfs = stable_segmentation(demonstration, agents.__contains__)[0].keyframes
+            robot_kfs = stable_segmentation(seg, agents.__contains__)[0].keyframes
+            v = verify(
+                [k.state for k in demo_kfs],
+                [k.state for k in robot_kfs],
+                demonstration_frames=[k.frame for k in demo_kfs],
+                robot_frames=[k.frame for k in robot_kfs],
+                demonstration_times_s=[k.time_s for k in demo_kfs],
+                robot_times_s=[k.time_s for k in robot_kfs],
+                instances=instances,
+            )
+        files = writing.result() if writing is not None else []
     if outcome is not None and outcome.relations_source != "aas" and outcome.execution_segmentation:
         # the robot's sub-actions as the simulation's contacts delimit them (the relations check's)
         robot_matches = match_segmentation(outcome.execution_segmentation, matcher)
+    else:  # as the AAS of the virtual markers delimits them
+        robot_matches = match_segmentation(seg, matcher)
     doc = v.to_json()
     by_index = {m.index + 1: m for m in robot_matches}
     for change in doc["robot"]:  # the robot's own sub-action leading to each change, as matched

@@ -298,6 +298,7 @@ def _stages(
         done = robot.verify_stage(
             seg.segmentation, inputs.params, executed.markers, inputs.library, inputs.scene,
             demo_recording=seg.recording, contacts=executed.contacts, folder=staging,
+            any_hands=any(a.get("kind") == "exchanged" for a in getattr(executed.result, "adaptations", ())),
         )
 
         def plot() -> None:  # a picture for the report, drawn in its stage

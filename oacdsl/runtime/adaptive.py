@@ -12,6 +12,8 @@ world state from the simulation's contacts:
   repair; a step whose skill failed is not chosen again with the same binding;
 * a step that would send a hand for an object its arm does not reach while the other hand's
   does is not run: the repair leaves the object to the other hand (:mod:`oacdsl.runtime.reach`);
+  when that holds for the task as a whole (a left-handed demonstration in a scene laid out for
+  the right hand), the two hands are **exchanged** for every step before the run starts;
 * at most ``max_repairs`` repairs; no plan is a clear failure naming the unreachable atoms.
 
 Every adaptation is recorded in ``RunResult.adaptations`` (the run's JSON). The per-step
@@ -21,6 +23,7 @@ decides what to run next.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
@@ -36,7 +39,7 @@ from oacdsl.planning.task import Action, make_task, primitive_actions
 from oacdsl.runtime.binding import Step, bound_atoms
 from oacdsl.runtime.executor import Run, _check, _judge_call, _label, _pair, _pairs, run_metrics, run_step
 from oacdsl.runtime.intent import predicted_states
-from oacdsl.runtime.reach import FarHand, out_of_reach, with_other_hand
+from oacdsl.runtime.reach import FarHand, exchanged_hands, out_of_reach, with_other_hand
 from oacdsl.runtime.results import RunResult, StepResult
 from oacdsl.world import WorldState
 
@@ -241,6 +244,17 @@ def _recover(run: Run, step: Step) -> str:
     return f" ({', '.join(done)} taken back)" if done else ""
 
 
+def _with_hands(run: Run, swap: Mapping[str, str]) -> Run:
+    """``run`` with every binding's hands exchanged by ``swap``."""
+    def bound(binding: Mapping[str, str]) -> dict[str, str]:
+        return {k: swap.get(v, v) for k, v in binding.items()}
+
+    return dataclasses.replace(
+        run, binding=bound(run.binding),
+        steps=[dataclasses.replace(s, binding=bound(s.binding)) for s in run.steps],
+        calls=[dataclasses.replace(c, binding=bound(c.binding)) for c in run.calls])
+
+
 def run_adaptive(
     run: Run,
     *,
@@ -255,7 +269,12 @@ def run_adaptive(
     the same result as :func:`~oacdsl.runtime.executor.run_prepared`, with ``adaptations``."""
     wall0 = time.perf_counter() if wall0 is None else wall0
     world, ctx = run.world, run.context
+    exchange = exchanged_hands(ctx, run.steps) if run.oac.composed else None
+    if exchange is not None:  # a left-handed demonstration in a scene laid out for the right hand
+        run = _with_hands(run, exchange[0])
     a = _Adaptive(run, max_repairs, engine)
+    if exchange is not None:
+        a.note("exchanged", 0, exchange[1], run.steps)
     results: list[StepResult] = []
     states = [world.relations()]
     goal = bound_atoms(run.oac.effect, run.binding) if run.oac.composed else []

@@ -15,7 +15,7 @@ frame and last residual; the skills turn it into a :class:`~oacdsl.errors.Runtim
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 
@@ -28,7 +28,10 @@ from oacdsl.runtime.build import home_posture
 from oacdsl.runtime.hands import finger_joint_names
 from oacdsl.runtime.urdf import URDF_PATH
 
-__all__ = ["WholeBodyIK", "IKError", "BASE_LIMITS", "POSTURE_WEIGHTS", "Residual", "rotation_angle"]
+__all__ = [
+    "WholeBodyIK", "IKError", "BASE_LIMITS", "POSTURE_WEIGHTS", "Residual", "rotation_angle",
+    "ANGLE_M_PER_RAD",
+]
 
 #: Limits of the planar base in the IK (m, m, rad): the platform may shift a little
 #: but never drive into the table whose front edge is 5 cm beyond the platform at x = 0.
@@ -67,12 +70,22 @@ class IKError(RuntimeFailure):
         self.frame, self.target, self.residual_m = frame, target, residual_m
 
 
+#: How much an angle counts in a reach's miss, m per rad.
+ANGLE_M_PER_RAD = 0.1
+
+
 @dataclass(frozen=True)
 class Residual:
     """How far a hand frame is from its target: position (m) and angle (rad)."""
 
     position_m: float
     angle_rad: float
+
+    @property
+    def miss_m(self) -> float:
+        """One figure of how far off: the position's miss, the angle's counted
+        :data:`ANGLE_M_PER_RAD` m per rad."""
+        return self.position_m + ANGLE_M_PER_RAD * self.angle_rad
 
 
 def rotation_angle(r: np.ndarray) -> float:
@@ -245,6 +258,22 @@ class WholeBodyIK:
                 for name in still:
                     self.solver.unmask_dof(name)
 
+    def reach_postures(
+        self, side: str, targets: Sequence[np.ndarray], iterations: int | Sequence[int] = 150
+    ) -> list[tuple[Residual, dict[str, float]]]:
+        """Solves towards each of ``targets`` (T_world_grasp) in turn, each from the last one's
+        posture (a path through them), without moving the robot: the residual and the posture
+        (:meth:`joints`) at each. ``iterations``: solver steps per target, or one count for
+        each (a motion's control ticks per target: how far the IK keeps up with it at its pace)."""
+        counts = [iterations] * len(targets) if isinstance(iterations, int) else list(iterations)
+        out = []
+        with self.trial():
+            self.hold_hand("l" if side == "r" else "r", weight=0.05)
+            for target, n in zip(targets, counts, strict=True):
+                self.set_hand_target(side, target)
+                out.append((self.converge(n, tolerance_m=5e-4), self.joints()))
+        return out
+
     def try_reach_both(self, targets: Mapping[str, np.ndarray], iterations: int = 150) -> float:
         """Static solve with each hand of ``targets`` (side → T_world_grasp) at its target, without
         moving the robot: the larger residual (m, angle weighted 0.1 m/rad)."""
@@ -253,7 +282,7 @@ class WholeBodyIK:
                 self.set_hand_target(s, t)
             for _ in range(iterations):
                 self.step()
-            return max((res := self.residual(s)).position_m + 0.1 * res.angle_rad for s in targets)
+            return max(self.residual(s).miss_m for s in targets)
 
     @contextmanager
     def trial(self) -> Iterator[None]:

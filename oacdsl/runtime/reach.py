@@ -29,7 +29,7 @@ from oacdsl.matching.conditions import bind_atoms
 from oacdsl.runtime.binding import Step
 from oacdsl.world import WorldState
 
-__all__ = ["ARM_MISS_M", "FarHand", "arm_miss_m", "out_of_reach", "with_other_hand"]
+__all__ = ["ARM_MISS_M", "FarHand", "arm_miss_m", "exchanged_hands", "out_of_reach", "with_other_hand"]
 
 #: An arm that misses an object's grasp by more than this (m) with the platform and the torso
 #: still does not take it when the other arm misses it by less than half as much.
@@ -95,6 +95,41 @@ def out_of_reach(ctx: Any, step: Step, state: WorldState) -> FarHand | None:
             )
             return FarHand(hand, other, obj, text)
     return None
+
+
+def exchanged_hands(ctx: Any, steps: Sequence[Step]) -> tuple[dict[str, str], str] | None:
+    """The two hands exchanged for the whole task ({hand: the hand that does its part}, and
+    why), when the objects the steps send the hands for stand on the other arms' sides: a
+    left-handed demonstration in a scene laid out for the right hand. Each object a hand takes
+    (its first ``hand <-> object``) counts with how far the arm alone misses it now; the hands
+    are exchanged when the demonstrated ones miss by more than :data:`ARM_MISS_M` in all and
+    the exchanged ones by less than half as much (the rule :func:`out_of_reach` applies to one
+    object). None: as demonstrated."""
+    hands = dict(ctx.world.layout.hands)
+    if len(hands) != 2:
+        return None
+    objects = ctx.objects()
+    taken: dict[str, str] = {}
+    for step in steps:
+        for atom in bind_atoms(step.oac.effect, step.binding):
+            if atom.negated or atom.about_nothing:
+                continue
+            for hand, obj in ((atom.left, atom.right), (atom.right, atom.left)):
+                if hand in hands and obj in objects:
+                    taken.setdefault(obj, hand)
+    if not taken:
+        return None
+    swap = dict(zip(hands, reversed(list(hands)), strict=True))
+    try:
+        demonstrated = sum(arm_miss_m(ctx, hand, obj) for obj, hand in taken.items())
+        exchanged = sum(arm_miss_m(ctx, swap[hand], obj) for obj, hand in taken.items())
+    except RuntimeFailure:  # an object without a grasp: the skill itself will say so
+        return None
+    if demonstrated <= ARM_MISS_M or exchanged >= demonstrated / 2:
+        return None
+    text = (f"the hands are exchanged: the arms alone miss what they take ({', '.join(sorted(taken))})"
+            f" by {100 * demonstrated:.0f} cm in all as demonstrated, by {100 * exchanged:.0f} cm exchanged")
+    return swap, text
 
 
 def _lets_go(step: Step, hand: str, obj: str) -> bool:

@@ -83,8 +83,8 @@ class RunResult:
     states: list[WorldState] = field(default_factory=list)
     composed: list[CallResult] = field(default_factory=list)
     failed_step: str | None = None
-    #: What the adaptive executor changed: ``{"kind": "skipped"|"replanned"|"failed", "step": N,
-    #: "text": …, "plan": [...]}`` (empty for a strict run).
+    #: What the adaptive executor changed: ``{"kind": "skipped"|"replanned"|"followed"|"exchanged"
+    #: |"failed", "step": N, "text": …, "plan": [...]}`` (empty for a strict run).
     adaptations: list[dict[str, Any]] = field(default_factory=list)
 
     @property

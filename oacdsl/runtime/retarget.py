@@ -23,7 +23,9 @@ where the object started. :func:`retarget` changes it as little as the robot nee
 5. **where it ends**: when the object is to stay at the target (``stay``), the path ends
    with its core (the demonstrated way out belongs to the next sub-action).
 
-:func:`shrunk` and :func:`shifted` give the variants the skill tries when the whole-body IK
+:func:`floored` keeps the core from going deeper into the target than where the two touch
+(the demonstrator's knife went into the cucumber; the robot's cannot). :func:`shrunk` and
+:func:`shifted` give the variants the skill tries when the whole-body IK
 cannot reach the path. numpy only; metres, radians, seconds.
 """
 
@@ -43,6 +45,8 @@ __all__ = [
     "MIN_SEGMENT_S",
     "TURN_SPEED_RAD_S",
     "FollowTuning",
+    "floored",
+    "boxed",
     "Retargeted",
     "retarget",
     "shifted",
@@ -87,6 +91,8 @@ class FollowTuning:
     overhang: float = 0.5
     #: Kept between the object's widest part and a container's inner wall, m.
     wall_gap_m: float = 0.005
+    #: How far inside a solid target's edges the object's lowest end starts its core, m.
+    top_margin_m: float = 0.01
 
 
 #: The defaults ``follow`` uses.
@@ -205,3 +211,47 @@ def shifted(r: Retargeted, offset_m: np.ndarray, room_m: float | None) -> Retarg
     w[: r.core] = np.linspace(0.0, 1.0, r.core + 1)[:-1]
     pos[:, :2] = pos[:, :2] + w[:, None] * ((scale - 1.0) * (pos[:, :2] - middle) + off[:2])
     return Retargeted(r.times_s, pos, r.rotations, r.core, r.scale * scale, r.turn_scale, r.slowed_s)
+
+
+def floored(r: Retargeted) -> Retargeted:
+    """``r`` with every keyframe of the core that is lower (along the target's axis) than the
+    core's first one raised to it. The robot's object touches its target at the core's first
+    keyframe (a guarded approach found it); a demonstrated path that goes deeper went into
+    something soft (a knife cutting a cucumber, a spoon in a liquid) which the robot's rigid
+    target is not: there the robot stays on it, pressed, rather than have the rest of the core
+    lifted off it by the depth it cannot go."""
+    pos = r.positions_m.copy()
+    pos[r.core :, 2] = np.maximum(pos[r.core :, 2], pos[r.core, 2])
+    return Retargeted(r.times_s, pos, r.rotations, r.core, r.scale, r.turn_scale, r.slowed_s)
+
+
+
+def boxed(r: Retargeted, to_box: np.ndarray, offset_m: np.ndarray, lo_m: np.ndarray,
+          hi_m: np.ndarray, far: tuple[int, float] | None = None) -> Retargeted:
+    """``r`` with its core fitted into a rectangle on a solid target's top: ``to_box`` (2, 2)
+    turns the frame's xy into the rectangle's, where the point that must stay inside (the
+    object's lowest end) is at ``to_box @ p + offset_m`` for a keyframe at ``p``; along each of
+    the rectangle's axes the core is shrunk about its middle until it spans at most
+    ``hi_m - lo_m``, then moved in as little as needed (the way in blends into it). A cucumber
+    is 15 cm long and 4.5 cm wide: the room about its middle (``room_m``) does not see that
+    a knife drawn 5 cm across it leaves it. ``far`` = (axis, sign): the core then goes as far
+    to that side along that axis of the rectangle as it can (the end of a cucumber away from
+    the hand that holds it)."""
+    pos = r.positions_m.copy()
+    q = pos[r.core :, :2] @ to_box.T + offset_m
+    middle = 0.5 * (q.min(axis=0) + q.max(axis=0))
+    span = q.max(axis=0) - q.min(axis=0)
+    scale = np.where(span > hi_m - lo_m, np.maximum(hi_m - lo_m, 0.0) / np.maximum(span, 1e-12), 1.0)
+    q = middle + (q - middle) * scale
+    q += np.clip(q.min(axis=0), lo_m, None) - q.min(axis=0)  # the low side in
+    q -= np.maximum(q.max(axis=0) - hi_m, 0.0)  # the high side in
+    if far is not None:
+        a, sign = far
+        q[:, a] += float(hi_m[a] - q[:, a].max()) if sign > 0 else float(lo_m[a] - q[:, a].min())
+    core = (q - offset_m) @ to_box  # to_box is a rotation: its inverse is its transpose
+    delta = np.zeros((len(r.times_s), 2))
+    delta[r.core :] = core - pos[r.core :, :2]
+    delta[: r.core] = np.linspace(0.0, 1.0, r.core + 1)[:-1, None] * delta[r.core]
+    pos[:, :2] += delta
+    return Retargeted(r.times_s, pos, r.rotations, r.core, r.scale * float(scale.min()), r.turn_scale,
+                      r.slowed_s)

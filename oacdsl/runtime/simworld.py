@@ -142,13 +142,20 @@ class SimWorld:
         return np.array(d.contact.geom[: d.ncon]).reshape(-1, 2)
 
     def contact_pairs(self) -> set[tuple[int, int]]:
-        """Pairs of instance indices in contact now (index into :attr:`instances`)."""
+        """Pairs of instance indices in contact now (index into :attr:`instances`), and each
+        hand with what its grasp holds: the grasp is a weld, which holds the object also
+        where the fingers lose their contact with it for a while (a tool leaned over in the
+        hand), and an object the weld holds has not been let go of."""
         g = self.contact_geoms()
-        if len(g) == 0:
-            return set()
-        a, b = self._geom_instance[g[:, 0]], self._geom_instance[g[:, 1]]
-        keep = (a >= 0) & (b >= 0) & (a != b)
-        pairs = {(int(min(x, y)), int(max(x, y))) for x, y in zip(a[keep], b[keep], strict=True)}
+        pairs: set[tuple[int, int]] = set()
+        if len(g):
+            a, b = self._geom_instance[g[:, 0]], self._geom_instance[g[:, 1]]
+            keep = (a >= 0) & (b >= 0) & (a != b)
+            pairs = {(int(min(x, y)), int(max(x, y))) for x, y in zip(a[keep], b[keep], strict=True)}
+        for side, obj in self.held.items():
+            if obj is not None and self.hand_bodies[side] and obj in self.instances:
+                h, o = int(self._body_instance[self.hand_bodies[side][0]]), self.instances.index(obj)
+                pairs.add((min(h, o), max(h, o)))
         return pairs - self._ignored
 
     def relations(self) -> WorldState:

@@ -53,7 +53,7 @@ CREATE VIEW outcome_rows AS
 """
 
 #: Version 2: what an adaptive run changed (issue 22), one row per adaptation, in order:
-#: ``kind`` (skipped, replanned, followed, failed), ``step`` (how many steps had run), ``text``,
+#: ``kind`` (skipped, replanned, followed, exchanged, failed), ``step`` (how many steps had run), ``text``,
 #: ``plan`` (the repair's steps as a JSON list of labels, or NULL).
 _ADAPTATIONS_V2 = """
 CREATE TABLE adaptations (

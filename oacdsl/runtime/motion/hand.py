@@ -3,10 +3,11 @@
 A skill makes a :class:`Motion` for the hand it moves, with the policy of the other hand
 (:class:`OtherHand`), and composes it of primitives: :meth:`Motion.carry` (along a way
 over the objects near it), :meth:`Motion.approach` (guarded: until a contact or a force),
-:meth:`Motion.press`, :meth:`Motion.slide`, :meth:`Motion.rise`, :meth:`Motion.hold_still`,
-:meth:`Motion.release` and :meth:`Motion.withdraw`. Every one of them runs through the
-controller's one control loop (:meth:`~oacdsl.runtime.control.Controller.drive`); their
-defaults come from one :class:`~oacdsl.runtime.motion.tuning.Tuning`.
+:meth:`Motion.press`, :meth:`Motion.slide` (and :meth:`Motion.slide_back`, a stroke's way
+back on the surface), :meth:`Motion.rise`, :meth:`Motion.hold_still`, :meth:`Motion.release`
+and :meth:`Motion.withdraw`. Every one of them runs through the controller's one control
+loop (:meth:`~oacdsl.runtime.control.Controller.drive`); their defaults come from one
+:class:`~oacdsl.runtime.motion.tuning.Tuning`.
 """
 
 from __future__ import annotations
@@ -208,10 +209,26 @@ class Motion:
         t = self.tuning
         self.go(down(self.here(), t.press_m if depth_m is None else depth_m), seconds or t.press_s)
 
-    def slide(self, offset_m: np.ndarray, seconds: float) -> None:
-        """Slide the hand (a tool on a surface) by ``offset_m`` (world), keeping its orientation."""
+    def slide(self, offset_m: np.ndarray, seconds: float, keep_contact: Guard | None = None) -> None:
+        """Slide the hand (a tool on a surface) by ``offset_m`` (world), keeping its orientation;
+        with ``keep_contact``, lowered while that is false (:meth:`along`'s seek)."""
         now = self.here()
-        self.go(make_T(now[:3, :3], now[:3, 3] + offset_m), seconds)
+        goal = make_T(now[:3, :3], now[:3, 3] + offset_m)
+        self.along(lambda s: interpolate(now, goal, s), seconds, keep_contact=keep_contact)
+
+    def slide_back(self, offset_m: np.ndarray, seconds: float, touching: Guard, pressed_m: float) -> None:
+        """The way back of a stroke that goes one way (a peeler along a cucumber), on the surface:
+        the press ``pressed_m`` (how far the hand's goal is below where the tool touches, m)
+        eased by the tuning's ``slide_back_ease_share`` of what it has over the light slide
+        press, slid by ``offset_m`` (world) keeping the contact (``touching``; :meth:`along`'s
+        seek), then pressed as before. Lifted back through the air, the tool left the object
+        between strokes: a contact lost and made again each time, which the demonstrated
+        stroke does not have."""
+        t = self.tuning
+        ease = t.slide_back_ease_share * max(pressed_m - t.slide_press_m, 0.0)
+        self.go(raised(self.here(), ease), t.press_s)
+        self.slide(offset_m, seconds, keep_contact=touching)
+        self.press(ease)
 
     def rise(self, height_m: float | None = None, seconds: float | None = None) -> None:
         """Straight up by ``height_m`` (default: the tuning's lift)."""

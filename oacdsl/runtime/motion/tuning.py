@@ -106,6 +106,13 @@ class Tuning:
     turn_wind_back_share: tuple[float, ...] = (0.0, 0.25, 0.5, 0.75, 1.0)
     turn_wind_back_gain_m: float = 0.002
 
+    # --- arm postures --------------------------------------------------------------------------
+    #: room kept between an arm's links (upper arm to wrist) and the table or the objects in a
+    #: posture a skill chooses among others (the IK does not see them), m
+    arm_room_m: float = 0.02
+    #: solver steps a static solve of a pose may take (the IK settling there before a motion)
+    pose_solve_tries: int = 150
+
     # --- tip a held object over a container --------------------------------------------------
     #: how many horizontal axes (evenly round) a tip is tried about; the best reached is taken
     tip_axis_tries: int = 8
@@ -144,6 +151,10 @@ class Tuning:
     #: (a light touch: pressed 2 mm while circling, a salad server shifted in the hand's weld
     #: and the fingers lost its handle; not pressed, its contact flickered: KIT Mix)
     slide_press_m: float = 0.001
+    #: how much of a stroke's press over that light one is eased on the stroke's way back on the
+    #: surface (``Motion.slide_back``; eased to the light press, the peeler sprang off the
+    #: cucumber for 0.2 s; not eased, it chattered on it for 0.5 s: synthetic Peel, seed 0)
+    slide_back_ease_share: float = 0.5
 
     # --- rise / lift -----------------------------------------------------------------------
     #: how far a held object is lifted off what it touches, m

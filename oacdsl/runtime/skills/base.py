@@ -173,8 +173,7 @@ class SkillContext:
 
     def reach_error(self, side: str, target: np.ndarray) -> float:
         """A score of how well ``target`` can be reached (m, angle weighted 0.1 m/rad)."""
-        res = self.ctl.ik.try_reach(side, target)
-        return res.position_m + 0.1 * res.angle_rad
+        return self.ctl.ik.try_reach(side, target).miss_m
 
     def support_height(self, xy: np.ndarray, exclude: str, below: float = 2.0) -> float:
         """Height (m) of the first surface under ``xy`` below height ``below`` (a ray cast down),

@@ -15,9 +15,14 @@ The step's predicted effect decides the contact: when it says ``o <-> t``, the p
 its core, and the core starts with a guarded approach along ``t``'s axis until they touch (or
 the wrist feels ``force``); the rest of the path is shifted by what that found and pressed
 ``press`` on, and at the end ``o`` must touch ``t`` (one more guarded approach mends a contact
-lost on the way). When it says ``not o <-> t``, ``o`` must be off ``t`` at the end (raised
-straight up until it is). The other hand keeps an idle hand's hold, or, when it holds
-something other than a container ``t``, its goal fixed (as ``touch``).
+lost on the way). In a container the core's lowest keyframe is put where they touched. On a
+solid target the core starts with ``o``'s lowest end over ``t``'s box, and runs from where
+they touched, never deeper (:func:`~oacdsl.runtime.retarget.floored`: the demonstrator's knife
+went into the cucumber), lowered while they do not touch (the slide's seek,
+:data:`~oacdsl.runtime.motion.TUNING`): the demonstration keeps them together there. When it
+says ``not o <-> t``, ``o`` must be off ``t`` at the end (raised straight up until it is).
+The other hand keeps an idle hand's hold, or, when it holds something other than a container
+``t``, its goal fixed (as ``touch``).
 """
 
 from __future__ import annotations
@@ -29,18 +34,17 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.bodies import Body
+from oacdsl.runtime.motion import TUNING
 from oacdsl.runtime.motion.both import mover
-from oacdsl.runtime.retarget import FOLLOW, MIN_OFFSET_M, Retargeted, retarget, shifted, shrunk
+from oacdsl.runtime.retarget import FOLLOW, MIN_OFFSET_M, Retargeted, floored, retarget, shifted, shrunk
 from oacdsl.runtime.shapes import lowest_z, world_corners
 from oacdsl.runtime.skills.base import SkillContext
+from oacdsl.runtime.skills.follow_top import END_SPAN_M, lowest_end, on_top, onto_top
 from oacdsl.runtime.transforms import MIN_JERK_PEAK, make_T, rot_z
 
 __all__ = ["follow", "reference_point"]
 
 HandAt = Callable[[Retargeted, int, float], np.ndarray]
-
-#: The corners of an object within this of its lowest one make its lowest end, m.
-END_SPAN_M = 0.01
 
 
 def reference_point(body: Body) -> np.ndarray:
@@ -103,8 +107,9 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
     keep = None
     if world.held.get(other) is not None and not (world.held.get(other) == target and body_t.container):
         keep = ctl.ik.goal(other)
-    away = None  # half the room away from the other hand, when it holds the target (frame coords)
-    if world.held.get(other) == target and room:
+    # half the room away from the other hand when it holds a container target (frame coords)
+    away = None
+    if world.held.get(other) == target and room and body_t.container:
         o, rf = frame(phi)
         d = rf.T @ (o - world.frame_pose(f"grasp_{other}")[:3, 3])
         d[2] = 0.0
@@ -119,28 +124,41 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
     if body_t.container and room is not None:
         # the object's lowest end (a spoon's bowl, not its markers' middle) goes into the container:
         # the core moved so that the end starts within the room of the axis
-        corners = world_corners(body_o, pose_at(plan, c))
-        end = corners[corners[:, 2] < corners[:, 2].min() + END_SPAN_M].mean(axis=0)
+        end = lowest_end(body_o, pose_at(plan, c))
         o, rf = frame(phi)
         tip = (rf.T @ (end - o))[:2]
         over = float(np.linalg.norm(tip))
         if over > room:
             plan = shifted(plan, np.append(-tip * (1 - room / over), 0.0), room)
+    elif room is not None:
+        # a solid target: the object's lowest end (a knife's edge) starts over the target's top,
+        # which the room about its middle does not see (a cucumber 15 cm long, 4.5 cm wide)
+        holder = world.frame_pose(f"grasp_{other}")[:3, 3] if world.held.get(other) == target else None
+        move = onto_top(body_o, pose_at(plan, c), body_t, world.body_pose(target), frame(phi)[1], holder)
+        plan = shifted(plan, move, None if holder is not None else room)
+        plan = on_top(plan, body_o, pose_at(plan, c), body_t, world.body_pose(target), frame(phi)[1], holder)
     lift = top + FOLLOW.hover_m - lowest_z(body_o, pose_at(plan, c))
     plan, weight = _reachable(ctx, side, keep, plan, lambda r, k, _: hand_at(r, k, lift),
                               f"the path of {obj} relative to {target}",
                               lambda v: frame(phi)[1].T @ v, room, ref_in_grasp)
     go = mover(ctl, side, keep, weight)
 
+    met = [False]  # the two touched during an approach (a tool that bounced off still found it)
+
     def touching() -> bool:
         return world.touching(obj, target)
+
+    def met_now() -> bool:
+        now = touching()
+        met[0] = met[0] or now
+        return now
 
     def approach(depth: float) -> None:
         """Down along the target's axis by up to ``depth`` (m) until touching or felt."""
         axis = frame(phi)[1][:, 2]
         now = ctl.ik.goal(side)
         go(make_T(now[:3, :3], now[:3, 3] - depth * axis), MIN_JERK_PEAK * depth / FOLLOW.approach_speed_m_s,
-           guard=lambda: touching() or float(np.linalg.norm(ctl.force_change(side))) > force)
+           guard=lambda: met_now() or float(np.linalg.norm(ctl.force_change(side))) > force)
 
     def ref_height() -> float:
         """The object's reference point above the target's, along its axis, now (m)."""
@@ -156,20 +174,29 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
         ctl.activity = f"bringing {obj} onto {target}"
         ctl.wait(FOLLOW.settle_s, until=lambda: ctl.ik.residual(side).position_m < FOLLOW.reach_m / 2)
         approach(FOLLOW.hover_m + body_t.height)
-        if body_t.container and lowest_z(body_o, world.body_pose(obj)) > top - END_SPAN_M:
-            # on the rim, not in: over the axis by as much as its end is off it, and down again
-            corners = world_corners(body_o, world.body_pose(obj))
-            end = corners[corners[:, 2] < corners[:, 2].min() + END_SPAN_M].mean(axis=0)
+        if room and lowest_z(body_o, world.body_pose(obj)) > top - END_SPAN_M:
+            # on the rim of a container it fits into, not in: over the axis by as much as its end
+            # is off it, and down again (one as wide as the opening, a carton on a cup, rests on it)
+            end = lowest_end(body_o, world.body_pose(obj))
             o, rf = frame(phi)
             off = end - o - float((end - o) @ rf[:, 2]) * rf[:, 2]
             now = ctl.ik.goal(side)
             go(make_T(now[:3, :3], now[:3, 3] - off + FOLLOW.hover_m / 2 * rf[:, 2]), FOLLOW.settle_s)
             approach(FOLLOW.hover_m + body_t.height)
-        if touching():  # the rest of the core from where they touch, its lowest keyframe there, pressed on
-            lift = ref_height() - press - float(plan.positions_m[c:, 2].min())
+        if body_t.container:
+            if touching():  # the rest of the core from where they touch, its lowest keyframe there
+                lift = ref_height() - press - float(plan.positions_m[c:, 2].min())
+        elif met[0] or touching():  # a solid target: from where they touched, pressed on, never deeper
+            plan = floored(plan)
+            lift = ref_height() - press - float(plan.positions_m[c, 2])
     ctl.activity = f"following the demonstrated path of {obj} at {target}"
+    seek = touch and not body_t.container  # on a solid target the core keeps the contact (module doc)
+    sink = 0.0
     for k in range(c + 1, len(plan.times_s)):
-        go(hand_at(plan, k, lift), float(plan.times_s[k] - plan.times_s[k - 1]))
+        dt = float(plan.times_s[k] - plan.times_s[k - 1])
+        if seek and not touching():
+            sink = min(sink + TUNING.seek_speed_m_s * dt, TUNING.seek_max_m)
+        go(hand_at(plan, k, lift - sink), dt)
     if touch:
         if not ctl.wait(FOLLOW.rest_s, until=touching) and not touching():
             # lost on the way: from above the core's middle, down again until they touch

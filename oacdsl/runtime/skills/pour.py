@@ -3,8 +3,9 @@
 The cup's rim point facing the target (the *lip*) is brought above the target, a few
 centimetres off its centre, and the cup is turned about a horizontal axis through the
 lip until it is upside down enough for every ball to fall out; then it is turned back.
-The direction the cup comes from is chosen among a few azimuths around the target, by
-asking the whole-body IK which fully tilted pose it can reach best. The pour succeeds
+The direction the cup comes from is the nearest of a few azimuths around the target whose
+tilt the whole-body IK follows at the control loop's pace with the arm's links clear of the
+table and the objects (:mod:`oacdsl.runtime.armroom`). The pour succeeds
 when at least :data:`SUCCESS_FRACTION` of the liquid's balls end inside the target,
 counted by the simulation.
 
@@ -30,11 +31,12 @@ import math
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
+from oacdsl.runtime.armroom import arm_room
 from oacdsl.runtime.bodies import Body
+from oacdsl.runtime.control import CONTROL_DT_S
 from oacdsl.runtime.motion import TUNING, Motion, OtherHand
 from oacdsl.runtime.shapes import hand_corners, world_corners
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
-from oacdsl.runtime.skills.bimanual import reach_both
 from oacdsl.runtime.transforms import make_T, rot_axis
 from oacdsl.skills import SIGNATURES
 
@@ -195,25 +197,37 @@ def pour(
         extra = max(need(u, min(1.0, max(0.0, s + ds)), base) for ds in (-1.0 / STEPS, 0.0, 1.0 / STEPS))
         return hand_at(u, tilt * s, base + max(0.0, extra))
 
+    def tilted(u: np.ndarray, s: float) -> np.ndarray:
+        """The hand's pose at ``s`` of the tilt: the lip comes down from its start height over the
+        first half of the tilt."""
+        return lifted(u, s, LIP_START_EXTRA_M * max(0.0, 1.0 - 2.0 * s))
 
-    def reach(t_hand: np.ndarray) -> float:
-        """How well the hand reaches ``t_hand``, the other hand keeping the target where it is."""
-        if keep is None or holder is None:
-            return ctx.reach_error(side, t_hand)
-        return reach_both(ctx, {side: t_hand, holder: keep})
+    def step_s(s: float) -> float:
+        """Time (s) of the tilt's step to ``s``: slower where the balls roll out into a narrow target."""
+        return (NARROW_SLOWDOWN if narrow and tilt * s > SLOW_FROM_RAD else 1.0) * duration / STEPS
 
     ctl.activity = f"planning to pour {liquid} into {target}"
     to_cup = t_cup[:2, 3] - centre[:2]
     home = math.atan2(to_cup[1], to_cup[0])
     candidates = sorted((home + k * math.pi / 4 for k in range(-3, 5)), key=lambda a: abs(a - home))
+    # the nearest side to where the cup is from which the arm follows the tilt at its pace (the
+    # IK stepped as the control loop steps it: near the edge of its reach it lags the tilt by
+    # centimetres, and balls miss) with its links clear of the table and the objects there (the
+    # IK sees neither: tilting the cup across its body, an arm laid its forearm on the bowl and
+    # its elbow on the table)
+    ticks = [TUNING.pose_solve_tries] + [
+        max(1, round(step_s(k / STEPS) / CONTROL_DT_S)) for k in range(1, STEPS + 1)]
     best: tuple[float, np.ndarray] | None = None
     for a in candidates:
         u = np.array([math.cos(a), math.sin(a), 0.0])
-        err = max(ctx.reach_error(side, lifted(u, 1.0, 0.0)),
-                  ctx.reach_error(side, lifted(u, 0.0, LIP_START_EXTRA_M)))
+        path = [lifted(u, 0.0, LIP_START_EXTRA_M)] + [tilted(u, k / STEPS) for k in range(1, STEPS + 1)]
+        postures = ctl.ik.reach_postures(side, path, ticks)
+        err = max(r.miss_m for r, _ in postures)
         if best is None or err < best[0]:
             best = (err, u)
-        if err < REACH_TOLERANCE_M:
+        rooms = (arm_room(world, side, postures[k][1], {source}) for k in (0, STEPS // 2, STEPS))
+        if err < REACH_TOLERANCE_M and all(room >= TUNING.arm_room_m for room in rooms):
+            best = (err, u)
             break
     if best is None or best[0] > 3 * REACH_TOLERANCE_M:
         raise RuntimeFailure(
@@ -242,9 +256,7 @@ def pour(
     m.carry(lifted(u, 0.0, LIP_START_EXTRA_M), {source, target}, TUNING.work_carry_s)
     ctl.activity = f"pouring {liquid} into {target}"
     for k in range(1, STEPS + 1):
-        s = k / STEPS
-        slowdown = NARROW_SLOWDOWN if narrow and tilt * s > SLOW_FROM_RAD else 1.0
-        go(lifted(u, s, LIP_START_EXTRA_M * max(0.0, 1.0 - 2.0 * s)), slowdown * duration / STEPS)
+        go(tilted(u, k / STEPS), step_s(k / STEPS))
     m.hold_still(EMPTY_S, until=lambda: world.balls_inside(source, liquid) == 0)
     m.hold_still(TUNING.shift_s)
     back = STEPS // 2

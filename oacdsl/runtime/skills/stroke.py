@@ -2,11 +2,14 @@
 a knife pushing pieces across a board into a bowl).
 
 Where ``wipe`` goes to and fro across a surface's middle, a stroke goes along the target's
-length, one way, and comes back through the air: the tool (kept as the hand holds it) is
+length, one way, and comes back pressed lightly: the tool (kept as the hand holds it) is
 brought onto the target's top at one end of the stroke, lowered until the two touch, pressed
-``press`` into it and drawn ``length`` along it in ``period`` seconds; it then rises
-:data:`LIFT_M`, goes back and comes down again for the next one, ``strokes`` times. It stays
-on the target after the last (the OAC's effect ``o <-> t``).
+``press`` into it and drawn ``length`` along it in ``period`` seconds; it then slides back
+on the target with the press eased (:meth:`~oacdsl.runtime.motion.Motion.slide_back`: lifted
+back through the air, the tool left the target between strokes, a change of the world's
+state the demonstration does not have) for the next one, ``strokes`` times; every slide keeps
+the contact (lowered while the two do not touch). It stays on the target after the last (the
+OAC's effect ``o <-> t``).
 
 The direction is the target's longest horizontal axis (a box's length, in its pose now),
 pointed, in this order: away from the other hand when that hand holds the target (peeling
@@ -22,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.motion import TUNING, Motion, OtherHand, raised
+from oacdsl.runtime.motion import TUNING, Motion, OtherHand
 from oacdsl.runtime.shapes import lowest_z, world_corners
 from oacdsl.runtime.skills.base import SkillContext, cm
 from oacdsl.runtime.transforms import make_T
@@ -32,7 +35,7 @@ __all__ = ["stroke", "stroke_direction", "SIGNATURE"]
 
 SIGNATURE = SIGNATURES["stroke"]
 D = SIGNATURE.defaults()
-#: Height of the tool above the target's top on its way back, m.
+#: Height of the tool above the target's top over the start of the strokes, m.
 LIFT_M = 0.03
 
 
@@ -135,21 +138,22 @@ def stroke(
     ctx.check_reachable(side, hand_at(end, 0.0), f"the end of the strokes on {target}")
     m.carry(above, {tool, target}, t.carry_s)
     n = max(1, round(strokes))
+    on = m.touching(tool, target)
+    ctl.activity = f"bringing {tool} onto {target}"
+    # straight to ``press`` below the target's top, not stopped at the first touch: a tool
+    # stopped there bounced off for 0.1 s before the press brought it back
+    if not m.approach(hand_at(start, -press), m.felt(force), wait_for=on):
+        why = "; something else is in the way" if m.force_n() > force else ""
+        raise RuntimeFailure(
+            f"stroke: {tool} did not reach {target} (the wrist felt {m.force_n():.0f} N{why})"
+        )
+    stroke_m = np.array([*(run * u[:2]), 0.0])
     for k in range(n):
-        ctl.activity = f"bringing {tool} onto {target} (stroke {k + 1})"
-        # straight to ``press`` below the target's top, not stopped at the first touch: a tool
-        # stopped there bounced off for 0.1 s before the press brought it back
-        if not m.approach(hand_at(start, -press), m.felt(force), wait_for=m.touching(tool, target)):
-            why = "; something else is in the way" if m.force_n() > force else ""
-            raise RuntimeFailure(
-                f"stroke: {tool} did not reach {target} (the wrist felt {m.force_n():.0f} N{why})"
-            )
         ctl.activity = f"stroking {target} with {tool} ({k + 1})"
-        m.slide(np.array([*(run * u[:2]), 0.0]), period)
+        m.slide(stroke_m, period, keep_contact=on)
         if k == n - 1:
             break
-        ctl.activity = f"taking {tool} back over {target}"
-        m.go(raised(m.here(), LIFT_M + press), t.settle_s)
-        m.go(hand_at(start, LIFT_M), t.lift_s / 2)
+        ctl.activity = f"taking {tool} back along {target}"
+        m.slide_back(-stroke_m, period, on, press)
     if not (m.hold_still(t.contact_wait_s, m.touching(tool, target)) or world.touching(tool, target)):
         raise RuntimeFailure(f"stroke: {tool} left {target} during its last stroke")
