@@ -33,6 +33,8 @@ __all__ = [
     "ROLE_HAND",
     "ROLE_TABLE",
     "ROLE_LIQUID",
+    "RACK_FLOOR_M",
+    "RACK_WALL_M",
     "ResolvedGeometry",
     "si",
     "point_si",
@@ -45,7 +47,13 @@ UNITS: dict[str, dict[str, float]] = {
     "length": {"": 1.0, "m": 1.0, "cm": 0.01, "mm": 0.001},
     "mass": {"": 1.0, "kg": 1.0, "g": 0.001},
     "factor": {"": 1.0},
+    "count": {"": 1.0},
 }
+
+
+#: A rack's base board and walls when it does not say (``rack(…, floor 1cm, wall 5mm)``), m.
+RACK_FLOOR_M = 0.01
+RACK_WALL_M = 0.005
 
 
 @dataclass(frozen=True)
@@ -79,6 +87,14 @@ PRIMITIVES: dict[str, Primitive] = {
         ("radius", "height", "wall"),
         "an open round container: outer radius, height to the rim, wall and floor thickness"
         " (floor defaults to wall)",
+    ),
+    "rack": Primitive(
+        {"length": "length", "width": "length", "height": "length", "slots": "count", "wall": "length",
+         "floor": "length", "mass": "mass"},
+        ("length", "width", "height", "slots"),
+        "a rack things stand in on edge (a dish rack): a base board (floor, default 1 cm) and"
+        " walls (wall thick, default 5 mm) along its length, as high as the rack, that divide"
+        " its width into equal slots",
     ),
     "mesh": Primitive(
         {"scale": "factor", "mass": "mass"},

@@ -36,6 +36,7 @@ __all__ = [
 MOTION_FEATURES: tuple[str, ...] = (
     "cycles",
     "duration_s",
+    "end_tilt_rad",
     "extent_m",
     "path_length_m",
     "period_s",
@@ -310,6 +311,13 @@ SIGNATURES: dict[str, SkillSignature] = {
                 SkillParamSpec(
                     "steady", "", 1.0, 0.0, 1.0,
                     "1: the other hand's goal stays fixed meanwhile; 0: an idle hand's usual, weaker hold",
+                ),
+                SkillParamSpec(
+                    "tilt", "rad", 0.0, 0.0, _deg(180.0),
+                    "how far the object's axis ends from the target's (as it ends in the demonstration);"
+                    " turned so only where that differs from how it is held by more than the runtime's"
+                    " reorientation angle (a plate held flat set on edge into a rack's slot)",
+                    MotionSource("end_tilt_rad"),
                 ),
             ),
         ),

@@ -80,3 +80,19 @@ def test_mix_both_takes_the_demonstrated_mixing(tmp_path, capsys):
     assert 0.7 < params["period"].value < 1.1 and params["period"].unit == "s"
     assert params["turns"].value >= 2
     assert "salad_spoon relative to mixing_bowl_green" in out.read_text()
+
+
+def test_the_wipe_plate_is_to_end_on_edge_in_the_rack_as_the_person_left_it(tmp_path, capsys):
+    """The composer writes the demonstrated end tilt (the plate's axis from the rack's at the end
+    of its rigid fit, about 97°) on the step that sets it into the rack (touch's ``tilt``); the
+    runtime sets it on edge into a slot from that (tests/test_rack.py, test_kit_reproduce.py)."""
+    import math
+
+    xml = mocap_file("kit_bimanual/Wipe_files_motions_3091_Wipe1_pl_sp_front_angle_03.mmm.xml")
+    out = tmp_path / "wipe_demo.oac"
+    code = main(["compose", str(xml), "--library", str(KIT), "--name", "wipe_demo", "-o", str(out)])
+    assert code == 0, capsys.readouterr().err
+    step = next(s for s in load_library([KIT, out]).oacs["wipe_demo"].steps if s.oac == "set_into_rack")
+    tilt = {p.name: p.value for p in step.skill_params}["tilt"]
+    assert tilt.unit == "deg" and 80 <= tilt.value <= 110, tilt
+    assert math.radians(tilt.value) > math.pi / 4  # on edge, not lying as it lay

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from oacdsl.compiler.context import Context
 from oacdsl.errors import did_you_mean
-from oacdsl.geometry import COLOURS, PRIMITIVES, ROLE_SHAPES, UNITS, resolve
+from oacdsl.geometry import COLOURS, PRIMITIVES, RACK_FLOOR_M, RACK_WALL_M, ROLE_SHAPES, UNITS, resolve
 from oacdsl.model import Geometry, ObjectClass, Point, Quantity, Scene, Shape
 
 __all__ = ["MAX_SIZE_M", "check_geometry"]
@@ -25,7 +25,7 @@ __all__ = ["MAX_SIZE_M", "check_geometry"]
 #: A length written without a unit and longer than this (metres) gets W006.
 MAX_SIZE_M = 5.0
 
-_KIND_WORD = {"length": "a length", "mass": "a mass", "factor": "a plain number"}
+_KIND_WORD = {"length": "a length", "mass": "a mass", "factor": "a plain number", "count": "a whole count"}
 
 
 def _unit_of(unit: str) -> str | None:
@@ -44,7 +44,7 @@ def _quantity(ctx: Context, q: Quantity, kind: str, what: str, positive: bool = 
             message = (
                 f"unknown unit '{q.unit}' in {what}{did_you_mean(q.unit, [u for u in factors if u] or [''])}"
             )
-            if kind == "factor":
+            if kind in ("factor", "count"):
                 message = f"{what} is a plain number and takes no unit ('{q.unit}' given)"
         ctx.add("E032", message, q.part("unit"))
         return None
@@ -96,10 +96,11 @@ def _shape(ctx: Context, shape: Shape, owner: str) -> None:
             values[dim.name] = value
     missing = [p for p in spec.required if p not in seen]
     if missing:
+        example = ", ".join(_example(p, spec.params[p]) for p in spec.required)
         ctx.add(
             "E031",
             f"{shape.primitive} of {owner} needs {', '.join(missing)}"
-            f" (write e.g. {shape.primitive}({', '.join(f'{p} 5cm' for p in spec.required)}))",
+            f" (write e.g. {shape.primitive}({example}))",
             shape.part("primitive"),
         )
     if spec.takes_file and shape.file is None:
@@ -121,9 +122,31 @@ def _proportions(ctx: Context, shape: Shape, v: dict[str, float]) -> None:
         ctx.add("E033", "capsule height must be more than twice its radius (the caps)", shape.span)
     if shape.primitive == "shell" and {"radius", "wall"} <= v.keys() and v["wall"] >= v["radius"]:
         ctx.add("E033", "shell wall must be thinner than its radius", shape.span)
+    if shape.primitive == "rack":
+        _rack_proportions(ctx, shape, v)
     floor = v.get("floor", v.get("wall"))
     if shape.primitive == "shell" and "height" in v and floor is not None and floor >= v["height"]:
         ctx.add("E033", "shell floor must be thinner than its height", shape.span)
+
+
+def _example(name: str, kind: str) -> str:
+    """A size as an example of ``kind``: ``radius 5cm``, ``slots 4``."""
+    return f"{name} {'4' if kind == 'count' else '5cm'}"
+
+
+def _rack_proportions(ctx: Context, shape: Shape, v: dict[str, float]) -> None:
+    """A rack's slots: a whole number, each wider than nothing between its walls, and its
+    floor lower than its walls' top."""
+    slots = v.get("slots")
+    if slots is None:
+        return
+    if slots != round(slots):
+        ctx.add("E033", f"rack slots must be a whole number (got {slots:g})", shape.span)
+        return
+    if "width" in v and v["width"] - (slots + 1) * v.get("wall", RACK_WALL_M) <= 0:
+        ctx.add("E033", f"rack walls leave no room for {slots:g} slots in its width", shape.span)
+    if "height" in v and v.get("floor", RACK_FLOOR_M) >= v["height"]:
+        ctx.add("E033", "rack floor must be thinner than its height", shape.span)
 
 
 def _geometry(ctx: Context, geometry: Geometry, owner: str) -> None:

@@ -17,9 +17,19 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.geometry import COLOURS, ROLE_LIQUID, ROLE_OBJECT, ResolvedGeometry, point_si, resolve, si
+from oacdsl.geometry import (
+    COLOURS,
+    PRIMITIVES,
+    ROLE_LIQUID,
+    ROLE_OBJECT,
+    ResolvedGeometry,
+    point_si,
+    resolve,
+    si,
+)
 from oacdsl.library import Library
 from oacdsl.model import Scene
+from oacdsl.runtime.racks import Slot, rack_slots, rack_volume
 
 __all__ = ["Solid", "Body", "body_from", "bodies_for_scene", "DEFAULT_DENSITY", "colour_for", "mesh_extent"]
 
@@ -30,7 +40,7 @@ _GREY = (0.6, 0.6, 0.6, 1.0)
 
 @dataclass(frozen=True)
 class Solid:
-    """One primitive: ``kind`` (box, cylinder, sphere, capsule, shell, mesh), its sizes
+    """One primitive: ``kind`` (box, cylinder, sphere, capsule, shell, rack, mesh), its sizes
     (``dims``, SI), the centre of its base in the object frame (``at``), an explicit mass
     (kg) or None, and for a mesh its file and scale."""
 
@@ -45,7 +55,7 @@ class Solid:
     def radius(self) -> float:
         """Horizontal extent around the object's z axis, m (0 for a mesh: see its bounds)."""
         d, off = self.dims, math.hypot(self.at[0], self.at[1])
-        if self.kind == "box":
+        if self.kind in ("box", "rack"):
             return off + math.hypot(d["length"] / 2, d["width"] / 2)
         return off + d.get("radius", 0.0)
 
@@ -67,6 +77,8 @@ class Solid:
         if self.kind == "capsule":
             r = d["radius"]
             return math.pi * r**2 * (d["height"] - 2 * r) + 4 / 3 * math.pi * r**3
+        if self.kind == "rack":
+            return rack_volume(d)
         if self.kind == "shell":
             r, inner = d["radius"], d["radius"] - d["wall"]
             floor = d.get("floor", d["wall"])
@@ -139,6 +151,11 @@ class Body:
         return 0.0 if s is None else s.at[2] + s.dims.get("floor", s.dims["wall"])
 
     @property
+    def slots(self) -> list[Slot]:
+        """The slots of its racks (``shape rack``; none when it has no rack), object frame."""
+        return [slot for s in self.solids if s.kind == "rack" for slot in rack_slots(s.dims, s.at)]
+
+    @property
     def round(self) -> bool:
         """Rotationally symmetric about z (a grasp may come from any azimuth)."""
         return bool(self.solids) and all(s.centred for s in self.solids) and not self.mesh_extent[0]
@@ -164,10 +181,8 @@ def colour_for(name: str, colour: str | None) -> tuple[float, float, float, floa
 def _solids(geo: ResolvedGeometry) -> tuple[Solid, ...]:
     out = []
     for shape in geo.shapes:
-        dims = {
-            d.name: si(d.value, "mass" if d.name == "mass" else "factor" if d.name == "scale" else "length")
-            for d in shape.dims
-        }
+        kinds = PRIMITIVES[shape.primitive].params
+        dims = {d.name: si(d.value, kinds.get(d.name, "length")) for d in shape.dims}
         mass = dims.pop("mass", None)
         scale = dims.pop("scale", 1.0)
         at = point_si(shape.at) if shape.at is not None else (0.0, 0.0, 0.0)

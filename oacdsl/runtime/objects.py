@@ -5,7 +5,8 @@ Every object is one MuJoCo body with a free joint (the table is fixed). Its fram
 object's base, z up and x pointing away from the robot at the nominal placement. Each
 solid of the language's geometry becomes geoms: a box, cylinder, sphere or capsule one
 geom; an open container (``shell``) a base disc and a ring of wall boxes, so that balls
-can lie inside and be poured out; a mesh a mesh geom. Sizes are metres, masses kilograms.
+can lie inside and be poured out; a rack a base board and its walls (boxes,
+:mod:`oacdsl.runtime.racks`); a mesh a mesh geom. Sizes are metres, masses kilograms.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import mujoco
 import numpy as np
 
 from oacdsl.runtime.bodies import Body, Solid
+from oacdsl.runtime.racks import rack_boxes, rack_volume
 
 __all__ = [
     "add_object",
@@ -147,6 +149,11 @@ def _solid(
             mass=mass,
             friction=friction,
         )
+    elif s.kind == "rack":
+        for k, (centre, half) in enumerate(rack_boxes(d, (x, y, z))):
+            part = "base" if k == 0 else f"wall{k - 1}"
+            _geom(body, f"{name}/{part}", mujoco.mjtGeom.mjGEOM_BOX, half, centre, rgba,
+                  mass=mass * _box_share(half, d), friction=friction)
     elif s.kind == "cylinder":
         _geom(
             body,
@@ -186,6 +193,11 @@ def _solid(
         g.contype, g.conaffinity, g.friction, g.mass = OBJECT_CONTYPE, OBJECT_CONAFFINITY, friction, mass
     else:
         raise ValueError(f"the runtime cannot build a {s.kind!r}")
+
+
+def _box_share(half: tuple[float, float, float], d: dict[str, float]) -> float:
+    """A box's share of a rack's volume (its mass splits by volume)."""
+    return 8 * half[0] * half[1] * half[2] / rack_volume(d)
 
 
 def _masses(body: Body) -> list[float]:

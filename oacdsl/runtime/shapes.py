@@ -13,8 +13,8 @@ import numpy as np
 from oacdsl.runtime.bodies import Body
 from oacdsl.runtime.simworld import SimWorld
 
-__all__ = ["corners", "world_corners", "lowest_z", "highest_z", "long_axis", "tip_local", "hand_reach_below",
-           "hand_corners"]
+__all__ = ["corners", "half_width", "world_corners", "lowest_z", "highest_z", "long_axis", "tip_local",
+           "hand_reach_below", "hand_corners"]
 
 
 def corners(body: Body) -> np.ndarray:
@@ -22,7 +22,7 @@ def corners(body: Body) -> np.ndarray:
     out = []
     for s in body.solids:
         d = s.dims
-        if s.kind == "box":
+        if s.kind in ("box", "rack"):
             hx, hy, h = d["length"] / 2, d["width"] / 2, d["height"]
         elif s.kind == "sphere":
             hx = hy = d["radius"]
@@ -39,6 +39,13 @@ def corners(body: Body) -> np.ndarray:
                 for z in (0.0, h):
                     out.append((ax + x, ay + y, az + z))
     return np.array(out, dtype=float).reshape(-1, 3)
+
+
+def half_width(body: Body) -> float:
+    """Half the object's narrowest horizontal extent (of its bounding boxes, object frame), m: how
+    far its middle stays in from an edge it must not pass (a sponge's 3.5 cm)."""
+    c = corners(body)
+    return float(np.min(np.ptp(c[:, :2], axis=0))) / 2
 
 
 def world_corners(body: Body, t_world_obj: np.ndarray) -> np.ndarray:

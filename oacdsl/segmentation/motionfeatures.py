@@ -34,6 +34,8 @@ Definitions (all in the target's frame):
   tilt: from the last frame at or below 10 % of the largest tilt before it is first reached
   (the span's start when there is none) to the first frame at or above 90 % of it (None below
   :data:`MIN_TILT_RAD`; a constant-rate tilt over *T* seconds rises in 0.8 *T*).
+  ``end_tilt_rad`` the tilt at the last posed frame: how the object ends relative to the
+  target (a plate left standing on edge in a rack: about 90°).
 - **twist**: the object's net rotation about the target's z axis, radians, signed
   (positive counterclockwise seen from above the target: a right-hand thread's lid
   unscrewed; negative: screwed on): the sum of the frame-to-frame rotations' components
@@ -98,6 +100,8 @@ class MotionFeatures:
     tilt_time_s: float
     tilt_rise_s: float | None = None
     twist_rad: float = 0.0
+    #: the object's tilt (its z axis from the target's) at the last posed frame: how it ends
+    end_tilt_rad: float = 0.0
 
     def to_json(self) -> dict[str, Any]:
         return {
@@ -112,6 +116,7 @@ class MotionFeatures:
             "tilt_time_s": round(self.tilt_time_s, 6),
             "tilt_rise_s": None if self.tilt_rise_s is None else round(self.tilt_rise_s, 6),
             "twist_rad": round(self.twist_rad, 6),
+            "end_tilt_rad": round(self.end_tilt_rad, 6),
         }
 
 
@@ -237,6 +242,7 @@ def motion_features(times_s: np.ndarray, T_target_object: np.ndarray) -> MotionF
         tilt_time,
         tilt_rise(t[ok], tilt) if tilt_max >= MIN_TILT_RAD else None,
         twist_angle(T[ok, :3, :3]),
+        float(tilt[-1]),
     )
 
 

@@ -43,7 +43,7 @@ SURFACE_SPACING_M = 0.01
 #: Most surface samples of one shape; a larger shape gets a coarser spacing.
 MAX_SURFACE_POINTS = 600
 
-_MEASURED = ("box", "cylinder", "sphere", "capsule", "shell")
+_MEASURED = ("box", "cylinder", "sphere", "capsule", "shell", "rack")
 
 
 @dataclass(frozen=True)
@@ -198,13 +198,14 @@ def shape_model(geometry: ResolvedGeometry | None) -> ShapeModel | None:
             return None
         dims = {d.name: si(d.value, "length") for d in shape.dims if d.name != "mass"}
         at = point_si(shape.at) if shape.at is not None else (0.0, 0.0, 0.0)
-        if shape.primitive == "box":
+        if shape.primitive in ("box", "rack"):  # a rack measured as its outer box
             size = (dims["length"], dims["width"], dims["height"])
         elif shape.primitive == "sphere":
             size = (dims["radius"], 2 * dims["radius"], 2 * dims["radius"])
         else:
             size = (dims["radius"], dims["height"], 0.0)
-        prims.append(Primitive("cylinder" if shape.primitive == "shell" else shape.primitive, size, at))
+        kind = {"shell": "cylinder", "rack": "box"}.get(shape.primitive, shape.primitive)
+        prims.append(Primitive(kind, size, at))
     markers = np.array([point_si(p) for p in geometry.markers], dtype=np.float64).reshape(-1, 3)
     return ShapeModel(tuple(prims), markers)
 

@@ -248,9 +248,33 @@ class Motion:
         ctx.world.release(self.side)
         grasp = ctx.library.grasp_for(ctx.classes[obj])
         top_power = grasp is not None and grasp.approach == "top" and grasp.type == "power"
-        ctx.ctl.set_fingers(self.side, TOP_PRESHAPE if top_power else OPEN)
+        ctx.ctl.set_fingers(self.side, TOP_PRESHAPE if top_power else self._open_shape())
         ctx.ctl.wait(self.tuning.open_s)
         ctx.picked.pop(self.side, None)
+
+    def _open_shape(self) -> dict[str, float]:
+        """The open hand (:data:`OPEN`), or, when opening it so would bring its boxes more than the
+        tuning's ``open_drop_m`` lower than they are now, only the fingers opened and the thumb kept
+        where it is (a pinch on the rim of a plate set on edge in a rack: the opening thumb swung
+        down onto a wall, 60 N)."""
+        from oacdsl.runtime.handgap import hand_box_poses
+        from oacdsl.runtime.hands import finger_joint_names
+
+        world, side = self.ctx.world, self.side
+        grasp = world.frame_pose(f"grasp_{side}")
+        q = world.joint_positions()
+        now = {j: float(q[name]) for j, name in finger_joint_names(side).items()}
+
+        def lowest(fingers: dict[str, float]) -> float:
+            boxes = hand_box_poses(side, grasp, fingers)
+            return min(float(t[2, 3] - np.abs(t[2, :3]) @ h) for t, h in boxes)
+
+        if lowest(now) - lowest(OPEN) <= self.tuning.open_drop_m:
+            return dict(OPEN)
+        # the thumb kept at its command, not where it is measured: pressed on the object it may be
+        # past its limit, and the IK, given that, finds no solution
+        held = self.ctx.ctl.fingers[side]
+        return {j: OPEN[j] if j.startswith("fingers") else held.get(j, now[j]) for j in OPEN}
 
     def withdraw(self, approach: np.ndarray | None) -> None:
         """Back an open hand off along its grasp's ``approach`` (world unit; default: from

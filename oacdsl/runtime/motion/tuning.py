@@ -127,6 +127,21 @@ class Tuning:
     #: footprints at a free spot, m
     forearm_m: float = 0.3
 
+    # --- set down turned as demonstrated (touch's tilt) ---------------------------------------
+    #: a held object is turned to the demonstrated end tilt only when it is held farther from it
+    #: than this, rad (a cup held upright, demonstrated 1-5° off, is brought down as it is held)
+    reorient_min_rad: float = 0.5
+    #: turns about its own axis tried for a round object set on edge (or horizontal tilt axes round
+    #: the compass), and for any other object set into a slot (it fits one way of four)
+    stand_spin_tries: int = 12
+    stand_square_spin_tries: int = 4
+    #: wrist force change that stops a descent into a slot, N, unless the skill's own is higher (a
+    #: plate hanging from its rim pulled the wrist by 8 N as it went down, touching nothing)
+    slot_force_n: float = 20.0
+    #: a still moment after a carry that turned the held object, s (an arm that turned a 0.4 kg
+    #: plate on edge lagged its command by centimetres, and went down from there onto a wall)
+    turn_settle_s: float = 1.0
+
     # --- press -----------------------------------------------------------------------------
     #: how far a held object is pressed on once it touches, m
     press_m: float = 0.003
@@ -157,6 +172,9 @@ class Tuning:
     reclose_s: float = 0.7
     #: time for the fingers to open, s
     open_s: float = 0.4
+    #: a hand whose boxes would reach this much lower, opened, than they do now opens only its
+    #: fingers and keeps its thumb, m (the thumb of a pinch on a plate's rim swung down into a rack)
+    open_drop_m: float = 0.02
     #: how far an open hand backs off along its grasp's approach, m, and rises meanwhile, m
     withdraw_back_m: float = 0.12
     withdraw_rise_m: float = 0.03

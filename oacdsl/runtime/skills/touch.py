@@ -12,6 +12,10 @@ container (its goal fixed, as strong as this hand's, so that what it holds does 
 idle otherwise (a cup held up keeps the usual hold), or with ``steady 0`` (a sponge held up
 while the other hand sets a plate into a rack need not stay put, and its fixed goal made the
 whole-body IK push the plate onto the rack with 61-74 N).
+
+Turned as demonstrated (``tilt``, :mod:`oacdsl.runtime.skills.stand`): an object held farther from
+its demonstrated end tilt than the tuning's ``reorient_min_rad`` is turned on the way, and into a
+slot of a rack when it ends on edge (a plate set into a dish rack).
 """
 
 from __future__ import annotations
@@ -22,6 +26,7 @@ from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import TUNING, Motion, OtherHand, down, other_side
 from oacdsl.runtime.shapes import lowest_z, world_corners
 from oacdsl.runtime.skills.base import SkillContext
+from oacdsl.runtime.skills.stand import needs_turn, set_turned
 from oacdsl.runtime.transforms import make_T
 from oacdsl.skills import SIGNATURES
 
@@ -92,10 +97,13 @@ def touch(
     force: float = D["force"],
     press: float = D["press"],
     steady: float = D["steady"],
+    tilt: float = D["tilt"],
 ) -> None:
     """Lower the held ``obj`` onto ``target`` from ``hover`` (m) above it until they touch,
     then press it ``press`` (m) further on; fail when the wrist feels ``force`` (N) first.
-    ``steady`` 0: the other hand keeps the controller's usual hold instead of a fixed goal."""
+    ``steady`` 0: the other hand keeps the controller's usual hold instead of a fixed goal.
+    ``tilt`` (rad): how far its axis is to end from the target's (turned on the way when it is
+    held farther from that than the tuning's ``reorient_min_rad``: :mod:`.stand`)."""
     world = ctx.world
     side = ctx.require_held(hand, obj)
     if target not in world.layout.bodies or not ctx.body(target).solids:
@@ -107,7 +115,11 @@ def touch(
     keep = steady and world.held.get(other) is not None and not (held_target and ctx.body(target).container)
     m = Motion(ctx, side, OtherHand.STEADY if keep else OtherHand.IDLE)
     away = world.frame_pose(f"grasp_{other}")[:3, 3] if keep and held_target else None
-    if bring_onto(ctx, m, obj, target, hover, force, away):
+    if needs_turn(ctx, obj, target, tilt, m.tuning.reorient_min_rad):
+        touched = set_turned(ctx, m, obj, target, tilt, hover, force)
+    else:
+        touched = bring_onto(ctx, m, obj, target, hover, force, away)
+    if touched:
         m.press(press)
         return
     others = sorted(world.relations().partners(obj) - {hand})

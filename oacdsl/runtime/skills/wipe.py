@@ -20,6 +20,7 @@ no longer touches it after the strokes.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from functools import partial
 
@@ -27,6 +28,7 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import TUNING, Motion, OtherHand, other_side
+from oacdsl.runtime.shapes import half_width
 from oacdsl.runtime.skills.base import SkillContext
 from oacdsl.runtime.transforms import MIN_JERK_PEAK, interpolate, make_T
 from oacdsl.skills import SIGNATURES
@@ -113,6 +115,11 @@ def _wipe_held(
     away = away / max(float(np.linalg.norm(away)), 1e-6)
     along = np.array([-away[1], away[0]])  # the strokes go across that direction
     height = ctx.body(surface).height
+    # the strokes keep the tool's middle on the surface, its narrow half width in from the edge:
+    # from the spot FAR_M off the middle, as far to either side as that leaves (a stroke of 8 cm
+    # on a plate 12 cm in radius lifted the sponge off at one end for 0.6 s, stroke after stroke)
+    room = ctx.body(surface).radius - half_width(ctx.body(tool))
+    length = min(length, math.sqrt(max(room * room - FAR_M * FAR_M, 0.0)))
 
     def spot(shift: float, drop: float) -> np.ndarray:
         """T_world_grasp with the tool's base ``drop`` below HOVER_M above the spot, moved
