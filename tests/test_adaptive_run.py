@@ -71,13 +71,6 @@ def test_liquid_one_already_in_the_bowl_skips_the_first_pour(dough_library, tmp_
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    strict=True,
-    reason="regression of 2026-11-26 (the carry's slanting way down keeps clear of what the other"
-    " hand holds, which mends the lid put-down): after the replan the left hand brings the red cup"
-    " over the bowl while the right holds the mixer up beside it; the way down now comes straight"
-    " from above the bowl and the left wrist meets 65 N",
-)
 def test_liquids_in_each_others_cups_are_poured_from_the_cup_that_holds_them(dough_library):
     fill = {"liquid_one": "green_cup", "liquid_two": "red_cup"}
     run = prepare(dough_library, "dough", scene="kitchen", fill=fill)

@@ -130,3 +130,26 @@ def test_a_lid_taken_off_its_bottle_is_put_down_on_the_table_not_on_the_bottle()
     assert lid[2, 2] > 0.95  # upright
     assert lid[2, 3] < bottle[2, 3] + 0.05  # down on the table, not up on the bottle's top
     assert np.linalg.norm(lid[:2, 3] - bottle[:2, 3]) > 0.06
+
+
+def test_a_way_into_the_other_hands_footprint_crosses_over_that_hand():
+    """A carry that enters the other hand's footprint from outside it crosses above that hand:
+    the red cup brought to pour beside the hand holding the mixer in the bowl, crossing at the
+    way's height, met that hand's thumb (65 N). A way that starts within it (both hands putting
+    down side by side) does not climb over it."""
+    from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M
+    from oacdsl.runtime.motion.paths import carry_path, other_hand_obstacle
+    from oacdsl.runtime.transforms import make_T
+
+    run = prepare(_library(), "open_and_put_down", layout="demonstrated", demonstrated=FIRST_FRAME)
+    world = run.world
+    assert other_hand_obstacle(world, "l") is None
+    world.weld("r", "bottle")
+    xy, radius, top = other_hand_obstacle(world, "l")
+    low = top - 0.10
+    goal = make_T(np.eye(3), (xy[0], xy[1] + 0.5 * radius, low))  # within its footprint, below its top
+    outside = make_T(np.eye(3), (xy[0], xy[1] + radius + 0.25, low))
+    crossing = carry_path(world, "l", outside, goal, set(), 2.0)[1][0]
+    assert crossing[2, 3] >= top + HAND_BELOW_CENTRE_M
+    inside = make_T(np.eye(3), (xy[0], xy[1] + 0.8 * radius, low))
+    assert all(p[2, 3] < top for p, _ in carry_path(world, "l", inside, goal, set(), 2.0))

@@ -113,8 +113,11 @@ def carry_path(
     is needed), a point over the middle of the way, the goal; four when the slanting way down
     from the middle would pass too low over an object beside the goal (a cup set down next to
     another): then the hand crosses at the way's height to over the goal and comes straight
-    down. ``over_other_hand``: the other hand, while it holds something, is flown over too
-    (:func:`other_hand_obstacle`). The slanting way down also keeps clear of what the other
+    down. The other hand, while it holds something, is flown over too
+    (:func:`other_hand_obstacle`) with ``over_other_hand``, and whenever the way enters its
+    footprint from outside it: the red cup brought to pour beside the hand holding the mixer
+    in the bowl, crossing at the way's height to above the goal, met that hand's thumb (65 N).
+    The slanting way down also keeps clear of what the other
     hand holds (:func:`held_by_other`), but the way's height does not fly over it: that hand is
     above what it holds (a knife held up by its handle; the cucumber carried over the knife
     met the hand, 70 N)."""
@@ -124,7 +127,9 @@ def carry_path(
         hanging = max(hanging, float(world.frame_pose(f"grasp_{side}")[2, 3] - world.body_pose(held)[2, 3]))
     also, leave = held_by_other(world, side, exclude), exclude | ({held} if held else set())
     over = via_height(world, now[:3, 3], goal[:3, 3], leave, hanging, tuning)
-    hand = other_hand_obstacle(world, side) if over_other_hand else None
+    hand = other_hand_obstacle(world, side)
+    if hand is not None and not (over_other_hand or _enters(hand, now[:2, 3], goal[:2, 3])):
+        hand = None
     if hand is not None and segment_distance(hand[0], now[:2, 3], goal[:2, 3]) - hand[1] < tuning.near_path_m:
         over = max(over, hand[2] + hanging + tuning.over_m)
     via = now.copy()
@@ -140,6 +145,11 @@ def carry_path(
     above = goal.copy()
     above[2, 3] = via[2, 3]
     return [(up, climb), (via, half), (above, 0.5 * half), (goal, 0.5 * half)]
+
+
+def _enters(hand: Obstacle, a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether the way a → b (xy, m) comes from outside the footprint of ``hand`` to within it."""
+    return bool(np.linalg.norm(a - hand[0]) >= hand[1] > np.linalg.norm(b - hand[0]))
 
 
 def _slant_clear(
