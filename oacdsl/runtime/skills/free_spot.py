@@ -59,7 +59,7 @@ def free_spot(
         hand = (r @ r_obj @ in_hand[:3, 3])[:2]
         offsets = (hand, hand - t.withdraw_back_m * (r @ back)[:2])
         for xy in free_spots(world, side, obj, ctx.body(obj).radius, hand_xy_m=offsets, limit=t.spot_tries):
-            key = (float(xy[1]) * own < 0, round(float(np.linalg.norm(xy - here)), 3), abs(turn))
+            key = (float(xy[1]) * own < 0, float(np.linalg.norm(xy - here)), abs(turn))
             candidates.append((key, xy, turn))
     if not candidates:
         raise RuntimeFailure(f"place: no free spot on the table for {obj}")
@@ -81,7 +81,7 @@ def free_spot(
     clear: dict[tuple[float, float], bool] = {}
 
     def out_of_the_way(t_obj: np.ndarray) -> bool:
-        at = (round(float(t_obj[0, 3]), 3), round(float(t_obj[1, 3]), 3))
+        at = (float(t_obj[0, 3]), float(t_obj[1, 3]))  # grid points: the same spot turned, the same key
         if at not in clear:
             clear[at] = all(room_to_object(world, s, q, obj, t_obj) >= t.arm_room_m for s, q in coming)
         return clear[at]
