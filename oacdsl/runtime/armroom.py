@@ -66,7 +66,7 @@ def arm_room(
 ) -> float:
     """The smallest distance (m, at most ``within_m``; negative: overlapping) between the links
     of arm ``side`` (and its hand's, with ``hand``) in ``posture`` (joint → rad or m, the IK's)
-    and the table or an object other than ``ignore`` (what the hand holds; ``"table"`` leaves
+    and the table or an object other than ``ignore`` (what the hand holds; the table's name leaves
     the table out), everything else as it is now."""
     m = world.model
     data = mujoco.MjData(m)

@@ -115,7 +115,7 @@ def _roomy(ctx: SkillContext, side: str, obj: str, t_down: np.ndarray, approach:
         return False
     return all(
         arm_room(ctx.world, side, q, {obj}) >= t.arm_room_m
-        and arm_room(ctx.world, side, q, {obj, "table"}, hand=True) >= t.arm_room_m
+        and arm_room(ctx.world, side, q, {obj, ctx.world.layout.table}, hand=True) >= t.arm_room_m
         for _, q in postures[:1] + postures[2:]
     )
 
