@@ -196,13 +196,17 @@ class Motion:
     ) -> None:
         """Lower the held object from ``start`` by up to ``depth_m`` until the wrist feels the
         support (a force change above ``force_n``, default the tuning's support force)."""
-        felt = self.approach(
+        if not self.felt_support(start, depth_m, force_n):
+            raise RuntimeFailure(f"{what}: the wrist felt no contact after lowering {depth_m * 100:.0f} cm")
+
+    def felt_support(self, start: np.ndarray, depth_m: float, force_n: float | None = None) -> bool:
+        """:meth:`lower_onto_support` that says whether the wrist felt the support instead of
+        raising."""
+        return self.approach(
             down(start, depth_m),
             self.felt(force_n or self.tuning.support_force_n),
             self.tuning.set_down_speed_m_s,
         )
-        if not felt:
-            raise RuntimeFailure(f"{what}: the wrist felt no contact after lowering {depth_m * 100:.0f} cm")
 
     def press(self, depth_m: float | None = None, seconds: float | None = None) -> None:
         """Press on: the hand's goal ``depth_m`` further down (default: the tuning's press)."""
