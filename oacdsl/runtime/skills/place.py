@@ -19,7 +19,7 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import TUNING, Motion
-from oacdsl.runtime.motion.hand import other_side
+from oacdsl.runtime.motion.hand import felt_nothing, other_side
 from oacdsl.runtime.motion.spots import free_spots
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, Pick, SkillContext
 from oacdsl.runtime.transforms import make_T, rot_z
@@ -167,14 +167,17 @@ def _set_down(ctx: SkillContext, m: Motion, obj: str, pick: Pick | None, force: 
     m.hold_still(t.carry_pause_s)
     ctl.activity = f"setting {obj} down"
     depth = t.hover_m + t.support_search_m
-    if where == "its place" and not m.felt_support(hover, depth, force):
-        # the arm stalled above its place, nothing felt: at the edge of its reach (a sponge that
-        # shifted in the hand as it wiped, set down on the robot's far side); raised again, the
-        # object goes to the free spot whose descent the hand reaches best
+    if not m.felt_support(hover, depth, force):
+        if where != "its place" or ctx.world.supported(obj):
+            raise felt_nothing(f"placing {obj}", depth)
+        # the arm stalled above its place, nothing felt, the object resting on nothing: at the
+        # edge of its reach (a sponge that shifted in the hand as it wiped, set down on the
+        # robot's far side); raised again, it goes to the free spot whose descent the hand
+        # reaches best
         m.go(hover, t.lift_s)
         hover = _best_reached_spot(ctx, m.side, obj, pick)
         ctl.activity = f"carrying {obj} to a free spot of the table"
         m.carry(hover, {obj})
         m.hold_still(t.carry_pause_s)
         ctl.activity = f"setting {obj} down"
-    m.lower_onto_support(hover, depth, f"placing {obj}", force)
+        m.lower_onto_support(hover, depth, f"placing {obj}", force)
