@@ -18,7 +18,10 @@ from dataclasses import replace
 
 import numpy as np
 
+from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import TUNING, Motion
+from oacdsl.runtime.motion.hand import felt_nothing
+from oacdsl.runtime.motion.spots import free_spots
 from oacdsl.runtime.skills.base import Pick, SkillContext
 from oacdsl.runtime.skills.free_spot import free_spot
 from oacdsl.runtime.transforms import make_T, rot_z
@@ -99,6 +102,36 @@ def _origin_free(ctx: SkillContext, obj: str, pick: Pick | None) -> bool:
     )
 
 
+def _spots(ctx: SkillContext, side: str, obj: str, t_obj_in_hand: np.ndarray, r_obj: np.ndarray,
+           approach: np.ndarray | None) -> list[np.ndarray]:
+    """The free spots of the table (xy, m; :func:`~oacdsl.runtime.motion.spots.free_spots`) for
+    ``obj`` turned as ``r_obj``, the hand beside it and backing off along ``approach``; raises
+    when there is none."""
+    # the hand beside the object as it will stand, and where it backs off to (Motion.withdraw)
+    hand = (r_obj @ np.linalg.inv(t_obj_in_hand)[:3, 3])[:2]
+    back = np.array([0.0, 0.0, -1.0]) if approach is None else approach
+    offsets = (hand, hand - TUNING.withdraw_back_m * back[:2])
+    spots = free_spots(ctx.world, side, obj, ctx.body(obj).radius, hand_xy_m=offsets)
+    if not spots:
+        raise RuntimeFailure(f"place: no free spot on the table for {obj}")
+    return spots
+
+
+def _best_reached_spot(ctx: SkillContext, side: str, obj: str, pick: Pick | None) -> np.ndarray:
+    """T_world_grasp above the free spot of the table where the whole-body IK brings the hand
+    nearest to where the guarded descent ends, ``obj`` upright, turned as it is held now."""
+    t_obj, t_obj_in_hand = ctx.held_pose(side, obj)
+    r_obj = rot_z(math.atan2(t_obj[1, 0], t_obj[0, 0]))
+    hand_in_obj = np.linalg.inv(t_obj_in_hand)
+
+    def at(xy: np.ndarray, dz_m: float) -> np.ndarray:
+        return make_T(r_obj, (xy[0], xy[1], ctx.support_height(xy, exclude=obj) + dz_m)) @ hand_in_obj
+
+    spots = _spots(ctx, side, obj, t_obj_in_hand, r_obj, pick.approach if pick is not None else None)
+    best = min(spots, key=lambda xy: ctx.ctl.ik.try_reach(side, at(xy, -TUNING.support_search_m)).position_m)
+    return at(best, TUNING.hover_m)
+
+
 def _set_down(ctx: SkillContext, m: Motion, obj: str, pick: Pick | None, force: float) -> None:
     """Carry ``obj`` above where it goes and lower it until the wrist feels the support."""
     ctl, t = ctx.ctl, m.tuning
@@ -112,4 +145,18 @@ def _set_down(ctx: SkillContext, m: Motion, obj: str, pick: Pick | None, force: 
     m.carry(hover, {obj} if support is None else {obj, support})
     m.hold_still(t.carry_pause_s)
     ctl.activity = f"setting {obj} down"
-    m.lower_onto_support(hover, t.hover_m + t.support_search_m, f"placing {obj}", force)
+    depth = t.hover_m + t.support_search_m
+    if not m.felt_support(hover, depth, force):
+        if where != "its place" or ctx.world.supported(obj):
+            raise felt_nothing(f"placing {obj}", depth)
+        # the arm stalled above its place, nothing felt, the object resting on nothing: at the
+        # edge of its reach (a sponge that shifted in the hand as it wiped, set down on the
+        # robot's far side); raised again, it goes to the free spot whose descent the hand
+        # reaches best
+        m.go(hover, t.lift_s)
+        hover = _best_reached_spot(ctx, m.side, obj, pick)
+        ctl.activity = f"carrying {obj} to a free spot of the table"
+        m.carry(hover, {obj})
+        m.hold_still(t.carry_pause_s)
+        ctl.activity = f"setting {obj} down"
+        m.lower_onto_support(hover, depth, f"placing {obj}", force)
