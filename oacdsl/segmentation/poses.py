@@ -252,7 +252,7 @@ class RigidFill:
         groups = [np.asarray(recording.groups.get(name, ()), dtype=np.intp) for name in instances]
         groups = [idx for idx in groups if idx.size > MIN_MARKERS]
         # (F, M) a marker's gap, NaN in every coordinate: one pass over the recording for all groups
-        gap = np.isnan(recording.positions_m[:, :, 0]) if groups else None
+        gap = np.isnan(recording.positions_m[:, :, 0]) if groups else np.zeros((0, 0), dtype=bool)
         for idx in groups:
             seen = ~gap[:, idx]
             count = seen.sum(axis=1)
