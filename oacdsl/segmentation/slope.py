@@ -178,8 +178,10 @@ def _slope_direct(dist: np.ndarray, t: np.ndarray, half: int, rows: np.ndarray, 
             s0 = s0 + ~gap
         else:
             s0 = s0 + 1.0
-        s1 += dt
         sx += x
+        if k == 0:  # the window's own frame: no time from it, nothing to add to the other sums
+            continue
+        s1 += dt
         x64 = x * dt
         stx += x64
         dt *= dt
