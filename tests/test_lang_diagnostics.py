@@ -365,9 +365,9 @@ BAD = [
     (
         STEPS + "    grasp(h, c)\n    pour(h, c, l, b)\n  }\n}\n"
         "oac e(h: Hand, c: Cup, l: Liquid, b: Bowl) {\n  pre h <-> nothing, c <-> l\n  effect l <-> b\n"
-        "  steps { d(h, c, l, b) { tilt 100deg } }\n}",
+        "  steps { d(h, c, l, b) { strokes 3 } }\n}",
         "E047",
-        "'d' is a composed OAC: it executes no skill, so a step calling it takes no skill parameters",
+        "'d' is a composed OAC and no step inside it executes a skill that takes 'strokes'",
         "12:27",
     ),
     (

@@ -84,3 +84,31 @@ def test_a_synthetic_demonstration_is_reproduced_on_the_robot_and_verified(task:
     assert verdict["success"] and verdict.get("verified"), verdict["summary"]
     composed = [f"{s['oac']}({', '.join(s['binding'].values())})" for s in outcome.result["compose"]["steps"]]
     assert composed == STEPS[task]
+
+
+def test_the_demonstrated_strokes_reach_roll_inside_the_composed_roll_out(tmp_path: Path, capsys) -> None:
+    """The demonstration's pin oscillates 3.6 cycles of 2.06 s: the composer writes them on the
+    step calling the composed ``roll_out``, and the runtime hands them to ``roll`` inside it, over
+    ``roll_pin``'s written ``strokes 3`` (oacdsl/passdown.py)."""
+    import json
+
+    from oacdsl.cli import main
+    from oacdsl.model import Quantity
+    from oacdsl.pipeline import load_inputs
+    from oacdsl.runtime.binding import expand
+
+    kit, examples = libraries(tmp_path)
+    demo = demos.write("RollOut", tmp_path)
+    args = ["compose", str(demo), "--library", str(kit), "--library", str(examples), "--name", "rolled", "--json"]
+    assert main(args) == 0
+    doc = json.loads(capsys.readouterr().out)
+    step = next(s for s in doc["steps"] if s["oac"] == "roll_out")
+    assert step["params"] == {"strokes": 4, "period": pytest.approx(2.06), "length": pytest.approx(0.031)}
+    library = load_inputs(demo, [kit, examples], None, AasParams()).library
+    oac = library.oacs["rolled"]
+    assert [p.name for c in oac.steps if c.oac == "roll_out" for p in c.skill_params] == ["length", "period",
+                                                                                          "strokes"]
+    binding = {p.name: p.default for p in oac.params if p.default is not None}
+    roll = next(s for s in expand(library, oac, binding)[0] if s.oac.skill == "roll")
+    assert roll.params["strokes"] == 4 and roll.params["period"] == pytest.approx(2.06)
+    assert Quantity(value=3.0) in [p.value for p in library.oacs["roll_pin"].skill_params]  # still written there
