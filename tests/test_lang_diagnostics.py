@@ -102,6 +102,13 @@ BAD = [
         "the effect of 'g' changes nothing: every effect is also a precondition",
         "3:3",
     ),
+    (  # a composed one that ends as it began (a hand-over) is told to leave 'effect' out
+        G + "  pre h <-> nothing\n  effect h <-> nothing\n  steps {\n    grasp(h, o)\n    place(h, o)\n  }\n}",
+        "E012",
+        "changes nothing: every effect is also a precondition; a composed OAC that ends as it began states no"
+        " effect (leave 'effect' out)",
+        "3:3",
+    ),
     (
         G + "  effect h <-> o\n  steps { grap(h, o) }\n}",
         "E013",
@@ -266,6 +273,8 @@ BAD = [
         "2:11",
     ),
     ("grasp Bowl { type power approach side offset (0.0, 0.0, 60.0) }", "W005", "offsets are metres", "1:39"),
+    ("grasp Bowl { type pinch approach top offset (0.0, 0.0, 0.03) }", "E049",
+     "a pinch grasp takes a flat object's edge", "1:38"),
     # scene state and skill calls
     (
         "oac pour3(h: Hand, c: Container, b: Container) {\n  pre h <-> c\n  effect h <-> b\n"
