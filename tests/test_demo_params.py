@@ -263,7 +263,8 @@ def test_two_tools_made_together_take_the_motion_of_either():
 def test_a_parameter_on_a_step_calling_a_composed_oac_goes_to_the_one_step_inside_that_takes_it(lib):
     """``outer``'s ``{ tilt 90deg }`` reaches the pour inside ``twice`` (over the step's own
     ``tilt 100deg``: the caller decides); ``duration``, which both pours inside take, is E047."""
-    text = """oac twice(h: Hand = left_hand, c: Cup = red_cup, l: Liquid = liquid_one, b: Bowl = orange_bowl) {
+    params = "h: Hand = left_hand, c: Cup = red_cup, l: Liquid = liquid_one, b: Bowl = orange_bowl"
+    text = """oac twice(PARAMS) {
     pre h <-> nothing, c <-> l
     effect l <-> b
     steps {
@@ -271,17 +272,17 @@ def test_a_parameter_on_a_step_calling_a_composed_oac_goes_to_the_one_step_insid
         pour(h, c, l, b) { tilt 100deg }
     }
 }
-oac outer(h: Hand = left_hand, c: Cup = red_cup, l: Liquid = liquid_one, b: Bowl = orange_bowl) {
+oac outer(PARAMS) {
     pre h <-> nothing, c <-> l
     effect l <-> b
     steps { twice(h, c, l, b) { tilt 90deg } }
 }
-oac nested(h: Hand = left_hand, c: Cup = red_cup, l: Liquid = liquid_one, b: Bowl = orange_bowl) {
+oac nested(PARAMS) {
     pre h <-> nothing, c <-> l
     effect l <-> b
     steps { outer(h, c, l, b) { lift 3cm } }
 }
-"""
+""".replace("PARAMS", params)
     sources = {str(p): p.read_text() for p in STANDARD}
     result = compile_sources({**sources, "t.oac": text})
     assert result.errors == []
@@ -290,7 +291,7 @@ oac nested(h: Hand = left_hand, c: Cup = red_cup, l: Liquid = liquid_one, b: Bow
     grasp, pour = expand(library, library.oacs["nested"], binding)[0]
     assert pour.given == pytest.approx({"tilt": math.radians(90)})
     assert grasp.given == pytest.approx({"lift": 0.03})
-    bad = text.replace("{ tilt 90deg }", "{ tilt 90deg  strokes 3 }") + """oac two(h: Hand = left_hand, c: Cup = red_cup, l: Liquid = liquid_one, b: Bowl = orange_bowl) {
+    bad = text.replace("{ tilt 90deg }", "{ tilt 90deg  strokes 3 }") + """oac two(PARAMS) {
     pre h <-> nothing, c <-> l
     effect l <-> b
     steps {
@@ -298,12 +299,12 @@ oac nested(h: Hand = left_hand, c: Cup = red_cup, l: Liquid = liquid_one, b: Bow
         twice(h, c, l, b)
     }
 }
-oac three(h: Hand = left_hand, c: Cup = red_cup, l: Liquid = liquid_one, b: Bowl = orange_bowl) {
+oac three(PARAMS) {
     pre h <-> nothing, c <-> l
     effect l <-> b
     steps { two(h, c, l, b) { tilt 5deg } }
 }
-"""
+""".replace("PARAMS", params)
     errors = compile_sources({**sources, "t.oac": bad}).errors
     messages = sorted(e.message for e in errors if e.code == "E047")
     assert any("no step inside it executes a skill that takes 'strokes'" in m for m in messages)

@@ -103,7 +103,8 @@ BAD = [
         "3:3",
     ),
     (  # a composed one that ends as it began (a hand-over) is told to leave 'effect' out
-        G + "  pre h <-> nothing\n  effect h <-> nothing\n  steps {\n    grasp(h, o)\n    place(h, o)\n  }\n}",
+        G + "  pre h <-> nothing\n  effect h <-> nothing\n"
+        "  steps {\n    grasp(h, o)\n    place(h, o)\n  }\n}",
         "E012",
         "changes nothing: every effect is also a precondition; a composed OAC that ends as it began states no"
         " effect (leave 'effect' out)",

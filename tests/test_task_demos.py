@@ -105,8 +105,8 @@ def test_the_demonstrated_strokes_reach_roll_inside_the_composed_roll_out(tmp_pa
 
     kit, examples = libraries(tmp_path)
     demo = demos.write("RollOut", tmp_path)
-    args = ["compose", str(demo), "--library", str(kit), "--library", str(examples), "--name", "rolled", "--json"]
-    assert main(args) == 0
+    assert main(["compose", str(demo), "--library", str(kit), "--library", str(examples),
+                 "--name", "rolled", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     step = next(s for s in doc["steps"] if s["oac"] == "roll_out")
     assert step["params"] == {"strokes": 4, "period": pytest.approx(2.06), "length": pytest.approx(0.031)}
@@ -117,4 +117,5 @@ def test_the_demonstrated_strokes_reach_roll_inside_the_composed_roll_out(tmp_pa
     binding = {p.name: p.default for p in oac.params if p.default is not None}
     roll = next(s for s in expand(library, oac, binding)[0] if s.oac.skill == "roll")
     assert roll.params["strokes"] == 4 and roll.params["period"] == pytest.approx(2.06)
-    assert Quantity(value=3.0) in [p.value for p in library.oacs["roll_pin"].skill_params]  # still written there
+    # still written on roll_pin itself
+    assert Quantity(value=3.0) in [p.value for p in library.oacs["roll_pin"].skill_params]

@@ -216,7 +216,8 @@ def check_step_params(ctx: Context, call: Call, callee: Oac) -> None:
             text = (f"'{callee.name}' is a composed OAC and no step inside it executes a skill that takes"
                     f" '{given.name}'; a parameter on a step calling it goes to the one step inside"
                     " whose skill takes it")
-        ctx.add("E047", text, given.part("name"), Note(f"'{callee.name}' is defined here", callee.part("name")))
+        note = Note(f"'{callee.name}' is defined here", callee.part("name"))
+        ctx.add("E047", text, given.part("name"), note)
     for skill, params in by_skill.items():
         check_skill_params(ctx, SIGNATURES[skill], tuple(params))
 
