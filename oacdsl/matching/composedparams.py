@@ -1,22 +1,26 @@
-"""Skill parameters from the demonstration for a step that calls a **composed** OAC.
+"""Skill parameters from the demonstration on each step of a composition
+(:func:`with_demo_params`), also on a step that calls a **composed** OAC.
 
 The runtime hands a parameter written on such a step down to the one step inside whose skill
 takes it (:mod:`oacdsl.passdown`); :func:`composed_params` chooses which step inside did the
 demonstrated motion and what of it to write (docs/language.md, "Skill parameters of a step").
+What each skill parameter takes from a motion: :mod:`oacdsl.matching.demoparams`.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
 from typing import Any
 
 from oacdsl.library import Library
+from oacdsl.matching.composer import Composition
 from oacdsl.matching.demoparams import StepParams, step_params
-from oacdsl.model import Oac, Scene
+from oacdsl.model import Call, Oac, Scene, sorted_skill_params
 from oacdsl.segmentation.motion import SubActionMotion
 from oacdsl.skills import SIGNATURES
 
-__all__ = ["composed_params"]
+__all__ = ["composed_params", "with_demo_params"]
 
 
 def composed_params(oac: Oac, mapping: Mapping[str, str], motion: SubActionMotion | None,
@@ -75,3 +79,47 @@ def composed_params(oac: Oac, mapping: Mapping[str, str], motion: SubActionMotio
     head = (found.comment or "").split(": ", 1)[0]
     comment = f"{head}, for {step.oac.skill} in {step.oac.name}: " + "; ".join(texts)
     return StepParams(tuple(params), comment, tuple(rows))
+
+
+def with_demo_params(comp: Composition, motions: Mapping[int, SubActionMotion],
+                     library: Library, scene: Scene) -> Composition:
+    """``comp`` with each step's parameters from the motion of its sub-action (``motions``: by
+    the sub-action's first frame), a comment per step, and ``demo_params`` (module doc)."""
+    calls: list[Call] = []
+    doc: list[dict[str, Any]] = []
+    for k, (call, step) in enumerate(zip(comp.oac.steps or (), comp.steps, strict=True)):
+        motion = motions.get(step.start_frame) if step.start_frame is not None else None
+        if step.oac.composed:
+            found = composed_params(step.oac, step.mapping, motion, library, scene)
+        else:
+            args = tuple(step.mapping.get(a, a) for a in step.oac.skill_arguments())
+            found = step_params(step.oac.skill, motion, args, library, scene)
+        if found.comment is None:
+            calls.append(call)
+            continue
+        calls.append(
+            call.model_copy(
+                update={
+                    "skill_params": sorted_skill_params(found.params),
+                    "comments": (*call.comments, found.comment),
+                }
+            )
+        )
+        doc.append(
+            {
+                "step": k,
+                "oac": step.oac.name,
+                "skill": step.oac.skill,
+                "sub_action": step.start_keyframe,
+                "moved": motion.moved if motion is not None else None,
+                "frame": motion.frame_name if motion is not None else None,
+                "comment": found.comment,
+                "params": [_json_row(r) for r in found.rows],
+            }
+        )
+    oac = comp.oac.model_copy(update={"steps": tuple(calls)})
+    return dataclasses.replace(comp, oac=oac, demo_params=tuple(doc))
+
+
+def _json_row(row: Mapping[str, Any]) -> dict[str, Any]:
+    return {k: (round(v, 6) if isinstance(v, float) else v) for k, v in row.items()}
