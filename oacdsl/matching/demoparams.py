@@ -47,6 +47,7 @@ from oacdsl.skills import PATH, SIGNATURES, MotionSource, SkillParamSpec
 __all__ = [
     "CLEARANCE_M",
     "StepParams",
+    "DemonstratedMotions",
     "demonstrated_motions",
     "path_params",
     "room_m",
@@ -228,23 +229,31 @@ def step_params(
 
 def path_params(motion: SubActionMotion | None, args: Sequence[str]) -> StepParams:
     """A ``follow(h, o, t)`` step's ``path``: the demonstrated motion of ``o`` relative to ``t``
-    (:func:`~oacdsl.segmentation.followpath.turned_path`), written in mm, degrees and 10 ms;
-    nothing when the sub-action moved something else or relative to something else."""
+    (:func:`~oacdsl.segmentation.followpath.turned_path`), written in mm, degrees and 10 ms; the
+    inverse relative motion when the demonstrator moved ``t`` towards ``o``; nothing when the
+    sub-action moved something else or relative to something else."""
     from oacdsl.model import KeyPose, PathValue, Point
     from oacdsl.segmentation.followpath import turned_path
+    from oacdsl.segmentation.poses import invert
 
     row: dict[str, Any] = {"name": PATH, "feature": "the moved object's path in its target's frame",
                            "unit": PATH, "demonstrated": None, "value": None}
     wanted = (args[1], args[-1]) if len(args) >= 3 else None
     found = None
+    moved, frame = (motion.moved, motion.frame_name) if motion is not None else (None, None)
     if motion is None or motion.moved is None:
         row["how"] = "no demonstrated motion (the moved object has fewer than 3 markers)"
-    elif (motion.moved, motion.target) != wanted:
-        row["how"] = f"the demonstration moved {motion.moved} relative to {motion.frame_name}"
-    else:
+    elif (motion.moved, motion.target) == wanted:
         found = turned_path(motion.times_s, motion.T_target_object)
-        if found is None:
-            row["how"] = "fewer than two posed frames"
+        row["how"] = "fewer than two posed frames"
+    elif (motion.target, motion.moved) == wanted:
+        # the demonstrator moved t towards o (a cup lifted to the carton): the path of o relative
+        # to t is the same relative motion seen from t, whichever of the two hands moved
+        found = turned_path(motion.times_s, invert(motion.T_target_object))
+        row["how"] = "fewer than two posed frames"
+        moved, frame = wanted
+    else:
+        row["how"] = f"the demonstration moved {motion.moved} relative to {motion.frame_name}"
     if found is None or motion is None:
         return StepParams((), f"no demonstrated path: {row['how']}", (row,))
 
@@ -263,7 +272,7 @@ def path_params(motion: SubActionMotion | None, args: Sequence[str]) -> StepPara
     )
     length = float(np.linalg.norm(np.diff(pos, axis=0), axis=1).sum())
     row.update(how="as demonstrated", demonstrated=len(poses), value=len(poses))
-    comment = (f"demonstrated ({motion.moved} relative to {motion.frame_name}, frames {motion.start_frame}"
+    comment = (f"demonstrated ({moved} relative to {frame}, frames {motion.start_frame}"
                f"-{motion.end_frame}): path of {len(poses)} keyframes over {t[-1]:.2f}s,"
                f" {length * 1000:.0f}mm")
     return StepParams((SkillParam(name=PATH, value=PathValue(poses=poses)),), comment, (row,))
@@ -278,8 +287,35 @@ def demonstrated_motions(recording: Recording, subs: Sequence[SubAction]) -> dic
 
     posed = fit_poses(recording)
     motions = [sub_action_motion(recording, sub, posed) for sub in subs]
-    return {sub.start.frame: dwelling(recording, motions, k, posed, _made_with(sub, motions[k].target))
-            for k, sub in enumerate(subs)}
+    found = DemonstratedMotions(
+        {sub.start.frame: dwelling(recording, motions, k, posed, _made_with(sub, motions[k].target))
+         for k, sub in enumerate(subs)})
+    found.recording, found.posed, found.subs, found.motions = recording, posed, list(subs), motions
+    return found
+
+
+class DemonstratedMotions(dict[int, SubActionMotion]):
+    """:func:`demonstrated_motions`' answer, which can also give a sub-action's motion of a
+    named pair of objects (:meth:`of_pair`)."""
+
+    recording: Recording
+    posed: Mapping[str, ObjectPoses]
+    subs: list[SubAction]
+    motions: list[SubActionMotion]
+
+    def of_pair(self, frame: int, moved: str, target: str) -> SubActionMotion | None:
+        """The motion of ``moved`` relative to ``target`` in the sub-action starting at ``frame``
+        (extended as :func:`dwelling` does), None when the demonstration has no such candidate."""
+        from oacdsl.segmentation.motion import sub_action_motion
+
+        k = next((i for i, sub in enumerate(self.subs) if sub.start.frame == frame), None)
+        if k is None:
+            return None
+        m = sub_action_motion(self.recording, self.subs[k], self.posed, (moved, target))
+        if (m.moved, m.target) != (moved, target):
+            return None
+        motions = [*self.motions[:k], m, *self.motions[k + 1 :]]
+        return dwelling(self.recording, motions, k, self.posed, _made_with(self.subs[k], m.target))
 
 
 def _made_with(sub: SubAction, target: str | None) -> frozenset[str]:
@@ -346,6 +382,12 @@ def with_demo_params(comp: Composition, motions: Mapping[int, SubActionMotion],
     for k, (call, step) in enumerate(zip(comp.oac.steps or (), comp.steps, strict=True)):
         motion = motions.get(step.start_frame) if step.start_frame is not None else None
         args = tuple(step.mapping.get(a, a) for a in step.oac.skill_arguments())
+        if _follows(step.oac.skill) and motion is not None and len(args) >= 3 and isinstance(
+                motions, DemonstratedMotions) and step.start_frame is not None:
+            # a path is of the step's own objects: the sub-action's motion of that pair when the
+            # demonstration moved it (a ladle leaving the cup for the bowl: relative to the bowl)
+            if {motion.moved, motion.target} != {args[1], args[-1]}:
+                motion = motions.of_pair(step.start_frame, args[1], args[-1]) or motion
         found = step_params(step.oac.skill, motion, args, library, scene)
         if found.comment is None:
             calls.append(call)
@@ -372,6 +414,12 @@ def with_demo_params(comp: Composition, motions: Mapping[int, SubActionMotion],
         )
     oac = comp.oac.model_copy(update={"steps": tuple(calls)})
     return dataclasses.replace(comp, oac=oac, demo_params=tuple(doc))
+
+
+def _follows(skill: str | None) -> bool:
+    """Whether ``skill`` takes a demonstrated path."""
+    sig = SIGNATURES.get(skill or "")
+    return sig is not None and any(p.unit == PATH for p in sig.params)
 
 
 def _json_row(row: Mapping[str, Any]) -> dict[str, Any]:
