@@ -159,7 +159,8 @@ def test_a_path_the_demonstrator_made_by_moving_the_target_is_the_inverse_relati
     t, pos, rot = turned_path(m.times_s, invert(m.T_target_object))  # type: ignore[misc]
     first, last = param.value.poses[0], param.value.poses[-1]
     assert len(param.value.poses) == len(t)
-    assert first.position.x.value == round(pos[0, 0] * 1000) and last.position.y.value == round(pos[-1, 1] * 1000)
+    assert first.position.x.value == round(pos[0, 0] * 1000)
+    assert last.position.y.value == round(pos[-1, 1] * 1000)
     assert last.rotation.y.value == round(math.degrees(rot[-1, 1]))
     # and not the spoon's own path: that one starts 30 cm out and 10 cm up, this one 10 cm down
     assert first.position.z.value == -100

@@ -42,7 +42,8 @@ def test_each_follow_step_gets_the_path_of_its_own_two_objects(capsys: pytest.Ca
          ["ladle relative to cup_small", "ladle relative to mixing_bowl_green"]),
     ):
         recording = mocap_file(relative)
-        assert main(["compose", str(recording), "--library", str(FOLLOW_KIT), "--name", "t", "--dry-run"]) == 0
+        args = ["compose", str(recording), "--library", str(FOLLOW_KIT), "--name", "t", "--dry-run"]
+        assert main(args) == 0
         text = capsys.readouterr().out
         assert "no demonstrated path" not in text
         assert [line.split("(", 1)[1].split(",")[0] for line in text.splitlines()
