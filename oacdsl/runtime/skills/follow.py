@@ -22,7 +22,8 @@ went into the cucumber), lowered while they do not touch (the slide's seek,
 :data:`~oacdsl.runtime.motion.TUNING`): the demonstration keeps them together there. When it
 says ``not o <-> t``, ``o`` must be off ``t`` at the end (raised straight up until it is).
 The other hand keeps an idle hand's hold, or, when it holds something other than a container
-``t``, its goal fixed (as ``touch``).
+``t``, its goal fixed (as ``touch``). The core's demonstrated turns are scaled down until the
+object keeps clear of that hand (:mod:`oacdsl.runtime.follow_clear`).
 """
 
 from __future__ import annotations
@@ -40,7 +41,7 @@ from oacdsl.runtime.retarget import FOLLOW, MIN_OFFSET_M, Retargeted, floored, r
 from oacdsl.runtime.shapes import lowest_z, world_corners
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.skills.base import SkillContext
-from oacdsl.runtime.skills.follow_clear import clearance, turned_less
+from oacdsl.runtime.follow_clear import clearance, turned_less
 from oacdsl.runtime.skills.follow_top import END_SPAN_M, lowest_end, on_top, onto_top
 from oacdsl.runtime.transforms import MIN_JERK_PEAK, make_T, rot_z
 
