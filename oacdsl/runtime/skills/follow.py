@@ -35,13 +35,13 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.bodies import Body
+from oacdsl.runtime.follow_clear import clearance, turned_less
 from oacdsl.runtime.motion import TUNING
 from oacdsl.runtime.motion.both import mover
 from oacdsl.runtime.retarget import FOLLOW, MIN_OFFSET_M, Retargeted, floored, retarget, shifted, shrunk
 from oacdsl.runtime.shapes import lowest_z, world_corners
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.skills.base import SkillContext
-from oacdsl.runtime.follow_clear import clearance, turned_less
 from oacdsl.runtime.skills.follow_top import END_SPAN_M, lowest_end, on_top, onto_top
 from oacdsl.runtime.transforms import MIN_JERK_PEAK, make_T, rot_z
 
