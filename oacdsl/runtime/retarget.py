@@ -96,11 +96,6 @@ class FollowTuning:
     #: Kept between the held object along the core and the other hand's collision boxes, m; the
     #: core's turns are scaled by ``clear_turns`` in order until it is (the least-touching otherwise).
     hand_clearance_m: float = 0.01
-    #: A segment of the core stops when the wrist feels more than this change, N (half the
-    #: controller's 60 N safety stop), and the rest of the core runs ``back_off_m`` higher (at
-    #: most ``hover_m`` in all): pushing a held plate or a rim is not what was demonstrated.
-    core_force_n: float = 30.0
-    back_off_m: float = 0.005
     clear_turns: tuple[float, ...] = (1.0, 0.5, 0.0)
 
 

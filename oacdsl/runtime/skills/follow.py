@@ -197,18 +197,11 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
     ctl.activity = f"following the demonstrated path of {obj} at {target}"
     seek = touch and not body_t.container  # on a solid target the core keeps the contact (module doc)
     sink = 0.0
-    back = 0.0  # raised after a segment that pushed (the guarded core)
-
-    def pushed() -> bool:
-        return float(np.linalg.norm(ctl.force_change(side))) > FOLLOW.core_force_n
-
     for k in range(c + 1, len(plan.times_s)):
         dt = float(plan.times_s[k] - plan.times_s[k - 1])
         if seek and not touching():
             sink = min(sink + TUNING.seek_speed_m_s * dt, TUNING.seek_max_m)
-        go(hand_at(plan, k, lift - sink + back), dt, guard=pushed)
-        if pushed():  # stopped pushing into something (a held plate, a rim): the rest from higher up
-            back, sink = min(back + FOLLOW.back_off_m, FOLLOW.hover_m), 0.0
+        go(hand_at(plan, k, lift - sink), dt)
     if touch:
         if not ctl.wait(FOLLOW.rest_s, until=touching) and not touching():
             # lost on the way: from above the core's middle, down again until they touch
