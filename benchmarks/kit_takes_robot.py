@@ -79,7 +79,7 @@ def any_hands_verdict(take: Path, library: Path, run: Path) -> tuple[str, str]:
 def run_one(clip: str, take: str, path: Path, seed: int, work: Path, out: Path) -> tuple[str, str]:
     """(V/v/x, why not V) of one reproduction of the take at ``path``."""
     _, library = source_of(clip)
-    mark, summary, _share = reproduce_once(path, seed, work, out, library)
+    mark, summary, *_shares = reproduce_once(path, seed, work, out, library)
     if take == "mirrored" and mark != "V" and (out / "execution.c3d").is_file():
         mark, failed = any_hands_verdict(path, work / "kit", out)
         summary = f"{failed} | any hands" if failed else "any hands"

@@ -22,10 +22,10 @@ seconds in brackets). Run on a quiet machine:
     python benchmarks/segmentation.py            # one hour, ~3 minutes
     python benchmarks/segmentation.py --minutes 5 --scenario both
 
-Last measured (``seg-speed4``; docs/segmentation.md, Performance): ``python
-benchmarks/segmentation.py --minutes 10``, medians of 3 runs on a busy 2-core machine: the
-default detector 0.60 s CPU, 120x (a), 0.21x (b), peak 0.15 GiB RSS, agreement on the slice;
-``paper`` 215x (a).
+Last measured (``segperf``; docs/segmentation.md, Performance): ``python
+benchmarks/segmentation.py --mode adaptive``, one hour, medians of 3 runs on a very busy 2-core
+machine: the default detector 5.74 s CPU, 110x (a) (reference 629 s extrapolated; 106x against
+760 s in an earlier run), 0.14x (b), peak 0.74 GiB RSS, agreement on the slice.
 """
 
 from __future__ import annotations

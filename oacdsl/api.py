@@ -188,7 +188,8 @@ def compose(
     matches = match(demonstration)
     comp = compose_demonstration(name, matches, demonstration.library, demonstration.scene).composition
     if demo_params:
-        from oacdsl.matching.demoparams import demonstrated_motions, with_demo_params
+        from oacdsl.matching.composedparams import with_demo_params
+        from oacdsl.matching.demoparams import demonstrated_motions
 
         motions = demonstrated_motions(demonstration.recording, [m.sub_action for m in matches])
         comp = with_demo_params(comp, motions, demonstration.library, demonstration.scene)

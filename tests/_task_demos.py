@@ -49,6 +49,11 @@ MARKERS: dict[str, np.ndarray] = {
     "knife_black": _cm((6, 0, 0), (-6, 0, 0), (0, 0, 16), (0, 0, 10)),
     "mixing_bowl_green": _cm((12.5, 0, 12), (-12.5, 0, 12), (0, 12.5, 12), (0, 0, 0)),
     "rolling_pin": _cm((0, 15.5, 14), (0, -15.5, 14), (3, 5, 6), (-3, -8, 6)),
+    "block": _cm((3, 0, 5), (-3, 0, 2), (0, 3, 4), (0, -3, 1)),
+    "crate": _cm((7, 0, 7), (-7, 0, 3), (0, 7, 6), (0, -7, 2)),
+    "mug": _cm((4, 0, 9), (-4, 0, 3), (0, 4, 6), (0, -4, 8)),
+    "pot": _cm((9, 0, 11), (-9, 0, 4), (0, 9, 8), (0, -9, 2)),
+    "pot_lid": _cm((8, 0, 1), (-8, 0, 1), (0, 8, 1), (0, 0, 4)),
 }
 
 
@@ -212,6 +217,64 @@ def rollout_demo() -> Recording:
     return s.recording("synthetic RollOut")
 
 
+def stack_demo() -> Recording:
+    """Stack: the right hand takes a small box (6 cm), sets it on a larger one (8 cm high) standing
+    on the table, lets go and withdraws; the left hand stays still."""
+    s = Story(9.0)
+    block_at, crate_at = np.array([0.25, 0.38, TABLE_Z_M]), np.array([-0.05, 0.45, TABLE_Z_M])
+    block = s.body("block", tuple(block_at))
+    s.body("crate", tuple(crate_at))
+    right, left = s.hand("right"), s.hand("left")
+    grip = np.array([0.04, 0.0, 0.03])  # the hand beside the block, at half its height
+    right.hold(0.8).move(2.0, block_at + grip, end_tau=0.95).hold(2.4)
+    on_crate = crate_at + [0.0, 0.0, 0.08]
+    right.move(4.6, on_crate + grip, via_m=[block_at + grip + [0, 0, 0.15], on_crate + grip + [0, 0, 0.08]],
+               end_tau=0.97).hold(5.4)
+    right.move(6.6, on_crate + [0.20, -0.15, 0.15], start_tau=0.3).hold(9.0)
+    block.hold(2.0).follow(right, 5.4).hold(9.0)
+    left.hold(9.0)
+    return s.recording("synthetic Stack")
+
+
+def handover_demo() -> Recording:
+    """Hand over: the right hand takes a mug and holds it up in the middle, the left hand takes
+    it from the other side, the right lets go and withdraws, the left sets it down on its side."""
+    s = Story(12.0)
+    mug_at, down_at = np.array([0.22, 0.38, TABLE_Z_M]), np.array([-0.24, 0.40, TABLE_Z_M])
+    mug = s.body("mug", tuple(mug_at))
+    right, left = s.hand("right"), s.hand("left")
+    side = np.array([0.055, 0.0, 0.06])  # beside the mug, at 6 cm of its 10
+    right.hold(0.8).move(2.0, mug_at + side, end_tau=0.95).hold(2.3)
+    meet = np.array([0.0, 0.36, TABLE_Z_M + 0.20])
+    right.move(4.0, meet + side).hold(5.6)
+    left.hold(3.0).move(4.8, meet - side * [1, 1, -1], end_tau=0.95).hold(5.6)
+    right.move(6.8, meet + [0.25, -0.15, 0.05], start_tau=0.3).hold(12.0)
+    left.move(8.8, down_at - side * [1, 1, -1], via_m=[down_at - side * [1, 1, -1] + [0, 0, 0.1]],
+              end_tau=0.97).hold(9.4)
+    left.move(10.6, down_at + [-0.25, -0.15, 0.15], start_tau=0.3).hold(12.0)
+    mug.hold(2.0).follow(right, 5.2).follow(left, 9.4).hold(12.0)
+    return s.recording("synthetic HandOver")
+
+
+def cover_demo() -> Recording:
+    """Cover: the left hand takes a pot's lid by its knob from above, sets it on the pot standing
+    on the table, lets go and withdraws; the right hand stays still."""
+    s = Story(9.0)
+    lid_at, pot_at = np.array([-0.32, 0.36, TABLE_Z_M]), np.array([0.02, 0.45, TABLE_Z_M])
+    lid = s.body("pot_lid", tuple(lid_at))
+    s.body("pot", tuple(pot_at))
+    right, left = s.hand("right"), s.hand("left")
+    knob = np.array([0.0, 0.0, 0.045])
+    left.hold(0.8).move(2.0, lid_at + knob, FROM_ABOVE, end_tau=0.95).hold(2.4)
+    on_pot = pot_at + [0.0, 0.0, 0.12]
+    left.move(4.6, on_pot + knob, via_m=[lid_at + knob + [0, 0, 0.15], on_pot + knob + [0, 0, 0.08]],
+              end_tau=0.97).hold(5.4)
+    left.move(6.6, on_pot + [-0.20, -0.15, 0.20], start_tau=0.3).hold(9.0)
+    lid.hold(2.0).follow(left, 5.4).hold(9.0)
+    right.hold(9.0)
+    return s.recording("synthetic Cover")
+
+
 #: Task → (its demonstration, the example scene, the example OAC the robot runs directly).
 TASKS: dict[str, tuple[Callable[[], Recording], str, str]] = {
     "Close": (close_demo, "bottle_lid", "close_and_open"),
@@ -219,6 +282,9 @@ TASKS: dict[str, tuple[Callable[[], Recording], str, str]] = {
     "Peel": (peel_demo, "peeling", "peel_cucumber"),
     "Transfer": (transfer_demo, "transferring", "transfer_to_bowl"),
     "RollOut": (rollout_demo, "rolling", "roll_the_pin"),
+    "Stack": (stack_demo, "stacking", "stack_block"),
+    "HandOver": (handover_demo, "handing", "hand_over"),
+    "Cover": (cover_demo, "covering", "cover_pot"),
 }
 
 

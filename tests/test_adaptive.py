@@ -334,3 +334,30 @@ def test_combined_block_state_equals_the_change_by_change_rule() -> None:
         assert np.array_equal(det._paper_count, twin._paper_count)
         assert np.array_equal(det._flags, twin._flags)
         assert np.array_equal(det._pair_state, twin._pair_state)
+
+
+@pytest.mark.parametrize("scan_frames", [4096, 37])
+def test_the_scan_measures_the_hands_speeds_as_holding_still_does(monkeypatch, scan_frames):
+    """The hold-still rule takes the hands' speeds from the co-motion scan (not measured twice):
+    from frame ``lag`` on they are its own, gaps and chunk borders included."""
+    from oacdsl.segmentation import comotion as scan
+    from oacdsl.segmentation.comotion import AdaptiveSettings, comotion
+    from oacdsl.segmentation.holding import _speeds
+    from oacdsl.segmentation.pairs import PairTable
+    from oacdsl.segmentation.poses import RigidFill
+
+    scene = carry_scene()
+    scene["hand"][200:215, 1] = np.nan  # a marker of the hand hidden
+    scene["cup"][120:130, 0] = np.nan  # and one of the cup (filled by its rigid fit)
+    rec = recording(scene)
+    table = PairTable.of(rec)
+    hand = table.instances.index("hand")
+    settings = AdaptiveSettings(lag_s=0.07)
+    params = AasParams(mode="adaptive").resolved(rec.rate_hz)
+    monkeypatch.setattr(scan, "_SCAN_FRAMES", scan_frames)  # chunks of the scan
+    found = comotion(rec, table, params, settings, RigidFill(rec, ["cup"]), keep_speeds=[hand])
+    lag = settings.frames(settings.lag_s, rec.rate_hz)
+    own = _speeds(rec.group_positions("hand"), np.asarray(rec.times_s, dtype=np.float64), lag)
+    assert np.array_equal(found.speeds[hand][lag:], own[lag:], equal_nan=True)
+    assert found.speeds[hand][0] == own[0]  # frame 0 against frame lag, as the first frames
+    assert set(found.speeds) == {hand}

@@ -195,7 +195,7 @@ oac outer(h: Hand = left_hand, c: Cup = red_cup, l: Liquid = liquid_one, b: Bowl
     # the step's duration over the OAC's, the OAC's height kept
     assert pourq.params["duration"] == 3.0 and pourq.params["height"] == pytest.approx(0.06)
     assert steps[0].given == {}
-    with pytest.raises(RuntimeFailure, match="p2 is composed: a step calling it takes no skill parameters"):
+    with pytest.raises(RuntimeFailure, match="p2 is composed: .* 2 steps take .tilt."):
         expand(library, library.oacs["outer"], {"h": "left_hand", "c": "red_cup", "l": "liquid_one",
                                                 "b": "orange_bowl"})
 
@@ -258,3 +258,57 @@ def test_two_tools_made_together_take_the_motion_of_either():
     assert both.moved == "spoon" and both.features is not None
     assert both.features.period_s == pytest.approx(0.9, abs=0.05)
     assert both.features.radius_m == pytest.approx(0.04, abs=0.005)
+
+
+def test_a_parameter_on_a_step_calling_a_composed_oac_goes_to_the_one_step_inside_that_takes_it(lib):
+    """``outer``'s ``{ tilt 90deg }`` reaches the pour inside ``twice`` (over the step's own
+    ``tilt 100deg``: the caller decides); ``duration``, which both pours inside take, is E047."""
+    params = "h: Hand = left_hand, c: Cup = red_cup, l: Liquid = liquid_one, b: Bowl = orange_bowl"
+    text = """oac twice(PARAMS) {
+    pre h <-> nothing, c <-> l
+    effect l <-> b
+    steps {
+        grasp(h, c)
+        pour(h, c, l, b) { tilt 100deg }
+    }
+}
+oac outer(PARAMS) {
+    pre h <-> nothing, c <-> l
+    effect l <-> b
+    steps { twice(h, c, l, b) { tilt 90deg } }
+}
+oac nested(PARAMS) {
+    pre h <-> nothing, c <-> l
+    effect l <-> b
+    steps { outer(h, c, l, b) { lift 3cm } }
+}
+""".replace("PARAMS", params)
+    sources = {str(p): p.read_text() for p in STANDARD}
+    result = compile_sources({**sources, "t.oac": text})
+    assert result.errors == []
+    library = Library(result.modules)
+    binding = {"h": "left_hand", "c": "red_cup", "l": "liquid_one", "b": "orange_bowl"}
+    grasp, pour = expand(library, library.oacs["nested"], binding)[0]
+    assert pour.given == pytest.approx({"tilt": math.radians(90)})
+    assert grasp.given == pytest.approx({"lift": 0.03})
+    bad = text.replace("{ tilt 90deg }", "{ tilt 90deg  strokes 3 }") + """oac two(PARAMS) {
+    pre h <-> nothing, c <-> l
+    effect l <-> b
+    steps {
+        twice(h, c, l, b)
+        twice(h, c, l, b)
+    }
+}
+oac three(PARAMS) {
+    pre h <-> nothing, c <-> l
+    effect l <-> b
+    steps { two(h, c, l, b) { tilt 5deg } }
+}
+""".replace("PARAMS", params)
+    errors = compile_sources({**sources, "t.oac": bad}).errors
+    messages = sorted(e.message for e in errors if e.code == "E047")
+    assert any("no step inside it executes a skill that takes 'strokes'" in m for m in messages)
+    assert any("more than one step inside it executes a skill that takes 'tilt'" in m for m in messages)
+    with pytest.raises(RuntimeFailure, match="2 steps take 'tilt'"):
+        bad_library = Library(compile_sources({**sources, "t.oac": bad}).modules)
+        expand(bad_library, bad_library.oacs["three"], binding)

@@ -102,6 +102,14 @@ BAD = [
         "the effect of 'g' changes nothing: every effect is also a precondition",
         "3:3",
     ),
+    (  # a composed one that ends as it began (a hand-over) is told to leave 'effect' out
+        G + "  pre h <-> nothing\n  effect h <-> nothing\n"
+        "  steps {\n    grasp(h, o)\n    place(h, o)\n  }\n}",
+        "E012",
+        "changes nothing: every effect is also a precondition; a composed OAC that ends as it began states no"
+        " effect (leave 'effect' out)",
+        "3:3",
+    ),
     (
         G + "  effect h <-> o\n  steps { grap(h, o) }\n}",
         "E013",
@@ -266,6 +274,8 @@ BAD = [
         "2:11",
     ),
     ("grasp Bowl { type power approach side offset (0.0, 0.0, 60.0) }", "W005", "offsets are metres", "1:39"),
+    ("grasp Bowl { type pinch approach top offset (0.0, 0.0, 0.03) }", "E049",
+     "a pinch grasp takes a flat object's edge", "1:38"),
     # scene state and skill calls
     (
         "oac pour3(h: Hand, c: Container, b: Container) {\n  pre h <-> c\n  effect h <-> b\n"
@@ -365,9 +375,9 @@ BAD = [
     (
         STEPS + "    grasp(h, c)\n    pour(h, c, l, b)\n  }\n}\n"
         "oac e(h: Hand, c: Cup, l: Liquid, b: Bowl) {\n  pre h <-> nothing, c <-> l\n  effect l <-> b\n"
-        "  steps { d(h, c, l, b) { tilt 100deg } }\n}",
+        "  steps { d(h, c, l, b) { strokes 3 } }\n}",
         "E047",
-        "'d' is a composed OAC: it executes no skill, so a step calling it takes no skill parameters",
+        "'d' is a composed OAC and no step inside it executes a skill that takes 'strokes'",
         "12:27",
     ),
     (

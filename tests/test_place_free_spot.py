@@ -153,3 +153,30 @@ def test_a_way_into_the_other_hands_footprint_crosses_over_that_hand():
     assert crossing[2, 3] >= top + HAND_BELOW_CENTRE_M
     inside = make_T(np.eye(3), (xy[0], xy[1] + 0.8 * radius, low))
     assert all(p[2, 3] < top for p, _ in carry_path(world, "l", inside, goal, set(), 2.0))
+
+
+def test_a_stalled_set_down_goes_to_the_free_spot_the_hand_reaches_best():
+    """When the descent onto an object's own place stalls with nothing felt (the arm at the edge
+    of its reach), ``place`` sets it down on the free spot whose descent's end the whole-body IK
+    reaches best: one of the free spots, the object upright, the hand at the hover height above."""
+    from oacdsl.runtime.motion.tuning import TUNING
+    from oacdsl.runtime.skills.place import _best_reached_spot, _spots
+
+    run = prepare(_library(), "open_and_put_down", layout="demonstrated", demonstrated=FIRST_FRAME)
+    ctx = run.context
+    run.world.weld("l", "lid")
+    t_lid, lid_in_hand = ctx.held_pose("l", "lid")
+    above = _best_reached_spot(ctx, "l", "lid", None)
+    lid = above @ lid_in_hand
+    xy = lid[:2, 3]
+    assert lid[2, 2] == pytest.approx(1.0, abs=1e-6)  # upright
+    assert lid[2, 3] == pytest.approx(ctx.support_height(xy, exclude="lid") + TUNING.hover_m)
+    spots = _spots(ctx, "l", "lid", lid_in_hand, lid[:3, :3], None)
+    assert any(np.allclose(xy, p) for p in spots)
+
+    def miss(p: np.ndarray) -> float:
+        bottom = lid.copy()
+        bottom[:3, 3] = (p[0], p[1], ctx.support_height(p, exclude="lid") - TUNING.support_search_m)
+        return ctx.ctl.ik.try_reach("l", bottom @ np.linalg.inv(lid_in_hand)).position_m
+
+    assert len(spots) > 1 and miss(xy) <= min(miss(p) for p in spots) + 1e-9

@@ -189,3 +189,44 @@ def test_model_pose_of_the_thin_tablespoon_flips_where_the_rigid_fit_stays_smoot
             for name, T in (("fit", fit), ("model", model))}
     assert step["model"][4] > 90  # frame 4 → 5: ModelPose turns ~150° about the handle ...
     assert step["fit"][:20].max() < 5  # ... while the spoon lies still on the table
+
+
+@pytest.mark.parametrize("shuffled", [False, True])
+def test_chunk_coordinates_fill_rigid_gaps_as_the_filled_recording_has_them(shuffled):
+    """The segmenter fills rigid gaps straight into a chunk's float32 coordinates
+    (:meth:`RigidFill.cells`), not into a copy of its positions: the same numbers, bit for bit,
+    as the coordinates of the recording filled beforehand (markers in any order)."""
+    from oacdsl.segmentation.geometry import ChunkGeometry
+    from oacdsl.segmentation.pairs import PairTable
+    from oacdsl.segmentation.poses import RigidFill, fill_rigid_gaps
+
+    rng = np.random.default_rng(3)
+    n = 700
+    t = np.arange(n) / RATE_HZ
+    tracks, names, groups = [], [], {}
+    for i, name in enumerate(("box", "cup", "hand")):
+        body = rng.normal(scale=0.04, size=(4 + (name == "hand"), 3))
+        turn = np.stack([rot_z(a) for a in 0.5 * t + i])
+        pts = np.einsum("fij,kj->fki", turn, body) + np.array([0.3 * i, 0.1, 0.8])
+        pts[:, :, 0] += 0.05 * np.sin(t + i)[:, None]
+        pts[rng.random(pts.shape[:2]) < 0.02] = np.nan  # single markers hidden
+        groups[name] = tuple(range(len(names), len(names) + pts.shape[1]))
+        names += [f"{name}.{k}" for k in range(pts.shape[1])]
+        tracks.append(pts)
+    positions = np.concatenate(tracks, axis=1)
+    if shuffled:  # instances' markers interleaved in the file: the pair table reorders them
+        order = rng.permutation(positions.shape[1])
+        inverse = np.argsort(order)
+        positions = positions[:, order]
+        names = [names[j] for j in order]
+        groups = {g: tuple(int(inverse[j]) for j in idx) for g, idx in groups.items()}
+    rec = Recording("test", RATE_HZ, t, tuple(names), positions, groups)
+    rigid = ["box", "cup"]
+    filler = RigidFill(rec, rigid)
+    filled = fill_rigid_gaps(rec, rigid)
+    assert np.isnan(filled.positions_m).sum() < np.isnan(rec.positions_m).sum()  # something filled
+    table = PairTable.of(rec)
+    direct, copied = ChunkGeometry(rec, table, filler), ChunkGeometry(filled, table)
+    copied.centre = direct.centre  # the centre comes from the first frame as recorded
+    for lo, hi in ((0, n), (0, 1), (33, 301), (650, n)):
+        assert np.array_equal(direct.coordinates(lo, hi), copied.coordinates(lo, hi), equal_nan=True)

@@ -14,7 +14,7 @@ from segeval.reference import segment_reference
 from test_adaptive import carry_scene
 
 from oacdsl.errors import SegmentationError
-from oacdsl.segmentation import AasParams, segment
+from oacdsl.segmentation import AasParams, segment, slope
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.slope import windowed_slope, windowed_slope_at
 
@@ -31,7 +31,11 @@ def test_slope_is_the_least_squares_line_and_skips_gaps():
     assert np.isnan(windowed_slope(y[None, :], t, half=3)).all()
 
 
-def test_slope_at_some_columns_is_the_full_slope_there_bit_for_bit():
+@pytest.mark.parametrize("direct", [False, True])
+def test_slope_at_some_columns_is_the_full_slope_there(monkeypatch, direct):
+    """By prefix sums, bit for bit; by summing each window (few places asked for), to float32
+    rounding, with the same unknown places."""
+    monkeypatch.setattr(slope, "DIRECT_COST", 0.0 if direct else 1e9)
     rng = np.random.default_rng(7)
     for _ in range(40):
         a, r, half = int(rng.integers(1, 12)), int(rng.integers(1, 120)), int(rng.integers(1, 6))
@@ -40,10 +44,14 @@ def test_slope_at_some_columns_is_the_full_slope_there_bit_for_bit():
         t = np.cumsum(0.005 + 0.01 * rng.random(r)) + 50.0  # uneven frame times, seconds
         rows, cols = np.nonzero(rng.random((a, r)) < 0.3)
         full = windowed_slope(dist, t, half)[rows, cols]
-        assert np.array_equal(windowed_slope_at(dist, t, half, rows, cols), full, equal_nan=True)
         shuffled = rng.permutation(rows.size)  # any order of the requested places
-        got = windowed_slope_at(dist, t, half, rows[shuffled], cols[shuffled])
-        assert np.array_equal(got, full[shuffled], equal_nan=True)
+        for got, want in ((windowed_slope_at(dist, t, half, rows, cols), full),
+                          (windowed_slope_at(dist, t, half, rows[shuffled], cols[shuffled]), full[shuffled])):
+            if direct:
+                assert np.array_equal(np.isnan(got), np.isnan(want))
+                assert np.allclose(got, want, rtol=1e-6, atol=1e-9, equal_nan=True)
+            else:
+                assert np.array_equal(got, want, equal_nan=True)
     assert windowed_slope_at(dist, t, 2, rows[:0], cols[:0]).shape == (0,)
 
 

@@ -83,22 +83,7 @@ def test_story_composes_to_its_scripted_sub_actions(tmp_path, capsys, story, seq
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize(
-    "story",
-    [
-        "overlap",
-        pytest.param(
-            "handover",
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="the right hand sets the handed-over cup down on one of the two free spots of the"
-                " crowded right side (0.54, -0.42), 6 cm beside the green cup; taking the green cup and"
-                " then the mixer, its fingers and palm brush the red cup and push it 6 cm (extra"
-                " red_cup <-> right_hand; the end state and the 20 balls are right)",
-            ),
-        ),
-    ],
-)
+@pytest.mark.parametrize("story", ["overlap", "handover"])
 def test_story_is_reproduced_on_the_robot_and_verified(tmp_path, capsys, story):
     pytest.importorskip("mujoco")
     rec = tmp_path / f"{story}.c3d"

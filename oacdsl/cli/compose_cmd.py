@@ -85,7 +85,8 @@ def run(args: argparse.Namespace) -> int:
                 " skill parameters from it"
             )
         else:
-            from oacdsl.matching.demoparams import demonstrated_motions, with_demo_params
+            from oacdsl.matching.composedparams import with_demo_params
+            from oacdsl.matching.demoparams import demonstrated_motions
 
             motions = demonstrated_motions(inputs.recording, [m.sub_action for m in matches])
             comp = with_demo_params(comp, motions, inputs.library, inputs.scene)

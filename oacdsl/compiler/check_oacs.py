@@ -156,7 +156,9 @@ class _OacChecker:
         if len(already) == len(oac.effect):
             self.ctx.add(
                 "E012",
-                f"the effect of '{oac.name}' changes nothing: every effect is also a precondition",
+                f"the effect of '{oac.name}' changes nothing: every effect is also a precondition"
+                + ("; a composed OAC that ends as it began states no effect (leave 'effect' out)"
+                   if oac.composed else ""),
                 oac.part("effect"),
                 Note("preconditions stated here", oac.part("pre")),
             )

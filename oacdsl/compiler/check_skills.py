@@ -189,22 +189,37 @@ def check_skill_params(ctx: Context, sig: SkillSignature, params: tuple[SkillPar
 
 def check_step_params(ctx: Context, call: Call, callee: Oac) -> None:
     """The skill parameters of a step ``call`` of ``callee`` (docs/language.md): checked against
-    the signature of the skill ``callee`` executes; a composed ``callee`` executes no skill of its
-    own, so parameters on a step that calls it are an error (E047)."""
+    the signature of the skill ``callee`` executes; on a step calling a composed ``callee``, each
+    goes to the one step inside it whose skill takes a parameter of that name
+    (:mod:`oacdsl.passdown`) and is checked against that skill's signature; none or several
+    such steps is an error (E047)."""
     if not call.skill_params:
         return
-    if callee.skill is None:
-        ctx.add(
-            "E047",
-            f"'{callee.name}' is a composed OAC: it executes no skill, so a step calling it takes no"
-            " skill parameters; write them on the steps of"
-            f" '{callee.name}' that call a skill",
-            call.part("skill_params"),
-            Note(f"'{callee.name}' is defined here", callee.part("name")),
-        )
+    if callee.skill is not None:
+        if callee.skill in SIGNATURES:  # an unknown skill is reported at the callee (E016)
+            check_skill_params(ctx, SIGNATURES[callee.skill], call.skill_params)
         return
-    if callee.skill in SIGNATURES:  # an unknown skill is reported at the callee (E016)
-        check_skill_params(ctx, SIGNATURES[callee.skill], call.skill_params)
+    from oacdsl.passdown import receivers
+
+    by_skill: dict[str, list[SkillParam]] = {}
+    for given in call.skill_params:
+        found = receivers(ctx.library.oacs, callee, given.name)
+        if len(found) == 1:
+            by_skill.setdefault(str(found[0].oac.skill), []).append(given)
+            continue
+        if found:
+            where = ", ".join(f"'{s.oac.skill}' of '{s.oac.name}'" for s in found)
+            text = (f"'{callee.name}' is a composed OAC and more than one step inside it executes a skill"
+                    f" that takes '{given.name}' ({where}); write it on the step inside '{callee.name}'"
+                    " that should take it")
+        else:
+            text = (f"'{callee.name}' is a composed OAC and no step inside it executes a skill that takes"
+                    f" '{given.name}'; a parameter on a step calling it goes to the one step inside"
+                    " whose skill takes it")
+        note = Note(f"'{callee.name}' is defined here", callee.part("name"))
+        ctx.add("E047", text, given.part("name"), note)
+    for skill, params in by_skill.items():
+        check_skill_params(ctx, SIGNATURES[skill], tuple(params))
 
 
 def _param_kinds(ctx: Context, oac: Oac, name: str) -> list[frozenset[str]] | None:

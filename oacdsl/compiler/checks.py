@@ -171,6 +171,14 @@ def check_grasps(ctx: Context) -> None:
                 grasp.part("offset"),
             )
             continue
+        if grasp.type == "pinch" and math.hypot(grasp.offset[0], grasp.offset[1]) < 1e-6:
+            ctx.add(
+                "E049",
+                "a pinch grasp takes a flat object's edge: its offset must be a point of the top edge,"
+                " away from the object's axis (x or y not 0); a knob or the middle of the top is taken"
+                " with 'type power approach top'",
+                grasp.part("offset") if grasp.part("offset") is not None else grasp.part("type"),
+            )
         length = math.hypot(*grasp.offset)
         if length > MAX_OFFSET_M:
             ctx.add(

@@ -80,6 +80,7 @@ CODES: dict[str, str] = {
     "E046": "scene state that does not fit the instance (a place for a hand, contents of a non-container, …)",
     "E047": "skill parameters on a step that calls a composed OAC",
     "E048": "untracked instance that the recording must track (a hand) or that names markers",
+    "E049": "pinch grasp whose offset lies on the object's axis (a pinch takes an edge)",
     "E051": "steps of a together block that depend on each other",
     "W001": "unused variable",
     "W002": "name or relation listed twice",

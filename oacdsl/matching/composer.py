@@ -77,7 +77,7 @@ class Composition:
     #: "keyframe": index into the keyframes, "note": str}`` (instance names).
     provenance: tuple[dict[str, Any], ...] = field(default=())
     #: Skill parameters set from the demonstrated motion, per step that has any to set
-    #: (:func:`oacdsl.matching.demoparams.with_demo_params`; ``compose.demo_params`` of result.json).
+    #: (:func:`oacdsl.matching.composedparams.with_demo_params`; ``compose.demo_params`` of result.json).
     demo_params: tuple[dict[str, Any], ...] = field(default=())
 
     def to_json(self, file: str | None) -> dict[str, Any]:

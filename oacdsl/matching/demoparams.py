@@ -36,8 +36,7 @@ from typing import Any
 import numpy as np
 
 from oacdsl.library import Library
-from oacdsl.matching.composer import Composition
-from oacdsl.model import Call, Quantity, Scene, SkillParam, sorted_skill_params
+from oacdsl.model import Quantity, Scene, SkillParam
 from oacdsl.segmentation.motion import SubActionMotion
 from oacdsl.segmentation.poses import ObjectPoses
 from oacdsl.segmentation.recording import Recording
@@ -49,10 +48,10 @@ __all__ = [
     "StepParams",
     "DemonstratedMotions",
     "demonstrated_motions",
+    "follows",
     "path_params",
     "room_m",
     "step_params",
-    "with_demo_params",
 ]
 
 #: Kept between the tool and the target's edge when a length is retargeted, metres.
@@ -373,54 +372,7 @@ def dwelling(recording: Recording, motions: Sequence[SubActionMotion], k: int,
     return merged
 
 
-def with_demo_params(comp: Composition, motions: Mapping[int, SubActionMotion],
-                     library: Library, scene: Scene) -> Composition:
-    """``comp`` with each step's parameters from the motion of its sub-action (``motions``: by
-    the sub-action's first frame), a comment per step, and ``demo_params`` (module doc)."""
-    calls: list[Call] = []
-    doc: list[dict[str, Any]] = []
-    for k, (call, step) in enumerate(zip(comp.oac.steps or (), comp.steps, strict=True)):
-        motion = motions.get(step.start_frame) if step.start_frame is not None else None
-        args = tuple(step.mapping.get(a, a) for a in step.oac.skill_arguments())
-        if _follows(step.oac.skill) and motion is not None and len(args) >= 3 and isinstance(
-                motions, DemonstratedMotions) and step.start_frame is not None:
-            # a path is of the step's own objects: the sub-action's motion of that pair when the
-            # demonstration moved it (a ladle leaving the cup for the bowl: relative to the bowl)
-            if {motion.moved, motion.target} != {args[1], args[-1]}:
-                motion = motions.of_pair(step.start_frame, args[1], args[-1]) or motion
-        found = step_params(step.oac.skill, motion, args, library, scene)
-        if found.comment is None:
-            calls.append(call)
-            continue
-        calls.append(
-            call.model_copy(
-                update={
-                    "skill_params": sorted_skill_params(found.params),
-                    "comments": (*call.comments, found.comment),
-                }
-            )
-        )
-        doc.append(
-            {
-                "step": k,
-                "oac": step.oac.name,
-                "skill": step.oac.skill,
-                "sub_action": step.start_keyframe,
-                "moved": motion.moved if motion is not None else None,
-                "frame": motion.frame_name if motion is not None else None,
-                "comment": found.comment,
-                "params": [_json_row(r) for r in found.rows],
-            }
-        )
-    oac = comp.oac.model_copy(update={"steps": tuple(calls)})
-    return dataclasses.replace(comp, oac=oac, demo_params=tuple(doc))
-
-
-def _follows(skill: str | None) -> bool:
+def follows(skill: str | None) -> bool:
     """Whether ``skill`` takes a demonstrated path."""
     sig = SIGNATURES.get(skill or "")
     return sig is not None and any(p.unit == PATH for p in sig.params)
-
-
-def _json_row(row: Mapping[str, Any]) -> dict[str, Any]:
-    return {k: (round(v, 6) if isinstance(v, float) else v) for k, v in row.items()}

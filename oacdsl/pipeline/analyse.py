@@ -209,7 +209,8 @@ def compose_stage(
 
     comp = compose_demonstration(name, matches, library, scene).composition
     if recording is not None:
-        from oacdsl.matching.demoparams import demonstrated_motions, with_demo_params
+        from oacdsl.matching.composedparams import with_demo_params
+        from oacdsl.matching.demoparams import demonstrated_motions
 
         motions = demonstrated_motions(recording, [m.sub_action for m in matches])
         comp = with_demo_params(comp, motions, library, scene)

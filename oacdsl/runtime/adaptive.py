@@ -310,7 +310,7 @@ def run_adaptive(
             continue
         t0 = world.time_s
         expected = predicted_states(state, [step, *a.queue], goal)[0]
-        error = run_step(ctx, step, expected)
+        error = run_step(ctx, step, expected, a.queue)
         after = world.relations()
         states.append(after)
         effect_atoms = bound_atoms(step.oac.effect, step.binding)

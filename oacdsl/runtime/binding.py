@@ -164,11 +164,6 @@ def _expand(
     if not oac.composed:
         steps.append(Step(oac, binding, overrides))
         return
-    if overrides:  # E047 for the compiler: a composed OAC runs no skill of its own
-        raise RuntimeFailure(
-            f"oac {oac.name} is composed: a step calling it takes no skill parameters"
-            f" ({', '.join(p.name for p in overrides)})"
-        )
     index, first = len(calls), len(steps)
     calls.append(Call(oac, binding, first, first, depth))  # its last step is known below
     for call in oac.steps or ():
@@ -185,7 +180,22 @@ def _expand(
         _expand(library, callee, inner, depth + 1, steps, calls, call.skill_params)
     if len(steps) == first:
         raise RuntimeFailure(f"oac {oac.name} has no steps to execute")
+    for p in overrides:  # to the one step inside whose skill takes it (oacdsl/passdown.py; E047)
+        found = [k for k in range(first, len(steps)) if _takes(steps[k], p.name)]
+        if len(found) != 1:
+            raise RuntimeFailure(
+                f"oac {oac.name} is composed: a parameter on a step calling it goes to the one step"
+                f" inside whose skill takes it; {len(found)} steps take {p.name!r}"
+            )
+        k = found[0]
+        kept = tuple(o for o in steps[k].overrides if o.name != p.name)
+        steps[k] = Step(steps[k].oac, steps[k].binding, (*kept, p))
     calls[index] = Call(oac, binding, first, len(steps) - 1, depth)
+
+
+def _takes(step: Step, name: str) -> bool:
+    sig = SIGNATURES.get(str(step.oac.skill))
+    return sig is not None and any(p.name == name for p in sig.params)
 
 
 def bound_atoms(atoms: tuple[Atom, ...], binding: Mapping[str, str]) -> list[tuple[str, str, bool]]:

@@ -36,7 +36,7 @@ from oacdsl.runtime.binding import (
 from oacdsl.runtime.build import build_model
 from oacdsl.runtime.control import Controller, Observer
 from oacdsl.runtime.ik import WholeBodyIK
-from oacdsl.runtime.intent import predicted_states
+from oacdsl.runtime.intent import coming_takes, predicted_states
 from oacdsl.runtime.layout import plan_layout
 from oacdsl.runtime.layout_cause import layout_cause
 from oacdsl.runtime.results import CallResult, RunResult, StepResult
@@ -254,8 +254,9 @@ def run_prepared(
             error = _with_cause(error, run, states[0], atoms_pre)
         if error is None:
             ctx.expected = expected[index]
+            ctx.coming = coming_takes(run.steps[index + 1 :], world.layout.hands)
             error = _run_skill(ctx, step)
-            ctx.expected = None
+            ctx.expected, ctx.coming = None, ()
         state = world.relations()
         states.append(state)
         if error is None:
@@ -341,11 +342,15 @@ def _run_skill(ctx: SkillContext, step: Step) -> str | None:
     return None
 
 
-def run_step(ctx: SkillContext, step: Step, expected: WorldState | None) -> str | None:
-    """Run one primitive step's skill, told the world state it is meant to leave: the error,
-    or None. The hook the adaptive executor (:mod:`oacdsl.runtime.adaptive`) drives."""
+def run_step(
+    ctx: SkillContext, step: Step, expected: WorldState | None, coming: Sequence[Step] = ()
+) -> str | None:
+    """Run one primitive step's skill, told the world state it is meant to leave and the steps
+    meant to follow (``coming``): the error, or None. The hook the adaptive executor
+    (:mod:`oacdsl.runtime.adaptive`) drives."""
     ctx.expected = expected
+    ctx.coming = coming_takes(coming, ctx.world.layout.hands)
     try:
         return _run_skill(ctx, step)
     finally:
-        ctx.expected = None
+        ctx.expected, ctx.coming = None, ()

@@ -14,12 +14,12 @@ Light on purpose (no MuJoCo): it is a function of the OACs and the binding only.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 
 from oacdsl.runtime.binding import Step, bound_atoms
 from oacdsl.world import NOTHING, WorldState, relation
 
-__all__ = ["apply_effects", "predicted_states"]
+__all__ = ["apply_effects", "coming_takes", "predicted_states"]
 
 
 def apply_effects(state: WorldState, atoms: Sequence[tuple[str, str, bool]]) -> WorldState:
@@ -60,3 +60,18 @@ def predicted_states(
         for k in range(first, len(states)):
             states[k] = states[k].with_changes(added=[relation(a, b)])
     return states
+
+
+def coming_takes(steps: Sequence[Step], hands: Collection[str]) -> tuple[tuple[str, str], ...]:
+    """(hand, object) of each take ``steps`` are predicted to make, in order, each once: a
+    positive effect relating one of ``hands`` to something (``grasp(h, o)``'s ``h <-> o``).
+    A skill that leaves an object in the way of a later take (``place``) reads them."""
+    out: list[tuple[str, str]] = []
+    for step in steps:
+        for a, b, negated in bound_atoms(step.oac.effect, step.binding):
+            if negated or NOTHING in (a, b) or (a in hands) == (b in hands):
+                continue
+            take = (a, b) if a in hands else (b, a)
+            if take not in out:
+                out.append(take)
+    return tuple(out)

@@ -47,6 +47,8 @@ __all__ = [
     "MIN_GAP_M",
     "BALLS_PER_LIQUID",
     "hand_side",
+    "STAND_X_RANGE_M",
+    "STAND_Y_LIMIT_M",
 ]
 
 #: How far a seed may move an object from its planned place, metres.
@@ -71,8 +73,8 @@ _SLOTS: tuple[tuple[float, float], ...] = (
     (0.82, -0.18),
 )
 #: Region of the table objects may stand in: footprint x range and |y| limit, metres.
-_X_RANGE = (TABLE_FRONT + 0.04, TABLE_FRONT + 0.56)
-_Y_LIMIT = 0.60
+STAND_X_RANGE_M = (TABLE_FRONT + 0.04, TABLE_FRONT + 0.56)
+STAND_Y_LIMIT_M = 0.60
 
 
 @dataclass(frozen=True)
@@ -353,7 +355,8 @@ def _fits(
     name: str, xy: tuple[float, float], placed: Mapping[str, tuple[float, float]], bodies: Mapping[str, Body]
 ) -> bool:
     r = bodies[name].radius
-    if not (_X_RANGE[0] <= xy[0] - r and xy[0] + r <= _X_RANGE[1]) or abs(xy[1]) + r > _Y_LIMIT:
+    (x0, x1), y1 = STAND_X_RANGE_M, STAND_Y_LIMIT_M
+    if not (x0 <= xy[0] - r and xy[0] + r <= x1) or abs(xy[1]) + r > y1:
         return False
     for other, oxy in placed.items():
         if other != name and math.dist(xy, oxy) < r + bodies[other].radius + MIN_GAP_M:

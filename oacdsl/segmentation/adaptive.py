@@ -141,7 +141,9 @@ class AdaptiveDetector:
         self._flags = np.zeros((n_q, 4), dtype=bool)
         self._combined = np.zeros(n_q, dtype=bool)
         self.filler = RigidFill(recording, self._rigid(recording)) if self.settings.fill_gaps else None
-        found = comotion(recording, table, self.params, self._run, self.filler)
+        agents = agents_of(table.instances, self.settings.agent_pattern)
+        found = comotion(recording, table, self.params, self._run, self.filler,
+                         keep_speeds=agents if self._run.hold_still else ())
         learned = found.learned
         # the paper's rule per pair: at the pair's learned distance, else at the static distance
         by_distance: dict[float, np.ndarray] = {}
@@ -177,9 +179,9 @@ class AdaptiveDetector:
         collected: dict[int, list[tuple[int, int, int]]] = {}
         added = dict(tools.added)
         if self._run.hold_still:  # a hand at rest on or around a still object (holding.py)
-            agents = agents_of(table.instances, self.settings.agent_pattern)
             holds = resting_holds(recording, table, found.closest, agents, self.params.distance_m,
-                                  self._run.move_speed_m_s, self._run.lag_s, self._run.tool_dwell_s)
+                                  self._run.move_speed_m_s, self._run.lag_s, self._run.tool_dwell_s,
+                                  speeds=found.speeds)  # the hands' speeds: measured by the scan
             for q, spans in holds.items():
                 added[q] = union_spans([*added.get(q, []), *spans])  # one flag per kind and pair
         removed = dict(tools.removed)

@@ -8,7 +8,9 @@ chunks; memory O(frames) per instance pair that comes within reach (float32).
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from types import MappingProxyType
 from typing import NamedTuple
 
 import numpy as np
@@ -118,19 +120,25 @@ class CoMotion(NamedTuple):
             thresholds, metres); only pairs with an episode.
         closest: instance pair → (F,) float32 closest marker distance, metres (inf
             beyond reach, NaN in gaps); every pair that comes within reach.
+        speeds: instance (table order) → (F,) float64 median marker speed over ``lag_s``, m/s
+            (NaN in gaps; frame ``i`` against frame ``i - lag``, the first frames against frame
+            0, frame 0 against frame ``lag``; rigid gaps filled), of the instances asked for.
     """
 
     learned: dict[int, tuple[list[tuple[int, int]], float]]
     closest: dict[int, np.ndarray]
+    speeds: Mapping[int, np.ndarray] = MappingProxyType({})
 
 
 def comotion(
     recording: Recording, table: PairTable, params: AasParams, settings: AdaptiveSettings,
-    filler: RigidFill | None = None,
+    filler: RigidFill | None = None, keep_speeds: Sequence[int] = (),
 ) -> CoMotion:
     """Co-motion episodes, grown into touching intervals, and each pair's learned distance
-    (``filler``: rigid gaps filled chunk by chunk, :class:`~oacdsl.segmentation.poses.RigidFill`)."""
-    signals = _scan(recording, table, params, settings, filler)
+    (``filler``: rigid gaps filled chunk by chunk, :class:`~oacdsl.segmentation.poses.RigidFill`;
+    ``keep_speeds``: instances whose speeds the scan measured are returned too)."""
+    speeds: dict[int, np.ndarray] = {}
+    signals = _scan(recording, table, params, settings, filler, keep_speeds, speeds)
     _prune_indirect(signals, table)
     min_len = settings.frames(settings.min_episode_s, recording.rate_hz)
     bridge = round(settings.tool_bridge_s * recording.rate_hz)  # frames: a short excursion is no release
@@ -145,17 +153,22 @@ def comotion(
             thresholds.append(threshold)
         if spans:
             out[q] = (_union(spans), float(np.median(thresholds)))
-    return CoMotion(out, {q: dmin for q, (dmin, _) in signals.items()})
+    return CoMotion(out, {q: dmin for q, (dmin, _) in signals.items()}, speeds)
 
 
 def _scan(
     recording: Recording, table: PairTable, params: AasParams, settings: AdaptiveSettings,
-    filler: RigidFill | None = None,
+    filler: RigidFill | None = None, keep_speeds: Sequence[int] = (),
+    speeds: dict[int, np.ndarray] | None = None,
 ) -> dict[int, tuple[np.ndarray, np.ndarray]]:
-    """Per instance pair that comes within reach: closest distance (F,) and co-motion frames (F,)."""
+    """Per instance pair that comes within reach: closest distance (F,) and co-motion frames (F,);
+    into ``speeds``, the speeds of the instances ``keep_speeds`` (:class:`CoMotion`)."""
     n_frames, n_q = recording.n_frames, table.n_instance_pairs
     if n_q == 0 or n_frames < 2:
         return {}
+    kept = {i: np.empty(n_frames) for i in keep_speeds}
+    if speeds is not None:
+        speeds.update(kept)
     geometry = ChunkGeometry(recording, table, filler)
     lag = settings.frames(settings.lag_s, recording.rate_hz)
     reach = params.distance_m * (1 + settings.margin)
@@ -171,7 +184,7 @@ def _scan(
         for start in range(0, n_frames, step):
             stop = min(n_frames, start + step)
             _scan_chunk(recording, table, params, settings, geometry, groups, times, lag, reach,
-                        start, stop, dmin, carry)
+                        start, stop, dmin, carry, kept)
     return {q: (dmin[q], carry[q]) for q in dmin}
 
 
@@ -179,13 +192,15 @@ def _scan_chunk(
     recording: Recording, table: PairTable, params: AasParams, settings: AdaptiveSettings,
     geometry: ChunkGeometry, groups: list[np.ndarray], times: np.ndarray, lag: int, reach: float,
     start: int, stop: int, dmin: dict[int, np.ndarray], carry: dict[int, np.ndarray],
+    kept: Mapping[int, np.ndarray],
 ) -> None:
-    """:func:`_scan` of frames ``start:stop`` (reading ``lag`` frames before), into ``dmin``, ``carry``."""
+    """:func:`_scan` of frames ``start:stop`` (reading ``lag`` frames before), into ``dmin``, ``carry``
+    and the instance speeds ``kept``."""
     n_frames = recording.n_frames
     lo = max(0, start - lag)
     x = geometry.coordinates(lo, stop)
     blocks = (geometry.lower_bounds(x) <= reach + BOUND_MARGIN_M).nonzero()[0]
-    if blocks.size == 0:
+    if blocks.size == 0 and not kept:
         return
     # rates over `lag` frames; the first frames of the recording use frame 0 (frame 0: frame `lag`)
     rows = np.arange(lo, stop)
@@ -195,6 +210,8 @@ def _scan_chunk(
     local_prev = prev - lo
     speeds = _instance_speeds(recording, groups, rows, prev, dt, geometry.filler)
     out = slice(start - lo, stop - lo)
+    for i, into in kept.items():
+        into[start:stop] = speeds[i][out]
     sq_buf, tmp = geometry.scratch(x.shape[2]), geometry.scratch(x.shape[2])
     for q in blocks.tolist():
         # one pair's squared marker distances, (P_q, R) frames lo..stop-1, while in cache; the

@@ -63,11 +63,14 @@ class ChunkGeometry:
         order = table.marker_order  # the recording's own marker order: no gather
         self._in_order = bool(order.size == recording.positions_m.shape[1]
                               and np.array_equal(order, np.arange(order.size)))
+        # a recording marker's row in the coordinates (-1: in no instance pair)
+        self._row_of = np.full(recording.positions_m.shape[1], -1, dtype=np.intp)
+        self._row_of[order] = np.arange(order.size)
 
     def coordinates(self, lo: int, hi: int) -> np.ndarray:
         """(3, M', hi - lo) float32 centred coordinates of frames ``lo:hi``, metres (NaN = gap)."""
         out = np.empty((3, self.table.marker_order.size, hi - lo), dtype=np.float32)
-        rows = self.recording.positions_m[lo:hi] if self.filler is None else self.filler.rows(lo, hi)
+        rows = self.recording.positions_m[lo:hi]
         if not self._in_order:
             rows = rows[:, self.table.marker_order]
         # centre in float64, then round once to float32, (F, M, 3) → (3, M, F) in one pass, in slabs
@@ -76,6 +79,13 @@ class ChunkGeometry:
         for a in range(0, hi - lo, _COORD_SLAB):
             b = min(hi - lo, a + _COORD_SLAB)
             np.subtract(rows[a:b].transpose(2, 1, 0), centre, out=out[:, :, a:b], casting="unsafe")
+        if self.filler is not None:  # rigid gaps: the filled positions, rounded as the others
+            for frames, markers, values in self.filler.cells(lo, hi):
+                at, which = np.nonzero(~np.isnan(values[..., 0]))  # the cells filled (NaN: seen)
+                rows_of = self._row_of[markers[which]]
+                keep = rows_of >= 0
+                filled = np.subtract(values[at[keep], which[keep]], self.centre, dtype=np.float64)
+                out[:, rows_of[keep], frames[at[keep]]] = filled.T.astype(np.float32)
         return out
 
     def marker_boxes(self, x: np.ndarray, block: int = BOUND_BLOCK_FRAMES) -> tuple[np.ndarray, np.ndarray]:

@@ -56,12 +56,14 @@ def _runs(mask: np.ndarray) -> Spans:
 
 def resting_holds(recording: Recording, table: PairTable, closest: Mapping[int, np.ndarray],
                   agents: Sequence[int], reach_m: float, move_speed_m_s: float, lag_s: float,
-                  dwell_s: float) -> dict[int, Spans]:
+                  dwell_s: float, speeds: Mapping[int, np.ndarray] | None = None) -> dict[int, Spans]:
     """Instance pair → frame intervals ``[a, b)`` of holding still (module doc).
 
     ``closest``: pair → (F,) closest marker distance, metres (inf beyond reach, NaN in gaps);
     ``reach_m``: ``d``; speeds over ``lag_s``; ``dwell_s``: the shortest hold and how recently
-    the hand must have moved.
+    the hand must have moved; ``speeds``: instance → its speeds as the co-motion scan measured
+    them (:class:`~oacdsl.segmentation.comotion.CoMotion`; the same values from frame ``lag`` on,
+    not measured again), used for the agents, whose markers no gap filling moves.
     """
     if not agents:
         return {}
@@ -82,8 +84,14 @@ def resting_holds(recording: Recording, table: PairTable, closest: Mapping[int, 
 
     def is_still(i: int) -> np.ndarray:
         if i not in still:
+            given = speeds.get(i) if speeds is not None and i in agents else None
+            if given is not None and given.size > lag:  # as _speeds: the first frames take frame lag's
+                speed = given.copy()
+                speed[:lag] = given[lag]
+            else:
+                speed = _speeds(positions(i), times, lag)
             with np.errstate(invalid="ignore"):
-                still[i] = _speeds(positions(i), times, lag) < move_speed_m_s
+                still[i] = speed < move_speed_m_s
         return still[i]
 
     out: dict[int, Spans] = {}

@@ -37,24 +37,29 @@ def keyframes_from_changes(
     (True = touching from that frame on). Changes of one relation must be in time order.
     """
     order = np.argsort(frames, kind="stable")
-    frames, which, values = frames[order], which[order], values[order]
+    # Python lists: the loop below reads every change, numpy scalars would cost more than the work
+    frame_of = np.asarray(frames)[order].tolist()
+    rel_of = [relations[i] for i in np.asarray(which)[order].tolist()]
+    value_of = np.asarray(values, dtype=bool)[order].tolist()
     touching: set[Relation] = set()
     inst = frozenset(instances)
     keyframes: list[Keyframe] = []
     k = 0
-    n_changes = len(frames)
-    while k < n_changes and frames[k] <= 0:
-        _apply(touching, relations[int(which[k])], bool(values[k]))
+    n_changes = len(frame_of)
+    while k < n_changes and frame_of[k] <= 0:
+        _apply(touching, rel_of[k], value_of[k])
         k += 1
-    keyframes.append(Keyframe(0, float(times_s[0]), WorldState(inst, frozenset(touching))))
+    last = frozenset(touching)
+    keyframes.append(Keyframe(0, float(times_s[0]), WorldState(inst, last)))
     while k < n_changes:
-        frame = int(frames[k])
-        while k < n_changes and frames[k] == frame:
-            _apply(touching, relations[int(which[k])], bool(values[k]))
+        frame = frame_of[k]
+        while k < n_changes and frame_of[k] == frame:
+            _apply(touching, rel_of[k], value_of[k])
             k += 1
-        state = WorldState(inst, frozenset(touching))
-        if state != keyframes[-1].state:
-            keyframes.append(Keyframe(frame, float(times_s[frame]), state))
+        now = frozenset(touching)
+        if now != last:  # the state changed (the instances are the same throughout)
+            keyframes.append(Keyframe(frame, float(times_s[frame]), WorldState(inst, now)))
+            last = now
     return keyframes
 
 

@@ -18,7 +18,7 @@ numpy only; every array is vectorised over frames.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -249,11 +249,12 @@ class RigidFill:
         self.recording = recording
         # per instance: marker indices, frames to fill (sorted), (R, k, 3) positions there (NaN: seen)
         self._items: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
-        for name in instances:
-            idx = np.asarray(recording.groups.get(name, ()), dtype=np.intp)
-            if idx.size <= MIN_MARKERS:
-                continue
-            seen = ~np.isnan(recording.positions_m[:, idx, 0])  # a gap is NaN in every coordinate
+        groups = [np.asarray(recording.groups.get(name, ()), dtype=np.intp) for name in instances]
+        groups = [idx for idx in groups if idx.size > MIN_MARKERS]
+        # (F, M) a marker's gap, NaN in every coordinate: one pass over the recording for all groups
+        gap = np.isnan(recording.positions_m[:, :, 0]) if groups else np.zeros((0, 0), dtype=bool)
+        for idx in groups:
+            seen = ~gap[:, idx]
             count = seen.sum(axis=1)
             frames = np.flatnonzero((count >= MIN_MARKERS) & (count < idx.size))
             full = np.flatnonzero(count == idx.size)
@@ -276,16 +277,21 @@ class RigidFill:
         """(hi - lo, M, 3) positions of frames ``lo:hi``, metres, gaps filled (a view when none is)."""
         out = self.recording.positions_m[lo:hi]
         copied = False
-        for idx, frames, placed in self._items:
-            a, b = np.searchsorted(frames, [lo, hi])
-            if a == b:
-                continue
+        for frames, idx, values in self.cells(lo, hi):
             if not copied:
                 out, copied = out.copy(), True
-            cells = (frames[a:b, None] - lo, idx)
-            values = placed[a:b]
+            cells = (frames[:, None], idx)
             out[cells] = np.where(np.isnan(values), out[cells], values)
         return out
+
+    def cells(self, lo: int, hi: int) -> Iterator[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """What :meth:`rows` fills in frames ``lo:hi``, per instance with something to fill:
+        ``(frames, markers, values)``: (R,) frames counted from ``lo``, (k,) the instance's marker
+        indices, (R, k, 3) their positions there, metres (NaN: seen, kept as it is)."""
+        for idx, frames, placed in self._items:
+            a, b = int(frames.searchsorted(lo)), int(frames.searchsorted(hi))
+            if a < b:
+                yield frames[a:b] - lo, idx, placed[a:b]
 
 def fill_rigid_gaps(recording: Recording, instances: Iterable[str]) -> Recording:
     """``recording`` with the gaps of ``instances``' markers filled as :class:`RigidFill` does

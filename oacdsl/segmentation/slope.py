@@ -16,7 +16,9 @@ the fit, so a gap shortens the window instead of ending the estimate; with fewer
 window is cut at frame 0 (one-sided fit).
 
 Sums come from prefix sums (float64), so the cost per sample is constant whatever
-the window.
+the window; where only a few frames of a block need a slope (the detectors fit it only within
+``d``), :func:`windowed_slope_at` sums their windows directly instead, times centred on each
+window's own frame (the same slopes to float64 rounding).
 """
 
 from __future__ import annotations
@@ -72,11 +74,13 @@ def windowed_slope(
 
 def windowed_slope_at(dist: np.ndarray, times_s: np.ndarray, half: int, rows: np.ndarray,
                       cols: np.ndarray, min_count: int | None = None) -> np.ndarray:
-    """``windowed_slope(dist, times_s, half, min_count)[rows, cols]``, bit for bit, computed only there.
+    """``windowed_slope(dist, times_s, half, min_count)[rows, cols]``, computed only there.
 
-    The prefix sums are taken over the whole rows that hold a requested column (the same
-    sums as :func:`windowed_slope`), the rest only at the requested columns: the cost of
-    a row is two prefix sums plus a constant per requested column. ``rows``, ``cols``:
+    Either the prefix sums are taken over the whole rows that hold a requested column (the
+    same sums as :func:`windowed_slope`, bit for bit), the rest only at the requested columns:
+    the cost of a row is two prefix sums plus a constant per requested column; or, when the
+    requested windows hold fewer samples than those rows (by :data:`DIRECT_COST`), each window
+    is summed directly (:func:`_slope_direct`, equal to float64 rounding). ``rows``, ``cols``:
     (K,) indices; returns (K,) float32 m/s.
     """
     a, r = dist.shape
@@ -85,6 +89,8 @@ def windowed_slope_at(dist: np.ndarray, times_s: np.ndarray, half: int, rows: np
     if rows.size == 0 or r == 0:
         return np.full(rows.size, np.nan, dtype=np.float32)
     t = np.asarray(times_s, dtype=np.float64)
+    if (2 * half + 1) * rows.size * DIRECT_COST < _rows_held(rows) * r:  # few places: sum their windows
+        return _slope_direct(dist, t, half, rows, cols, min_count)
     t = t - t[r // 2]  # centred as in windowed_slope
     if rows.size < 2 or bool((rows[1:] >= rows[:-1]).all()):  # sorted (np.nonzero's order): no sort
         new_row = np.empty(rows.size, dtype=bool)
@@ -124,6 +130,66 @@ def windowed_slope_at(dist: np.ndarray, times_s: np.ndarray, half: int, rows: np
     with np.errstate(invalid="ignore", divide="ignore"):
         slope = (s0 * stx - s1 * sx) / den
     slope[(s0 < min_count) | ~(den > 0)] = np.nan
+    return slope.astype(np.float32)
+
+
+#: Cost of one sample of a window summed directly against one element of the prefix sums (both
+#: in numpy passes; measured on the benchmark's recordings): :func:`windowed_slope_at` sums the
+#: windows directly when that is the cheaper.
+DIRECT_COST = 1.5
+
+
+def _rows_held(rows: np.ndarray) -> int:
+    """How many distinct rows ``rows`` names (an upper bound when unsorted: its length)."""
+    if rows.size < 2 or not bool((rows[1:] >= rows[:-1]).all()):
+        return int(rows.size)
+    return int(np.count_nonzero(rows[1:] != rows[:-1])) + 1
+
+
+def _slope_direct(dist: np.ndarray, t: np.ndarray, half: int, rows: np.ndarray, cols: np.ndarray,
+                  min_count: int) -> np.ndarray:
+    """:func:`windowed_slope_at` by summing each requested window sample by sample, times centred
+    on the window's own frame (the same least-squares slope as the prefix sums', to float64
+    rounding; it depends on no other frame of the chunk)."""
+    r = dist.shape[1]
+    flat = np.ascontiguousarray(dist).reshape(-1)
+    base = rows * r + cols
+    centre = t.take(cols)
+    cut = bool(cols.min() < half or cols.max() >= r - half)  # windows cut at the array's ends
+    s0: np.ndarray | float = 0.0
+    s1 = np.zeros(cols.size)
+    s2, sx, stx = s1.copy(), s1.copy(), s1.copy()
+    for k in range(-half, half + 1):
+        if cut:
+            j = cols + k
+            inside = (j >= 0) & (j < r)
+            np.clip(j, 0, r - 1, out=j)
+            x = flat.take(base + (j - cols))
+            x[~inside] = np.nan  # beyond the array: as a gap
+            dt = t.take(j)
+        else:
+            x = flat.take(base + k)
+            dt = t.take(cols + k)
+        dt -= centre  # seconds from the window's own frame
+        gap = np.isnan(x)
+        if gap.any():  # gaps are left out of the sums
+            x[gap] = 0.0
+            dt[gap] = 0.0
+            s0 = s0 + ~gap
+        else:
+            s0 = s0 + 1.0
+        sx += x
+        if k == 0:  # the window's own frame: no time from it, nothing to add to the other sums
+            continue
+        s1 += dt
+        x64 = x * dt
+        stx += x64
+        dt *= dt
+        s2 += dt
+    den = s0 * s2 - s1 * s1
+    with np.errstate(invalid="ignore", divide="ignore"):
+        slope = (s0 * stx - s1 * sx) / den
+    slope[np.broadcast_to(np.asarray(s0) < min_count, slope.shape) | ~(den > 0)] = np.nan
     return slope.astype(np.float32)
 
 

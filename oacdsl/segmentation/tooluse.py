@@ -98,6 +98,13 @@ def tool_contacts(
             return np.full(n_frames, np.inf)
         return np.asarray(closest[q], dtype=np.float64)  # NaN: a gap, unknown
 
+    def dist_at(i: int, j: int, at: np.ndarray) -> np.ndarray:
+        """``dist(i, j)[at]``, reading only those frames."""
+        q = pair(i, j)
+        if q is None or q not in closest:
+            return np.full(at.size, np.inf)
+        return closest[q][at].astype(np.float64)
+
     holds: dict[tuple[int, int], np.ndarray] = {}  # (agent, object) → (F,) bool
     for h in agent_set:
         for x in objects:
@@ -119,21 +126,22 @@ def tool_contacts(
             kept = np.zeros(n_frames, dtype=bool)  # within hold_m: does not end a contact
             for tool, target in ((x, a), (a, x)):
                 for h in agent_set:
-                    wielded = holds[(h, tool)] & ~holds[(h, target)]
-                    if not wielded.any():
+                    # the frames where h wields the tool: the only ones the rest looks at
+                    at = (holds[(h, tool)] & ~holds[(h, target)]).nonzero()[0]
+                    if at.size == 0:
                         continue
-                    reach = dist(tool, target)
+                    reach = dist_at(tool, target, at)
                     gap = np.isnan(reach)
                     for other in agent_set - {h}:  # the hand holding the target is part of it
-                        to_other = np.where(holds[(other, target)], dist(tool, other), np.inf)
+                        to_other = np.where(holds[(other, target)][at], dist_at(tool, other, at), np.inf)
                         gap |= np.isnan(to_other)
                         reach = np.fmin(reach, to_other)
                     with np.errstate(invalid="ignore"):
                         close = reach < reach_m
                         if hold_m is not None:
-                            kept |= wielded & (reach < hold_m)
-                    near |= wielded & close
-                    unknown |= wielded & gap & ~close
+                            kept[at] |= reach < hold_m
+                    near[at] |= close
+                    unknown[at] |= gap & ~close
             near = _bridge(near, bridge, (unknown | kept) & ~near)
             spans = [(s, e) for s, e in _runs(near) if e - s >= dwell]
             if spans:

@@ -28,7 +28,8 @@ from oacdsl.runtime.transforms import MIN_JERK_PEAK, interpolate, make_T
 if TYPE_CHECKING:
     from oacdsl.runtime.motion.context import MotionContext
 
-__all__ = ["Motion", "OtherHand", "Guard", "Path", "other_side", "down", "raised", "withdrawal"]
+__all__ = ["Motion", "OtherHand", "Guard", "Path", "other_side", "down", "raised", "withdrawal",
+           "felt_nothing"]
 
 #: A condition that ends a motion early (checked every control tick).
 Guard = Callable[[], bool]
@@ -196,13 +197,17 @@ class Motion:
     ) -> None:
         """Lower the held object from ``start`` by up to ``depth_m`` until the wrist feels the
         support (a force change above ``force_n``, default the tuning's support force)."""
-        felt = self.approach(
+        if not self.felt_support(start, depth_m, force_n):
+            raise felt_nothing(what, depth_m)
+
+    def felt_support(self, start: np.ndarray, depth_m: float, force_n: float | None = None) -> bool:
+        """:meth:`lower_onto_support` that says whether the wrist felt the support instead of
+        raising."""
+        return self.approach(
             down(start, depth_m),
             self.felt(force_n or self.tuning.support_force_n),
             self.tuning.set_down_speed_m_s,
         )
-        if not felt:
-            raise RuntimeFailure(f"{what}: the wrist felt no contact after lowering {depth_m * 100:.0f} cm")
 
     def press(self, depth_m: float | None = None, seconds: float | None = None) -> None:
         """Press on: the hand's goal ``depth_m`` further down (default: the tuning's press)."""
@@ -282,6 +287,11 @@ class Motion:
         self.ctx.ctl.activity = "withdrawing"
         for pose, seconds in withdrawal(self.ctx.ctl.ik.frame(f"grasp_{self.side}"), approach, self.tuning):
             self.go(pose, seconds)
+
+
+def felt_nothing(what: str, depth_m: float) -> RuntimeFailure:
+    """The failure of a set-down (``what``) whose wrist felt no support after ``depth_m`` (m)."""
+    return RuntimeFailure(f"{what}: the wrist felt no contact after lowering {depth_m * 100:.0f} cm")
 
 
 def withdrawal(

@@ -1,7 +1,7 @@
 """Where to set a held object down on the table when it may not go back where it came from.
 
 A lid taken off a bottle may not go back onto the bottle: it goes to a *free spot* of the
-table, a point in the robot's working area whose footprint keeps ``gap_m`` from every
+table, a point where objects may stand (the layout's region) whose footprint keeps ``gap_m`` from every
 object's footprint now (those on the table, and what the other hand holds above it),
 nearest to where the object is now (the hand's way is short), on the hand's own side
 first. Candidates are a grid over the working area; the caller checks reach.
@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from oacdsl.runtime.demo_layout import X_RANGE_M, Y_LIMIT_M
+from oacdsl.runtime.layout import STAND_X_RANGE_M, STAND_Y_LIMIT_M
 from oacdsl.runtime.motion.paths import obstacles, segment_distance
 from oacdsl.runtime.motion.tuning import TUNING, Tuning
 
@@ -48,8 +48,10 @@ def free_spots(
             blocked.append((world.frame_pose(f"grasp_{s}")[:2, 3].copy(), tuning.near_path_m / 2))
     elbow = world.body_pose(f"elbow_{side}_link")[:2, 3].copy()
     step = tuning.spot_step_m
-    xs = np.arange(X_RANGE_M[0], X_RANGE_M[1] + 1e-9, step)
-    ys = np.arange(-Y_LIMIT_M, Y_LIMIT_M + 1e-9, step)
+    x0, x1 = STAND_X_RANGE_M[0] + radius_m, STAND_X_RANGE_M[1] - radius_m
+    y1 = STAND_Y_LIMIT_M - radius_m
+    xs = np.arange(x0, x1 + 1e-9, step)
+    ys = np.arange(-y1, y1 + 1e-9, step)
     here = world.body_pose(obj)[:2, 3]
     own = 1.0 if side == "l" else -1.0  # the left hand's side is +y
     spots = []

@@ -126,6 +126,11 @@ class Tuning:
     #: the forearm seen from above (its last part before the hand), kept clear of other
     #: footprints at a free spot, m
     forearm_m: float = 0.3
+    #: free spots (and turns) judged by the IK's postures there, best first, at most
+    spot_tries: int = 40
+    #: turns about its axis a round object may be set down with on a free spot, the hand
+    #: turning with it (so it stands on another side and withdraws another way), rad; as held first
+    spot_turns_rad: tuple[float, ...] = (0.0, -0.52, 0.52, -1.05, 1.05, -1.57, 1.57)
 
     # --- set down turned as demonstrated (touch's tilt) ---------------------------------------
     #: a held object is turned to the demonstrated end tilt only when it is held farther from it

@@ -67,13 +67,16 @@ class Pick:
 class SkillContext:
     """Everything a skill may use. ``picked`` remembers, per hand side, how it took what
     it holds; ``expected`` is the world state the running step is predicted to leave
-    (set by the executor around each skill; None outside a run)."""
+    (set by the executor around each skill; None outside a run); ``coming``, the (hand,
+    object) takes the run's later steps are predicted to make, in order
+    (:func:`~oacdsl.runtime.intent.coming_takes`; set likewise, empty outside a run)."""
 
     ctl: Controller
     library: Library
     classes: Mapping[str, frozenset[str]]
     picked: dict[str, Pick] = field(default_factory=dict)
     expected: WorldState | None = None
+    coming: tuple[tuple[str, str], ...] = ()
 
     @property
     def world(self) -> SimWorld:

@@ -212,7 +212,7 @@ def place_both(
     ctl.activity = "withdrawing"
     paths = {
         s: withdrawal(ctl.ik.frame(f"grasp_{s}"), p.approach if p is not None else None)
-        for s, p in picks.items()
+        for s, p in ((s, ctx.picked.get(s)) for s in picks)  # as set down (turned to a free spot)
     }
     for s in sides:
         ctx.picked.pop(s, None)

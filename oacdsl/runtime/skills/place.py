@@ -14,14 +14,16 @@ onto the support (guarded by the wrist force), hold still, release, withdraw.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import TUNING, Motion
-from oacdsl.runtime.motion.hand import other_side
+from oacdsl.runtime.motion.hand import felt_nothing
 from oacdsl.runtime.motion.spots import free_spots
-from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, Pick, SkillContext
+from oacdsl.runtime.skills.base import Pick, SkillContext
+from oacdsl.runtime.skills.free_spot import free_spot
 from oacdsl.runtime.transforms import make_T, rot_z
 from oacdsl.skills import SIGNATURES
 
@@ -39,6 +41,7 @@ def place(ctx: SkillContext, hand: str, obj: str, *, force: float = D["force"]) 
     if ctx.other_holder(side, obj) is None:
         _set_down(ctx, m, obj, pick, force)
         m.hold_still()  # the arm, which lags its command, comes to rest before it lets go
+    pick = ctx.picked.get(side, pick)  # its approach turned with a round object set down turned
     m.release(obj)
     m.withdraw(pick.approach if pick is not None else None)
 
@@ -66,7 +69,10 @@ def set_down_pose(
     if support is None and not _origin_free(ctx, obj, pick):
         r_obj = rot_z(math.atan2(t_obj[1, 0], t_obj[0, 0]))  # upright, turned as it is held now
         approach = pick.approach if pick is not None else None
-        xy, where = _free_spot(ctx, side, obj, t_obj_in_hand, r_obj, approach), "a free spot of the table"
+        xy, turn = free_spot(ctx, side, obj, t_obj_in_hand, r_obj, approach)
+        where, r_obj = "a free spot of the table", rot_z(turn) @ r_obj
+        if pick is not None and turn:  # the hand turned about the object: it withdraws turned too
+            ctx.picked[side] = replace(pick, approach=rot_z(turn) @ pick.approach)
     elif support is None or (pick is not None and support in pick.supports):
         xy, where = origin[:2, 3], "its place"  # back where it was picked up (it stood there)
     elif world.touching(obj, support):  # on the support already (a wipe, a ladle in a bowl): set it down here
@@ -96,19 +102,11 @@ def _origin_free(ctx: SkillContext, obj: str, pick: Pick | None) -> bool:
     )
 
 
-def _free_spot(
-    ctx: SkillContext,
-    side: str,
-    obj: str,
-    t_obj_in_hand: np.ndarray,
-    r_obj: np.ndarray,
-    approach: np.ndarray | None,
-) -> np.ndarray:
-    """The first free spot of the table (:func:`~oacdsl.runtime.motion.spots.free_spots`) the hand
-    reaches with ``obj`` turned as ``r_obj`` (as it stood when picked up) where the guarded
-    descent onto it ends (reached only above it, the descent stopped short of the table), while
-    the other hand keeps what it holds where it is (reached only by letting the other hand's
-    bottle rise, the lid hung above the table); raises when none is free or reachable."""
+def _spots(ctx: SkillContext, side: str, obj: str, t_obj_in_hand: np.ndarray, r_obj: np.ndarray,
+           approach: np.ndarray | None) -> list[np.ndarray]:
+    """The free spots of the table (xy, m; :func:`~oacdsl.runtime.motion.spots.free_spots`) for
+    ``obj`` turned as ``r_obj``, the hand beside it and backing off along ``approach``; raises
+    when there is none."""
     # the hand beside the object as it will stand, and where it backs off to (Motion.withdraw)
     hand = (r_obj @ np.linalg.inv(t_obj_in_hand)[:3, 3])[:2]
     back = np.array([0.0, 0.0, -1.0]) if approach is None else approach
@@ -116,17 +114,22 @@ def _free_spot(
     spots = free_spots(ctx.world, side, obj, ctx.body(obj).radius, hand_xy_m=offsets)
     if not spots:
         raise RuntimeFailure(f"place: no free spot on the table for {obj}")
-    options = []
-    for xy in spots:  # reached where the guarded descent ends, below the support, not only above it
-        t_obj = make_T(r_obj, (xy[0], xy[1], ctx.support_height(xy, exclude=obj) - TUNING.support_search_m))
-        options.append((t_obj @ np.linalg.inv(t_obj_in_hand), xy))
-    other = other_side(side)
-    if ctx.world.held.get(other) is not None:  # with the other hand keeping what it holds where it is
-        keep = ctx.ctl.ik.goal(other)
-        both = [(t, xy) for t, xy in options
-                if ctx.ctl.ik.try_reach_both({side: t, other: keep}) < REACH_TOLERANCE_M]
-        options = both or options
-    return ctx.first_reachable(side, options, f"a free spot of the table for {obj}")
+    return spots
+
+
+def _best_reached_spot(ctx: SkillContext, side: str, obj: str, pick: Pick | None) -> np.ndarray:
+    """T_world_grasp above the free spot of the table where the whole-body IK brings the hand
+    nearest to where the guarded descent ends, ``obj`` upright, turned as it is held now."""
+    t_obj, t_obj_in_hand = ctx.held_pose(side, obj)
+    r_obj = rot_z(math.atan2(t_obj[1, 0], t_obj[0, 0]))
+    hand_in_obj = np.linalg.inv(t_obj_in_hand)
+
+    def at(xy: np.ndarray, dz_m: float) -> np.ndarray:
+        return make_T(r_obj, (xy[0], xy[1], ctx.support_height(xy, exclude=obj) + dz_m)) @ hand_in_obj
+
+    spots = _spots(ctx, side, obj, t_obj_in_hand, r_obj, pick.approach if pick is not None else None)
+    best = min(spots, key=lambda xy: ctx.ctl.ik.try_reach(side, at(xy, -TUNING.support_search_m)).position_m)
+    return at(best, TUNING.hover_m)
 
 
 def _set_down(ctx: SkillContext, m: Motion, obj: str, pick: Pick | None, force: float) -> None:
@@ -142,4 +145,18 @@ def _set_down(ctx: SkillContext, m: Motion, obj: str, pick: Pick | None, force: 
     m.carry(hover, {obj} if support is None else {obj, support})
     m.hold_still(t.carry_pause_s)
     ctl.activity = f"setting {obj} down"
-    m.lower_onto_support(hover, t.hover_m + t.support_search_m, f"placing {obj}", force)
+    depth = t.hover_m + t.support_search_m
+    if not m.felt_support(hover, depth, force):
+        if where != "its place" or ctx.world.supported(obj):
+            raise felt_nothing(f"placing {obj}", depth)
+        # the arm stalled above its place, nothing felt, the object resting on nothing: at the
+        # edge of its reach (a sponge that shifted in the hand as it wiped, set down on the
+        # robot's far side); raised again, it goes to the free spot whose descent the hand
+        # reaches best
+        m.go(hover, t.lift_s)
+        hover = _best_reached_spot(ctx, m.side, obj, pick)
+        ctl.activity = f"carrying {obj} to a free spot of the table"
+        m.carry(hover, {obj})
+        m.hold_still(t.carry_pause_s)
+        ctl.activity = f"setting {obj} down"
+        m.lower_onto_support(hover, depth, f"placing {obj}", force)
