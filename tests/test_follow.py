@@ -146,6 +146,26 @@ def test_the_composer_writes_the_path_of_the_step_s_own_objects() -> None:
     assert other.params == () and other.comment is not None and "moved fork" in other.comment
 
 
+def test_a_path_the_demonstrator_made_by_moving_the_target_is_the_inverse_relative_motion() -> None:
+    """KIT Pour: the cup is lifted to the carton; the carton's path relative to the cup is the
+    same relative motion seen from the cup."""
+    from oacdsl.matching.demoparams import path_params
+    from oacdsl.segmentation.poses import invert
+
+    m = _motion()
+    found = path_params(m, ("right_hand", "cup", "spoon"))  # the cup's path relative to the spoon
+    (param,) = found.params
+    assert found.comment is not None and "cup relative to spoon" in found.comment
+    t, pos, rot = turned_path(m.times_s, invert(m.T_target_object))  # type: ignore[misc]
+    first, last = param.value.poses[0], param.value.poses[-1]
+    assert len(param.value.poses) == len(t)
+    assert first.position.x.value == round(pos[0, 0] * 1000)
+    assert last.position.y.value == round(pos[-1, 1] * 1000)
+    assert last.rotation.y.value == round(math.degrees(rot[-1, 1]))
+    # and not the spoon's own path: that one starts 30 cm out and 10 cm up, this one 10 cm down
+    assert first.position.z.value == -100
+
+
 # --- retargeting -------------------------------------------------------------------------------
 
 

@@ -29,6 +29,27 @@ CLIPS = {
 # cup: not verified yet, so not kept here (docs/runtime.md, "follow").
 
 
+def test_each_follow_step_gets_the_path_of_its_own_two_objects(capsys: pytest.CaptureFixture[str]) -> None:
+    """Pour: the demonstrator lifted the cup to the carton (the carton's path relative to the cup
+    is that motion inverted); Scoop: the ladle leaves the cup for the bowl (its path relative to the
+    bowl, not the cup it leaves). Composing only, no simulation."""
+    from oacdsl.cli import main
+
+    for relative, wanted in (
+        ("kit_bimanual/Pour_files_motions_2967_Pour1_cs_ms_0_20l_04.mmm.xml",
+         ["milk_small relative to cup_small"]),
+        ("kit_bimanual/Scoop_files_motions_2989_Scoop1_mbg_l_CS_225_30o_04.mmm.xml",
+         ["ladle relative to cup_small", "ladle relative to mixing_bowl_green"]),
+    ):
+        recording = mocap_file(relative)
+        args = ["compose", str(recording), "--library", str(FOLLOW_KIT), "--name", "t", "--dry-run"]
+        assert main(args) == 0
+        text = capsys.readouterr().out
+        assert "no demonstrated path" not in text
+        assert [line.split("(", 1)[1].split(",")[0] for line in text.splitlines()
+                if "# demonstrated (" in line and "path of" in line] == wanted
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("clip", sorted(CLIPS))
 def test_a_named_skill_replaced_by_follow_is_reproduced_and_verified(clip: str, tmp_path: Path) -> None:

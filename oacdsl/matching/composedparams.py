@@ -15,7 +15,7 @@ from typing import Any
 
 from oacdsl.library import Library
 from oacdsl.matching.composer import Composition
-from oacdsl.matching.demoparams import StepParams, step_params
+from oacdsl.matching.demoparams import DemonstratedMotions, StepParams, follows, step_params
 from oacdsl.model import Call, Oac, Scene, sorted_skill_params
 from oacdsl.segmentation.motion import SubActionMotion
 from oacdsl.skills import SIGNATURES
@@ -93,6 +93,12 @@ def with_demo_params(comp: Composition, motions: Mapping[int, SubActionMotion],
             found = composed_params(step.oac, step.mapping, motion, library, scene)
         else:
             args = tuple(step.mapping.get(a, a) for a in step.oac.skill_arguments())
+            if (follows(step.oac.skill) and motion is not None and len(args) >= 3
+                    and isinstance(motions, DemonstratedMotions) and step.start_frame is not None
+                    and {motion.moved, motion.target} != {args[1], args[-1]}):
+                # a path is of the step's own objects: the sub-action's motion of that pair when
+                # the demonstration moved it (a ladle leaving the cup for the bowl: to the bowl)
+                motion = motions.of_pair(step.start_frame, args[1], args[-1]) or motion
             found = step_params(step.oac.skill, motion, args, library, scene)
         if found.comment is None:
             calls.append(call)

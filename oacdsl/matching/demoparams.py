@@ -46,7 +46,9 @@ from oacdsl.skills import PATH, SIGNATURES, MotionSource, SkillParamSpec
 __all__ = [
     "CLEARANCE_M",
     "StepParams",
+    "DemonstratedMotions",
     "demonstrated_motions",
+    "follows",
     "path_params",
     "room_m",
     "step_params",
@@ -226,23 +228,31 @@ def step_params(
 
 def path_params(motion: SubActionMotion | None, args: Sequence[str]) -> StepParams:
     """A ``follow(h, o, t)`` step's ``path``: the demonstrated motion of ``o`` relative to ``t``
-    (:func:`~oacdsl.segmentation.followpath.turned_path`), written in mm, degrees and 10 ms;
-    nothing when the sub-action moved something else or relative to something else."""
+    (:func:`~oacdsl.segmentation.followpath.turned_path`), written in mm, degrees and 10 ms; the
+    inverse relative motion when the demonstrator moved ``t`` towards ``o``; nothing when the
+    sub-action moved something else or relative to something else."""
     from oacdsl.model import KeyPose, PathValue, Point
     from oacdsl.segmentation.followpath import turned_path
+    from oacdsl.segmentation.poses import invert
 
     row: dict[str, Any] = {"name": PATH, "feature": "the moved object's path in its target's frame",
                            "unit": PATH, "demonstrated": None, "value": None}
     wanted = (args[1], args[-1]) if len(args) >= 3 else None
     found = None
+    moved, frame = (motion.moved, motion.frame_name) if motion is not None else (None, None)
     if motion is None or motion.moved is None:
         row["how"] = "no demonstrated motion (the moved object has fewer than 3 markers)"
-    elif (motion.moved, motion.target) != wanted:
-        row["how"] = f"the demonstration moved {motion.moved} relative to {motion.frame_name}"
-    else:
+    elif (motion.moved, motion.target) == wanted:
         found = turned_path(motion.times_s, motion.T_target_object)
-        if found is None:
-            row["how"] = "fewer than two posed frames"
+        row["how"] = "fewer than two posed frames"
+    elif (motion.target, motion.moved) == wanted:
+        # the demonstrator moved t towards o (a cup lifted to the carton): the path of o relative
+        # to t is the same relative motion seen from t, whichever of the two hands moved
+        found = turned_path(motion.times_s, invert(motion.T_target_object))
+        row["how"] = "fewer than two posed frames"
+        moved, frame = wanted
+    else:
+        row["how"] = f"the demonstration moved {motion.moved} relative to {motion.frame_name}"
     if found is None or motion is None:
         return StepParams((), f"no demonstrated path: {row['how']}", (row,))
 
@@ -261,7 +271,7 @@ def path_params(motion: SubActionMotion | None, args: Sequence[str]) -> StepPara
     )
     length = float(np.linalg.norm(np.diff(pos, axis=0), axis=1).sum())
     row.update(how="as demonstrated", demonstrated=len(poses), value=len(poses))
-    comment = (f"demonstrated ({motion.moved} relative to {motion.frame_name}, frames {motion.start_frame}"
+    comment = (f"demonstrated ({moved} relative to {frame}, frames {motion.start_frame}"
                f"-{motion.end_frame}): path of {len(poses)} keyframes over {t[-1]:.2f}s,"
                f" {length * 1000:.0f}mm")
     return StepParams((SkillParam(name=PATH, value=PathValue(poses=poses)),), comment, (row,))
@@ -276,8 +286,35 @@ def demonstrated_motions(recording: Recording, subs: Sequence[SubAction]) -> dic
 
     posed = fit_poses(recording)
     motions = [sub_action_motion(recording, sub, posed) for sub in subs]
-    return {sub.start.frame: dwelling(recording, motions, k, posed, _made_with(sub, motions[k].target))
-            for k, sub in enumerate(subs)}
+    found = DemonstratedMotions(
+        {sub.start.frame: dwelling(recording, motions, k, posed, _made_with(sub, motions[k].target))
+         for k, sub in enumerate(subs)})
+    found.recording, found.posed, found.subs, found.motions = recording, posed, list(subs), motions
+    return found
+
+
+class DemonstratedMotions(dict[int, SubActionMotion]):
+    """:func:`demonstrated_motions`' answer, which can also give a sub-action's motion of a
+    named pair of objects (:meth:`of_pair`)."""
+
+    recording: Recording
+    posed: Mapping[str, ObjectPoses]
+    subs: list[SubAction]
+    motions: list[SubActionMotion]
+
+    def of_pair(self, frame: int, moved: str, target: str) -> SubActionMotion | None:
+        """The motion of ``moved`` relative to ``target`` in the sub-action starting at ``frame``
+        (extended as :func:`dwelling` does), None when the demonstration has no such candidate."""
+        from oacdsl.segmentation.motion import sub_action_motion
+
+        k = next((i for i, sub in enumerate(self.subs) if sub.start.frame == frame), None)
+        if k is None:
+            return None
+        m = sub_action_motion(self.recording, self.subs[k], self.posed, (moved, target))
+        if (m.moved, m.target) != (moved, target):
+            return None
+        motions = [*self.motions[:k], m, *self.motions[k + 1 :]]
+        return dwelling(self.recording, motions, k, self.posed, _made_with(self.subs[k], m.target))
 
 
 def _made_with(sub: SubAction, target: str | None) -> frozenset[str]:
@@ -333,3 +370,9 @@ def dwelling(recording: Recording, motions: Sequence[SubActionMotion], k: int,
     if merged.features is not None and merged.features.period_s is None and periodic:
         return max(periodic, key=lambda n: n.end_frame - n.start_frame)
     return merged
+
+
+def follows(skill: str | None) -> bool:
+    """Whether ``skill`` takes a demonstrated path."""
+    sig = SIGNATURES.get(skill or "")
+    return sig is not None and any(p.unit == PATH for p in sig.params)

@@ -19,7 +19,7 @@ import numpy as np
 from oacdsl.runtime.hands import GRASP_CENTRE_H, hand_boxes, hand_joints
 from oacdsl.runtime.transforms import make_T, rot_axis
 
-__all__ = ["hand_box_poses", "hands_gap", "SAMPLE_M"]
+__all__ = ["box_distance", "box_surface", "hand_box_poses", "hands_gap", "SAMPLE_M"]
 
 #: Spacing of the points sampled on a box's surface to measure a gap, m (the gap is exact
 #: to about half of it).
@@ -71,3 +71,13 @@ def hands_gap(
         for (tb, hb), pb in zip(boxes_b, points_b, strict=True):
             gap = min(gap, _distance(pa, tb, hb), _distance(pb, ta, ha))
     return gap
+
+
+def box_surface(half: np.ndarray) -> np.ndarray:
+    """Points on the surface of a box of ``half`` sizes (m) about the origin, :data:`SAMPLE_M` apart."""
+    return _surface(np.asarray(half, dtype=np.float64))
+
+
+def box_distance(points: np.ndarray, t_world_box: np.ndarray, half: np.ndarray) -> float:
+    """The smallest distance (m) from ``points`` (world) to a box at ``t_world_box``; 0 inside it."""
+    return _distance(points, t_world_box, half)

@@ -93,6 +93,10 @@ class FollowTuning:
     wall_gap_m: float = 0.005
     #: How far inside a solid target's edges the object's lowest end starts its core, m.
     top_margin_m: float = 0.01
+    #: Kept between the held object along the core and the other hand's collision boxes, m; the
+    #: core's turns are scaled by ``clear_turns`` in order until it is (the least-touching otherwise).
+    hand_clearance_m: float = 0.01
+    clear_turns: tuple[float, ...] = (1.0, 0.5, 0.0)
 
 
 #: The defaults ``follow`` uses.

@@ -156,15 +156,20 @@ def sub_action_motions(
 
 
 def sub_action_motion(
-    recording: Recording, sub: SubAction, posed: Mapping[str, ObjectPoses]
+    recording: Recording, sub: SubAction, posed: Mapping[str, ObjectPoses],
+    pair: tuple[str, str] | None = None,
 ) -> SubActionMotion:
     """The demonstrated motion of one sub-action (module doc); ``posed``: the recording's
-    :func:`~oacdsl.segmentation.poses.fit_poses` (instances with ≥ 3 markers)."""
+    :func:`~oacdsl.segmentation.poses.fit_poses` (instances with ≥ 3 markers). ``pair``
+    (moved, target): that candidate when it is one (a step that names its objects: a ladle
+    leaving the cup for the bowl moves relative to the bowl it goes into)."""
     agents = _agents(recording.instances)
     times = np.asarray(recording.times_s, dtype=np.float64)
     a, b = sub.start.frame, sub.end.frame
     span_t = times[a : b + 1]
     found = _candidates(sub, agents, posed)
+    if pair is not None:
+        found = [c for c in found if (c[1], c[2]) == pair] or found
     if not found:
         return SubActionMotion(
             sub.index,

@@ -22,7 +22,8 @@ went into the cucumber), lowered while they do not touch (the slide's seek,
 :data:`~oacdsl.runtime.motion.TUNING`): the demonstration keeps them together there. When it
 says ``not o <-> t``, ``o`` must be off ``t`` at the end (raised straight up until it is).
 The other hand keeps an idle hand's hold, or, when it holds something other than a container
-``t``, its goal fixed (as ``touch``).
+``t``, its goal fixed (as ``touch``). The core's demonstrated turns are scaled down until the
+object keeps clear of that hand (:mod:`oacdsl.runtime.follow_clear`).
 """
 
 from __future__ import annotations
@@ -34,10 +35,12 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.bodies import Body
+from oacdsl.runtime.follow_clear import clearance, turned_less
 from oacdsl.runtime.motion import TUNING
 from oacdsl.runtime.motion.both import mover
 from oacdsl.runtime.retarget import FOLLOW, MIN_OFFSET_M, Retargeted, floored, retarget, shifted, shrunk
 from oacdsl.runtime.shapes import lowest_z, world_corners
+from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.skills.base import SkillContext
 from oacdsl.runtime.skills.follow_top import END_SPAN_M, lowest_end, on_top, onto_top
 from oacdsl.runtime.transforms import MIN_JERK_PEAK, make_T, rot_z
@@ -137,6 +140,8 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
         move = onto_top(body_o, pose_at(plan, c), body_t, world.body_pose(target), frame(phi)[1], holder)
         plan = shifted(plan, move, None if holder is not None else room)
         plan = on_top(plan, body_o, pose_at(plan, c), body_t, world.body_pose(target), frame(phi)[1], holder)
+    plan = _clear_of_hand(world, other, body_o, plan,
+                          lambda r, k: pose_at(r, k, top - lowest_z(body_o, pose_at(r, c))))
     lift = top + FOLLOW.hover_m - lowest_z(body_o, pose_at(plan, c))
     plan, weight = _reachable(ctx, side, keep, plan, lambda r, k, _: hand_at(r, k, lift),
                               f"the path of {obj} relative to {target}",
@@ -215,6 +220,22 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
             raise RuntimeFailure(f"follow: {obj} still touches {target} at the end of its path")
     if world.held[side] != obj:
         raise RuntimeFailure(f"follow: {hand} lost {obj}")
+
+
+def _clear_of_hand(world: SimWorld, other: str, body_o: Body, plan: Retargeted,
+                   at: Callable[[Retargeted, int], np.ndarray]) -> Retargeted:
+    """``plan`` with its core's turns scaled down (:data:`FOLLOW`'s ``clear_turns``) until the
+    object, its core started where it meets the target's top (``at``), keeps ``hand_clearance_m``
+    from the other hand's boxes; the variant farthest from them when none does (follow_clear)."""
+    best: tuple[float, Retargeted] | None = None
+    for factor in FOLLOW.clear_turns:
+        r = plan if factor == 1.0 else turned_less(plan, factor)
+        gap = clearance(world, other, body_o, r, at)
+        if gap >= FOLLOW.hand_clearance_m:
+            return r
+        if best is None or gap > best[0]:
+            best = (gap, r)
+    return best[1] if best is not None else plan
 
 
 def _reachable(ctx: SkillContext, side: str, keep: np.ndarray | None, plan: Retargeted, hand_at: HandAt,
