@@ -33,11 +33,8 @@ _DISTANCE = ("lengths: d grows with the hands' size (×1.09 here: the subject's 
              " than the reference's), not by the scene's 15 %: the ladle reaches the cup 0.3 s late")
 _COARSE = ("a 10 Hz take at double speed: one frame is 0.2 s of the demonstration, more than the"
            " margin of the coincidence window or of the tools' meeting")
-_EPISODE = ("at 100 Hz the cup's first co-motion episode (0.12 s) is shorter than min_episode_s in"
-            " the demonstration's time: the grasp is seen 0.4 s late, with the spoon's contact")
 #: (clip, take) → why it composes to other steps today (docs/segmentation.md, "Measured").
 KNOWN = {
-    ("Stir", "resampled_100hz"): _EPISODE,
     ("Mix", "double_speed"): _COARSE,
     ("Wipe", "double_speed"): _COARSE,
     ("Scoop", "scaled"): _DISTANCE,

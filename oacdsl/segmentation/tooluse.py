@@ -40,6 +40,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from oacdsl.segmentation.comotion import frames_within
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.toolroles import refine
 
@@ -107,7 +108,7 @@ def tool_contacts(
                 mask[a:b] = True
             holds[(h, x)] = mask
     dwell = max(1, round(dwell_s * rate_hz))
-    bridge = max(0, round(bridge_s * rate_hz))
+    bridge = frames_within(bridge_s, rate_hz)
     added: dict[int, Spans] = {}
     for i, x in enumerate(objects):
         for a in objects[i + 1 :]:
