@@ -141,7 +141,8 @@ def main(argv: list[str] | None = None) -> int:
         for clip, cells in rows:
             bad = [f"{n}: {c.status} {c.detail}" for n, c in zip(names, cells, strict=True)
                    if c.status not in ("same", "same*")]
-            print(f"{clip}: {len(cells) - len(bad)} of {len(cells)} the same" + "".join(f"\n  {b}" for b in bad))
+            listed = "".join(f"\n  {b}" for b in bad)
+            print(f"{clip}: {len(cells) - len(bad)} of {len(cells)} the same{listed}")
     print(f"{ok} of {total} variations compose to the original's steps (same or same*)")
     return 0
 

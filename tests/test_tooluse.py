@@ -54,7 +54,7 @@ def test_a_stirring_spoon_touches_the_cup_it_oscillates_in():
     rec = recording(stir_scene())
     closest = np.linalg.norm(rec.group_positions("spoon")[:, :, None] - rec.group_positions("cup")[:, None],
                              axis=-1).min(axis=(1, 2))
-    assert 0.08 < closest[250:450].min() and closest[250:450].max() < 0.15  # beyond the static distance (6 cm), within d
+    assert 0.08 < closest[250:450].min() and closest[250:450].max() < 0.15  # beyond 6 cm, within d
     reach = np.flatnonzero(closest < 0.15)
     params = AasParams(merge_s=0.0).resolved(rec.rate_hz)
     kfs = summary(segment(rec, params))

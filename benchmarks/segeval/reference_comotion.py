@@ -90,12 +90,13 @@ def comotion_reference(
     }
     _prune_indirect(signals, table)
     min_len = settings.frames(settings.min_episode_s, recording.rate_hz)
+    bridge = frames_within(settings.tool_bridge_s, recording.rate_hz)
     out: dict[int, tuple[list[tuple[int, int]], float]] = {}
     for q, (d_q, c_q) in signals.items():
         spans, thresholds = [], []
-        for a, b in _episodes(c_q, min_len, frames_within(settings.tool_bridge_s, recording.rate_hz)):
+        for a, b in _episodes(c_q, min_len, bridge):
             threshold = min(float(np.nanmedian(d_q[a:b])) * (1 + settings.margin), params.distance_m)
-            spans.append(_extend(d_q, a, b, threshold, frames_within(settings.tool_bridge_s, recording.rate_hz)))
+            spans.append(_extend(d_q, a, b, threshold, bridge))
             thresholds.append(threshold)
         if spans:
             out[q] = (_union(spans), float(np.median(thresholds)))

@@ -142,7 +142,7 @@ def comotion(
     signals = _scan(recording, table, params, settings, filler)
     _prune_indirect(signals, table)
     min_len = settings.frames(settings.min_episode_s, recording.rate_hz)
-    bridge = frames_within(settings.tool_bridge_s, recording.rate_hz)  # frames: a short excursion is no release
+    bridge = frames_within(settings.tool_bridge_s, recording.rate_hz)  # a short excursion is no release
     out: dict[int, tuple[list[tuple[int, int]], float]] = {}
     for q, (dmin, carry) in signals.items():
         spans, thresholds = [], []

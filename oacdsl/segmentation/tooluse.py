@@ -189,7 +189,8 @@ def passes_through(tool_m: np.ndarray, target_m: np.ndarray, step: int = 1, reac
     rows = np.flatnonzero(np.isfinite(rel).all(axis=1))
     if rows.size < 3:
         return False
-    rows = rows[:: max(1, step)] if (rows.size - 1) % max(1, step) == 0 else np.append(rows[:: max(1, step)], rows[-1])
+    step = max(1, step)
+    rows = np.append(rows[::step], rows[-1]) if (rows.size - 1) % step else rows[::step]
     path = rel[rows]
     length = float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum())
     net = float(np.linalg.norm(path[-1] - path[0]))
