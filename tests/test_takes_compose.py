@@ -21,9 +21,10 @@ from pathlib import Path
 
 import pytest
 import takes as bench
+import takesweep
 from _mocap import mocap_file
 
-from oacdsl.segmentation.readers import read_recording
+from oacdsl.segmentation.readers import read_recording, write_recording
 from oacdsl.segmentation.takes import IDENTITY, STANDARD_TAKES
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -86,3 +87,25 @@ def test_a_take_composes_to_the_original_steps(clip, take, tmp_path):
     assert outcome.status == "composed", f"{clip} {take}: {outcome.status}: {outcome.detail}"
     status, detail = bench.compare(original, outcome, hands or dict(IDENTITY))
     assert status in ("same", "same*"), f"{clip} {take}: {detail}"
+
+
+#: Variations beyond the standard takes (``benchmarks/takesweep.py``) that each rule of issue 20's
+#: takes work keeps composing as the original: a grasp's flickering co-motion at 30 and 240 Hz
+#: (Stir), a let-go's last co-motion frame at 240 Hz (Pour), bridges in whole frames (Stir ×1.6),
+#: the static distance inside its range (Wipe 10 % smaller).
+SWEPT = (("Stir", "rate_30hz"), ("Stir", "rate_240hz"), ("Pour", "rate_240hz"), ("Stir", "speed_x1.6"),
+         ("Wipe", "scale_0.9"))
+
+
+@pytest.mark.slow
+@pytest.mark.mocap
+@pytest.mark.parametrize("clip, variation", SWEPT, ids=[f"{c}-{v}" for c, v in SWEPT])
+def test_a_swept_variation_composes_to_the_original_steps(clip, variation, tmp_path):
+    original = _original(clip)
+    path, library = _source(clip)
+    take, hands = takesweep.SWEEP[variation](read_recording(path))
+    suffix = ".c3d" if path.suffix == ".c3d" else ".mmm.xml"
+    outcome = bench.compose_file(write_recording(take, tmp_path / f"take{suffix}"), library)
+    assert outcome.status == "composed", f"{clip} {variation}: {outcome.status}: {outcome.detail}"
+    status, detail = bench.compare(original, outcome, hands)
+    assert status in ("same", "same*"), f"{clip} {variation}: {detail}"
