@@ -54,7 +54,7 @@ def test_a_stirring_spoon_touches_the_cup_it_oscillates_in():
     rec = recording(stir_scene())
     closest = np.linalg.norm(rec.group_positions("spoon")[:, :, None] - rec.group_positions("cup")[:, None],
                              axis=-1).min(axis=(1, 2))
-    assert 0.08 < closest[250:450].min() and closest[250:450].max() < 0.15  # beyond 6 cm, within d
+    assert 0.08 < closest[250:450].min() and closest[250:450].max() < 0.15  # beyond the static 8 cm, within d
     reach = np.flatnonzero(closest < 0.15)
     params = AasParams(merge_s=0.0).resolved(rec.rate_hz)
     kfs = summary(segment(rec, params))
@@ -89,6 +89,8 @@ def test_a_tool_going_straight_through_a_reach_passes_by_one_going_to_it_or_back
     through = np.hstack([-0.15 + 0.3 * t, np.full_like(t, 0.05), np.zeros_like(t)])  # 30 cm across
     assert passes_through(through, target, 4, 0.15)
     assert not passes_through(through * 0.4, target, 4, 0.15)  # 12 cm, straight to it: placed there
+    onto = np.hstack([-0.25 + 0.24 * t, np.full_like(t, 0.01), np.zeros_like(t)])  # 24 cm, onto it
+    assert not passes_through(onto, target, 4, 0.15)
     stir = np.hstack([0.05 * np.cos(12 * t), 0.05 * np.sin(12 * t), np.zeros_like(t)])
     assert not passes_through(stir, target, 4, 0.15)
     jitter = through + np.random.default_rng(0).normal(0.0, 0.0005, through.shape)
