@@ -61,6 +61,9 @@ from oacdsl.segmentation.params import AasParams  # noqa: E402
 from oacdsl.segmentation.readers import read_recording, write_c3d  # noqa: E402
 from oacdsl.segmentation.recording import Recording  # noqa: E402
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from mining_reference import cores_alone_and_together, plain_processes  # noqa: E402
+
 #: The OACs --runs measures: name → (libraries, bindings).
 RUN_OACS: dict[str, tuple[list[Path], dict[str, str]]] = {
     "grasp": ([ROOT / "library"], {"h": "right_hand", "o": "green_cup"}),
@@ -89,6 +92,14 @@ class Measure:
         self.own_cpu: list[float] = []
         self.child_cpu: list[float] = []
         self.unit_cpu: list[float] = []  # CPU per recording or run, all rounds
+        self.stage_cpu: dict[str, list[float]] = {}  # a task thread's CPU per stage, all rounds
+
+    def rows(self, rows: list[dict[str, Any]]) -> None:
+        """The CPU of each recording's task: the process's, and its thread's per stage."""
+        for row in rows:
+            self.unit_cpu.append(row["cpu_s"])
+            for stage, cpu in row.get("stage_cpu_s", {}).items():
+                self.stage_cpu.setdefault(stage, []).append(cpu)
 
     def __call__(self, fn: Callable[[], Any]) -> Any:
         before, t0 = os.times(), time.perf_counter()
@@ -111,6 +122,9 @@ class Measure:
             + f"); CPU {cpu:.2f} s = {statistics.median(self.own_cpu):.2f} here"
             f" + {statistics.median(self.child_cpu):.2f} workers{unit};"
             f" {1000 * self.median() / n:.1f} ms wall per {what}"
+            + ("; stages (ms CPU, median): " + ", ".join(
+                f"{k} {1000 * statistics.median(v):.1f}" for k, v in self.stage_cpu.items())
+               if self.stage_cpu else "")
         )
 
 
@@ -125,14 +139,22 @@ def mining(n: int, repeat: int) -> list[str]:
         library = [str(ROOT / "library")]
         open_library([Path(library[0])])  # the grammar's parser is built once per process: in no figure
         loop, one, two = Measure("loop"), Measure("1 worker"), Measure("2 workers")
+        plain = Measure("2 plain processes")
 
         def run_loop() -> None:
             spec = JobSpec(library, None, asdict(AasParams()), False, open_library([Path(library[0])]))
-            for f in expand_recordings([str(folder)]):
-                row = analyse(f.path, f.id, spec)
+            rows = [analyse(f.path, f.id, spec) for f in expand_recordings([str(folder)])]
+            for row in rows:
                 if row["status"] != "ok":
-                    raise SystemExit(f"{f.path}: {row['error']}")
-                loop.unit_cpu.append(row["cpu_s"])
+                    raise SystemExit(f"{row['path']}: {row['error']}")
+            loop.rows(rows)
+
+        def run_plain() -> None:
+            spec = JobSpec(library, None, asdict(AasParams()), False, open_library([Path(library[0])]))
+            rows = plain_processes(expand_recordings([str(folder)]), spec)
+            if len(rows) != n or any(row["status"] != "ok" for row in rows):
+                raise SystemExit("a plain process's recording failed")
+            plain.rows(rows)
 
         def run_job(measure: Measure, workers: int) -> None:
             out = Path(tempfile.mkdtemp(prefix="mine-bench-"))
@@ -140,7 +162,7 @@ def mining(n: int, repeat: int) -> list[str]:
                 result = mine([str(folder)], library, out=out, workers=workers, progress=None)
                 if result.errors or result.analysed != n:
                     raise SystemExit(f"{result.errors} of {result.analysed} recordings failed")
-                measure.unit_cpu += [r["cpu_s"] for r in result.rows]
+                measure.rows(result.rows)
             finally:
                 shutil.rmtree(out, ignore_errors=True)
 
@@ -148,15 +170,20 @@ def mining(n: int, repeat: int) -> list[str]:
             loop(run_loop)
             one(lambda: run_job(one, 1))
             two(lambda: run_job(two, 2))
+            plain(run_plain)
         print(f"oacc mine, {n} recordings ({repeat} rounds):")
-        for m in (loop, one, two):
+        for m in (loop, one, two, plain):
             print(m.line(n, "recording"))
+        print(f"  the machine: {cores_alone_and_together()}")
         speedup = loop.median() / two.median()
+        ceiling = loop.median() / plain.median()
         overhead_ms = 1000 * (one.median() - loop.median()) / n
         extra_cpu_ms = 1000 * (statistics.median(two.own_cpu) + statistics.median(two.child_cpu)
                                - statistics.median(loop.own_cpu)) / n
         return [
-            f"oacc mine {n} recordings, 2 workers vs the loop: {verdict(speedup, 1.8)}",
+            f"oacc mine {n} recordings, 2 workers vs the loop: {verdict(speedup, 1.8)}; two plain"
+            f" processes (no Dask) vs the loop: {ceiling:.2f}x, the 2-worker job reaches"
+            f" {100 * speedup / ceiling:.0f} % of that",
             f"oacc mine {n} recordings, overhead of the 1-worker job over the loop: {overhead_ms:.1f} ms per"
             f" recording (target < 50 ms: {'met' if overhead_ms < 50 else 'NOT met'}); the 2-worker job's"
             f" CPU over the loop's: {extra_cpu_ms:.1f} ms per recording",

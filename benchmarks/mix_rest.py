@@ -1,6 +1,7 @@
 """Where KIT Mix's two servers come to rest when let go of leaning in the bowl (no robot).
 
     python benchmarks/mix_rest.py [--library DIR] [--seconds S] [--verbose]
+    python benchmarks/mix_rest.py --leans RECORDING [RECORDING …]
 
 The bowl and the two servers of ``scene kit_mix`` (``library/kit``, or ``--library DIR``: a
 copy with other server shapes) are built as ``oacc run`` builds them; each server is put in the
@@ -17,11 +18,20 @@ on its side" out of the poses tried:
   (x, -y) towards -toward, as ``mix_both { lean … }`` lets them go (x -7…-1, y 3.5…6.5,
   toward 0…45°, lean 48° and 56°);
 - *crossed*: one server on the middle line from the near wall, leaning away from the robot,
-  the other's head by the middle, leaning to the right (toward -80…-100°).
+  the other's head by the middle, leaning to the right (toward -80…-100°);
+- *outward*: as the person left them, each leaning out towards its own side (toward ±90°), the
+  heads 3.5…6.5 cm either side of the middle line (x -2…2, lean 25°, 35°, 45°).
+
+``--leans``: instead, how far each server's long axis (its markers' principal direction) is
+from the vertical at the first and at the last frame of recordings (the demonstration, a
+robot's ``execution.c3d``): the demonstrated servers start lying and end leaning; the verifier
+judges their turn from how they started (docs/verify.md).
 
 This measures the physics the skill works in, not the skill: a server leaning on a round rim
 rolls (its round head on its edge and its round handle on the rim) until its line passes
-through the bowl's middle, where the other one is.
+through the bowl's middle, where the other one is; modelled flat (``library/kit`` since
+2026-11-26: a flat box handle, a shallow square head) it stays where it falls. On-their-sides
+counts the verifier's class relative to a server that started standing, as the robot's do.
 """
 
 from __future__ import annotations
@@ -116,7 +126,28 @@ def families() -> dict[str, list[tuple[tuple[float, ...], tuple[float, ...]]]]:
     crossed = [((fx, 0, 0, 60), (x, y, a, lean))
                for fx in (-8, -7, -6) for x in (-1.5, -0.5, 0.5, 1.5) for y in (0.5, 1.5, 2.5)
                for a in (-80, -90, -100) for lean in (30, 50)]
-    return {"mirrored": mirrored, "crossed": crossed}
+    outward = [((x, y, 90, lean), (x, -y, -90, lean))
+               for x in (-2, 0, 2) for y in (3.5, 4.5, 5.5, 6.5) for lean in (25, 35, 45)]
+    return {"mirrored": mirrored, "crossed": crossed, "outward": outward}
+
+
+def axis_leans(path: Path) -> str:
+    """One line: each server's long axis from the vertical (degrees) at the first and the last
+    frame that shows all its markers."""
+    from oacdsl.segmentation.readers import read_recording
+
+    rec = read_recording(path)
+    out = []
+    for tool in TOOLS:
+        pts = rec.group_positions(tool)
+        seen = np.flatnonzero(np.isfinite(pts).all(axis=(1, 2)))
+        ends = []
+        for f in (int(seen[0]), int(seen[-1])):
+            p = pts[f] - pts[f].mean(axis=0)
+            axis = np.linalg.svd(p)[2][0]
+            ends.append(math.degrees(math.acos(min(1.0, abs(float(axis[2]))))))
+        out.append(f"{tool} {ends[0]:.0f}° → {ends[1]:.0f}°")
+    return f"{path}: " + ", ".join(out) + " (long axis from the vertical, first → last frame)"
 
 
 def main() -> int:
@@ -124,7 +155,13 @@ def main() -> int:
     parser.add_argument("--library", type=Path, default=ROOT / "library" / "kit")
     parser.add_argument("--seconds", type=float, default=2.0, help="simulated time after letting go")
     parser.add_argument("--verbose", action="store_true", help="one line per pose")
+    parser.add_argument("--leans", type=Path, nargs="+", metavar="RECORDING",
+                        help="print the servers' leans at the first and last frame of recordings")
     args = parser.parse_args()
+    if args.leans:
+        for path in args.leans:
+            print(axis_leans(path))
+        return 0
     world, floor_m = _world(args.library)
     start = (world.data.qpos.copy(), world.data.qvel.copy())
     for name, poses in families().items():

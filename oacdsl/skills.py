@@ -14,9 +14,17 @@ newtons); a count has unit ``""``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
-from oacdsl.units import unit_kind
+from oacdsl.skill_types import (
+    ANY,
+    MOTION_FEATURES,
+    PATH,
+    MotionSource,
+    SkillArg,
+    SkillParamSpec,
+    SkillSignature,
+    format_value,
+)
 
 __all__ = [
     "ANY",
@@ -31,163 +39,66 @@ __all__ = [
     "format_value",
 ]
 
-#: The fields of :class:`oacdsl.segmentation.motionfeatures.MotionFeatures` a parameter may come
-#: from (SI units; a test checks they exist). ``extent_m`` is a triple: ``axis`` picks one.
-MOTION_FEATURES: tuple[str, ...] = (
-    "cycles",
-    "duration_s",
-    "end_tilt_rad",
-    "extent_m",
-    "path_length_m",
-    "period_s",
-    "radius_m",
-    "tilt_max_rad",
-    "tilt_rise_s",
-    "tilt_time_s",
-    "twist_rad",
-)
-
-
-#: The unit of a parameter whose value is a path (``path [ 0s (x, y, z) (rx, ry, rz), … ]``):
-#: keyframes of time (s), position (m) and rotation vector (rad), written by the composer from the
-#: demonstrated motion (``follow``; docs/language.md).
-PATH = "path"
-
-
-@dataclass(frozen=True)
-class SkillArg:
-    """One argument of a skill: its name and the class the instance must have."""
-
-    name: str
-    cls: str
-
-
-@dataclass(frozen=True)
-class MotionSource:
-    """Where a skill parameter comes from in the demonstration (docs/motion.md, docs/language.md).
-
-    The composer sets the parameter of a step to ``scale`` × the sub-action's
-    :class:`~oacdsl.segmentation.motion.SubActionMotion` feature ``feature`` (SI units;
-    ``axis`` picks a component of ``extent_m``, 0 = along the main axis), rounded for a
-    count, then retargets it to the robot (clamped into the parameter's range and, for a
-    length, the target object's size). ``needs`` names another feature that must be defined
-    (not None) for the parameter to be taken: a stirring radius only where an oscillation
-    was found (``needs="period_s"``), a tilt only where the object really tilted
-    (``needs="tilt_rise_s"``). ``least`` raises a value below what the robot's skill is known
-    to work with. Without a value the skill's default applies.
-
-    Example: ``MotionSource("radius_m", scale=1.41, needs="period_s")`` — a wipe's stroke
-    goes √2 × the strokes' median distance from their middle to either side of it.
-    """
-
-    feature: str
-    scale: float = 1.0
-    axis: int = 0
-    needs: str | None = None
-    #: The least value the robot's skill is known to work with (SI; None: the range's low end):
-    #: a smaller demonstrated value is raised to it (a pour's balls leave the robot's cup
-    #: reliably only from 125° on; people pour liquids at 90-110°).
-    least: float | None = None
-    #: A length is clamped to the room on the skill's target (its last argument) unless this is
-    #: False: a saw's strokes go along the tool's blade, which passes over the target (a knife
-    #: across a cucumber 4.5 cm wide), so only the tool bounds them (the skill does).
-    within_target: bool = True
-
-    def __post_init__(self) -> None:
-        for name in (self.feature, self.needs):
-            if name is not None and name not in MOTION_FEATURES:
-                raise ValueError(f"no motion feature {name!r}; features: {', '.join(MOTION_FEATURES)}")
-        if not 0 <= self.axis <= 2 or (self.axis and self.feature != "extent_m"):
-            raise ValueError(f"axis {self.axis}: only extent_m has axes 0, 1, 2")
-        if not (math.isfinite(self.scale) and self.scale > 0):
-            raise ValueError(f"scale {self.scale}: a positive number")
-
-    def describe(self, unit: str | None = None) -> str:
-        """``0.5 x extent_m[0] (where period_s is found)``; ``unit``: the parameter's, for ``least``."""
-        name = f"{self.feature}[{self.axis}]" if self.feature == "extent_m" else self.feature
-        text = name if self.scale == 1.0 else f"{self.scale:g} x {name}"
-        text += f" (where {self.needs} is found)" if self.needs else ""
-        if self.least is not None:
-            text += f", at least {format_value(self.least, unit) if unit is not None else f'{self.least:g}'}"
-        return text
-
-
-@dataclass(frozen=True)
-class SkillParamSpec:
-    """A named parameter: SI unit (``m``, ``rad``, ``s``, ``N``; ``""`` a whole count), default, range.
-
-    ``source``: the demonstrated motion feature the composer fills it from
-    (:class:`MotionSource`; None: never taken from the demonstration).
-    """
-
-    name: str
-    unit: str
-    default: float
-    low: float
-    high: float
-    doc: str
-    source: MotionSource | None = None
-
-    @property
-    def whole(self) -> bool:
-        """A count: written without unit, a whole number."""
-        return self.unit == ""
-
-    def describe(self) -> str:
-        """``tilt: angle, default 125deg (30deg to 180deg) — final tilt of the container``."""
-        if self.unit == PATH:
-            return f"{self.name}: a path (keyframes: time, position, rotation) — {self.doc}"
-        kind = unit_kind(self.unit).split(" (")[0].removeprefix("a ").removeprefix("an ")
-        return (
-            f"{self.name}: {kind}, default {format_value(self.default, self.unit)}"
-            f" ({format_value(self.low, self.unit)} to {format_value(self.high, self.unit)}) — {self.doc}"
-            + (f"; from the demonstration: {self.source.describe(self.unit)}" if self.source else "")
-        )
-
-
-@dataclass(frozen=True)
-class SkillSignature:
-    """What a skill takes: its arguments in order and its named parameters."""
-
-    name: str
-    doc: str
-    args: tuple[SkillArg, ...]
-    params: tuple[SkillParamSpec, ...] = ()
-
-    def param(self, name: str) -> SkillParamSpec | None:
-        return next((p for p in self.params if p.name == name), None)
-
-    def defaults(self) -> dict[str, float]:
-        """Every parameter's default (SI); a path has none (the skill's own applies)."""
-        return {p.name: p.default for p in self.params if p.unit != PATH}
-
-    def text(self) -> str:
-        """``pour(h: Hand, c: Container, l: Liquid, b: Container) { tilt duration height }``."""
-        head = f"{self.name}(" + ", ".join(f"{a.name}: {a.cls}" for a in self.args) + ")"
-        if self.params:
-            head += " { " + "  ".join(p.name for p in self.params) + " }"
-        return head
-
-
-def format_value(value: float, unit: str) -> str:
-    """A parameter value as an author would write it: 0.03 m → ``3cm``, 2.18 rad → ``125deg``."""
-    if unit == "m":
-        return f"{value * 100:g}cm" if abs(value) >= 0.01 or value == 0 else f"{value * 1000:g}mm"
-    if unit == "rad":
-        return f"{math.degrees(value):g}deg"
-    if unit == "m/s":
-        return f"{value * 100:g}cm/s"
-    if unit == "":
-        return f"{value:g}"
-    return f"{value:g}{unit}"
-
-
-#: The class of an argument that may be any object of the scene (``touch``'s target).
-ANY = "any"
-
 
 def _deg(x: float) -> float:
     return math.radians(x)
+
+
+def _args(text: str) -> tuple[SkillArg, ...]:
+    """``"h: Hand, o: Graspable"`` → the arguments in that order."""
+    return tuple(SkillArg(*(part.strip() for part in arg.split(":"))) for arg in text.split(","))
+
+
+# Parameters several skills share (the same unit, range, meaning and demonstrated source).
+
+
+def _hover(top: str = "the target's top") -> SkillParamSpec:
+    """Where a guarded descent starts: 4 cm (1-20 cm) above ``top``."""
+    return SkillParamSpec("hover", "m", 0.04, 0.01, 0.20, f"height above {top} where the descent starts")
+
+
+def _guard(doc: str = "on the way down that means something else is in the way",
+           default_n: float = 8.0, low_n: float = 2.0, high_n: float = 30.0) -> SkillParamSpec:
+    """The wrist force change (N) that stops a guarded descent."""
+    return SkillParamSpec("force", "N", default_n, low_n, high_n, f"wrist force change {doc}")
+
+
+def _press_on(what: str = "the tool") -> SkillParamSpec:
+    """How far (m) ``what`` is pressed on once a guarded descent has found contact: 3 mm (0-3 cm)."""
+    return SkillParamSpec("press", "m", 0.003, 0.0, 0.03, f"how far {what} is pressed on once it touches")
+
+
+def _strokes(doc: str = "number of strokes there and back") -> SkillParamSpec:
+    return SkillParamSpec("strokes", "", 3.0, 1.0, 20.0, doc, MotionSource("cycles"))
+
+
+def _sway(default_m: float, low_m: float, high_m: float, doc: str,
+          within_target: bool = True) -> SkillParamSpec:
+    """How far (m) a to-and-fro stroke goes to either side of its middle.
+
+    From the demonstration: a sinusoid's median distance from its middle is 1/sqrt(2) of how
+    far it goes (the extent would count the way onto and off the target too).
+    """
+    return SkillParamSpec("length", "m", default_m, low_m, high_m, doc,
+                          MotionSource("radius_m", scale=1.41, needs="period_s", within_target=within_target))
+
+
+def _period(default_s: float, low_s: float = 0.3, doc: str = "time for one circle") -> SkillParamSpec:
+    return SkillParamSpec("period", "s", default_s, low_s, 5.0, doc, MotionSource("period_s"))
+
+
+def _turns(default: float) -> SkillParamSpec:
+    return SkillParamSpec("turns", "", default, 1.0, 10.0, "number of circles", MotionSource("cycles"))
+
+
+def _radius(default_m: float, doc: str) -> SkillParamSpec:
+    """The radius (m, 0-8 cm) of circles, from the demonstrated oscillation's."""
+    return SkillParamSpec("radius", "m", default_m, 0.0, 0.08, doc,
+                          MotionSource("radius_m", needs="period_s"))
+
+
+def _tool_lean() -> SkillParamSpec:
+    return SkillParamSpec("tilt", "rad", _deg(15.0), 0.0, _deg(45.0), "lean of the tool from the vertical")
 
 
 #: skill name → signature. The classes are those of the standard library (library/classes.oac).
@@ -197,13 +108,13 @@ SIGNATURES: dict[str, SkillSignature] = {
         SkillSignature(
             "reach_and_grasp",
             "approach an object along its grasp's approach direction and close the hand",
-            (SkillArg("h", "Hand"), SkillArg("o", "Graspable")),
+            _args("h: Hand, o: Graspable"),
             (SkillParamSpec("lift", "m", 0.10, 0.0, 0.30, "how high the object is lifted after closing"),),
         ),
         SkillSignature(
             "hold_up",
             "grasp an object, lift it and hold it up in front of the robot on the hand's side",
-            (SkillArg("h", "Hand"), SkillArg("o", "Graspable")),
+            _args("h: Hand, o: Graspable"),
             (
                 SkillParamSpec("lift", "m", 0.20, 0.0, 0.30, "how high it is lifted off its support"),
                 SkillParamSpec("forward", "m", 0.5, 0.3, 0.8, "its middle held this far ahead of the base"),
@@ -213,81 +124,53 @@ SIGNATURES: dict[str, SkillSignature] = {
         SkillSignature(
             "place",
             "lower the held object until the wrist force sensor feels the support, then open the hand",
-            (SkillArg("h", "Hand"), SkillArg("o", "Graspable")),
+            _args("h: Hand, o: Graspable"),
             (
-                SkillParamSpec(
-                    "force", "N", 3.0, 1.0, 20.0, "wrist force change that means the support took the object"
-                ),
+                _guard("that means the support took the object", 3.0, 1.0, 20.0),
             ),
         ),
         SkillSignature(
             "pour",
             "tilt the held container over a target container until its content has left",
-            (
-                SkillArg("h", "Hand"),
-                SkillArg("c", "Container"),
-                SkillArg("l", "Liquid"),
-                SkillArg("b", "Container"),
-            ),
+            _args("h: Hand, c: Container, l: Liquid, b: Container"),
             (
                 SkillParamSpec(
                     "tilt", "rad", _deg(125.0), _deg(30.0), _deg(180.0), "final tilt of the container",
                     MotionSource("tilt_max_rad", needs="tilt_rise_s", least=_deg(125.0)),
                 ),
                 # the skill tilts at a constant rate: its 10-90 % rise takes 0.8 of the duration
-                SkillParamSpec(
-                    "duration",
-                    "s",
-                    1.8,
-                    0.3,
-                    10.0,
-                    "time to tilt it that far",
-                    MotionSource("tilt_rise_s", scale=1.25),
-                ),
+                SkillParamSpec("duration", "s", 1.8, 0.3, 10.0, "time to tilt it that far",
+                               MotionSource("tilt_rise_s", scale=1.25)),
                 SkillParamSpec("height", "m", 0.045, 0.01, 0.20, "the lip's height above the target's rim"),
             ),
         ),
         SkillSignature(
             "mix",
             "put the held tool into a container and stir",
-            (SkillArg("h", "Hand"), SkillArg("m", "Graspable"), SkillArg("b", "Container")),
+            _args("h: Hand, m: Graspable, b: Container"),
             (
-                SkillParamSpec(
-                    "radius",
-                    "m",
-                    0.03,
-                    0.0,
-                    0.08,
-                    "radius of the stirring circles",
-                    MotionSource("radius_m", needs="period_s"),
-                ),
-                SkillParamSpec("turns", "", 2.0, 1.0, 10.0, "number of circles", MotionSource("cycles")),
-                SkillParamSpec("period", "s", 1.2, 0.3, 5.0, "time for one circle", MotionSource("period_s")),
-                SkillParamSpec(
-                    "force", "N", 15.0, 3.0, 40.0, "wrist force that stops the descent into the container"
-                ),
+                _radius(0.03, "radius of the stirring circles"),
+                _turns(2.0),
+                _period(1.2),
+                SkillParamSpec("force", "N", 15.0, 3.0, 40.0,
+                               "wrist force that stops the descent into the container"),
             ),
         ),
         SkillSignature(
             "wipe",
             "press the held tool onto a surface and move it to and fro",
-            (SkillArg("h", "Hand"), SkillArg("s", "Graspable"), SkillArg("t", "Surface")),
+            _args("h: Hand, s: Graspable, t: Surface"),
             (
-                SkillParamSpec("strokes", "", 3.0, 1.0, 20.0, "number of to-and-fro strokes",
-                               MotionSource("cycles")),
-                # the strokes' median distance from their middle is 1/sqrt(2) of how far they go
-                # (a sinusoid's); the extent would count the way onto and off the surface too
-                SkillParamSpec("length", "m", 0.06, 0.01, 0.20, "how far each stroke goes to either side",
-                               MotionSource("radius_m", scale=1.41, needs="period_s")),
-                SkillParamSpec(
-                    "press", "m", 0.004, 0.0, 0.02, "how far the tool is pressed into the surface"
-                ),
+                _strokes("number of to-and-fro strokes"),
+                _sway(0.06, 0.01, 0.20, "how far each stroke goes to either side"),
+                SkillParamSpec("press", "m", 0.004, 0.0, 0.02,
+                               "how far the tool is pressed into the surface"),
             ),
         ),
         SkillSignature(
             "hold",
             "keep the held object still while the other hand works on it",
-            (SkillArg("h", "Hand"), SkillArg("o", "Graspable")),
+            _args("h: Hand, o: Graspable"),
             (
                 # not from the demonstration: there the hold overlaps the other hand's work,
                 # here the steps run one after the other
@@ -297,17 +180,11 @@ SIGNATURES: dict[str, SkillSignature] = {
         SkillSignature(
             "touch",
             "bring the held object down onto another object (held or standing) until they touch",
-            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("t", ANY)),
+            _args("h: Hand, o: Graspable, t: any"),
             (
-                SkillParamSpec(
-                    "hover", "m", 0.04, 0.01, 0.20, "height above the target's top where the descent starts"
-                ),
-                SkillParamSpec(
-                    "force", "N", 8.0, 2.0, 30.0, "wrist force change that means something else is in the way"
-                ),
-                SkillParamSpec(
-                    "press", "m", 0.003, 0.0, 0.03, "how far the object is pressed on once it touches"
-                ),
+                _hover(),
+                _guard("that means something else is in the way"),
+                _press_on("the object"),
                 SkillParamSpec(
                     "steady", "", 1.0, 0.0, 1.0,
                     "1: the other hand's goal stays fixed meanwhile; 0: an idle hand's usual, weaker hold",
@@ -324,39 +201,27 @@ SIGNATURES: dict[str, SkillSignature] = {
         SkillSignature(
             "retreat",
             "take the empty hand back to its home pose, out of the other hand's way",
-            (SkillArg("h", "Hand"),),
+            _args("h: Hand"),
             (SkillParamSpec("duration", "s", 1.6, 0.5, 10.0, "time to get there"),),
         ),
         SkillSignature(
             "grasp_both",
             "grasp an object with each hand at the same time, then lift both",
-            (
-                SkillArg("h1", "Hand"),
-                SkillArg("o1", "Graspable"),
-                SkillArg("h2", "Hand"),
-                SkillArg("o2", "Graspable"),
-            ),
+            _args("h1: Hand, o1: Graspable, h2: Hand, o2: Graspable"),
             (SkillParamSpec("lift", "m", 0.10, 0.0, 0.30, "how high the objects are lifted after closing"),),
         ),
         SkillSignature(
             "place_both",
             "set two held objects down at the same time, each where its step's effect says",
+            _args("h1: Hand, o1: Graspable, h2: Hand, o2: Graspable"),
             (
-                SkillArg("h1", "Hand"),
-                SkillArg("o1", "Graspable"),
-                SkillArg("h2", "Hand"),
-                SkillArg("o2", "Graspable"),
-            ),
-            (
-                SkillParamSpec(
-                    "force", "N", 3.0, 1.0, 20.0, "wrist force change that means the support took an object"
-                ),
+                _guard("that means the support took an object", 3.0, 1.0, 20.0),
             ),
         ),
         SkillSignature(
             "lift",
             "raise the held object straight up, off what it touches (a tool off its work)",
-            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("t", ANY)),
+            _args("h: Hand, o: Graspable, t: any"),
             (
                 SkillParamSpec("height", "m", 0.12, 0.02, 0.30, "how far the object is raised"),
                 SkillParamSpec("duration", "s", 1.0, 0.3, 5.0, "time to raise it"),
@@ -365,58 +230,39 @@ SIGNATURES: dict[str, SkillSignature] = {
         SkillSignature(
             "stir",
             "circle the held tool's tip inside a container (standing or held by the other hand)",
-            (SkillArg("h", "Hand"), SkillArg("s", "Graspable"), SkillArg("c", "Container")),
+            _args("h: Hand, s: Graspable, c: Container"),
             (
-                SkillParamSpec(
-                    "radius",
-                    "m",
-                    0.015,
-                    0.0,
-                    0.08,
-                    "radius of the tip's circles on the floor (clamped to the inside; along the wall"
-                    " it touches, the wall's)",
-                    MotionSource("radius_m", needs="period_s"),
-                ),
-                SkillParamSpec("period", "s", 0.8, 0.3, 5.0, "time for one circle", MotionSource("period_s")),
-                SkillParamSpec("turns", "", 3.0, 1.0, 10.0, "number of circles", MotionSource("cycles")),
-                SkillParamSpec(
-                    "tilt", "rad", _deg(15.0), 0.0, _deg(45.0), "lean of the tool from the vertical"
-                ),
-                SkillParamSpec(
-                    "depth", "m", 0.015, 0.0, 0.10, "height of the tip above the container's floor"
-                ),
-                SkillParamSpec(
-                    "force", "N", 10.0, 3.0, 30.0, "wrist force change that stops the tip going down"
-                ),
+                _radius(0.015, "radius of the tip's circles on the floor (clamped to the inside;"
+                        " along the wall it touches, the wall's)"),
+                _period(0.8),
+                _turns(3.0),
+                _tool_lean(),
+                SkillParamSpec("depth", "m", 0.015, 0.0, 0.10,
+                               "height of the tip above the container's floor"),
+                _guard("that stops the tip going down", 10.0, 3.0),
             ),
         ),
         SkillSignature(
             "roll",
             "move an object both hands hold to and fro on another one (a rolling pin on dough), still held",
-            (SkillArg("h1", "Hand"), SkillArg("o", "Graspable"), SkillArg("h2", "Hand"), SkillArg("t", ANY)),
+            _args("h1: Hand, o: Graspable, h2: Hand, t: any"),
             (
-                SkillParamSpec("strokes", "", 3.0, 1.0, 20.0, "number of strokes there and back",
-                               MotionSource("cycles")),
-                # a sinusoid's median distance from its middle is 1/sqrt(2) of how far it goes
-                SkillParamSpec("length", "m", 0.06, 0.01, 0.20, "how far each stroke goes to either side",
-                               MotionSource("radius_m", scale=1.41, needs="period_s")),
-                SkillParamSpec("period", "s", 1.6, 0.5, 5.0, "time of one stroke there and back",
-                               MotionSource("period_s")),
+                _strokes(),
+                _sway(0.06, 0.01, 0.20, "how far each stroke goes to either side"),
+                _period(1.6, 0.5, "time of one stroke there and back"),
                 SkillParamSpec("press", "m", 0.002, 0.0, 0.02,
                                "how far it is pressed into the target (harder: more friction)"),
-                SkillParamSpec("force", "N", 15.0, 2.0, 40.0,
-                               "wrist force change that stops the descent when they do not touch first"),
+                _guard("that stops the descent when they do not touch first", 15.0, 2.0, 40.0),
             ),
         ),
         SkillSignature(
             "stroke",
             "draw the held tool along an object, one way, and back through the air, several times"
             " (a peeler along a cucumber, a knife pushing pieces across a board towards a bowl)",
-            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("t", ANY)),
+            _args("h: Hand, o: Graspable, t: any"),
             (
-                SkillParamSpec("strokes", "", 3.0, 1.0, 20.0, "number of strokes", MotionSource("cycles")),
-                SkillParamSpec("period", "s", 0.8, 0.3, 5.0, "time of one stroke along the target",
-                               MotionSource("period_s")),
+                _strokes("number of strokes"),
+                _period(0.8, doc="time of one stroke along the target"),
                 # not from the demonstration: the composer retargets a length to the target's
                 # narrow side (a container's inner radius), and a stroke goes along its long one
                 SkillParamSpec("length", "m", 0.08, 0.01, 0.40,
@@ -430,32 +276,23 @@ SIGNATURES: dict[str, SkillSignature] = {
             "saw",
             "bring the held tool (a knife) down onto an object until they touch and draw it to and"
             " fro along its blade, pressed on (cutting a cucumber the other hand holds)",
-            (SkillArg("h", "Hand"), SkillArg("k", "Graspable"), SkillArg("t", ANY)),
+            _args("h: Hand, k: Graspable, t: any"),
             (
-                SkillParamSpec("strokes", "", 3.0, 1.0, 20.0, "number of strokes there and back",
-                               MotionSource("cycles")),
-                # a sinusoid's median distance from its middle is 1/sqrt(2) of how far it goes;
+                _strokes(),
                 # along the blade, not bounded by the target's width (the skill keeps it on the blade)
-                SkillParamSpec("length", "m", 0.03, 0.005, 0.10,
-                               "how far each stroke goes to either side (at most the blade allows)",
-                               MotionSource("radius_m", scale=1.41, needs="period_s", within_target=False)),
-                SkillParamSpec("period", "s", 1.2, 0.3, 5.0,
-                               "time of one stroke there and back (no faster than a slide)",
-                               MotionSource("period_s")),
-                SkillParamSpec("press", "m", 0.003, 0.0, 0.03,
-                               "how far the tool is pressed on once it touches"),
-                SkillParamSpec("hover", "m", 0.04, 0.01, 0.20,
-                               "height above the target's top where the descent starts"),
-                SkillParamSpec("force", "N", 8.0, 2.0, 30.0,
-                               "wrist force change on the way down that means something else is in the way"),
+                _sway(0.03, 0.005, 0.10, "how far each stroke goes to either side (at most the blade allows)",
+                      within_target=False),
+                _period(1.2, doc="time of one stroke there and back (no faster than a slide)"),
+                _press_on(),
+                _hover(),
+                _guard(),
             ),
         ),
         SkillSignature(
             "tip_out",
             "take the held tool out of the container it is in, tip it over that container (a ladle"
             " emptied into a cup), turn it back and bring it into another container until they touch",
-            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("c", ANY),
-             SkillArg("b", "Container")),
+            _args("h: Hand, o: Graspable, c: any, b: Container"),
             (
                 SkillParamSpec("tilt", "rad", _deg(90.0), 0.0, _deg(180.0), "how far the tool is tipped",
                                MotionSource("tilt_max_rad", needs="tilt_rise_s")),
@@ -463,19 +300,16 @@ SIGNATURES: dict[str, SkillSignature] = {
                 SkillParamSpec("duration", "s", 1.2, 0.3, 10.0,
                                "time to tip it that far (no faster than the arms' joints allow)",
                                MotionSource("tilt_rise_s", scale=1.25)),
-                SkillParamSpec("hover", "m", 0.04, 0.01, 0.20,
-                               "height above the other container's top where the descent starts"),
-                SkillParamSpec("force", "N", 8.0, 2.0, 30.0,
-                               "wrist force change on the way down that means something else is in the way"),
-                SkillParamSpec("press", "m", 0.003, 0.0, 0.03,
-                               "how far the tool is pressed on once it touches"),
+                _hover("the other container's top"),
+                _guard(),
+                _press_on(),
             ),
         ),
         SkillSignature(
             "twist",
             "turn the held object about its own axis on another one, regrasping between strokes"
             " (a lid screwed onto or off a bottle)",
-            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("t", ANY)),
+            _args("h: Hand, o: Graspable, t: any"),
             (
                 SkillParamSpec(
                     "angle", "rad", math.pi, -6 * math.pi, 6 * math.pi,
@@ -493,33 +327,14 @@ SIGNATURES: dict[str, SkillSignature] = {
         SkillSignature(
             "mix_both",
             "both hands' tools into one container at once, circling side by side, left on its floor",
+            _args("h1: Hand, t1: Graspable, h2: Hand, t2: Graspable, c: Container"),
             (
-                SkillArg("h1", "Hand"),
-                SkillArg("t1", "Graspable"),
-                SkillArg("h2", "Hand"),
-                SkillArg("t2", "Graspable"),
-                SkillArg("c", "Container"),
-            ),
-            (
-                SkillParamSpec(
-                    "radius",
-                    "m",
-                    0.02,
-                    0.0,
-                    0.08,
-                    "radius of each tip's circles (clamped so that each tool stays clear of the wall)",
-                    MotionSource("radius_m", needs="period_s"),
-                ),
-                SkillParamSpec("period", "s", 1.0, 0.3, 5.0, "time for one circle", MotionSource("period_s")),
-                SkillParamSpec("turns", "", 3.0, 1.0, 10.0, "number of circles", MotionSource("cycles")),
-                SkillParamSpec(
-                    "tilt",
-                    "rad",
-                    _deg(15.0),
-                    0.0,
-                    _deg(45.0),
-                    "lean of each tool from the vertical, its handle towards its hand",
-                ),
+                _radius(0.02, "radius of each tip's circles (clamped so that each tool stays clear of"
+                        " the wall)"),
+                _period(1.0),
+                _turns(3.0),
+                SkillParamSpec("tilt", "rad", _deg(15.0), 0.0, _deg(45.0),
+                               "lean of each tool from the vertical, its handle towards its hand"),
                 SkillParamSpec(
                     "depth", "m", 0.0, 0.0, 0.10,
                     "height of the tips above the floor while they circle (0: on it, pressed on)"
@@ -529,15 +344,13 @@ SIGNATURES: dict[str, SkillSignature] = {
                     "at the end each tool's tip to the far side of its spot, the tool leaned this far"
                     " towards the robot (let go of, it comes to rest on the rim)",
                 ),
-                SkillParamSpec(
-                    "force", "N", 10.0, 3.0, 30.0, "wrist force change that stops a tool going down"
-                ),
+                _guard("that stops a tool going down", 10.0, 3.0),
             ),
         ),
         SkillSignature(
             "take_out",
             "lift the held object straight up until it clears a container (a spoon out of a cup)",
-            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("c", "Container")),
+            _args("h: Hand, o: Graspable, c: Container"),
             (
                 SkillParamSpec("clear", "m", 0.03, 0.0, 0.20, "height of its base above the container's top"),
                 SkillParamSpec("duration", "s", 1.0, 0.3, 10.0, "time to lift it out"),
@@ -547,7 +360,7 @@ SIGNATURES: dict[str, SkillSignature] = {
             "follow",
             "move the held object along the demonstrated path relative to another object,"
             " retargeted into the robot's reach (a sub-action no named skill knows)",
-            (SkillArg("h", "Hand"), SkillArg("o", "Graspable"), SkillArg("t", ANY)),
+            _args("h: Hand, o: Graspable, t: any"),
             (
                 SkillParamSpec(
                     PATH, PATH, 0.0, 0.0, 0.0,

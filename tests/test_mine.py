@@ -86,6 +86,9 @@ def test_a_task_never_raises_and_a_table_takes_a_recording_once(tmp_path):
     assert good["status"] == "ok", good["error"]
     assert [s["oac"] for s in good["subs"]] == STEPS
     assert "oac dough(" in good["composed"]
+    # each stage's wall and thread CPU seconds (the CPU for benchmarks: not in the table)
+    assert list(good["stage_cpu_s"]) == list(good["times_s"]) == ["read", "segment", "match", "compose"]
+    assert 0 < sum(good["stage_cpu_s"].values()) <= good["cpu_s"] + 0.01
     with MineTable(tmp_path / "t.sqlite3") as table:
         assert table.add(good) and table.add(row)
         assert not table.add(good)  # the same recording again: nothing is counted twice

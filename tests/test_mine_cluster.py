@@ -25,16 +25,26 @@ def test_batches_shrink_from_the_largest_to_single_recordings():
 
 
 def _prober():
-    def probe(_: int) -> tuple[int, bool, bool]:
+    def probe(_: int) -> tuple[int, bool, bool, bool]:
         """In a worker: its parent's pid, whether ``wave`` (the preloaded module) is imported,
-        whether Dask's profiler is on."""
+        whether Dask's profiler is on, whether arrays of a recording's size are made and freed
+        again and again without page faults (the heap reused, not mapped afresh each time)."""
         import os
+        import resource
         import sys
 
         import dask
+        import numpy as np
 
         profile = bool(dask.config.get("distributed.worker.profile.enabled"))
-        return os.getppid(), "wave" in sys.modules, profile
+        faults = 0
+        for round_ in range(5):  # 6 arrays of 3 MiB each (~770 pages each when mapped afresh)
+            before = resource.getrusage(resource.RUSAGE_THREAD).ru_minflt
+            arrays = [np.ones((3 << 20) // 8) for _ in range(6)]
+            del arrays
+            if round_ > 0:  # the first round may grow the heap
+                faults += resource.getrusage(resource.RUSAGE_THREAD).ru_minflt - before
+        return os.getppid(), "wave" in sys.modules, profile, faults < 1000
 
     return probe  # a closure: shipped by value, so that a new process need not import this file
 
@@ -61,7 +71,7 @@ def test_workers_are_forked_warm_without_the_profiler_and_close_quietly(capfd):
     finally:
         close(client, cluster)
     assert len(pids) == 2
-    assert set(results) == {(os.getpid(), True, False)}  # children of this process, warm, no profiler
+    assert set(results) == {(os.getpid(), True, False, True)}  # children of this process, warm, no profiler
     assert all(_gone(pid) for pid in pids)  # closed and reaped
     out, err = capfd.readouterr()
     assert "Traceback" not in err + out and "CommClosedError" not in err + out and "Error" not in err
@@ -81,7 +91,7 @@ def test_without_fork_the_workers_are_new_processes_with_the_same_settings(monke
     finally:
         close(client, cluster)
     # a new process: nothing preloaded; its Dask settings from the environment
-    assert result == (os.getpid(), False, False)
+    assert result == (os.getpid(), False, False, True)
     _, err = capfd.readouterr()
     assert "Traceback" not in err
 

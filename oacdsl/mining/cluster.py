@@ -57,7 +57,10 @@ WORKER_ENV = {
     "OMP_NUM_THREADS": "1",
     "MKL_NUM_THREADS": "1",
     "OPENBLAS_NUM_THREADS": "1",
-    "MALLOC_ARENA_MAX": "1",  # as a forked worker (oacdsl.mining.forked._one_malloc_arena)
+    # as a forked worker (oacdsl.mining.forked._steady_malloc)
+    "MALLOC_ARENA_MAX": "1",
+    "MALLOC_MMAP_THRESHOLD_": str(32 << 20),
+    "MALLOC_TRIM_THRESHOLD_": str(64 << 20),
     "DASK_LOGGING__DISTRIBUTED": "error",  # a worker's start and stop lines are not the user's business
     **{_env_name(k): str(v) for k, v in WORKER_CONFIG.items()},  # for a new process (not forked)
 }
