@@ -10,7 +10,7 @@ from oacdsl.errors import SegmentationError
 from oacdsl.segmentation import AasParams, segment
 from oacdsl.segmentation.adaptive import AdaptiveDetector, AdaptiveSettings
 from oacdsl.segmentation.pairs import PairTable
-from oacdsl.segmentation.tooluse import agents_of, tool_contacts
+from oacdsl.segmentation.tooluse import agents_of, passes_through, tool_contacts
 
 F = 800
 CUP = np.array([[0.03, 0.03, 0.0], [-0.03, 0.03, 0.0], [0.03, -0.03, 0.05], [-0.03, -0.03, 0.05]])
@@ -73,9 +73,31 @@ def test_a_tool_carried_past_an_object_does_not_touch_it():
     assert (closest < 0.15).sum() >= 20  # within reach for a moment (0.2 s and more)
     # the dwell as written, 0.5 s: the pass (0.44 s) is too short. The default detector reads the
     # dwell in the demonstration's pace, here the carry itself (0.8 m/s, 1.6 times the reference's):
-    # 0.31 s, and this pass, 35 cm long within reach, is then a contact (docs/segmentation-adaptive.md)
+    # 0.31 s, shorter than the pass; the pass is told apart by its path: straight through the reach
     fixed = relations(rec, AdaptiveSettings(rescale=False))
     assert ("cup", "spoon") not in fixed and ("right_hand", "spoon") in fixed
+    found = relations(rec)
+    assert ("cup", "spoon") not in found and ("right_hand", "spoon") in found
+    # the tool rule alone, with a dwell shorter than the pass: the path decides, not the dwell
+    found = relations(rec, AdaptiveSettings(rescale=False, tool_dwell_s=0.1))
+    assert ("cup", "spoon") not in found and ("right_hand", "spoon") in found
+
+
+def test_a_tool_going_straight_through_a_reach_passes_by_one_going_to_it_or_back_and_forth_does_not():
+    t = np.linspace(0.0, 1.0, 41)[:, None]
+    target = np.zeros((41, 3))
+    through = np.hstack([-0.15 + 0.3 * t, np.full_like(t, 0.05), np.zeros_like(t)])  # 30 cm across
+    assert passes_through(through, target, 4, 0.15)
+    assert not passes_through(through * 0.4, target, 4, 0.15)  # 12 cm, straight to it: placed there
+    onto = np.hstack([-0.25 + 0.24 * t, np.full_like(t, 0.01), np.zeros_like(t)])  # 24 cm, onto it
+    assert not passes_through(onto, target, 4, 0.15)
+    stir = np.hstack([0.05 * np.cos(12 * t), 0.05 * np.sin(12 * t), np.zeros_like(t)])
+    assert not passes_through(stir, target, 4, 0.15)
+    jitter = through + np.random.default_rng(0).normal(0.0, 0.0005, through.shape)
+    assert passes_through(jitter, target, 4, 0.15)  # sampled every few frames: jitter adds no length
+    gaps = through.copy()
+    gaps[10:20] = np.nan
+    assert passes_through(gaps, target, 4, 0.15)
 
 
 def table_of(names: list[str]) -> PairTable:

@@ -150,6 +150,8 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
             settings.tool_bridge_s,
             settings.rest_m,
             params.distance_m * (1 + settings.margin),
+            recording.positions_m,
+            settings.frames(settings.lag_s, recording.rate_hz),
         )
         for q, (_, threshold) in found.learned.items():
             distance[q] = round(threshold, 4)

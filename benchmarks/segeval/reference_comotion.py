@@ -18,10 +18,11 @@ import numpy as np
 from oacdsl.segmentation.comotion import (
     AdaptiveSettings,
     CoMotion,
+    _episodes,
     _extend,
     _prune_indirect,
-    _runs,
     _union,
+    frames_within,
 )
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
@@ -89,14 +90,13 @@ def comotion_reference(
     }
     _prune_indirect(signals, table)
     min_len = settings.frames(settings.min_episode_s, recording.rate_hz)
+    bridge = frames_within(settings.tool_bridge_s, recording.rate_hz)
     out: dict[int, tuple[list[tuple[int, int]], float]] = {}
     for q, (d_q, c_q) in signals.items():
         spans, thresholds = [], []
-        for a, b in _runs(c_q):
-            if b - a < min_len:
-                continue
+        for a, b in _episodes(c_q, min_len, bridge):
             threshold = min(float(np.nanmedian(d_q[a:b])) * (1 + settings.margin), params.distance_m)
-            spans.append(_extend(d_q, a, b, threshold, round(settings.tool_bridge_s * recording.rate_hz)))
+            spans.append(_extend(d_q, a, b, threshold, bridge))
             thresholds.append(threshold)
         if spans:
             out[q] = (_union(spans), float(np.median(thresholds)))

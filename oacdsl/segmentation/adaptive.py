@@ -174,6 +174,8 @@ class AdaptiveDetector:
             self._run.tool_bridge_s,
             self._run.rest_m,
             self.params.distance_m * (1 + self._run.margin),
+            recording.positions_m,
+            self._run.frames(self._run.lag_s, recording.rate_hz),
         )
         last = recording.n_frames - 1
         collected: dict[int, list[tuple[int, int, int]]] = {}

@@ -22,7 +22,7 @@ from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.poses import RigidFill
 from oacdsl.segmentation.recording import Recording
 
-__all__ = ["AdaptiveSettings", "CoMotion", "comotion"]
+__all__ = ["AdaptiveSettings", "CoMotion", "comotion", "frames_within"]
 
 _SCAN_FRAMES = 4096  # frames per chunk of the scan
 
@@ -36,7 +36,9 @@ class AdaptiveSettings:
             co-move, whose own distance is unknown. 80 mm: a hand resting beside an
             object (60–140 mm on the KIT clips, 80–93 mm from the rack in Wipe) stays
             out; a mixer stirring in a bowl (70–85 mm in the synthetic dough scene) is a
-            tool contact (:mod:`oacdsl.segmentation.tooluse`).
+            tool contact (:mod:`oacdsl.segmentation.tooluse`). Pinned from both sides: 75 mm
+            loses a contact of the synthetic Open demonstration (``tests/test_task_demos.py``),
+            and Wipe's resting hand touches the rack in a take 10 % smaller (72–84 mm).
         move_speed_m_s: metres per second, both instances must move faster than this
             for co-motion (40 mm/s: four times the marker jitter of a 100 Hz Vicon
             recording, far below a carried object's 0.2–1 m/s).
@@ -111,6 +113,14 @@ class AdaptiveSettings:
         return max(1, round(seconds * rate_hz))
 
 
+def frames_within(seconds: float, rate_hz: float) -> int:
+    """The most frames a run lasting at most ``seconds`` holds at ``rate_hz`` (``k`` frames last
+    ``k / rate``): ``floor``, not ``round``, so that an excursion a little longer than a bridge is
+    not bridged at one rate or pace and cut at another (KIT Stir's let-go of the spoon, 0.25 s of
+    the demonstration beyond the grip, 3 frames at 10 Hz: at ×1.6 time rounding let 4 frames pass)."""
+    return max(0, int(np.floor(seconds * rate_hz + 1e-9)))
+
+
 class CoMotion(NamedTuple):
     """What the co-motion scan found.
 
@@ -141,13 +151,11 @@ def comotion(
     signals = _scan(recording, table, params, settings, filler, keep_speeds, speeds)
     _prune_indirect(signals, table)
     min_len = settings.frames(settings.min_episode_s, recording.rate_hz)
-    bridge = round(settings.tool_bridge_s * recording.rate_hz)  # frames: a short excursion is no release
+    bridge = frames_within(settings.tool_bridge_s, recording.rate_hz)  # a short excursion is no release
     out: dict[int, tuple[list[tuple[int, int]], float]] = {}
     for q, (dmin, carry) in signals.items():
         spans, thresholds = [], []
-        for a, b in _runs(carry):
-            if b - a < min_len:
-                continue
+        for a, b in _episodes(carry, min_len, bridge):
             threshold = min(_nanmedian1d(dmin[a:b]) * (1 + settings.margin), params.distance_m)
             spans.append(_extend(dmin, a, b, threshold, bridge))
             thresholds.append(threshold)
@@ -343,6 +351,33 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
     padded = np.concatenate([[False], mask, [False]])
     edges = np.flatnonzero(padded[1:] != padded[:-1])
     return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))
+
+
+def _episodes(carry: np.ndarray, min_len: int, bridge: int) -> list[tuple[int, int]]:
+    """The co-motion runs ``[a, b)`` of ``carry`` that are episodes: the runs of at least
+    ``min_len`` frames, and the shorter runs that lead up to one — a run of ``min_len`` follows
+    them after interruptions of at most ``bridge`` frames each.
+
+    A grasp's first co-motion often flickers (the hand still closing its grip lifts the object in
+    short jerks before it carries it): how long each piece lasts depends on the frame rate and the
+    lag of the speeds (KIT Stir's cup: 2 frames at 10 Hz, 3 at 30 Hz, 9 + 1 at 100 Hz), and the
+    carry's own, tighter grip does not reach back to where the hand arrived. Each piece keeps its
+    own threshold (its median distance). Short pieces *after* a carry are not episodes: the object
+    set down, the hand opening, its distance already growing (KIT Pour at 240 Hz: one frame at
+    149 mm as the carton leaves the cup); the carry's extension covers the let-go."""
+    runs = _runs(carry)
+    out: list[tuple[int, int]] = []
+    leading: list[tuple[int, int]] = []  # short runs chained to the next run
+    for a, b in runs:
+        if leading and a - leading[-1][1] > bridge:
+            leading = []
+        if b - a >= min_len:
+            out += leading
+            out.append((a, b))
+            leading = []
+        else:
+            leading.append((a, b))
+    return out
 
 
 _EXTEND_WINDOW = 2048  # frames either side of an episode looked at first by _extend

@@ -35,15 +35,17 @@ Memory O(frames) per instance pair within reach, as the co-motion scan.
 from __future__ import annotations
 
 import fnmatch
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
+from oacdsl.segmentation.comotion import frames_within
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.toolroles import refine
 
-__all__ = ["ToolContacts", "agents_of", "tool_contacts"]
+__all__ = ["STRAIGHT_RATIO", "ToolContacts", "agents_of", "passes_through", "tool_contacts"]
 
 Spans = list[tuple[int, int]]
 
@@ -73,6 +75,8 @@ def tool_contacts(
     bridge_s: float,
     rest_m: float = 0.005,
     hold_m: float | None = None,
+    positions_m: np.ndarray | None = None,
+    step: int = 1,
 ) -> ToolContacts:
     """Tool contacts and cross-hand vetoes (see the module docstring).
 
@@ -81,7 +85,10 @@ def tool_contacts(
     reach, NaN in a gap: a gap inside a tool contact does not end it); ``reach_m``: ``d``;
     ``dwell_s``, ``bridge_s``: seconds; ``rest_m``: metres a distance at rest varies
     (:mod:`oacdsl.segmentation.toolroles`); ``hold_m``: metres, an excursion between two
-    contacts that stays within it is bridged (None: ``reach_m``, only ``bridge_s``).
+    contacts that stays within it is bridged (None: ``reach_m``, only ``bridge_s``);
+    ``positions_m``: the recording's (F, M, 3) marker positions, with which a tool that goes
+    straight through the target's reach is passing by, however long it takes
+    (:func:`passes_through`, sampled every ``step`` frames); None: the dwell alone decides.
     """
     agent_set = set(agents)
     if not agent_set:
@@ -114,7 +121,7 @@ def tool_contacts(
                 mask[a:b] = True
             holds[(h, x)] = mask
     dwell = max(1, round(dwell_s * rate_hz))
-    bridge = max(0, round(bridge_s * rate_hz))
+    bridge = frames_within(bridge_s, rate_hz)
     added: dict[int, Spans] = {}
     for i, x in enumerate(objects):
         for a in objects[i + 1 :]:
@@ -143,7 +150,10 @@ def tool_contacts(
                     near[at] |= close
                     unknown[at] |= gap & ~close
             near = _bridge(near, bridge, (unknown | kept) & ~near)
-            spans = [(s, e) for s, e in _runs(near) if e - s >= dwell]
+            spans = [(s, e) for s, e in _runs(near) if e - s >= dwell
+                     and not (positions_m is not None
+                              and passes_through(_centre(positions_m, table, x, s, e),
+                                                 _centre(positions_m, table, a, s, e), step, reach_m))]
             if spans:
                 added[q] = spans
     removed: dict[int, Spans] = {}
@@ -164,6 +174,47 @@ def tool_contacts(
     added, removed = refine(added, removed, n_frames, holds, objects, agent_set, pair, dist, reach_m, dwell,
                             rest_m)
     return ToolContacts(added, removed)
+
+
+#: A tool whose path relative to the target within reach is at least this straight (net
+#: displacement over path length) goes through, not to, the target: carrying a spoon past a cup
+#: is straight (≈ 1), stirring, wiping, cutting and dipping go back and forth or stay (≪ 1).
+STRAIGHT_RATIO = 0.8
+
+
+def passes_through(tool_m: np.ndarray, target_m: np.ndarray, step: int = 1, reach_m: float = 0.0) -> bool:
+    """Does a tool at ``tool_m`` ((F, 3) m, its centre over a stay within reach) go straight through
+    the reach of a target at ``target_m`` ((F, 3))? Its path relative to the target, sampled every
+    ``step`` frames (marker jitter adds no length), is at least :data:`STRAIGHT_RATIO` straight and
+    crosses ``reach_m`` at least (a chord of the reach through its inner part: in at one side, out
+    at the other; an object brought straight *to* the target and let go there moves less:
+    KIT Wipe's plate into the rack, 70 mm), and it ends at least half as far from the target as it
+    began, within a fifth (a lid brought 205 mm straight onto its bottle ends at half its
+    distance: it stays there).
+
+    Scale, pace and frame rate do not change the ratio, unlike the dwell: a spoon carried past a
+    cup at the demonstration's fastest pace stays within reach as long, in its own time, as a short
+    stir (docs/segmentation-adaptive.md, step 5)."""
+    rel = tool_m - target_m
+    rows = np.flatnonzero(np.isfinite(rel).all(axis=1))
+    if rows.size < 3:
+        return False
+    step = max(1, step)
+    rows = np.append(rows[::step], rows[-1]) if (rows.size - 1) % step else rows[::step]
+    path = rel[rows]
+    length = float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum())
+    net = float(np.linalg.norm(path[-1] - path[0]))
+    ends = sorted(float(np.linalg.norm(path[i])) for i in (0, -1))
+    leaves = ends[0] >= 0.8 * ends[1]  # out as far as in: not brought *to* the target and left there
+    return length > 0 and net >= STRAIGHT_RATIO * length and net >= reach_m and leaves
+
+
+def _centre(positions_m: np.ndarray, table: PairTable, instance: int, s: int, e: int) -> np.ndarray:
+    """(e - s, 3) mean of ``instance``'s visible markers in frames ``s:e`` (NaN where none is)."""
+    idx = table.marker_order[table.marker_offsets[instance] : table.marker_offsets[instance + 1]]
+    with np.errstate(invalid="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a frame without any marker: NaN
+        return np.asarray(np.nanmean(positions_m[s:e, idx], axis=1), dtype=np.float64)
 
 
 def _bridge(mask: np.ndarray, frames: int, unknown: np.ndarray) -> np.ndarray:
