@@ -113,13 +113,6 @@ class Tuning:
     #: solver steps a static solve of a pose may take (the IK settling there before a motion)
     pose_solve_tries: int = 150
 
-    # --- tilt a held container (pour) ---------------------------------------------------------
-    #: how far the hand lags below its goal while it tilts a cup at a demonstrated pace (the
-    #: wrist turns before the shoulder and the elbow follow: 1.5 to 2 cm measured at 2.7 rad/s),
-    #: kept as extra room between the tilting cup and the target's rim at the tilt's start (less as
-    #: it tilts, none from where the balls roll out), m
-    tilt_lag_m: float = 0.02
-
     # --- tip a held object over a container --------------------------------------------------
     #: how many horizontal axes (evenly round) a tip is tried about; the best reached is taken
     tip_axis_tries: int = 8

@@ -19,10 +19,7 @@ The pouring hand keeps clear of the target: its palm and fingers reach around an
 the cup they hold (a side grasp of a 7 cm carton: some 4 cm past its far side and up to
 its rim), so at every step of the tilt the lip is raised as much as the hand's collision
 boxes need to stay :data:`~oacdsl.runtime.motion.tuning.Tuning.rim_clearance_m` above the
-target's rim where they are over it, and no more (over a wide target the cup itself keeps
-:data:`~oacdsl.runtime.motion.tuning.Tuning.tilt_lag_m` more as the tilt begins, none from where
-the balls roll out on: the hand lags below its goal as it tilts at the demonstrated pace, and
-a cup tilted as low as planned met the bowl's rim): the hand passes over the rim half-way
+target's rim where they are over it, and no more: the hand passes over the rim half-way
 through the tilt, the balls leave the lip later, from its usual height (KIT Pour: the
 right thumb met the cup while pouring).
 
@@ -179,20 +176,14 @@ def pour(
     def need(u: np.ndarray, s: float, base: float) -> float:
         """How much higher (m) than ``base`` above its place the lip must be at ``s`` of the
         tilt so that the cup stays above the target's rim where it is over the wall or beyond
-        it (a wide one: :attr:`TUNING.tilt_lag_m` more at the tilt's start, less as it tilts,
-        none from :data:`SLOW_FROM_RAD` on, where the balls roll out from the lip at its usual height: the
-        tilting hand lags below its goal) and above its floor inside it, and the pouring hand
-        (its palm and fingers reach around and past the cup) stays
-        :data:`TUNING.rim_clearance_m` above the rim wherever it is over the target or its rim."""
+        it and above its floor inside it, and the pouring hand (its palm and fingers reach
+        around and past the cup) stays :data:`TUNING.rim_clearance_m` above the rim wherever
+        it is over the target or its rim."""
         t_hand = hand_at(u, tilt * s, base)
         pts = world_corners(cup, t_hand @ cup_in_hand)
         d = np.hypot(pts[:, 0] - centre[0], pts[:, 1] - centre[1])
         near = d < bowl.rim_radius + TUNING.end_margin_m
-        # not over a narrow target: poured into from just over its near wall, slowly, a cup
-        # raised there sent a ball past it (KIT Pour, seed 4: 7 of 8)
-        lag = 0.0 if narrow else TUNING.tilt_lag_m * max(0.0, 1.0 - tilt * s / SLOW_FROM_RAD)
-        inside = d < bowl.inner_radius - TUNING.end_margin_m
-        low = np.where(inside, floor_z, rim_z + lag) + TUNING.end_margin_m
+        low = np.where(d < bowl.inner_radius - TUNING.end_margin_m, floor_z, rim_z) + TUNING.end_margin_m
         out = float((low - pts[:, 2])[near].max()) if near.any() else 0.0
         out = max(out, below_holder(pts))
         pts = hand_pts @ t_hand[:3, :3].T + t_hand[:3, 3]
