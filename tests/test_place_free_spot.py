@@ -160,7 +160,8 @@ def test_a_stalled_set_down_goes_to_the_free_spot_the_hand_reaches_best():
     of its reach), ``place`` sets it down on the free spot whose descent's end the whole-body IK
     reaches best: one of the free spots, the object upright, the hand at the hover height above."""
     from oacdsl.runtime.motion.tuning import TUNING
-    from oacdsl.runtime.skills.place import _best_reached_spot, _spots
+    from oacdsl.runtime.skills.free_spot import hand_offsets
+    from oacdsl.runtime.skills.place import _best_reached_spot
 
     run = prepare(_library(), "open_and_put_down", layout="demonstrated", demonstrated=FIRST_FRAME)
     ctx = run.context
@@ -171,7 +172,8 @@ def test_a_stalled_set_down_goes_to_the_free_spot_the_hand_reaches_best():
     xy = lid[:2, 3]
     assert lid[2, 2] == pytest.approx(1.0, abs=1e-6)  # upright
     assert lid[2, 3] == pytest.approx(ctx.support_height(xy, exclude="lid") + TUNING.hover_m)
-    spots = _spots(ctx, "l", "lid", lid_in_hand, lid[:3, :3], None)
+    offsets = hand_offsets(np.linalg.inv(lid_in_hand), lid[:3, :3], np.array([0.0, 0.0, -1.0]))
+    spots = free_spots(run.world, "l", "lid", run.world.layout.bodies["lid"].radius, hand_xy_m=offsets)
     assert any(np.allclose(xy, p) for p in spots)
 
     def miss(p: np.ndarray) -> float:

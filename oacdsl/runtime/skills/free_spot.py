@@ -30,7 +30,7 @@ from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
 from oacdsl.runtime.skills.grasp import grasp_candidates
 from oacdsl.runtime.transforms import make_T, rot_z
 
-__all__ = ["free_spot"]
+__all__ = ["free_spot", "hand_offsets"]
 
 
 def free_spot(
@@ -55,9 +55,7 @@ def free_spot(
     candidates = []
     for turn in t.spot_turns_rad if ctx.body(obj).round else (0.0,):
         r = rot_z(turn)[:3, :3]
-        # the hand beside the object as it will stand, and where it backs off to (Motion.withdraw)
-        hand = (r @ r_obj @ in_hand[:3, 3])[:2]
-        offsets = (hand, hand - t.withdraw_back_m * (r @ back)[:2])
+        offsets = hand_offsets(in_hand, r @ r_obj, r @ back)
         for xy in free_spots(world, side, obj, ctx.body(obj).radius, hand_xy_m=offsets, limit=t.spot_tries):
             key = (float(xy[1]) * own < 0, float(np.linalg.norm(xy - here)), abs(turn))
             candidates.append((key, xy, turn))
@@ -97,6 +95,14 @@ def free_spot(
     plain = [o for o in plain if with_other(o)] or plain
     what = f"a free spot of the table for {obj}"
     return ctx.first_reachable(side, [(o[0], (o[1][:2, 3], 0.0)) for o in plain], what)
+
+
+def hand_offsets(hand_in_obj: np.ndarray, r_obj: np.ndarray, back: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Where the hand is relative to a spot (xy, m) with the object standing there turned as
+    ``r_obj`` (world; ``hand_in_obj``: T_obj_grasp), and where it backs off to along ``back``
+    (Motion.withdraw): :func:`~oacdsl.runtime.motion.spots.free_spots`' ``hand_xy_m``."""
+    hand = (r_obj @ hand_in_obj[:3, 3])[:2]
+    return hand, hand - TUNING.withdraw_back_m * back[:2]
 
 
 def _roomy(ctx: SkillContext, side: str, obj: str, t_down: np.ndarray, approach: np.ndarray | None) -> bool:

@@ -23,7 +23,7 @@ from oacdsl.runtime.motion import TUNING, Motion
 from oacdsl.runtime.motion.hand import felt_nothing
 from oacdsl.runtime.motion.spots import free_spots
 from oacdsl.runtime.skills.base import Pick, SkillContext
-from oacdsl.runtime.skills.free_spot import free_spot
+from oacdsl.runtime.skills.free_spot import free_spot, hand_offsets
 from oacdsl.runtime.transforms import make_T, rot_z
 from oacdsl.skills import SIGNATURES
 
@@ -102,21 +102,6 @@ def _origin_free(ctx: SkillContext, obj: str, pick: Pick | None) -> bool:
     )
 
 
-def _spots(ctx: SkillContext, side: str, obj: str, t_obj_in_hand: np.ndarray, r_obj: np.ndarray,
-           approach: np.ndarray | None) -> list[np.ndarray]:
-    """The free spots of the table (xy, m; :func:`~oacdsl.runtime.motion.spots.free_spots`) for
-    ``obj`` turned as ``r_obj``, the hand beside it and backing off along ``approach``; raises
-    when there is none."""
-    # the hand beside the object as it will stand, and where it backs off to (Motion.withdraw)
-    hand = (r_obj @ np.linalg.inv(t_obj_in_hand)[:3, 3])[:2]
-    back = np.array([0.0, 0.0, -1.0]) if approach is None else approach
-    offsets = (hand, hand - TUNING.withdraw_back_m * back[:2])
-    spots = free_spots(ctx.world, side, obj, ctx.body(obj).radius, hand_xy_m=offsets)
-    if not spots:
-        raise RuntimeFailure(f"place: no free spot on the table for {obj}")
-    return spots
-
-
 def _best_reached_spot(ctx: SkillContext, side: str, obj: str, pick: Pick | None) -> np.ndarray:
     """T_world_grasp above the free spot of the table where the whole-body IK brings the hand
     nearest to where the guarded descent ends, ``obj`` upright, turned as it is held now."""
@@ -127,7 +112,11 @@ def _best_reached_spot(ctx: SkillContext, side: str, obj: str, pick: Pick | None
     def at(xy: np.ndarray, dz_m: float) -> np.ndarray:
         return make_T(r_obj, (xy[0], xy[1], ctx.support_height(xy, exclude=obj) + dz_m)) @ hand_in_obj
 
-    spots = _spots(ctx, side, obj, t_obj_in_hand, r_obj, pick.approach if pick is not None else None)
+    back = np.array([0.0, 0.0, -1.0]) if pick is None else pick.approach
+    offsets = hand_offsets(hand_in_obj, r_obj, back)
+    spots = free_spots(ctx.world, side, obj, ctx.body(obj).radius, hand_xy_m=offsets)
+    if not spots:
+        raise RuntimeFailure(f"place: no free spot on the table for {obj}")
     best = min(spots, key=lambda xy: ctx.ctl.ik.try_reach(side, at(xy, -TUNING.support_search_m)).position_m)
     return at(best, TUNING.hover_m)
 
