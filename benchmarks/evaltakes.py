@@ -96,7 +96,9 @@ def robot_run(task: str, take: str, capture: demos.Capture, seed: int, folder: P
     from oacdsl.segmentation import AasParams
 
     libs = libraries(folder)
-    rec, _hands = STANDARD_TAKES[take](demos.TASKS[task][0](capture))
+    rec = demos.TASKS[task][0](capture)
+    if take != "capture":
+        rec, _hands = STANDARD_TAKES[take](rec)
     path = write_recording(rec, folder / f"{task}_{take}.c3d")
     out = folder / f"{task}-{take}-{seed}"
     inputs = load_inputs(path, libs, None, AasParams())
@@ -188,9 +190,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--task", action="append", choices=list(demos.TASKS),
                         help="a synthetic demonstration (repeatable; default: all)")
-    parser.add_argument("--take", action="append", choices=list(STANDARD_TAKES),
+    parser.add_argument("--take", action="append", choices=["capture", *STANDARD_TAKES],
                         help="a standard take (repeatable; default: all seven, or with --robot "
-                             f"{', '.join(ROBOT_TAKES)})")
+                             f"{', '.join(ROBOT_TAKES)}); with --robot, 'capture': the captured original")
     parser.add_argument("--capture", choices=list(CAPTURES), default="kit",
                         help="kit: noise, stalks and a gap (default); kit10: the same at 10 Hz, the"
                              " KIT clips' rate; clean: the ideal tracks at 100 Hz")
@@ -206,6 +208,8 @@ def main(argv: list[str] | None = None) -> int:
     tasks = args.task or list(demos.TASKS)
     if args.robot:
         return robot_main(args, tasks, args.take or list(ROBOT_TAKES))
+    if args.take and "capture" in args.take:
+        parser.error("--take capture: only with --robot (the compose table always has the capture column)")
     return compose_main(args, tasks, args.take or list(STANDARD_TAKES))
 
 
