@@ -95,7 +95,9 @@ def robot_run(task: str, take: str, capture: demos.Capture, seed: int, folder: P
     from oacdsl.runtime.overrides import SceneOverrides
     from oacdsl.segmentation import AasParams
 
-    libs = libraries(folder)
+    # a library of its own: a run writes its composed OAC into the first library (learned/), and
+    # a whole-task OAC there would be a candidate for the next run's sub-actions
+    libs = libraries(folder / f"lib-{task}-{take}-{seed}")
     rec = demos.TASKS[task][0](capture)
     if take != "capture":
         rec, _hands = STANDARD_TAKES[take](rec)
