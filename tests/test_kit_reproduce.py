@@ -70,12 +70,7 @@ CLIPS = {
 
 #: Not verified under the verifier of issue 18 (docs/verify.md), owed by the runtime (issue 19):
 #: strict, so that the run that verifies again says so.
-NOT_VERIFIED = {
-    "Mix": "end state: the servers, modelled flat, end apart in the bowl leaning 31-33 deg from"
-    " upright (the person's fork 31 deg, spoon 48 deg), which the verifier, judging the turn from"
-    " how each started (the robot's standing, the person's lying), reads as upright against the"
-    " demonstration's on its side (docs/kit.md, benchmarks/mix_rest.py --leans)",
-}
+NOT_VERIFIED: dict[str, str] = {}
 
 
 #: Verified but not faithful (the motion check, docs/verify.md): the others' motion is judged too.
