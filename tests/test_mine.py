@@ -288,7 +288,8 @@ def test_many_runs_options_are_checked(capsys):
     from oacdsl.cli import main as oacc
 
     assert oacc(["run", "grasp", "--library", str(LIBRARY), "--workers", "2"]) == 2
-    assert "--workers, --scheduler and --place-samples go with --seeds A:B" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "--workers, --scheduler, --worker-wait and --place-samples go with --seeds A:B" in err
     with pytest.raises(SystemExit):
         oacc(["run", "grasp", "--seeds", "5:5"])
     assert "expected A:B, whole numbers with 0 <= A < B" in capsys.readouterr().err

@@ -236,8 +236,9 @@ def run(args: argparse.Namespace) -> int:
 
         paths = [*(args.library or ["library"]), *([args.scene] if scene != args.scene else [])]
         return run_many_cmd(args, paths, scene, bindings, overrides)
-    if args.workers is not None or args.scheduler is not None or args.place_samples != 1:
-        raise UsageError("--workers, --scheduler and --place-samples go with --seeds A:B")
+    many = (args.workers, args.scheduler, args.worker_wait)
+    if args.place_samples != 1 or any(x is not None for x in many):
+        raise UsageError("--workers, --scheduler, --worker-wait and --place-samples go with --seeds A:B")
     db = None
     if not args.no_record:  # an unusable store fails now, before the simulation
         from oacdsl.stats import ensure_writable, resolve_db_path

@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import IO, Any
 
 from oacdsl.errors import InputError, UsageError
-from oacdsl.mining.cluster import client_for, close, share, worker_count
+from oacdsl.mining.cluster import WORKER_WAIT_S, client_for, close, share, worker_count
 from oacdsl.mining.inputs import RecordingFile, expand_recordings
 from oacdsl.mining.table import TABLE_NAME, MineTable
 from oacdsl.mining.task import PRELOAD, JobSpec, analyse_batch
@@ -155,13 +155,16 @@ def mine(
     compose: bool = False,
     workers: int | None = None,
     scheduler: str | None = None,
+    worker_wait_s: float = WORKER_WAIT_S,
     dashboard: bool = False,
     progress: IO[str] | None = sys.stderr,
     note: Callable[[str], None] | None = None,
 ) -> MineResult:
     """Segment and match every recording against ``library`` (module doc); ``out`` is the job's
     folder (its table and summary page). ``workers``: processes of the embedded cluster (default:
-    the machine's cores); ``scheduler``: the address of a running Dask scheduler instead."""
+    the machine's cores); ``scheduler``: the address of a running Dask scheduler instead, whose
+    first worker is awaited at most ``worker_wait_s`` seconds (a line on ``progress`` while
+    waiting; :class:`UsageError` when none joins)."""
     from oacdsl.mining.summary import write_summary
     from oacdsl.pipeline.inputs import open_library
 
@@ -180,7 +183,11 @@ def mine(
     address = None
     rows: list[dict[str, Any]] = []
     # the cluster starts first: its workers come up while this process parses the library
-    client, cluster = client_for(workers, scheduler, dashboard, PRELOAD) if todo else (None, None)
+    client, cluster = (
+        client_for(workers, scheduler, dashboard, PRELOAD, worker_wait_s=worker_wait_s, progress=progress)
+        if todo
+        else (None, None)
+    )
     try:
         parsed = open_library([Path(p) for p in paths])  # a library that does not compile fails here, once
         folder.mkdir(parents=True, exist_ok=True)
