@@ -79,4 +79,3 @@ def untracked_judged(scene: Any, run_doc: dict[str, Any]) -> list[dict[str, Any]
         ]
         out.append({"instance": inst.name, "judged_by": judged})
     return out
-
