@@ -15,6 +15,7 @@ each of its recordings. At the end the summary page is written (:mod:`oacdsl.min
 
 from __future__ import annotations
 
+import os
 import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
@@ -145,6 +146,20 @@ def _results(client: Any, spec: JobSpec, work: list[list[RecordingFile]]) -> Ite
             yield [_worker_error(rec, error) for rec in futures[future]]
 
 
+def _check_makeable(folder: Path) -> None:
+    """:class:`InputError` (exit 2) when ``folder`` cannot be made: the nearest existing path above
+    it is a file, or a folder this process may not write in."""
+    above = folder
+    while not above.exists() and above.parent != above:
+        above = above.parent
+    if above == folder:
+        return
+    if not above.is_dir():
+        raise InputError(f"cannot make the job's folder: {above} is not a folder", location=str(folder))
+    if not os.access(above, os.W_OK | os.X_OK):
+        raise InputError(f"cannot make the job's folder: {above} is not writable", location=str(folder))
+
+
 def mine(
     recordings: Sequence[str],
     library: Sequence[str | Path],
@@ -178,6 +193,7 @@ def mine(
     folder = Path(out)
     if folder.exists() and not folder.is_dir():
         raise InputError("not a folder: the job's output folder", location=str(folder))
+    _check_makeable(folder)  # before the cluster starts: a bad --out costs nothing
     todo = _not_done(files, folder / TABLE_NAME)
     ticker = _Ticker(len(todo), progress)
     address = None
@@ -190,7 +206,11 @@ def mine(
     )
     try:
         parsed = open_library([Path(p) for p in paths])  # a library that does not compile fails here, once
-        folder.mkdir(parents=True, exist_ok=True)
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+        except OSError as error:
+            why = error.strerror or error
+            raise InputError(f"cannot make the job's folder: {why}", location=str(folder)) from None
         spec = JobSpec(paths, scene, _params_dict(params), compose, parsed)
         with MineTable(folder / TABLE_NAME) as table:
             if client is not None:
