@@ -278,3 +278,19 @@ def test_the_planner_leaves_nothing_in_the_working_folder(tmp_path, monkeypatch)
     result = plan_goal(lib, scene, scene_state(scene), parse_atoms("mixer <-> orange_bowl"))
     assert result.plan is not None and len(result.plan) == 2
     assert list(tmp_path.iterdir()) == []  # Fast Downward's output.sas went to a folder of its own
+
+
+def test_a_bad_from_document_is_one_line(tmp_path, capsys):
+    goal = ["plan", "--scene", "kitchen", "--goal", "mixer <-> orange_bowl", "--from"]
+    cases = {
+        "cut.json": ('{"steps": [', ":1:12: not JSON: Expecting value"),
+        "deep.json": ("[" * 50_000 + "]" * 50_000, ": nested too deeply; not a run document"),
+        "empty_run.json": ('{"steps": []}', ": no executed steps to take the world state from"),
+    }
+    for name, (text, message) in cases.items():
+        (tmp_path / name).write_text(text, encoding="utf-8")
+        assert main([*goal, str(tmp_path / name)]) == 2
+        err = capsys.readouterr().err
+        assert err.splitlines() == [f"oacc: error: {tmp_path / name}{message}"], err
+    assert main([*goal, str(tmp_path / "missing.json")]) == 2
+    assert capsys.readouterr().err.strip() == f"oacc: error: {tmp_path / 'missing.json'}: no such file"

@@ -91,7 +91,9 @@ def state_from_result(path: str, instances: Iterable[str]) -> WorldState:
     except (OSError, UnicodeDecodeError) as error:
         raise InputError(f"cannot read: {error}", location=path) from None
     except json.JSONDecodeError as error:
-        raise InputError(f"{error.lineno}:{error.colno}: not JSON: {error.msg}", location=path) from None
+        raise InputError(f"not JSON: {error.msg}", location=f"{path}:{error.lineno}:{error.colno}") from None
+    except RecursionError:
+        raise InputError("nested too deeply; not a run document", location=path) from None
     known = frozenset(instances)
     pairs = []
     for index, pair in enumerate(_pairs_of(doc, path)):
