@@ -37,11 +37,13 @@ CLIPS = {
         ["grasp", "grasp", "hold_on_board", "cut", "finish_cut", "place", "place"],
         ["match", "match", "match", "match", "split", "match", "match"],
     ),
-    # both servers into the bowl at once (mix_both), both let go at once (place_both)
+    # both servers into the bowl at once (mix_both), both let go at once (place_both); the
+    # person takes the servers 0.2 s apart and lets them go 0.2 s apart (two changes each, one
+    # keyframe apiece in the demonstration), the robot's hands do each pair at once: a merge
     "Mix": (
         "kit_bimanual/Mix_files_motions_3121_Mix1_salad_gb_parallel_08.mmm.xml",
         ["grasp_both", "mix_both", "leave_both_in"],
-        ["match", "match", "match"],
+        ["merge", "match", "merge"],
     ),
     # the demonstration's two grasps (and, at the end, two let-goes) are changes of their own,
     # kept apart by the segmentation; the robot's grasp_both (place_both) makes each pair in one
