@@ -4,7 +4,8 @@ For each OAC, a branch-and-bound search over the bindings of its variables
 (classes respected, different variables to different instances) finds the
 binding that fails the fewest conditions. The conditions are the bound
 preconditions (before), the bound effects (after) and, in strict mode, one per
-changed relation that the bound effects must account for. Values that fail the
+changed relation that the bound effects must account for, and, when it fails, that
+every instance the effects name takes part in a change. Values that fail the
 fewest conditions are tried first, so the first complete binding is already
 good; the search stops after ``node_cap`` nodes per OAC (20 000, fewer for a large
 library: 400 000 in all, at least 2 000 each) and says so.
@@ -17,6 +18,7 @@ from collections.abc import Mapping, Sequence
 from oacdsl.matching.conditions import bind_atom, why_not
 from oacdsl.matching.results import Mode, NearMiss, change_text
 from oacdsl.matching.search import AFTER, BEFORE, CompiledOac, StateView, plan
+from oacdsl.matching.strict import changed_instances, untouched
 from oacdsl.model import Atom, atom_text
 from oacdsl.world import NOTHING, WorldState
 
@@ -70,6 +72,19 @@ def _unaccounted(
     return out
 
 
+def _untouched_text(
+    co: CompiledOac, b: Sequence[str], added: frozenset[tuple[str, str]], removed: frozenset[tuple[str, str]]
+) -> list[str]:
+    """The strict rule's condition that every instance the effects name takes part in a change,
+    as a failure text (an empty list when it holds)."""
+    idle = untouched(co, b, changed_instances(added, removed))
+    if not idle:
+        return []
+    verb = "takes" if len(idle) == 1 else "take"
+    return [f"the effects name {', '.join(idle)}, which {verb} part in no change (an OAC's effects say"
+            " what it changes)"]
+
+
 def closest_binding(
     co: CompiledOac,
     members: Mapping[str, frozenset[str]],
@@ -112,7 +127,10 @@ def closest_binding(
     def extend(k: int, fails: int) -> None:
         nonlocal best_fails, best, nodes, truncated
         if k == n:
-            total = fails + (len(_unaccounted(co, assign, added, removed)) if mode == "strict" else 0)
+            total = fails
+            if mode == "strict":
+                total += len(_unaccounted(co, assign, added, removed))
+                total += len(_untouched_text(co, assign, added, removed))
             if total < best_fails:
                 best_fails, best = total, tuple(assign)
             return
@@ -154,8 +172,10 @@ def closest_binding(
             failed.append(f"{label} {atom_text(atom)} does not hold {moment}: {why_not(atom, state)}")
     total = len(conds)
     if mode == "strict":
-        failed += _unaccounted(co, bound, added, removed)
-        total += len(added) + len(removed)
+        # one condition per changed relation; the one on the instances the effects name when it fails
+        idle = _untouched_text(co, bound, added, removed)
+        failed += _unaccounted(co, bound, added, removed) + idle
+        total += len(added) + len(removed) + len(idle)
     binding = tuple((co.names[v], bound[v]) for v in range(co.n_params))
     return NearMiss(oac, binding, tuple(failed), total, truncated)
 

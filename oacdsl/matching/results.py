@@ -9,7 +9,7 @@ from oacdsl.matching.conditions import bind_atoms
 from oacdsl.model import Atom, Oac, atom_text
 from oacdsl.world import Relation, WorldState
 
-__all__ = ["Match", "MatchResult", "Mode", "NearMiss", "call_text", "change_text"]
+__all__ = ["Match", "MatchResult", "Mode", "NearMiss", "call_text", "change_text", "choice_reason"]
 
 #: ``strict`` (default): the paper's rule plus "the effects account for every change";
 #: ``paper``: the paper's rule alone (pre holds before, effects hold after).
@@ -137,3 +137,45 @@ class MatchResult:
             return False
         a, b = self.matches[0].rank_key(), self.matches[1].rank_key()
         return a[:4] == b[:4] and not self.matches[0].same_meaning(self.matches[1])
+
+
+def _classes_text(m: Match) -> str:
+    return ", ".join(p.cls for p in m.oac.params)
+
+
+def choice_reason(matches: list[Match]) -> str | None:
+    """Why the first of the ranked ``matches`` was chosen over the second."""
+    if len(matches) < 2:
+        return None
+    a, b = matches[0], matches[1]
+    head = f"{len(matches)} matches; chose {a.text()}"
+    if a.explained != b.explained:
+        why = f"it explains {a.explained} of {a.changes} changed relations, {b.text()} only {b.explained}"
+    elif a.specificity != b.specificity:
+        why = (
+            f"its classes are more specific ({_classes_text(a)}) than those of {b.text()}"
+            f" ({_classes_text(b)})"
+        )
+    elif a.idle != b.idle:
+        why = f"fewer of its effects already held before ({a.idle}, {b.text()}: {b.idle})"
+    elif a.conditions != b.conditions:
+        why = (
+            f"it states more conditions ({a.conditions} preconditions and effects, {b.text()}:"
+            f" {b.conditions})"
+        )
+    elif a.same_meaning(b):
+        why = f"the same conditions as {b.text()} (the OAC is symmetric in these parameters)"
+    elif a.oac.name == b.oac.name:
+        why = (
+            f"ambiguous: it ties with {b.text()}; chosen by binding order. The conditions of"
+            f" {a.oac.name} do not tell these instances apart: add one that does (a precondition"
+            " about the instance you mean, or a more specific parameter class)"
+        )
+    else:
+        why = (
+            f"ambiguous: it ties with {b.text()} on explained change, class specificity, idle"
+            f" effects and number of conditions ({a.conditions}); chosen by name. To choose the"
+            " other, give the OAC you mean a more specific parameter class or a precondition the"
+            " other lacks (or leave the other out of the library)"
+        )
+    return f"{head}: {why}"
