@@ -117,6 +117,9 @@ class MatchResult:
     near_misses: tuple[NearMiss, ...] = field(default=())
     #: Why nothing matched; None when something did.
     explanation: str | None = None
+    #: True when a tie of the best matches was broken by how far their hands moved
+    #: (:mod:`oacdsl.matching.agency`): then no longer ambiguous.
+    by_motion: bool = False
 
     @property
     def chosen(self) -> Match | None:
@@ -133,7 +136,7 @@ class MatchResult:
     @property
     def ambiguous(self) -> bool:
         """True when the best two matches tie on everything but name and binding."""
-        if len(self.matches) < 2:
+        if len(self.matches) < 2 or self.by_motion:
             return False
         a, b = self.matches[0].rank_key(), self.matches[1].rank_key()
         return a[:4] == b[:4] and not self.matches[0].same_meaning(self.matches[1])
