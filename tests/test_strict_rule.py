@@ -71,3 +71,32 @@ def test_the_clingo_reference_agrees(library):
     assert {matcher.oacs[k].name for k, _, _ in found} == {"set_on"}
     ours = {(co.index, 0, b[: co.n_params]) for co, b in matcher.raw_matches(*ONTO_CRATE)}
     assert found == ours
+
+
+def _kit_only(library) -> list[str]:
+    kit = load_library([ROOT / "library" / "kit"])
+    return [n for n in library.oacs if n not in kit.oacs]
+
+
+def test_the_closest_oac_may_bind_an_instance_of_another_class_and_says_so(library):
+    # What the new user met: the KIT library's touch wants a Graspable target, the crate is a
+    # Surface. The explanation now names touch and that one class, not an OAC that changes nothing.
+    matcher = Matcher.from_library(library, library.scenes["stacking"], exclude=_kit_only(library))
+    result = matcher.match(*ONTO_CRATE)
+    assert result.chosen is None
+    assert result.near_misses[0].text() == ("touch(h=right_hand, o=block, t=crate) fails 1 of 5 conditions:"
+                                            " crate is not a Graspable (parameter t; crate: Crate, Surface)")
+    # agents and objects do not stand for each other: no hand as an object, no box as a hand
+    from oacdsl.matching.explain import closest_binding
+
+    hands = {"left_hand", "right_hand"}
+    for co in matcher.compiled:
+        miss = closest_binding(co, matcher._members, *ONTO_CRATE, "strict")
+        for (_, x), param in zip(miss.binding, co.oac.params, strict=False):
+            assert (x in hands) == (param.cls == "Hand"), miss.text()
+
+
+def test_the_effects_instance_rule_is_reported_only_as_the_one_reason_left(library):
+    matcher = Matcher.from_library(library, library.scenes["stacking"], exclude=_kit_only(library))
+    result = matcher.match(*ONTO_CRATE)
+    assert "takes part in no change" not in (result.explanation or "")
