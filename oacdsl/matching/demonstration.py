@@ -179,11 +179,16 @@ def match_segmentation(
     rule = mode or matcher.mode
     untracked = matcher.untracked
 
-    def match(b: WorldState, a: WorldState) -> MatchResult:
-        result = matcher.match(b, a, mode=mode)
+    def match(b: WorldState, a: WorldState, explain: bool = True) -> MatchResult:
+        result = matcher.match(b, a, mode=mode, explain=explain)
         if untracked is None:
             return result
         return dataclasses.replace(result, matches=tuple(untracked.original(m) for m in result.matches))
+
+    def quiet(b: WorldState, a: WorldState) -> MatchResult:
+        """A match for its matches only: no explanation (the parts of a split, the union of two
+        near-coincident changes are tried by the many)."""
+        return match(b, a, explain=False)
 
     raw: list[Segmentation] = []
 
@@ -193,7 +198,7 @@ def match_segmentation(
         if unmerged is not None and not raw:
             raw.append(unmerged())
         times = _change_times(raw[0], sub, b, a) if raw else None
-        return split_change(match, b, a, untracked.names if untracked is not None else frozenset(), times)
+        return split_change(quiet, b, a, untracked.names if untracked is not None else frozenset(), times)
 
     def decided(r: MatchResult, sa: SubAction) -> MatchResult:
         return r if travel is None else by_motion(r, agents, travel, sa.start.frame, sa.end.frame)
@@ -218,7 +223,7 @@ def match_segmentation(
     window = coincidence_window_s(segmentation) if coincident_s is None else coincident_s
     joined: tuple[Joined, ...] = ()
     if window > 0 and len(subs) > 1:
-        stable, joined = join_coincident(stable, matches_whole(subs, match, untracked), window)
+        stable, joined = join_coincident(stable, matches_whole(subs, quiet, untracked), window)
         if joined:
             subs, done = run(stable.sub_actions())
     out = []
