@@ -30,7 +30,7 @@ from collections.abc import Callable, Iterable, Mapping
 from oacdsl.errors import UsageError
 from oacdsl.library import Library
 from oacdsl.matching.explain import explain_no_match
-from oacdsl.matching.results import Match, MatchResult, Mode, choice_reason
+from oacdsl.matching.results import Match, MatchResult, Mode, callers_first, choice_reason
 from oacdsl.matching.search import (
     AFTER,
     CompiledOac,
@@ -270,7 +270,8 @@ class Matcher:
         removed = before.relations - after.relations
         view = self.view(before)
         raw = self.raw_matches(before, after, mode)
-        matches = sorted((self._record(co, b, added, removed, view) for co, b in raw), key=Match.rank_key)
+        matches = callers_first(sorted((self._record(co, b, added, removed, view) for co, b in raw),
+                                       key=Match.rank_key))
         if matches:
             return MatchResult(before, after, mode, tuple(matches), reason=choice_reason(matches))
         if not explain:

@@ -9,7 +9,9 @@ from oacdsl.matching.conditions import bind_atoms
 from oacdsl.model import Atom, Oac, atom_text
 from oacdsl.world import Relation, WorldState
 
-__all__ = ["Match", "MatchResult", "Mode", "NearMiss", "call_text", "change_text", "choice_reason"]
+__all__ = [
+    "Match", "MatchResult", "Mode", "NearMiss", "call_text", "callers_first", "change_text", "choice_reason",
+]
 
 #: ``strict`` (default): the paper's rule plus "the effects account for every change";
 #: ``paper``: the paper's rule alone (pre holds before, effects hold after).
@@ -77,6 +79,14 @@ class Match:
 
         return self.oac.name == other.oac.name and bound(self) == bound(other)
 
+    def calls(self, other: Match) -> bool:
+        """True when this match's OAC runs ``other`` as one of its steps, on the same instances
+        (``hold_on_board(h, c, b)``, steps ``onto_board(h, c, b)``, ``keep(h, c)``)."""
+        mapping = self.mapping
+        wanted = tuple(i for _, i in other.binding)
+        return any(c.oac == other.oac.name and tuple(mapping.get(a, a) for a in c.args) == wanted
+                   for c in self.oac.steps or ())
+
     def rank_key(self) -> tuple[int, int, int, int, str, tuple[str, ...]]:
         """Sort key, best first: more change explained, more specific classes,
         fewer idle effects, more conditions, then name and binding (deterministic)."""
@@ -139,11 +149,23 @@ class MatchResult:
         if len(self.matches) < 2 or self.by_motion:
             return False
         a, b = self.matches[0].rank_key(), self.matches[1].rank_key()
-        return a[:4] == b[:4] and not self.matches[0].same_meaning(self.matches[1])
+        first, second = self.matches[0], self.matches[1]
+        return a[:4] == b[:4] and not first.same_meaning(second) and not first.calls(second)
 
 
 def _classes_text(m: Match) -> str:
     return ", ".join(p.cls for p in m.oac.params)
+
+
+def callers_first(matches: list[Match]) -> list[Match]:
+    """``matches`` (ranked) with, among those that tie with the first on the ranking's criteria
+    1-4, an OAC that runs another of them as a step (on the same instances) before it."""
+    if len(matches) < 2:
+        return matches
+    key = matches[0].rank_key()[:4]
+    n = next((k for k, m in enumerate(matches) if m.rank_key()[:4] != key), len(matches))
+    tied = matches[:n]
+    return sorted(tied, key=lambda m: -sum(m.calls(o) for o in tied)) + matches[n:]
 
 
 def choice_reason(matches: list[Match]) -> str | None:
@@ -166,6 +188,10 @@ def choice_reason(matches: list[Match]) -> str | None:
             f"it states more conditions ({a.conditions} preconditions and effects, {b.text()}:"
             f" {b.conditions})"
         )
+    elif a.calls(b):
+        steps = ", ".join(c.oac for c in a.oac.steps or ())
+        why = (f"it runs {b.text()} as one of its steps ({steps}): the more particular way of doing it"
+               " (they tie on explained change, class specificity, idle effects and number of conditions)")
     elif a.same_meaning(b):
         why = f"the same conditions as {b.text()} (the OAC is symmetric in these parameters)"
     elif a.oac.name == b.oac.name:
