@@ -27,8 +27,13 @@ and Mix's spoon beyond 150 mm of the cup's and the bowl's markers), while a smal
 tighter cap (the hands' size measures the demonstrator, not the objects: on the KIT Scoop clip,
 whose subject's hands are 5 % smaller, a 5 % shorter reach found the ladle in the cup 0.3 s late
 and changed the composed OAC). The per-pair distances are learned, the static one
-(``static_distance_m``) stays. The length factor also serves the time factor: a take 15 % larger
-is 15 % faster, not quicker. The factors are clamped to
+(``static_distance_m``) stays. The tool rule's reach between two objects (:func:`tool_reach_m`)
+follows the length factor both ways: ``d`` × factor, so a scene 15 % smaller has its tools reach
+15 % less far (at 150 mm Pour's carton "reached" the cup 0.5 s before it was grasped in a take
+×0.85; Scoop's and the dough's alike). Per-pair reaches from the objects' own sizes were measured
+and do not fit the development clips (docs/segmentation.md, *Measured: variations beyond the
+standard takes*). The length factor also serves the time factor: a take 15 % larger is 15 %
+faster, not quicker. The factors are clamped to
 [:data:`MIN_FACTOR`, :data:`MAX_FACTOR`] so that a recording without motion or markers cannot
 make a constant vanish.
 """
@@ -56,6 +61,7 @@ __all__ = [
     "measure",
     "scale_params",
     "scale_settings",
+    "tool_reach_m",
 ]
 
 #: The reference demonstration's hand size, metres: the median of the six KIT development
@@ -184,6 +190,12 @@ def scale_params(params: AasParams, scale: DemoScale) -> AasParams:
         change_window_s=params.change_window_s * scale.time,
         merge_s=params.merge_s * scale.time,
     )
+
+
+def tool_reach_m(params: AasParams, scale: DemoScale) -> float:
+    """The tool rule's reach between two objects for a recording of ``scale``, metres: ``d`` times
+    the length factor, both ways (module doc)."""
+    return params.distance_m * scale.length
 
 
 def scale_settings(settings: AdaptiveSettings, scale: DemoScale) -> AdaptiveSettings:
