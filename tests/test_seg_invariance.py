@@ -20,7 +20,14 @@ from oacdsl.segmentation.keyframes import merge_keyframes
 from oacdsl.segmentation.poses import fill_rigid_gaps
 from oacdsl.segmentation.readers import read_recording
 from oacdsl.segmentation.result import Keyframe
-from oacdsl.segmentation.scales import DemoScale, measure, scale_params, tool_reach_m
+from oacdsl.segmentation.scales import (
+    MIN_REACH_FACTOR,
+    SUBJECT_BAND,
+    DemoScale,
+    measure,
+    scale_params,
+    tool_reach_m,
+)
 from oacdsl.segmentation.takes import scaled, stretched, with_gap
 from oacdsl.world import WorldState
 
@@ -232,12 +239,12 @@ SPOON = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 0.04], [0.01, 0.0, 0.08]])
 
 
 def hover_then_stir() -> dict[str, np.ndarray]:
-    """A cup stands still; a hand takes a spoon (50-100), holds it 160 mm from the cup's nearest
-    marker (150-250: beyond the reach), stirs in the cup (300-400) and takes it away (450)."""
+    """A cup stands still; a hand takes a spoon (50-100), holds it 165 mm from the cup's nearest
+    marker (150-250: beyond the 150 mm reach), stirs in the cup (300-400) and takes it away (450)."""
     frames = 560
     cup_at = np.array([0.9, 0.0, 0.0])
     spoon_start = (0.5, 0.0, 0.0)
-    hover = (0.9 - 0.03 - 0.16, -0.03, 0.0)  # 160 mm along x from the cup's -x markers
+    hover = (0.9 - 0.03 - 0.175, -0.03, 0.0)  # its nearest marker 165 mm from the cup's
     stir = [(300 + 20 * i, (0.9 + (0.01 if i % 2 else -0.01), 0.0, 0.02)) for i in range(6)]
     keys = [(0, spoon_start), (100, spoon_start), (150, hover), (250, hover), *stir, (450, (0.5, 0.3, 0.0))]
     spoon = path(frames, keys)
@@ -255,11 +262,14 @@ def test_a_smaller_take_keeps_a_tool_out_of_reach_where_the_original_did():
     assert all(abs(f1 - f2) <= 1 for (f1, _), (f2, _) in zip(base, small, strict=True))
 
 
-def test_the_tool_reach_follows_the_length_factor_both_ways():
-    assert tool_reach_m(AasParams(), DemoScale(length=0.85)) == pytest.approx(0.1275)
-    assert tool_reach_m(AasParams(), DemoScale(length=1.2)) == pytest.approx(0.18)
+def test_the_tool_reach_shrinks_with_a_smaller_scene_not_with_a_subjects_hands():
+    assert tool_reach_m(AasParams(), DemoScale(length=1.2)) == pytest.approx(0.18)  # as d grows
+    assert tool_reach_m(AasParams(), DemoScale(length=0.95)) == 0.15  # a subject with smaller hands
+    assert tool_reach_m(AasParams(), DemoScale(length=0.85)) == pytest.approx(0.15 * 0.85 / SUBJECT_BAND)
+    assert tool_reach_m(AasParams(), DemoScale(length=0.34)) == pytest.approx(0.15 * MIN_REACH_FACTOR)
     rec = scaled(recording(hover_then_stir()), 0.85)
     det = AdaptiveDetector(AasParams().resolved(rec.rate_hz))
     det.effective_params(rec, AasParams())
-    assert det.scale is not None and det.tool_reach_m == pytest.approx(0.15 * det.scale.length)
+    assert det.scale is not None and det.scale.length < SUBJECT_BAND
+    assert det.tool_reach_m == pytest.approx(0.15 * det.scale.length / SUBJECT_BAND)
     assert det.params.distance_m == 0.15  # d itself, a cap on learned distances, never shrinks

@@ -45,11 +45,9 @@ EXPECTED: dict[str, list[tuple[int, set[tuple[str, str]], set[tuple[str, str]]]]
     "Cut": [  # the knife cuts the cucumber held on the board, not the board (rules 4, 5)
         (12, {("cucumber_attachment", L)}, set()),
         (19, {("knife_black", R)}, set()),
-        # the tool rule's reach in the scene's length: 142 mm for this subject's hands (5 % smaller
-        # than the reference's), so the cucumber reaches the board a frame later (22 at 150 mm)
-        (23, {("cucumber_attachment", "cutting_board_small")}, set()),
+        (22, {("cucumber_attachment", "cutting_board_small")}, set()),
         (28, {("cucumber_attachment", "knife_black")}, set()),
-        (70, set(), {("cucumber_attachment", "cutting_board_small"), ("cucumber_attachment", "knife_black")}),
+        (71, set(), {("cucumber_attachment", "cutting_board_small"), ("cucumber_attachment", "knife_black")}),
         (83, set(), {("cucumber_attachment", L)}),
         (87, set(), {("knife_black", R)}),
     ],
