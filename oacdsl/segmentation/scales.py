@@ -34,8 +34,8 @@ keyframes): ``d`` × factor / band, at least :data:`MIN_REACH_FACTOR` × ``d``. 
 smaller has its tools reach 10 % less far (at 150 mm Pour's carton "reached" the cup 0.5 s before
 it was grasped in a take ×0.85; Scoop's and the dough's alike). Per-pair reaches from the objects'
 own sizes were measured and do not fit the development clips (docs/segmentation.md, *Measured:
-variations beyond the standard takes*). The length factor also serves the time factor: a take 15 % larger is 15 %
-faster, not quicker. The factors are clamped to
+variations beyond the standard takes*). The length factor also serves the time factor: a take
+15 % larger is 15 % faster, not quicker. The factors are clamped to
 [:data:`MIN_FACTOR`, :data:`MAX_FACTOR`] so that a recording without motion or markers cannot
 make a constant vanish.
 """
