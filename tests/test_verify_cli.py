@@ -54,7 +54,7 @@ def test_a_cup_left_on_its_side_fails_with_one_line_per_failed_check(
     assert lines[0].startswith("not verified: end state failed")
     failed = [x for x in lines if x.startswith("FAILED ")]
     assert failed and failed[0].startswith("FAILED end_state.red_cup.orientation: red_cup ends on its side")
-    assert "tolerance: same class" in failed[0]
+    assert "tolerance: turn since the start within 35°" in failed[0]
 
 
 def test_bad_input_is_one_line_and_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -170,3 +170,11 @@ def test_the_contacts_recorder_lists_the_controllers_regrasps_as_frames() -> Non
                             relations=lambda: WorldState.of(("lid", "left_hand"), [])))
     regrasps.append((2.013, 2.031, "l", "lid"))  # appended by the controller during the run
     assert rec.to_json()["internal"] == [{"relation": ["left_hand", "lid"], "from_frame": 1, "to_frame": 5}]
+
+
+def test_a_contacts_file_nested_too_deeply_is_an_input_error_naming_it(tmp_path: Path) -> None:
+    path = tmp_path / "run.contacts.json"
+    path.write_text("[" * 100_000 + "]" * 100_000)  # deeper than the JSON reader recurses
+    with pytest.raises(InputError, match="nested too deeply") as caught:
+        read_contacts(path)
+    assert str(path) in str(caught.value)
