@@ -81,9 +81,10 @@ def _call(step: tuple[str, dict[str, str]]) -> str:
     return f"{name}({', '.join(binding.values())})"
 
 
-def compose_file(path: Path, library: Path, contacts: str = "markers") -> Outcome:
-    """Read, segment, match and compose ``path`` as ``oacc compose`` does (``contacts``:
-    ``AasParams.contacts``, ``oacc compose --contacts``)."""
+def compose_file(path: Path, library: Path | list[Path], contacts: str = "markers") -> Outcome:
+    """Read, segment, match and compose ``path`` as ``oacc compose`` does with ``library`` (one
+    folder or several, as several ``--library``; ``contacts``: ``AasParams.contacts``, ``oacc
+    compose --contacts``)."""
     from oacdsl.matching.demonstration import compose_demonstration, match_segmentation
     from oacdsl.matching.matcher import Matcher
     from oacdsl.pipeline.inputs import load_inputs
@@ -95,7 +96,8 @@ def compose_file(path: Path, library: Path, contacts: str = "markers") -> Outcom
         return Outcome(status, detail, kf, time.perf_counter() - start, steps, bound)
 
     try:
-        inputs = load_inputs(path, [library], None, AasParams(contacts=contacts))
+        libraries = library if isinstance(library, list) else [library]
+        inputs = load_inputs(path, libraries, None, AasParams(contacts=contacts))
     except OacError as err:
         return done("scene", err.message, None)
     try:
@@ -156,7 +158,12 @@ def compare(original: Outcome, take: Outcome, hands: dict[str, str]) -> tuple[st
 
 
 def run_take(
-    rec: Recording, take_name: str, library: Path, suffix: str, folder: Path, contacts: str = "markers"
+    rec: Recording,
+    take_name: str,
+    library: Path | list[Path],
+    suffix: str,
+    folder: Path,
+    contacts: str = "markers",
 ) -> tuple[Outcome, dict[str, str]]:
     take, hands = STANDARD_TAKES[take_name](rec)
     path = write_recording(take, folder / f"{take_name}{suffix}")

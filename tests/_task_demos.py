@@ -11,11 +11,16 @@ the demonstrator across the table, z up, metres; the table top at 0.75 m.
 
 ``write(task, folder)`` writes one as C3D; ``TASKS`` maps a task to (its writer, the example
 scene, the OAC that runs it on the robot).
+
+A :class:`Capture` makes a demonstration more like a real recording (every writer takes one;
+:data:`KIT_LIKE`): Gaussian marker noise, an object's markers on stalks off its axis (where its
+class declares no ``markers``), and one marker missing for a while.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -24,8 +29,9 @@ from oacdsl.segmentation.points import recording_from_points
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.synth.kinematics import Track, min_jerk, rot_y, rot_z
 from oacdsl.segmentation.synth.scene import hand_markers
+from oacdsl.segmentation.takes import resampled
 
-__all__ = ["TASKS", "write"]
+__all__ = ["CLEAN", "KIT_10HZ", "KIT_LIKE", "LAYOUT", "TASKS", "Capture", "write"]
 
 RATE_HZ = 100.0
 TABLE_Z_M = 0.75
@@ -57,6 +63,69 @@ MARKERS: dict[str, np.ndarray] = {
 }
 
 
+#: Objects whose class in ``library/examples`` declares its markers (``markers (...)``, the
+#: positions above): a capture keeps them there, as the person who measured them wrote them.
+DECLARED = frozenset({"block", "crate", "mug", "pot", "pot_lid"})
+
+
+@dataclass(frozen=True)
+class Capture:
+    """How a recording differs from the ideal tracks (all drawn from ``seed``).
+
+    ``noise_m``: standard deviation of independent Gaussian noise on every coordinate of every
+    frame (the KIT development clips' markers: a median 0.12–0.33 mm from second differences,
+    docs/kit.md). ``stalk_m``: each marker of an object whose class declares no markers is moved
+    out from the object's vertical axis by a length drawn from this range (a marker on the axis,
+    a knife's or a peeler's, in a drawn direction), as markers stand on stalks and bases.
+    ``gap_s``: one marker, drawn from all, missing for this long from a drawn time (0: none).
+    ``rate_hz``: the recording resampled to this rate (the KIT clips' MMM files: 10 Hz)."""
+
+    noise_m: float = 0.0
+    stalk_m: tuple[float, float] = (0.0, 0.0)
+    gap_s: float = 0.0
+    seed: int = 0
+    rate_hz: float | None = None
+
+    def stalks(self, name: str, local_m: np.ndarray) -> np.ndarray:
+        """``local_m`` (k, 3) body-frame markers of object ``name`` on their stalks."""
+        lo, hi = self.stalk_m
+        if hi <= 0 or name in DECLARED:
+            return local_m
+        rng = np.random.default_rng([self.seed, *name.encode()])
+        out = local_m.copy()
+        for k, point in enumerate(local_m):
+            radial = np.array([point[0], point[1], 0.0])
+            if np.linalg.norm(radial) < 1e-3:
+                angle = rng.uniform(0.0, 2 * np.pi)
+                radial = np.array([np.cos(angle), np.sin(angle), 0.0])
+            out[k] = point + rng.uniform(lo, hi) * radial / np.linalg.norm(radial)
+        return out
+
+    def recorded(self, groups: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """(F, k, 3) world points of each group with the noise and the gap."""
+        rng = np.random.default_rng(self.seed)
+        out = {}
+        for name, points in groups.items():
+            noise = rng.normal(0.0, self.noise_m, points.shape) if self.noise_m > 0 else 0.0
+            out[name] = points + noise
+        if self.gap_s > 0:
+            names = sorted(out)
+            name = names[int(rng.integers(len(names)))]
+            marker = int(rng.integers(out[name].shape[1]))
+            n_frames, length = out[name].shape[0], int(round(self.gap_s * RATE_HZ))
+            start = int(rng.integers(max(1, n_frames - length)))
+            out[name][start:start + length, marker] = np.nan
+        return out
+
+
+#: The ideal tracks: no noise, markers where :data:`MARKERS` puts them, no gap.
+CLEAN = Capture()
+#: Like a KIT capture: 0.3 mm noise, objects' markers on 1–2.5 cm stalks, a 0.3 s gap.
+KIT_LIKE = Capture(noise_m=0.0003, stalk_m=(0.01, 0.025), gap_s=0.3, seed=0)
+#: :data:`KIT_LIKE` at the 10 Hz of the KIT clips' MMM files.
+KIT_10HZ = Capture(noise_m=0.0003, stalk_m=(0.01, 0.025), gap_s=0.3, seed=0, rate_hz=10.0)
+
+
 class Story:
     """The tracks of one demonstration on a shared time grid."""
 
@@ -73,7 +142,7 @@ class Story:
         x = 0.25 if side == "right" else -0.25
         return self.body(f"{side}_hand", (x, 0.0, TABLE_Z_M + 0.1))
 
-    def recording(self, source: str) -> Recording:
+    def recording(self, source: str, capture: Capture = CLEAN) -> Recording:
         groups, labels = {}, {}
         for name, track in self.tracks.items():
             track.finish()
@@ -82,10 +151,11 @@ class Story:
                 local = hand_markers(side)
                 labels[name] = [side[0].upper() + s for s in _HAND_LABELS]
             else:
-                local = MARKERS[name]
+                local = capture.stalks(name, MARKERS[name])
                 labels[name] = [f"{name[:2].upper()}{k + 1}" for k in range(len(local))]
             groups[name] = track.world_points(local)
-        return recording_from_points(groups, RATE_HZ, source, labels)
+        rec = recording_from_points(capture.recorded(groups), RATE_HZ, source, labels)
+        return rec if capture.rate_hz is None else resampled(rec, capture.rate_hz)
 
 
 def spin(track: Track, t1_s: float, angle_rad: float, axis_xy_m: np.ndarray) -> Track:
@@ -114,7 +184,7 @@ def strokes(track: Track, t1_s: float, direction: np.ndarray, amplitude_m: float
                                             )[:, None] * d)
 
 
-def close_demo() -> Recording:
+def close_demo(capture: Capture = CLEAN) -> Recording:
     """Close: the right hand holds the bottle on the table, the left hand takes the lid, sets it
     on the bottle and screws it on (240° clockwise seen from above); both hands keep holding."""
     s = Story(12.0)
@@ -130,10 +200,10 @@ def close_demo() -> Recording:
     bottle.hold(12.0)
     lid.hold(3.6).follow(left, 12.0)
     right.hold(12.0)
-    return s.recording("synthetic Close")
+    return s.recording("synthetic Close", capture)
 
 
-def open_demo() -> Recording:
+def open_demo(capture: Capture = CLEAN) -> Recording:
     """Open: the lid on the bottle; the right hand holds the bottle, the left hand takes the
     lid, unscrews it (240° counterclockwise) and lifts it off; both hands keep holding."""
     s = Story(11.0)
@@ -149,10 +219,10 @@ def open_demo() -> Recording:
     bottle.hold(11.0)
     lid.hold(3.8).follow(left, 11.0)
     right.hold(11.0)
-    return s.recording("synthetic Open")
+    return s.recording("synthetic Open", capture)
 
 
-def peel_demo() -> Recording:
+def peel_demo(capture: Capture = CLEAN) -> Recording:
     """Peel: the left hand takes the cucumber and holds it up, the right hand takes the peeler
     and draws it along the cucumber, three strokes; both keep holding."""
     s = Story(13.0)
@@ -171,10 +241,10 @@ def peel_demo() -> Recording:
     left.hold(13.0)
     cucumber.hold(2.0).follow(left, 13.0)
     peeler.hold(3.4).follow(right, 13.0)
-    return s.recording("synthetic Peel")
+    return s.recording("synthetic Peel", capture)
 
 
-def transfer_demo() -> Recording:
+def transfer_demo(capture: Capture = CLEAN) -> Recording:
     """Transfer: the left hand takes the bowl and holds it up beside the board, the right hand
     takes the knife and pushes it across the board towards the bowl, twice; both keep holding."""
     s = Story(12.0)
@@ -194,10 +264,10 @@ def transfer_demo() -> Recording:
     left.hold(12.0)
     bowl.hold(2.0).follow(left, 12.0)
     knife.hold(3.4).follow(right, 12.0)
-    return s.recording("synthetic Transfer")
+    return s.recording("synthetic Transfer", capture)
 
 
-def rollout_demo() -> Recording:
+def rollout_demo(capture: Capture = CLEAN) -> Recording:
     """RollOut: both hands take the rolling pin by its handles at once, set it on the (untracked)
     dough, roll it to and fro three times, and let go of it together."""
     s = Story(12.0)
@@ -214,10 +284,10 @@ def rollout_demo() -> Recording:
     pin.hold(2.0).follow(right, 10.6).hold(12.0)
     right.move(11.1, right.last_pose[0] + [0.15, -0.15, 0.15], start_tau=0.3).hold(12.0)
     left.move(11.1, left.last_pose[0] + [-0.15, -0.15, 0.15], start_tau=0.3).hold(12.0)
-    return s.recording("synthetic RollOut")
+    return s.recording("synthetic RollOut", capture)
 
 
-def stack_demo() -> Recording:
+def stack_demo(capture: Capture = CLEAN) -> Recording:
     """Stack: the right hand takes a small box (6 cm), sets it on a larger one (8 cm high) standing
     on the table, lets go and withdraws; the left hand stays still."""
     s = Story(9.0)
@@ -233,10 +303,10 @@ def stack_demo() -> Recording:
     right.move(6.6, on_crate + [0.20, -0.15, 0.15], start_tau=0.3).hold(9.0)
     block.hold(2.0).follow(right, 5.4).hold(9.0)
     left.hold(9.0)
-    return s.recording("synthetic Stack")
+    return s.recording("synthetic Stack", capture)
 
 
-def handover_demo() -> Recording:
+def handover_demo(capture: Capture = CLEAN) -> Recording:
     """Hand over: the right hand takes a mug and holds it up in the middle, the left hand takes
     it from the other side, the right lets go and withdraws, the left sets it down on its side."""
     s = Story(12.0)
@@ -253,10 +323,10 @@ def handover_demo() -> Recording:
               end_tau=0.97).hold(9.4)
     left.move(10.6, down_at + [-0.25, -0.15, 0.15], start_tau=0.3).hold(12.0)
     mug.hold(2.0).follow(right, 5.2).follow(left, 9.4).hold(12.0)
-    return s.recording("synthetic HandOver")
+    return s.recording("synthetic HandOver", capture)
 
 
-def cover_demo() -> Recording:
+def cover_demo(capture: Capture = CLEAN) -> Recording:
     """Cover: the left hand takes a pot's lid by its knob from above, sets it on the pot standing
     on the table, lets go and withdraws; the right hand stays still."""
     s = Story(9.0)
@@ -272,11 +342,11 @@ def cover_demo() -> Recording:
     left.move(6.6, on_pot + [-0.20, -0.15, 0.20], start_tau=0.3).hold(9.0)
     lid.hold(2.0).follow(left, 5.4).hold(9.0)
     right.hold(9.0)
-    return s.recording("synthetic Cover")
+    return s.recording("synthetic Cover", capture)
 
 
 #: Task → (its demonstration, the example scene, the example OAC the robot runs directly).
-TASKS: dict[str, tuple[Callable[[], Recording], str, str]] = {
+TASKS: dict[str, tuple[Callable[[Capture], Recording], str, str]] = {
     "Close": (close_demo, "bottle_lid", "close_and_open"),
     "Open": (open_demo, "bottle_lid", "open_bottle"),
     "Peel": (peel_demo, "peeling", "peel_cucumber"),
@@ -288,8 +358,16 @@ TASKS: dict[str, tuple[Callable[[], Recording], str, str]] = {
 }
 
 
-def write(task: str, folder: Path) -> Path:
-    """The synthetic demonstration of ``task`` written as ``folder/TASK.c3d``."""
+#: Task → the layout the robot's run uses: the demonstration's first frame (the lid starts on
+#: the bottle only so) or the example scene's places (the dough, untracked, has no first frame).
+LAYOUT: dict[str, str | None] = {
+    "Close": "demonstrated", "Open": "demonstrated", "Peel": None, "RollOut": None,
+    "Transfer": "demonstrated", "Stack": None, "HandOver": None, "Cover": None,
+}
+
+
+def write(task: str, folder: Path, capture: Capture = CLEAN) -> Path:
+    """The synthetic demonstration of ``task`` written as ``folder/synthetic_TASK.c3d``."""
     from oacdsl.segmentation.readers import write_recording
 
-    return Path(write_recording(TASKS[task][0](), folder / f"synthetic_{task}.c3d"))
+    return Path(write_recording(TASKS[task][0](capture), folder / f"synthetic_{task}.c3d"))

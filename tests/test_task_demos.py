@@ -70,11 +70,9 @@ def test_a_synthetic_demonstration_composes_to_the_example_oacs(task: str, tmp_p
     assert composed_steps(task, tmp_path) == STEPS[task]
 
 
-#: Task → the layout the robot's run uses: the demonstration's first frame (the lid starts on
-#: the bottle only so) or the example scene's places (the dough, untracked, has no first frame).
-LAYOUT = {"Close": "demonstrated", "Open": "demonstrated", "Peel": None, "RollOut": None,
-          "Transfer": "demonstrated", "Stack": None, "HandOver": None}
-# (Cover composes, but on the robot is verified on seed 0 only: docs/kit.md, "A new user's trial")
+#: Task → the layout the robot's run uses (``_task_demos.LAYOUT``). Cover composes, but on the
+#: robot is verified on seed 0 only (docs/kit.md, "A new user's trial"): not run here.
+LAYOUT = {task: layout for task, layout in demos.LAYOUT.items() if task != "Cover"}
 
 
 @pytest.mark.slow

@@ -38,6 +38,11 @@ class Tuning:
     # --- guarded approach: until contact or force ------------------------------------------
     #: height above what is approached before the approach, m
     hover_m: float = 0.04
+    #: the shortest approach a grasp from the side keeps when its pre-grasp is moved in, off a
+    #: neighbouring object, m (the planned one: ``grasping.PRE_GRASP_M``)
+    pre_grasp_min_m: float = 0.08
+    #: the step by which such a pre-grasp is moved in, m
+    pre_grasp_step_m: float = 0.02
     #: peak speed of an approach of one object to another, m/s
     approach_speed_m_s: float = 0.08
     #: peak speed of setting a held object down on a support, m/s (a 0.6 kg mixer meeting the
