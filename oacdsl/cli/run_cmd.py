@@ -117,8 +117,9 @@ def add_adaptive_options(p: argparse.ArgumentParser) -> None:
 
 def _demonstrated(
     args: argparse.Namespace, library: Any, scene: str | None, bindings: dict[str, str], layout: str | None
-) -> dict[str, Any] | None:
-    """First-frame positions of --demonstration for a 'layout demonstrated', else None (a warning
+) -> tuple[dict[str, Any], dict[str, Any]] | None:
+    """First-frame positions of --demonstration for a 'layout demonstrated' and where it sets
+    objects down (:func:`~oacdsl.runtime.demo_places.set_down_places`), else None (a warning
     when the scene wants them but no recording is given)."""
     from oacdsl.runtime.binding import choose_scene
 
@@ -143,7 +144,11 @@ def _demonstrated(
         raise UsageError(f"{args.demonstration}: no such recording file")
     # grouped as oacc reproduce groups it: a recognised marker set (KIT) gives the hands
     grouped, _ = group_recording(read_recording(args.demonstration), None)
-    return demonstrated_positions(grouped, sc, library)
+    from oacdsl.runtime.demo_places import set_down_places
+
+    names, classes = [i.name for i in sc.tracked()], library.instance_classes(sc)
+    hands = [n for n in names if "Hand" in classes.get(n, ())]
+    return demonstrated_positions(grouped, sc, library), set_down_places(grouped, names, hands)
 
 
 def load_inputs(paths: list[str], scene: str | None) -> tuple[Any, str | None]:
@@ -246,7 +251,7 @@ def run(args: argparse.Namespace) -> int:
     _check_outputs(args)
     if args.demonstration is not None:
         _writable_folder(Path(args.execution).parent, "--execution")
-    demonstrated = _demonstrated(args, library, scene, bindings, overrides.layout)
+    demonstrated, set_downs = _demonstrated(args, library, scene, bindings, overrides.layout) or (None, None)
     note = prepare_backend(bool(args.video or args.frames))  # before MuJoCo is imported
     if note:
         then = "running without rendering" if note != NONE_FOUND else "trying MuJoCo's default (GLFW)"
@@ -270,6 +275,7 @@ def run(args: argparse.Namespace) -> int:
         args.seed,
         self_collision=not args.no_self_collision,
         demonstrated=demonstrated,
+        set_downs=set_downs,
         **overrides.kwargs(),
     )
     from oacdsl.runtime.layout import seed_note
