@@ -148,7 +148,12 @@ def _demonstrated(
 
     names, classes = [i.name for i in sc.tracked()], library.instance_classes(sc)
     hands = [n for n in names if "Hand" in classes.get(n, ())]
-    return demonstrated_positions(grouped, sc, library), set_down_places(grouped, names, hands)
+    first = demonstrated_positions(grouped, sc, library)
+    if any(i.markers for i in sc.instances):  # grouped by the scene, as demonstrated_positions does
+        from oacdsl.segmentation.grouping import apply_scene_groups
+
+        grouped = apply_scene_groups(grouped, sc)
+    return first, set_down_places(grouped, names, hands)
 
 
 def load_inputs(paths: list[str], scene: str | None) -> tuple[Any, str | None]:
