@@ -144,10 +144,9 @@ def _demonstrated(
         raise UsageError(f"{args.demonstration}: no such recording file")
     # grouped as oacc reproduce groups it: a recognised marker set (KIT) gives the hands
     grouped, _ = group_recording(read_recording(args.demonstration), None)
-    from oacdsl.runtime.demo_places import set_down_places
+    from oacdsl.runtime.demo_places import scene_hands, set_down_places
 
-    names, classes = [i.name for i in sc.tracked()], library.instance_classes(sc)
-    hands = [n for n in names if "Hand" in classes.get(n, ())]
+    names, hands = [i.name for i in sc.tracked()], scene_hands(library, sc)
     first = demonstrated_positions(grouped, sc, library)
     if any(i.markers for i in sc.instances):  # grouped by the scene, as demonstrated_positions does
         from oacdsl.segmentation.grouping import apply_scene_groups

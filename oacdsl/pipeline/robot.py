@@ -62,7 +62,7 @@ def execute_stage(
     Raises RuntimeFailure for a call that cannot run (bad binding)."""
     from oacdsl.report import bound_conditions
     from oacdsl.runtime.demo_layout import first_frame_positions
-    from oacdsl.runtime.demo_places import set_down_places
+    from oacdsl.runtime.demo_places import scene_hands, set_down_places
     from oacdsl.runtime.executor import prepare, run_prepared
     from oacdsl.runtime.layout import seed_note
     from oacdsl.segmentation.shapes import scene_shapes
@@ -70,8 +70,7 @@ def execute_stage(
     names = [i.name for i in scene.tracked()]
     shapes = scene_shapes(library, scene)
     demonstrated = first_frame_positions(recording, names, shapes) if recording is not None else None
-    classes = library.instance_classes(scene)
-    hands = [n for n in names if "Hand" in classes.get(n, ())]
+    hands = scene_hands(library, scene)
     set_downs = set_down_places(recording, names, hands) if recording is not None else None
     given = (overrides or SceneOverrides()).kwargs()
     run = prepare(

@@ -28,12 +28,14 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from oacdsl.library import Library
+from oacdsl.model import Scene
 from oacdsl.runtime.demo_layout import TableMap, table_map
 from oacdsl.segmentation.recording import Recording
 
 __all__ = [
     "STILL_M_S", "REST_S", "LEVEL_M", "MOVED_M", "RELEASED_M",
-    "set_down_places", "mapped_set_downs", "set_downs_on_table",
+    "set_down_places", "mapped_set_downs", "set_downs_on_table", "scene_hands",
 ]
 
 #: Speed (of the markers' mean, m/s) below which an object stands still.
@@ -138,6 +140,16 @@ def set_downs_on_table(
     mapping = table_map(unstacked, hands, {n: radii[n] for n in unstacked})
     places = {n: p for n, p in set_downs.items() if n in laid}
     return mapped_set_downs(places, laid, mapping, {n: placed[n] for n in laid})
+
+
+def scene_hands(library: Library, scene: Scene) -> list[str]:
+    """The instances of ``scene`` whose geometry is a hand (their marker groups are no objects;
+    ``ignored`` instances are not built and left out)."""
+    from oacdsl.geometry import ROLE_HAND
+    from oacdsl.runtime.bodies import bodies_for_scene
+
+    built = scene.model_copy(update={"instances": tuple(i for i in scene.instances if not i.ignored)})
+    return sorted(n for n, b in bodies_for_scene(library, built).items() if b.role == ROLE_HAND)
 
 
 def _mean_path(recording: Recording, name: str) -> np.ndarray:
