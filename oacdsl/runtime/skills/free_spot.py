@@ -14,6 +14,8 @@ reaches it with the arm and hand keeping as much from the table and the other ob
 the hover, where it rests and as it withdraws (:func:`~oacdsl.runtime.armroom.arm_room`: an
 elbow laid on a cup beside the way, the back of a hand withdrawing into a neighbour). Spots
 that keep only the second come next; when none does, the first the hand reaches, as held.
+:func:`spot_near` judges the spots near a wanted place (where the demonstration set the
+object down) the same way, and gives None when none passes.
 """
 
 from __future__ import annotations

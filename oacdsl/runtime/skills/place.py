@@ -7,7 +7,11 @@ stays on the tray it wiped), it is set down on that object — where it is, when
 it already, else above its middle; otherwise (or when it was picked up from that very
 object) it goes back to where it was picked up, unless something stands there now, what it
 stood on is held, or it was taken from the other hand (a hand-over: that pose is in the
-air): then on the first free spot of the table. Composition: carry over the spot, lower
+air): then on the first free spot of the table. With ``layout demonstrated``, an object the
+demonstration set down on the table elsewhere goes to a free spot near that place
+(``Layout.set_downs``, :mod:`oacdsl.runtime.demo_places`; none passing the free-spot tests:
+as without it). An object let go on an open container's rim is slid onto its middle first
+(:func:`~oacdsl.runtime.motion.rotate.centre_over`). Composition: carry over the spot, lower
 onto the support (guarded by the wrist force), hold still, release, withdraw.
 """
 
