@@ -104,7 +104,7 @@ def compose_file(path: Path, library: Path, contacts: str = "markers") -> Outcom
         return done("segment", err.message, None)
     kf = len(segmentation.keyframes)
     matcher = Matcher.from_library(inputs.library, inputs.scene, mode="strict")
-    matches = match_segmentation(segmentation, matcher, unmerged=inputs.unmerged())
+    matches = match_segmentation(segmentation, matcher, unmerged=inputs.unmerged(), travel=inputs.travel())
     for m in matches:
         if not m.matched:
             sa = m.sub_action

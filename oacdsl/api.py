@@ -160,12 +160,14 @@ def match(demonstration: Demonstration, segmentation: Segmentation | None = None
     """Every sub-action of the demonstration (its segmentation, made here when not given) matched
     to the library's OACs with the strict rule, as ``oacc match`` reports them."""
     from oacdsl.matching import Matcher
+    from oacdsl.matching.agency import hand_travel
     from oacdsl.matching.demonstration import match_segmentation
 
     seg = segmentation if segmentation is not None else segment(demonstration.recording, demonstration.params)
     unmerged = replace(demonstration.params, merge_s=0.0)  # when a keyframe is split
     return match_segmentation(seg, Matcher.from_library(demonstration.library, demonstration.scene),
-                              unmerged=lambda: segment(demonstration.recording, unmerged))
+                              unmerged=lambda: segment(demonstration.recording, unmerged),
+                              travel=hand_travel(demonstration.recording))
 
 
 def compose(

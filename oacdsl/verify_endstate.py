@@ -14,19 +14,22 @@ Per object that is not an agent (a hand), in each recording:
   x when it ends higher than that and *leans on* x: touches x (not a hand, liquid or held),
   whose lowest marker is lower (a salad server left in a bowl, its handle on the rim and its
   markers outside the bowl's footprint), or ``air`` (higher, touching nothing that holds it).
-- **orientation** relative to its start (rigid fit of ≥ 3 markers,
-  :mod:`oacdsl.segmentation.poses`): the angle between the axis that pointed up at the first
-  frame and the vertical at the end; ``upright`` below ``upright_max_rad``, ``upside down``
-  above π minus it, ``on its side`` between.
+- **orientation** (:mod:`oacdsl.verify_orientation`): its turn since its start (the axis
+  that pointed up at the first frame, from the vertical at the end; rigid fit of ≥ 3
+  markers, :mod:`oacdsl.segmentation.poses`) and, for an elongated constellation, its long
+  axis from the vertical at the start and at the end.
 - **moved**: its horizontal distance from start to end.
 
 Everything is relative (heights to the table level, distances start to end, supports by
 name), so a take rotated about the vertical, translated, slower or faster compares equal.
 An object passes when its support matches the demonstration's (held by the same hand, or
-the mapped one under ``hand_map``), its orientation class matches with the end tilts within
-``tilt_rad``, and it is not left within ``moved_share`` of its demonstrated displacement of
+the mapped one under ``hand_map``), its orientation matches (below), and it is not left
+within ``moved_share`` of its demonstrated displacement of
 its start when the demonstration moved it ``moved_min_m`` or more ("returned to its pick-up
-spot").
+spot"). Orientations compare by :func:`~oacdsl.verify_orientation.compare_orientation`: the
+two turns since the start within ``tilt_rad`` — or, for an elongated object whose start pose
+differs between the two recordings (a tool lying before the person, standing in the robot's
+scene), the two end tilts of its long axis.
 """
 
 from __future__ import annotations
@@ -39,6 +42,7 @@ import numpy as np
 
 from oacdsl.segmentation.poses import MIN_MARKERS, fit_constellation
 from oacdsl.segmentation.recording import Recording
+from oacdsl.verify_orientation import Orientation, axis_tilts, compare_orientation, orientation_name
 from oacdsl.verify_tolerances import VerifyTolerances
 from oacdsl.world import WorldState
 
@@ -54,12 +58,14 @@ class ObjectEnd:
 
     support: str  # held, in, on, table, fell, air
     supporter: str | None  # the hand or object (held/in/on)
-    tilt_rad: float | None  # None: fewer than three markers
+    tilt_rad: float | None  # turn since the start; None: fewer than three markers
     moved_m: float
+    #: (start, end) tilt of the long axis from the vertical, rad; None: not elongated
+    axis_rad: tuple[float, float] | None = None
 
     @property
     def orientation(self) -> str | None:
-        return None if self.tilt_rad is None else _orientation_name(self.tilt_rad)
+        return None if self.tilt_rad is None else orientation_name(self.tilt_rad)
 
     def place(self) -> str:
         return f"{self.support} {self.supporter}" if self.supporter else self.support
@@ -73,14 +79,6 @@ class ObjectEnd:
 class EndState:
     objects: dict[str, ObjectEnd]
     table_level_m: float
-
-
-def _orientation_name(tilt_rad: float, upright_max_rad: float = math.radians(45.0)) -> str:
-    if tilt_rad < upright_max_rad:
-        return "upright"
-    if tilt_rad > math.pi - upright_max_rad:
-        return "upside down"
-    return "on its side"
 
 
 #: Frames read at a time when looking for the first and last frames that show an instance.
@@ -238,7 +236,8 @@ def end_state(
                     support = "table"
                 else:
                     support = "air"
-        out[o] = ObjectEnd(support, by, _tilt(recording, o), moved)
+        axis = axis_tilts(start[o], end[o], tolerances.elongated_ratio)
+        out[o] = ObjectEnd(support, by, _tilt(recording, o), moved, axis)
     return EndState(out, table)
 
 
@@ -260,18 +259,10 @@ def compare_object(
     if not ok and run.support == "fell":
         detail = f"{name} fell: it ends below the table, the demonstration's {demo.place()}"
     out.append(("support", ok, demo.place(), run.place(), "same support", detail))
-    if demo.tilt_rad is not None and run.tilt_rad is not None:
-        up = tolerances.upright_max_rad
-        dc, rc = _orientation_name(demo.tilt_rad, up), _orientation_name(run.tilt_rad, up)
-        diff = abs(demo.tilt_rad - run.tilt_rad)
-        ok = dc == rc and diff <= tolerances.tilt_rad
-        detail = "" if ok else (
-            f"{name} ends {rc} ({math.degrees(run.tilt_rad):.0f}° from how it stood),"
-            f" the demonstration's {dc} ({math.degrees(demo.tilt_rad):.0f}°)"
-        )
-        out.append(("orientation", ok, f"{dc} {math.degrees(demo.tilt_rad):.0f}°",
-                    f"{rc} {math.degrees(run.tilt_rad):.0f}°",
-                    f"same class, tilt within {math.degrees(tolerances.tilt_rad):.0f}°", detail))
+    turned = compare_orientation(name, Orientation(demo.tilt_rad, demo.axis_rad),
+                                 Orientation(run.tilt_rad, run.axis_rad), tolerances)
+    if turned is not None:
+        out.append(("orientation", *turned))
     if demo.moved_m >= tolerances.moved_min_m and demo.support != "held":
         least = tolerances.moved_share * demo.moved_m
         ok = run.moved_m >= least

@@ -34,10 +34,18 @@ class VerifyTolerances:
 
     # --- end state -------------------------------------------------------------------------
     #: Orientation classes by the tilt of the object's start "up" axis at the end, radians:
-    #: upright below this, upside down above π minus this, on its side in between.
+    #: upright below this, upside down above π minus this, on its side in between. A
+    #: description in the text only (oacdsl/verify_orientation.py), no rule.
     upright_max_rad: float = math.radians(45.0)
-    #: The end tilts of demonstration and execution may differ by this much, radians.
+    #: The end tilts of demonstration and execution may differ by this much, radians; and
+    #: an elongated object's start poses differ when its long axis's start tilts do.
     tilt_rad: float = math.radians(35.0)
+    #: A marker constellation is elongated (its long axis judged) when its largest principal
+    #: extent is at least this times the second: the KIT tools' are 5.5-9.8 times (salad
+    #: servers 181 x 25 and 175 x 22 mm, knife 312 x 35, ladle 192 x 35, tablespoon 121 x 12,
+    #: the dough's mixer 178 x 20), every other tracked object's (cups, bowls, boards,
+    #: sponges, hands) at most 2.3 times; a plate's four markers 4.6 times (208 x 46 mm).
+    elongated_ratio: float = 3.0
     #: An object's lowest marker within this of the table level (the lowest point of any
     #: tracked object at the first frame) rests on the table, metres.
     table_band_m: float = 0.06

@@ -39,6 +39,17 @@ def turned_on_side(rec: Recording, name: str, from_frame: int) -> Recording:
     return _with_group(rec, name, slice(from_frame, None), new)
 
 
+def turned_upside_down(rec: Recording, name: str, from_frame: int) -> Recording:
+    """``name`` rotated 180° about a horizontal axis through its centroid from ``from_frame`` on,
+    lowered or raised so that its lowest marker stays where it was."""
+    pts = rec.group_positions(name)[from_frame:]
+    c = _centroids(pts)[:, None, :]
+    rot = np.diag([1.0, -1.0, -1.0])  # 180° about x
+    new = (pts - c) @ rot.T + c
+    new[..., 2] += np.nanmin(pts[..., 2], axis=1)[:, None] - np.nanmin(new[..., 2], axis=1)[:, None]
+    return _with_group(rec, name, slice(from_frame, None), new)
+
+
 def moved_back(rec: Recording, name: str, from_frame: int) -> Recording:
     """``name`` from ``from_frame`` on shifted horizontally so that it ends where it started."""
     pts = rec.group_positions(name)

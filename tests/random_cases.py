@@ -174,6 +174,9 @@ def brute_force(library: Library, classes: Mapping[str, frozenset[str]], before:
                     continue
                 if any(r not in neg and not cleared & set(r) for r in removed):
                     continue
+                changed = {x for r in added | removed for x in r}
+                if any(x not in changed for a in eff for x in (a.left, a.right) if x != NOTHING):
+                    continue
             found.add((oac.name, tuple(zip(params, values, strict=True))))
     return found
 

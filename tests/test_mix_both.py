@@ -88,6 +88,9 @@ def test_mix_both_leaves_both_tools_leaning_away_from_the_robot():
         axis = world.body_pose(tool)[:3, 2]  # its handle, from the head up
         assert np.degrees(np.arccos(axis[2])) > 30.0
         assert axis[0] > 0.4  # leaning away from the robot (it stands at x = 0, facing +x)
+    # in this shallow bowl the hands would come down onto the far rim before 40°: the lean
+    # stops short of it (turned on along the arc, the hands pressed the rim and lifted the tools
+    # off the floor: the step failed, "not touching it")
 
 
 def test_mix_both_names_the_tool_too_short_for_the_bowl():

@@ -189,3 +189,34 @@ def test_only_a_carry_to_what_the_other_hand_holds_flies_over_that_hand(run, mon
         run.world.held["l"] = None
     m.carry(m.here(), {"green_cup"})
     assert seen == [True, False, False]
+
+
+def test_turn_both_follows_the_arc_about_each_pivot():
+    # a tool leaned about its head's edge on a floor: the hand keeps its distance from the edge
+    # all the way (a straight move between the two ends cuts the chord: 1.3 cm inside at 22 cm
+    # and 40°, the head pushed into the floor and the fingers onto the rim, KIT Mix)
+    import math
+
+    from oacdsl.runtime.motion.both import turn_both
+    from oacdsl.runtime.transforms import make_T
+
+    class Recorder:
+        def drive(self, paths, duration_s, guards=None, **_):
+            self.paths, self.duration_s = paths, duration_s
+            return dict.fromkeys(paths, False)
+
+    ctl = Recorder()
+    starts = {"l": make_T(np.eye(3), (0.5, 0.1, 1.02)), "r": make_T(np.eye(3), (0.5, -0.1, 1.02))}
+    pivots = {s: starts[s][:3, 3] - [-0.03, 0.0, 0.22] for s in starts}
+    axis = np.array([0.0, 1.0, 0.0])
+    turn_both(ctl, starts, axis, pivots, math.radians(40.0), 1.0)
+    assert ctl.duration_s == 1.0 and set(ctl.paths) == {"l", "r"}
+    for s in starts:
+        radius = np.linalg.norm(starts[s][:3, 3] - pivots[s])
+        for u in np.linspace(0.0, 1.0, 9):
+            pose = ctl.paths[s](u)
+            assert abs(np.linalg.norm(pose[:3, 3] - pivots[s]) - radius) < 1e-9
+            turned = math.degrees(math.acos((np.trace(pose[:3, :3]) - 1.0) / 2.0))
+            assert abs(turned - 40.0 * u) < 1e-6
+        end = ctl.paths[s](1.0)[:3, 3]
+        assert end[0] > starts[s][0, 3] + 0.1 and end[2] < starts[s][2, 3]  # leaned away, lower

@@ -20,7 +20,14 @@ from oacdsl.segmentation.keyframes import merge_keyframes
 from oacdsl.segmentation.poses import fill_rigid_gaps
 from oacdsl.segmentation.readers import read_recording
 from oacdsl.segmentation.result import Keyframe
-from oacdsl.segmentation.scales import DemoScale, measure, scale_params
+from oacdsl.segmentation.scales import (
+    MIN_REACH_FACTOR,
+    SUBJECT_BAND,
+    DemoScale,
+    measure,
+    scale_params,
+    tool_reach_m,
+)
 from oacdsl.segmentation.takes import scaled, stretched, with_gap
 from oacdsl.world import WorldState
 
@@ -224,3 +231,45 @@ def test_holding_still_agrees_with_the_per_frame_reference():
         assert fast.keyframes == segment_reference(rec, params, settings).keyframes
     assert segment(rec).keyframes == segment_reference(rec, params).keyframes  # the defaults: with it
     assert AdaptiveSettings().hold_still
+
+
+# --- the tool rule's reach in the scene's length ------------------------------------------------
+
+SPOON = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 0.04], [0.01, 0.0, 0.08]])
+
+
+def hover_then_stir() -> dict[str, np.ndarray]:
+    """A cup stands still; a hand takes a spoon (50-100), holds it 165 mm from the cup's nearest
+    marker (150-250: beyond the 150 mm reach), stirs in the cup (300-400) and takes it away (450)."""
+    frames = 560
+    cup_at = np.array([0.9, 0.0, 0.0])
+    spoon_start = (0.5, 0.0, 0.0)
+    hover = (0.9 - 0.03 - 0.175, -0.03, 0.0)  # its nearest marker 165 mm from the cup's
+    stir = [(300 + 20 * i, (0.9 + (0.01 if i % 2 else -0.01), 0.0, 0.02)) for i in range(6)]
+    keys = [(0, spoon_start), (100, spoon_start), (150, hover), (250, hover), *stir, (450, (0.5, 0.3, 0.0))]
+    spoon = path(frames, keys)
+    hand = spoon + GRIP
+    hand[:100] = path(frames, [(0, (0.3, -0.3, 0.3)), (50, tuple(np.add(spoon_start, GRIP)))])[:100]
+    return {"cup": cluster(still(frames, tuple(cup_at)), CUP), "right_hand": cluster(hand, HAND),
+            "spoon": cluster(spoon, SPOON)}
+
+
+def test_a_smaller_take_keeps_a_tool_out_of_reach_where_the_original_did():
+    rec = recording(hover_then_stir())
+    base, small = run(rec), run(scaled(rec, 0.85))
+    assert ("cup", "spoon") in base[-2][1]  # the stir is a tool contact
+    assert [r for _, r in small] == [r for _, r in base]
+    assert all(abs(f1 - f2) <= 1 for (f1, _), (f2, _) in zip(base, small, strict=True))
+
+
+def test_the_tool_reach_shrinks_with_a_smaller_scene_not_with_a_subjects_hands():
+    assert tool_reach_m(AasParams(), DemoScale(length=1.2)) == pytest.approx(0.18)  # as d grows
+    assert tool_reach_m(AasParams(), DemoScale(length=0.95)) == 0.15  # a subject with smaller hands
+    assert tool_reach_m(AasParams(), DemoScale(length=0.85)) == pytest.approx(0.15 * 0.85 / SUBJECT_BAND)
+    assert tool_reach_m(AasParams(), DemoScale(length=0.34)) == pytest.approx(0.15 * MIN_REACH_FACTOR)
+    rec = scaled(recording(hover_then_stir()), 0.85)
+    det = AdaptiveDetector(AasParams().resolved(rec.rate_hz))
+    det.effective_params(rec, AasParams())
+    assert det.scale is not None and det.scale.length < SUBJECT_BAND
+    assert det.tool_reach_m == pytest.approx(0.15 * det.scale.length / SUBJECT_BAND)
+    assert det.params.distance_m == 0.15  # d itself, a cap on learned distances, never shrinks

@@ -38,7 +38,8 @@ def composed_steps(task: str, tmp: Path) -> list[str]:
     inputs = load_inputs(demos.write(task, tmp), libraries(tmp), None, AasParams())
     assert inputs.scene.name == demos.TASKS[task][1]
     matcher = Matcher.from_library(inputs.library, inputs.scene, mode="strict")
-    matches = match_segmentation(inputs.segmented(), matcher, unmerged=inputs.unmerged())
+    matches = match_segmentation(inputs.segmented(), matcher, unmerged=inputs.unmerged(),
+                                 travel=inputs.travel())
     assert all(m.matched for m in matches)
     demo = compose_demonstration(task.lower(), matches, inputs.library, inputs.scene)
     return [f"{s.oac.name}({', '.join(dict(s.binding).values())})" for s in demo.composition.steps]

@@ -54,7 +54,7 @@ def test_a_cup_left_on_its_side_fails_with_one_line_per_failed_check(
     assert lines[0].startswith("not verified: end state failed")
     failed = [x for x in lines if x.startswith("FAILED ")]
     assert failed and failed[0].startswith("FAILED end_state.red_cup.orientation: red_cup ends on its side")
-    assert "tolerance: same class" in failed[0]
+    assert "tolerance: turn since the start within 35°" in failed[0]
 
 
 def test_bad_input_is_one_line_and_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

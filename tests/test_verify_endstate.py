@@ -91,3 +91,25 @@ def test_the_mix_demonstration_leaves_both_servers_leaning_in_the_bowl() -> None
     assert demo["end_state.salad_spoon.support"] == "in mixing_bowl_green"
     assert demo["end_state.salad_spoon.orientation"].startswith("on its side")
     assert demo["end_state.salad_fork.support"] == "in mixing_bowl_green"
+
+
+def test_the_mix_servers_start_lying_and_end_leaning_along_their_long_axes() -> None:
+    """The physical reason for judging an elongated tool by its long axis's end tilt when its
+    start differs (oacdsl/verify_orientation.py): the person's servers lie on the table and
+    end leaning in the bowl, 31° and 48° from the vertical; the robot's (library/kit) stand."""
+    from _mocap import mocap_file
+
+    from oacdsl.pipeline import load_inputs
+    from oacdsl.segmentation import AasParams
+
+    i = load_inputs(mocap_file("kit_bimanual/Mix_files_motions_3121_Mix1_salad_gb_parallel_08.mmm.xml"),
+                    Path(__file__).resolve().parents[1] / "library" / "kit", None, AasParams())
+    final = WorldState.of(tuple(i.recording.instances), [])
+    ends = end_state(i.recording, final, lambda n: n.endswith("hand"), lambda n: False, VerifyTolerances())
+    for server, lean in (("salad_fork", 31.0), ("salad_spoon", 48.0)):
+        axis = ends.objects[server].axis_rad
+        assert axis is not None
+        assert math.degrees(axis[0]) > 85.0  # lying
+        assert abs(math.degrees(axis[1]) - lean) < 2.0
+    for other in ("mixing_bowl_green",):  # no long axis
+        assert ends.objects[other].axis_rad is None

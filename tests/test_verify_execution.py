@@ -112,6 +112,9 @@ def _corruptions(case: Case) -> dict[str, tuple[Any, str, bool]]:
     obj, frame = max(released.items(), key=lambda x: (x[1], x[0]))
     side = corrupt.turned_on_side(rec, obj, min(frame + 2, rec.n_frames - 1))
     out[f"{obj} turned onto its side"] = (side, f"end_state.{obj}.orientation", False)
+    # upside down (Mix: the spoon, left leaning in the bowl 48° from how it lay, now 132°)
+    flipped = corrupt.turned_upside_down(rec, obj, min(frame + 2, rec.n_frames - 1))
+    out[f"{obj} turned upside down"] = (flipped, f"end_state.{obj}.orientation", False)
     same = case.verify(rec)
     for c in same.checks:  # an object the demonstration put elsewhere
         if c.name.endswith(".placed") and c.name.split(".")[1] in released:
@@ -151,7 +154,8 @@ def test_corrupted_copies_are_rejected_by_the_right_check(clip: str) -> None:
 
 
 def test_every_kind_of_corruption_occurs_on_a_clip() -> None:
-    words = ("turned onto its side", "moved back", "lifted off", "straightened", "turn removed")
+    words = ("turned onto its side", "turned upside down", "moved back", "lifted off", "straightened",
+             "turn removed")
     seen: set[str] = set()
     for clip in KIT:
         for name in _corruptions(_case(clip)):

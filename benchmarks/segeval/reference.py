@@ -44,7 +44,7 @@ def segment_reference(recording: Recording, params: AasParams | None = None,
         detector = AdaptiveDetector(params, settings)
         recording = detector.prepare(recording)
         params = detector.effective_params(recording, given)
-        return _robust_reference(recording, params, detector._run)
+        return _robust_reference(recording, params, detector._run, detector.tool_reach_m)
     if params.mode != "paper":
         return _robust_reference(recording, params)
     d, v, n = params.distance_m, params.speed_m_s, params.n
@@ -117,8 +117,10 @@ def segment_reference(recording: Recording, params: AasParams | None = None,
     )
 
 
-def _robust_reference(recording: Recording, params: AasParams, settings: Any = None) -> Segmentation:
-    """Modes ``robust`` and ``adaptive``, frame by frame (see the module docstring)."""
+def _robust_reference(recording: Recording, params: AasParams, settings: Any = None,
+                      tool_reach_m: float | None = None) -> Segmentation:
+    """Modes ``robust`` and ``adaptive``, frame by frame (see the module docstring); ``tool_reach_m``:
+    the tool rule's reach between two objects (the detector's; None: ``d``)."""
     from oacdsl.segmentation.comotion import AdaptiveSettings
     from oacdsl.segmentation.holding import resting_holds
     from oacdsl.segmentation.pairs import PairTable
@@ -137,6 +139,7 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
         distance = [settings.static_distance_m] * table.n_instance_pairs
         delay = n - 1 + half
         found = comotion_reference(recording, table, params, settings)
+        reach = params.distance_m if tool_reach_m is None else tool_reach_m
         held = {q: intervals for q, (intervals, _) in found.learned.items()}
         tools = tool_contacts(
             table,
@@ -145,11 +148,11 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
             held,
             found.closest,
             agents_of(table.instances, settings.agent_pattern),
-            params.distance_m,
+            reach,
             settings.tool_dwell_s,
             settings.tool_bridge_s,
             settings.rest_m,
-            params.distance_m * (1 + settings.margin),
+            reach * (1 + settings.margin),
             recording.positions_m,
             settings.frames(settings.lag_s, recording.rate_hz),
         )

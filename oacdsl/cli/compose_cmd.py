@@ -67,7 +67,8 @@ def run(args: argparse.Namespace) -> int:
     # an earlier composition of this name is replaced, never a step of its own recomposition
     matcher = Matcher.from_library(inputs.library, inputs.scene, mode=mode,
                                    exclude=reaching(inputs.library, args.name))
-    matches = match_segmentation(inputs.segmented(), matcher, transient_s=window, unmerged=inputs.unmerged())
+    matches = match_segmentation(inputs.segmented(), matcher, transient_s=window, unmerged=inputs.unmerged(),
+                                 travel=inputs.travel())
     demo = compose_demonstration(
         args.name,
         matches,

@@ -32,7 +32,8 @@ def run(args: argparse.Namespace) -> int:
     inputs = load_inputs(args)
     mode: Mode = "paper" if args.paper else "strict"
     matcher = Matcher.from_library(inputs.library, inputs.scene, mode=mode)
-    matches = match_segmentation(inputs.segmented(), matcher, transient_s=window, unmerged=inputs.unmerged())
+    matches = match_segmentation(inputs.segmented(), matcher, transient_s=window, unmerged=inputs.unmerged(),
+                                 travel=inputs.travel())
     unmatched = sum(1 for m in matches if not m.matched)
     if args.json:
         print(json.dumps({"sub_actions": [m.to_json() for m in matches]}, indent=2))

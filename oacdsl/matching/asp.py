@@ -11,7 +11,8 @@ orders; each distinct state once) and ``sub(S, Tb, Ta)`` (sub-action S goes
 from state Tb to state Ta). Each OAC k becomes a rule whose body is its atoms,
 its typed variables and pairwise different variables. In strict mode a
 candidate is generated from a changed relation one of its effects accounts for
-and dropped when another changed relation is not accounted for. The answer
+and dropped when another changed relation is not accounted for, or when an
+instance its effects name takes part in no change. The answer
 holds ``m(k, S, (V1, …, Vn))``.
 """
 
@@ -95,6 +96,9 @@ def _oac_rules(k: int, oac: Oac, mode: Mode, iid: _Ids, cid: _Ids) -> list[str]:
     head = f"u{k}(S, {vs}) :- c{k}(S, {vs})"
     rules.append(f"{head}, add(S, A, B), A < B, not cov{k}(S, {vs}, add, A, B).")
     rules.append(f"{head}, rem(S, A, B), A < B, not cov{k}(S, {vs}, rem, A, B){keep}.")
+    # Every instance an effect names takes part in a change.
+    for x in sorted({term(n) for a in oac.effect for n in (a.left, a.right) if n != NOTHING}):
+        rules.append(f"{head}, not chg(S, {x}).")
     rules.append(f"m({k}, S, {vs}) :- c{k}(S, {vs}), not u{k}(S, {vs}).")
     return rules
 
@@ -103,6 +107,8 @@ _COMMON = """
 touch(T, X) :- st(T, X, _).
 add(S, X, Y) :- sub(S, Tb, Ta), st(Ta, X, Y), not st(Tb, X, Y).
 rem(S, X, Y) :- sub(S, Tb, Ta), st(Tb, X, Y), not st(Ta, X, Y).
+chg(S, X) :- add(S, X, _).
+chg(S, X) :- rem(S, X, _).
 #show m/3.
 """
 

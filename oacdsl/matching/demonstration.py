@@ -15,6 +15,7 @@ from typing import Any
 
 from oacdsl.errors import MatchingError, did_you_mean
 from oacdsl.library import Library
+from oacdsl.matching.agency import Travel, by_motion
 from oacdsl.matching.coincident import Joined, coincidence_window_s, join_coincident, matches_whole
 from oacdsl.matching.composer import Composition, Step, compose
 from oacdsl.matching.drafts import propose_draft
@@ -158,6 +159,7 @@ def reaching(library: Library, name: str) -> frozenset[str]:
 def match_segmentation(
     segmentation: Segmentation, matcher: Matcher, mode: Mode | None = None, transient_s: float = TRANSIENT_S,
     unmerged: Callable[[], Segmentation] | None = None, coincident_s: float | None = None,
+    travel: Travel | None = None,
 ) -> list[SubActionMatch]:
     """Match every sub-action of ``segmentation``, in time order.
 
@@ -169,17 +171,24 @@ def match_segmentation(
     union. A sub-action that matches no OAC is split into parts when it can be
     (:mod:`oacdsl.matching.split`); ``unmerged`` gives the recording's segmentation without the
     merge window (called only then), whose keyframes say when each changed relation changed.
+    ``travel`` (:func:`oacdsl.matching.agency.hand_travel` of the recording) breaks a tie that
+    the world states cannot by how far the tied matches' hands moved in the sub-action.
     """
     agents = agents_of(matcher.instance_classes)
     stable, dropped = stable_segmentation(segmentation, agents.__contains__, transient_s)
     rule = mode or matcher.mode
     untracked = matcher.untracked
 
-    def match(b: WorldState, a: WorldState) -> MatchResult:
-        result = matcher.match(b, a, mode=mode)
+    def match(b: WorldState, a: WorldState, explain: bool = True) -> MatchResult:
+        result = matcher.match(b, a, mode=mode, explain=explain)
         if untracked is None:
             return result
         return dataclasses.replace(result, matches=tuple(untracked.original(m) for m in result.matches))
+
+    def quiet(b: WorldState, a: WorldState) -> MatchResult:
+        """A match for its matches only: no explanation (the parts of a split, the union of two
+        near-coincident changes are tried by the many)."""
+        return match(b, a, explain=False)
 
     raw: list[Segmentation] = []
 
@@ -189,17 +198,22 @@ def match_segmentation(
         if unmerged is not None and not raw:
             raw.append(unmerged())
         times = _change_times(raw[0], sub, b, a) if raw else None
-        return split_change(match, b, a, untracked.names if untracked is not None else frozenset(), times)
+        return split_change(quiet, b, a, untracked.names if untracked is not None else frozenset(), times)
+
+    def decided(r: MatchResult, sa: SubAction) -> MatchResult:
+        return r if travel is None else by_motion(r, agents, travel, sa.start.frame, sa.end.frame)
 
     def run(subs: list[SubAction]) -> tuple[list[SubAction], list[tuple[MatchResult, Split | None]]]:
         if untracked is None:
             plain = []
             for sa in subs:
-                r = match(sa.before, sa.after)
+                r = decided(match(sa.before, sa.after), sa)
                 plain.append((r, split(sa.before, sa.after, sa) if r.chosen is None else None))
             return subs, plain
-        # relations of untracked instances: predicted along the way
-        done = untracked.match_sequence([(sa.before, sa.after) for sa in subs], match,
+        # relations of untracked instances: predicted along the way (one call per sub-action, in order)
+        order = iter(subs)
+        done = untracked.match_sequence([(sa.before, sa.after) for sa in subs],
+                                        lambda b, a: decided(match(b, a), next(order)),
                                         lambda k, b, a: split(b, a, subs[k]))
         return [dataclasses.replace(sa, start=dataclasses.replace(sa.start, state=r.before),
                                     end=dataclasses.replace(sa.end, state=r.after))
@@ -209,7 +223,7 @@ def match_segmentation(
     window = coincidence_window_s(segmentation) if coincident_s is None else coincident_s
     joined: tuple[Joined, ...] = ()
     if window > 0 and len(subs) > 1:
-        stable, joined = join_coincident(stable, matches_whole(subs, match, untracked), window)
+        stable, joined = join_coincident(stable, matches_whole(subs, quiet, untracked), window)
         if joined:
             subs, done = run(stable.sub_actions())
     out = []

@@ -4,7 +4,8 @@ For each OAC, a branch-and-bound search over the bindings of its variables
 (classes respected, different variables to different instances) finds the
 binding that fails the fewest conditions. The conditions are the bound
 preconditions (before), the bound effects (after) and, in strict mode, one per
-changed relation that the bound effects must account for. Values that fail the
+changed relation that the bound effects must account for, and, when it fails, that
+every instance the effects name takes part in a change. Values that fail the
 fewest conditions are tried first, so the first complete binding is already
 good; the search stops after ``node_cap`` nodes per OAC (20 000, fewer for a large
 library: 400 000 in all, at least 2 000 each) and says so.
@@ -17,6 +18,8 @@ from collections.abc import Mapping, Sequence
 from oacdsl.matching.conditions import bind_atom, why_not
 from oacdsl.matching.results import Mode, NearMiss, change_text
 from oacdsl.matching.search import AFTER, BEFORE, CompiledOac, StateView, plan
+from oacdsl.matching.strict import changed_instances, untouched
+from oacdsl.matching.transient import AGENT_CLASS
 from oacdsl.model import Atom, atom_text
 from oacdsl.world import NOTHING, WorldState
 
@@ -70,6 +73,29 @@ def _unaccounted(
     return out
 
 
+def _untouched_text(
+    co: CompiledOac, b: Sequence[str], added: frozenset[tuple[str, str]], removed: frozenset[tuple[str, str]]
+) -> list[str]:
+    """The strict rule's condition that every instance the effects name takes part in a change,
+    as a failure text (an empty list when it holds)."""
+    idle = untouched(co, b, changed_instances(added, removed))
+    if not idle:
+        return []
+    verb = "takes" if len(idle) == 1 else "take"
+    return [f"the effects name {', '.join(idle)}, which {verb} part in no change (an OAC's effects say"
+            " what it changes)"]
+
+
+def _classes_of(members: Mapping[str, frozenset[str]]) -> dict[str, list[str]]:
+    """Instance → its classes (inherited included), for the instances that have any."""
+    out: dict[str, list[str]] = {}
+    for cls, instances in sorted(members.items()):
+        if not cls.startswith("="):
+            for i in instances:
+                out.setdefault(i, []).append(cls)
+    return out
+
+
 def closest_binding(
     co: CompiledOac,
     members: Mapping[str, frozenset[str]],
@@ -92,6 +118,18 @@ def closest_binding(
                 else f"no instance of class {co.classes[v]} for parameter {co.names[v]}"
             )
             return NearMiss(oac, (), (what,), 0)
+    # A parameter may also stand for an instance of another class, as one failed condition
+    # (``crate is not a Graspable``): what a library's OAC would need to match. Agents (class
+    # Hand) and objects do not stand for each other.
+    classes_of = _classes_of(members)
+    agents = members.get(AGENT_CLASS, frozenset())
+    outside: list[frozenset[str]] = []
+    for v, d in enumerate(doms):
+        agent = set(d) <= agents
+        others = [i for i in sorted(set(classes_of) - set(d)) if (i in agents) == agent]
+        others = others if v < co.n_params else []
+        outside.append(frozenset(others))
+        doms[v] = d + others
     views = (StateView(before), StateView(after))
     added = after.relations - before.relations
     removed = before.relations - after.relations
@@ -104,7 +142,11 @@ def closest_binding(
     n = len(order)
     assign = [""] * len(co.names)
     used: set[str] = set()
-    best_fails = len(conds) + len(added) + len(removed) + 1
+    # Costs: a failed condition or unaccounted change weighs more than all class failures and
+    # the effects' instances together, so the binding found is the one the ranking of the near
+    # misses (conditions satisfied) prefers, whatever the instances are called.
+    weight = co.n_params + 2
+    best_fails = (len(conds) + len(added) + len(removed) + 1) * weight
     best: tuple[str, ...] | None = None
     nodes = 0
     truncated = False
@@ -112,7 +154,11 @@ def closest_binding(
     def extend(k: int, fails: int) -> None:
         nonlocal best_fails, best, nodes, truncated
         if k == n:
-            total = fails + (len(_unaccounted(co, assign, added, removed)) if mode == "strict" else 0)
+            total = fails
+            if mode == "strict":
+                total += weight * len(_unaccounted(co, assign, added, removed))
+                if total == 0:  # reported only as the one reason left
+                    total += len(_untouched_text(co, assign, added, removed))
             if total < best_fails:
                 best_fails, best = total, tuple(assign)
             return
@@ -126,7 +172,8 @@ def closest_binding(
             if x in used:
                 continue
             assign[v] = x
-            scored.append((sum(not _ok(c, assign, views) for c in levels[k]), x))
+            failing = sum(not _ok(c, assign, views) for c in levels[k])
+            scored.append((weight * failing + (x in outside[v]), x))
         scored.sort()
         for f, x in scored:
             if fails + f >= best_fails:
@@ -146,16 +193,23 @@ def closest_binding(
         return NearMiss(oac, (), (why,), 0, truncated)
     bound = best
     mapping = dict(zip(co.names, bound, strict=True))
-    failed: list[str] = []
+    failed = [
+        f"{x} is not a {co.classes[v]} (parameter {co.names[v]}; {x}: {', '.join(classes_of[x])})"
+        for v, x in enumerate(bound[: co.n_params]) if x in outside[v]
+    ]
+    total = len(conds) + len(failed)  # a class counts as a condition where it fails
     for c in conds:
         if not _ok(c, bound, views):
             when, atom = c[0], bind_atom(c[4], mapping)
             label, moment, state = ("pre", "before", before) if when == BEFORE else ("effect", "after", after)
             failed.append(f"{label} {atom_text(atom)} does not hold {moment}: {why_not(atom, state)}")
-    total = len(conds)
     if mode == "strict":
+        # one condition per changed relation; the one on the instances the effects name when it
+        # is the one reason left
         failed += _unaccounted(co, bound, added, removed)
-        total += len(added) + len(removed)
+        idle = [] if failed else _untouched_text(co, bound, added, removed)
+        failed += idle
+        total += len(added) + len(removed) + len(idle)
     binding = tuple((co.names[v], bound[v]) for v in range(co.n_params))
     return NearMiss(oac, binding, tuple(failed), total, truncated)
 

@@ -9,7 +9,8 @@ instances.
 The strict rule (``mode="strict"``, the default) adds: every relation that
 changed is accounted for by the bound effects (a relation that started is a
 positive effect; one that ended is a ``not a <-> b`` effect or ``x <-> nothing``
-for one of its ends), and the OAC changes something. Under the paper's rule an
+for one of its ends), every instance the bound effects name takes part in a
+change, and the OAC changes something (:mod:`oacdsl.matching.strict`). Under the paper's rule an
 OAC whose effects merely *remain* true (grasp, while the hand keeps holding the
 cup and something else happens) matches every later sub-action; strict
 matching links each sub-action to what caused its change, which is what the
@@ -29,7 +30,7 @@ from collections.abc import Callable, Iterable, Mapping
 from oacdsl.errors import UsageError
 from oacdsl.library import Library
 from oacdsl.matching.explain import explain_no_match
-from oacdsl.matching.results import Match, MatchResult, Mode
+from oacdsl.matching.results import Match, MatchResult, Mode, callers_first, choice_reason
 from oacdsl.matching.search import (
     AFTER,
     CompiledOac,
@@ -39,6 +40,7 @@ from oacdsl.matching.search import (
     search,
     seed_ok,
 )
+from oacdsl.matching.strict import accounts_all, changed_instances, effect_variables, explained
 from oacdsl.matching.untracked import Untracked, initial_relations, variants
 from oacdsl.model import Oac, Scene
 from oacdsl.world import Relation, WorldState
@@ -86,6 +88,7 @@ class Matcher:
         self.oacs: tuple[Oac, ...] = tuple(oacs)
         self.instance_classes = {i: frozenset(c) for i, c in instance_classes.items()}
         self.compiled = tuple(compile_oac(o, k, self.depth) for k, o in enumerate(self.oacs))
+        self._effect_vars = tuple(effect_variables(co) for co in self.compiled)
         keys: dict[str, tuple[str, ...]] = {}
         members: dict[str, set[str]] = defaultdict(set)
         for inst, classes in self.instance_classes.items():
@@ -191,6 +194,7 @@ class Matcher:
             if r != first and viable:
                 viable = viable & self._accounting(r, False)[0]
         cache: dict[tuple[str, tuple[tuple[int, bool], ...]], frozenset[str]] = {}
+        changed = changed_instances(added, removed)
         n_added = len(added)
         for k in sorted(viable):
             co = self.compiled[k]
@@ -208,8 +212,9 @@ class Matcher:
                         out.append(tuple(seed[v] for v in range(n_vars)))
                     else:
                         search(co, doms, views, seed, out)
+            acted = self._effect_vars[k]
             for b in set(out) if len(candidates) > 1 else out:
-                if _accounts_all(co, b, added, removed):
+                if accounts_all(co, b, added, removed) and all(b[v] in changed for v in acted):
                     found.append((co, b))
         return found
 
@@ -265,9 +270,10 @@ class Matcher:
         removed = before.relations - after.relations
         view = self.view(before)
         raw = self.raw_matches(before, after, mode)
-        matches = sorted((self._record(co, b, added, removed, view) for co, b in raw), key=Match.rank_key)
+        matches = callers_first(sorted((self._record(co, b, added, removed, view) for co, b in raw),
+                                       key=Match.rank_key))
         if matches:
-            return MatchResult(before, after, mode, tuple(matches), reason=_reason(matches))
+            return MatchResult(before, after, mode, tuple(matches), reason=choice_reason(matches))
         if not explain:
             return MatchResult(before, after, mode, ())
         members = self._class_members(before.instances & after.instances)
@@ -294,83 +300,12 @@ class Matcher:
         return Match(
             oac=co.oac,
             binding=tuple((co.names[v], b[v]) for v in range(co.n_params)),
-            explained=_explained(co, b, added, removed),
+            explained=explained(co, b, added, removed),
             changes=len(added) + len(removed),
             specificity=co.specificity,
             idle=idle,
             conditions=len(co.oac.pre) + len(co.oac.effect),
         )
-
-
-def _accounts_all(
-    co: CompiledOac, b: tuple[str, ...], added: frozenset[Relation], removed: frozenset[Relation]
-) -> bool:
-    """True when the bound effects account for every changed relation (the strict rule)."""
-    if added:
-        pos = {(b[i], b[j]) if b[i] < b[j] else (b[j], b[i]) for i, j in co.eff_pos}
-        if not added <= pos:
-            return False
-    if removed:
-        neg = {(b[i], b[j]) if b[i] < b[j] else (b[j], b[i]) for i, j in co.eff_neg}
-        cleared = {b[i] for i in co.eff_none}
-        for r in removed:
-            if r not in neg and r[0] not in cleared and r[1] not in cleared:
-                return False
-    return True
-
-
-def _explained(
-    co: CompiledOac, b: tuple[str, ...], added: frozenset[Relation], removed: frozenset[Relation]
-) -> int:
-    """How many changed relations the bound effects account for."""
-    pos = {(b[i], b[j]) if b[i] < b[j] else (b[j], b[i]) for i, j in co.eff_pos}
-    neg = {(b[i], b[j]) if b[i] < b[j] else (b[j], b[i]) for i, j in co.eff_neg}
-    cleared = {b[i] for i in co.eff_none}
-    n = sum(r in pos for r in added)
-    n += sum(r in neg or r[0] in cleared or r[1] in cleared for r in removed)
-    return n
-
-
-def _classes_text(m: Match) -> str:
-    return ", ".join(p.cls for p in m.oac.params)
-
-
-def _reason(matches: list[Match]) -> str | None:
-    """Why the first of the ranked ``matches`` was chosen over the second."""
-    if len(matches) < 2:
-        return None
-    a, b = matches[0], matches[1]
-    head = f"{len(matches)} matches; chose {a.text()}"
-    if a.explained != b.explained:
-        why = f"it explains {a.explained} of {a.changes} changed relations, {b.text()} only {b.explained}"
-    elif a.specificity != b.specificity:
-        why = (
-            f"its classes are more specific ({_classes_text(a)}) than those of {b.text()}"
-            f" ({_classes_text(b)})"
-        )
-    elif a.idle != b.idle:
-        why = f"fewer of its effects already held before ({a.idle}, {b.text()}: {b.idle})"
-    elif a.conditions != b.conditions:
-        why = (
-            f"it states more conditions ({a.conditions} preconditions and effects, {b.text()}:"
-            f" {b.conditions})"
-        )
-    elif a.same_meaning(b):
-        why = f"the same conditions as {b.text()} (the OAC is symmetric in these parameters)"
-    elif a.oac.name == b.oac.name:
-        why = (
-            f"ambiguous: it ties with {b.text()}; chosen by binding order. The conditions of"
-            f" {a.oac.name} do not tell these instances apart: add one that does (a precondition"
-            " about the instance you mean, or a more specific parameter class)"
-        )
-    else:
-        why = (
-            f"ambiguous: it ties with {b.text()} on explained change, class specificity, idle"
-            f" effects and number of conditions ({a.conditions}); chosen by name. To choose the"
-            " other, give the OAC you mean a more specific parameter class or a precondition the"
-            " other lacks (or leave the other out of the library)"
-        )
-    return f"{head}: {why}"
 
 
 def match_sub_action(

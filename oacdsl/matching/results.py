@@ -9,7 +9,9 @@ from oacdsl.matching.conditions import bind_atoms
 from oacdsl.model import Atom, Oac, atom_text
 from oacdsl.world import Relation, WorldState
 
-__all__ = ["Match", "MatchResult", "Mode", "NearMiss", "call_text", "change_text"]
+__all__ = [
+    "Match", "MatchResult", "Mode", "NearMiss", "call_text", "callers_first", "change_text", "choice_reason",
+]
 
 #: ``strict`` (default): the paper's rule plus "the effects account for every change";
 #: ``paper``: the paper's rule alone (pre holds before, effects hold after).
@@ -77,6 +79,14 @@ class Match:
 
         return self.oac.name == other.oac.name and bound(self) == bound(other)
 
+    def calls(self, other: Match) -> bool:
+        """True when this match's OAC runs ``other`` as one of its steps, on the same instances
+        (``hold_on_board(h, c, b)``, steps ``onto_board(h, c, b)``, ``keep(h, c)``)."""
+        mapping = self.mapping
+        wanted = tuple(i for _, i in other.binding)
+        return any(c.oac == other.oac.name and tuple(mapping.get(a, a) for a in c.args) == wanted
+                   for c in self.oac.steps or ())
+
     def rank_key(self) -> tuple[int, int, int, int, str, tuple[str, ...]]:
         """Sort key, best first: more change explained, more specific classes,
         fewer idle effects, more conditions, then name and binding (deterministic)."""
@@ -117,6 +127,9 @@ class MatchResult:
     near_misses: tuple[NearMiss, ...] = field(default=())
     #: Why nothing matched; None when something did.
     explanation: str | None = None
+    #: True when a tie of the best matches was broken by how far their hands moved
+    #: (:mod:`oacdsl.matching.agency`): then no longer ambiguous.
+    by_motion: bool = False
 
     @property
     def chosen(self) -> Match | None:
@@ -133,7 +146,65 @@ class MatchResult:
     @property
     def ambiguous(self) -> bool:
         """True when the best two matches tie on everything but name and binding."""
-        if len(self.matches) < 2:
+        if len(self.matches) < 2 or self.by_motion:
             return False
         a, b = self.matches[0].rank_key(), self.matches[1].rank_key()
-        return a[:4] == b[:4] and not self.matches[0].same_meaning(self.matches[1])
+        first, second = self.matches[0], self.matches[1]
+        return a[:4] == b[:4] and not first.same_meaning(second) and not first.calls(second)
+
+
+def _classes_text(m: Match) -> str:
+    return ", ".join(p.cls for p in m.oac.params)
+
+
+def callers_first(matches: list[Match]) -> list[Match]:
+    """``matches`` (ranked) with, among those that tie with the first on the ranking's criteria
+    1-4, an OAC that runs another of them as a step (on the same instances) before it."""
+    if len(matches) < 2:
+        return matches
+    key = matches[0].rank_key()[:4]
+    n = next((k for k, m in enumerate(matches) if m.rank_key()[:4] != key), len(matches))
+    tied = matches[:n]
+    return sorted(tied, key=lambda m: -sum(m.calls(o) for o in tied)) + matches[n:]
+
+
+def choice_reason(matches: list[Match]) -> str | None:
+    """Why the first of the ranked ``matches`` was chosen over the second."""
+    if len(matches) < 2:
+        return None
+    a, b = matches[0], matches[1]
+    head = f"{len(matches)} matches; chose {a.text()}"
+    if a.explained != b.explained:
+        why = f"it explains {a.explained} of {a.changes} changed relations, {b.text()} only {b.explained}"
+    elif a.specificity != b.specificity:
+        why = (
+            f"its classes are more specific ({_classes_text(a)}) than those of {b.text()}"
+            f" ({_classes_text(b)})"
+        )
+    elif a.idle != b.idle:
+        why = f"fewer of its effects already held before ({a.idle}, {b.text()}: {b.idle})"
+    elif a.conditions != b.conditions:
+        why = (
+            f"it states more conditions ({a.conditions} preconditions and effects, {b.text()}:"
+            f" {b.conditions})"
+        )
+    elif a.calls(b):
+        steps = ", ".join(c.oac for c in a.oac.steps or ())
+        why = (f"it runs {b.text()} as one of its steps ({steps}): the more particular way of doing it"
+               " (they tie on explained change, class specificity, idle effects and number of conditions)")
+    elif a.same_meaning(b):
+        why = f"the same conditions as {b.text()} (the OAC is symmetric in these parameters)"
+    elif a.oac.name == b.oac.name:
+        why = (
+            f"ambiguous: it ties with {b.text()}; chosen by binding order. The conditions of"
+            f" {a.oac.name} do not tell these instances apart: add one that does (a precondition"
+            " about the instance you mean, or a more specific parameter class)"
+        )
+    else:
+        why = (
+            f"ambiguous: it ties with {b.text()} on explained change, class specificity, idle"
+            f" effects and number of conditions ({a.conditions}); chosen by name. To choose the"
+            " other, give the OAC you mean a more specific parameter class or a precondition the"
+            " other lacks (or leave the other out of the library)"
+        )
+    return f"{head}: {why}"

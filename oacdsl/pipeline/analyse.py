@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from oacdsl.library import Library
+from oacdsl.matching.agency import Travel
 from oacdsl.matching.composer import Composition
 from oacdsl.matching.demonstration import SubActionMatch
 from oacdsl.matching.emit import Emitted
@@ -127,17 +128,18 @@ def match_doc(matches: Sequence[SubActionMatch], matcher: Any = None) -> dict[st
 
 def match_stage(
     segmentation: Segmentation, library: Library, scene: Scene, name: str | None = None,
-    unmerged: Callable[[], Segmentation] | None = None,
+    unmerged: Callable[[], Segmentation] | None = None, travel: Travel | None = None,
 ) -> MatchStage:
     """Match every sub-action with the strict rule (the effects account for every change);
     ``name``: the OAC about to be composed, which (like every OAC calling it) is no step of it;
     ``unmerged``: the recording segmented without merging, for split keyframes
-    (:func:`~oacdsl.matching.demonstration.match_segmentation`)."""
+    (:func:`~oacdsl.matching.demonstration.match_segmentation`); ``travel``: how far the hands
+    moved, for a tie the world states cannot break."""
     from oacdsl.matching import Matcher
     from oacdsl.matching.demonstration import match_segmentation, reaching
 
     matcher = Matcher.from_library(library, scene, exclude=reaching(library, name) if name else ())
-    matches = match_segmentation(segmentation, matcher, unmerged=unmerged)
+    matches = match_segmentation(segmentation, matcher, unmerged=unmerged, travel=travel)
     return MatchStage(matches, match_doc(matches, matcher))
 
 

@@ -34,6 +34,7 @@ from pathlib import Path
 
 from oacdsl.errors import InputError, UsageError
 from oacdsl.library import Library
+from oacdsl.matching.agency import Travel, hand_travel
 from oacdsl.model import Scene
 from oacdsl.pipeline.bundled import (
     BUNDLED_NAME,
@@ -111,6 +112,14 @@ class Inputs:
             return segment(recording, params, shapes=shapes)
 
         return run
+
+    def travel(self) -> Travel | None:
+        """How far each instance moved between two frames (None for a segmentation given as
+        .json): a tie between matches broken by which hand moved
+        (:func:`oacdsl.matching.demonstration.match_segmentation`)."""
+        if self.recording is None:
+            return None
+        return hand_travel(self.recording)
 
     def shapes(self) -> dict[str, ShapeModel] | None:
         """The scene's shapes when contacts are measured from geometry (``params.contacts``), else None."""

@@ -143,7 +143,7 @@ def run_stages(
         result.put("segment", analyse.segment_doc(seg, inputs.source))
         matched = attempt(
             "match", lambda: analyse.match_stage(seg.segmentation, inputs.library, inputs.scene, name,
-                                                 inputs.unmerged())
+                                                 inputs.unmerged(), inputs.travel())
         )
         result.put("match", matched.doc)
         composed = attempt("compose", compose)

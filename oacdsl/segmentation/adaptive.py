@@ -56,7 +56,7 @@ from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.poses import RigidFill, fill_rigid_gaps
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.robust import RobustDetector
-from oacdsl.segmentation.scales import DemoScale, measure, scale_params, scale_settings
+from oacdsl.segmentation.scales import DemoScale, measure, scale_params, scale_settings, tool_reach_m
 from oacdsl.segmentation.shapes import ShapeModel
 from oacdsl.segmentation.tooluse import agents_of, tool_contacts
 
@@ -78,6 +78,8 @@ class AdaptiveDetector:
         self.history_frames = template.history_frames
         self.delay_frames = template.delay_frames
         self.reach_m: float | None = max(params.distance_m, self.settings.static_distance_m)
+        #: metres, the tool rule's reach between two objects (``d`` in the scene's length, both ways)
+        self.tool_reach_m = params.distance_m
         self._table: PairTable | None = None
         self._inner: RobustDetector | None = None  # the paper's rule, each pair at its own distance
         # block → (E, 3) [causal frame, kind (1 episode, 2 tool, 3 veto), on?], sorted
@@ -122,10 +124,12 @@ class AdaptiveDetector:
         """``params`` (unresolved: ``frames`` may be automatic) resolved for ``recording``, every
         length, speed and duration rescaled by its scales (:mod:`oacdsl.segmentation.scales`)
         unless ``settings.rescale`` is off; the detector runs with them from :meth:`begin` on."""
+        self.tool_reach_m = params.distance_m
         if self.settings.rescale:
             agents = agents_of(recording.instances, self.settings.agent_pattern)
             self.scale = measure(recording, tuple(recording.instances[i] for i in agents))
             self._run = scale_settings(self.settings, self.scale)
+            self.tool_reach_m = tool_reach_m(params, self.scale)
             params = scale_params(params, self.scale)
         self.params = params.resolved(recording.rate_hz)
         return self.params
@@ -169,11 +173,11 @@ class AdaptiveDetector:
             {q: spans for q, (spans, _) in learned.items()},
             found.closest,
             agents_of(table.instances, self.settings.agent_pattern),
-            self.params.distance_m,
+            self.tool_reach_m,
             self._run.tool_dwell_s,
             self._run.tool_bridge_s,
             self._run.rest_m,
-            self.params.distance_m * (1 + self._run.margin),
+            self.tool_reach_m * (1 + self._run.margin),
             recording.positions_m,
             self._run.frames(self._run.lag_s, recording.rate_hz),
         )

@@ -66,8 +66,9 @@ class AdaptiveSettings:
         rescale: every speed and duration above (and ``AasParams``' ``v``, ``n``, change
             and merge windows) is taken as the reference demonstration's and rescaled by the
             recording's own pace (:mod:`oacdsl.segmentation.scales`) before segmenting (on:
-            a take twice as slow keeps its keyframes; docs/segmentation-adaptive.md). Lengths are
-            never rescaled.
+            a take twice as slow keeps its keyframes; docs/segmentation-adaptive.md). Of the
+            lengths only ``d`` (grown, never shrunk) and the tool rule's reach between two objects
+            (:func:`~oacdsl.segmentation.scales.tool_reach_m`, also shrunk) follow the scene's.
         fill_gaps: a rigid object's marker missing while three of its markers are seen is
             put where the object's rigid fit places it (:mod:`oacdsl.segmentation.poses`).
         hold_still: a hand at rest on or around a still object touches it

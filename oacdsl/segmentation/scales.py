@@ -27,8 +27,15 @@ and Mix's spoon beyond 150 mm of the cup's and the bowl's markers), while a smal
 tighter cap (the hands' size measures the demonstrator, not the objects: on the KIT Scoop clip,
 whose subject's hands are 5 % smaller, a 5 % shorter reach found the ladle in the cup 0.3 s late
 and changed the composed OAC). The per-pair distances are learned, the static one
-(``static_distance_m``) stays. The length factor also serves the time factor: a take 15 % larger
-is 15 % faster, not quicker. The factors are clamped to
+(``static_distance_m``) stays. The tool rule's reach between two objects (:func:`tool_reach_m`)
+is a contact distance and also shrinks, for a length factor below :data:`SUBJECT_BAND` (the
+development clips' subjects differ by 0.95-1.06, and a 5 % shorter reach already moves Cut's
+keyframes): ``d`` × factor / band, at least :data:`MIN_REACH_FACTOR` × ``d``. So a scene 15 %
+smaller has its tools reach 10 % less far (at 150 mm Pour's carton "reached" the cup 0.5 s before
+it was grasped in a take ×0.85; Scoop's and the dough's alike). Per-pair reaches from the objects'
+own sizes were measured and do not fit the development clips (docs/segmentation.md, *Measured:
+variations beyond the standard takes*). The length factor also serves the time factor: a take
+15 % larger is 15 % faster, not quicker. The factors are clamped to
 [:data:`MIN_FACTOR`, :data:`MAX_FACTOR`] so that a recording without motion or markers cannot
 make a constant vanish.
 """
@@ -47,15 +54,18 @@ __all__ = [
     "MAX_FACTOR",
     "MEASURE_FRAMES",
     "MIN_FACTOR",
+    "MIN_REACH_FACTOR",
     "PACE_LAG_S",
     "PACE_QUANTILE",
     "REFERENCE_PACE_M_S",
     "REFERENCE_SIZE_M",
     "SIZE_MIN_MARKERS",
+    "SUBJECT_BAND",
     "DemoScale",
     "measure",
     "scale_params",
     "scale_settings",
+    "tool_reach_m",
 ]
 
 #: The reference demonstration's hand size, metres: the median of the six KIT development
@@ -71,6 +81,12 @@ REFERENCE_PACE_M_S = 0.5
 PACE_QUANTILE = 0.9
 #: Seconds over which a marker's speed is measured for the pace (at least one frame).
 PACE_LAG_S = 0.1
+#: Length factors from this up to 1 tell subjects apart, not scenes: the development clips' hands
+#: are 0.95-1.06 of the reference's, so below it the scene is smaller (:func:`tool_reach_m`).
+SUBJECT_BAND = 0.94
+#: The tool reach shrinks to at most this fraction of ``d``: four markers of a hand that do not span
+#: it (a cluster on its back) measure a "hand" a third of the reference's.
+MIN_REACH_FACTOR = 0.8
 #: Bounds of each factor.
 MIN_FACTOR, MAX_FACTOR = 0.25, 4.0
 #: Most frames the factors are measured on, evenly spread (a median and a quantile over 20,000
@@ -184,6 +200,17 @@ def scale_params(params: AasParams, scale: DemoScale) -> AasParams:
         change_window_s=params.change_window_s * scale.time,
         merge_s=params.merge_s * scale.time,
     )
+
+
+def tool_reach_m(params: AasParams, scale: DemoScale) -> float:
+    """The tool rule's reach between two objects for a recording of ``scale``, metres: ``d`` grown
+    by a length factor above 1 as :func:`scale_params` grows it, and shrunk below
+    :data:`SUBJECT_BAND` by the factor over it, at least :data:`MIN_REACH_FACTOR` × ``d``
+    (module doc)."""
+    length = scale.length
+    if length >= SUBJECT_BAND:
+        return params.distance_m * max(1.0, length)
+    return params.distance_m * max(MIN_REACH_FACTOR, length / SUBJECT_BAND)
 
 
 def scale_settings(settings: AdaptiveSettings, scale: DemoScale) -> AdaptiveSettings:

@@ -13,9 +13,10 @@ their distance changes fast: the paper's rule (Eq. 1 needs ``|Δdist| < v``) mis
 them. Two rules on the closest-marker distances, per frame:
 
 - **Tool contact.** An object X *wielded* by agent H (H holds X) touches an object A
-  that H does not hold when X stays within ``d`` (``AasParams.distance_m``, the largest
-  contact distance) of A — or of the agent holding A, since a knife cutting next to the
-  hand that holds the cucumber cuts the cucumber — for at least ``tool_dwell_s``, with
+  that H does not hold when X stays within ``d`` (``reach_m``: the adaptive detector passes
+  ``AasParams.distance_m`` in the scene's length, :func:`~oacdsl.segmentation.scales.tool_reach_m`)
+  of A — or of the agent holding A, since a knife cutting next to the hand that holds the
+  cucumber cuts the cucumber — for at least ``tool_dwell_s``, with
   excursions beyond ``d`` of at most ``tool_bridge_s`` bridged. Carrying a tool past an
   object lasts a fraction of that; stirring, mixing, wiping, scooping and cutting last
   seconds, sliding and oscillating inside that reach.

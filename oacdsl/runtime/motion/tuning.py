@@ -75,6 +75,9 @@ class Tuning:
     aim_beyond_m: float = 0.005
     #: how far below a rim a tool's tip must reach to work in a container, m
     min_inside_m: float = 0.02
+    #: steps in which a tool leaned about its head in a container is checked for its hand
+    #: meeting the rim, rad (about 3°)
+    lean_step_rad: float = 0.05
 
     # --- rotate about an axis, regrasping ---------------------------------------------------
     #: close enough to the wanted turn to stop, rad

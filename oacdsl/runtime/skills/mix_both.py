@@ -26,12 +26,12 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import TUNING
-from oacdsl.runtime.motion.both import move_both
+from oacdsl.runtime.motion.both import move_both, turn_both
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext, cm
 from oacdsl.runtime.skills.bimanual import reach_both
 from oacdsl.runtime.skills.tooltip import HeldTool, held_tool, pointing
-from oacdsl.runtime.transforms import MIN_JERK_PEAK, rot_axis
+from oacdsl.runtime.transforms import MIN_JERK_PEAK, make_T, rot_axis
 from oacdsl.skills import SIGNATURES
 
 __all__ = ["mix_both", "MIX_SPREAD", "SIGNATURE"]
@@ -50,6 +50,21 @@ AIM_BELOW_FLOOR_M = 2 * TUNING.aim_beyond_m
 REST_PRESS_M = 0.002
 
 
+def _hand_points(world: SimWorld, side: str, t_hand: np.ndarray, grid: np.ndarray) -> list[np.ndarray]:
+    """Per geom of hand ``side`` (the fingers as they are now), the points ``grid`` (n, 3: -1
+    to 1 along each half-size) of its bounding box, moved with the hand to ``t_hand``
+    (T_world_grasp), world, m."""
+    m, d = world.model, world.data
+    move = t_hand @ np.linalg.inv(world.frame_pose(f"grasp_{side}"))
+    bodies = np.array(sorted(world.hand_bodies[side]))
+    out = []
+    for g in np.flatnonzero(np.isin(m.geom_bodyid, bodies)):
+        centre, half = m.geom_aabb[g, :3], m.geom_aabb[g, 3:]
+        pts = (centre + grid * half) @ d.geom_xmat[g].reshape(3, 3).T + d.geom_xpos[g]
+        out.append(pts @ move[:3, :3].T + move[:3, 3])
+    return out
+
+
 def _below_rim(
     world: SimWorld, side: str, t_hand: np.ndarray, rim: np.ndarray, inner: float, outer: float
 ) -> float:
@@ -57,20 +72,55 @@ def _below_rim(
     moved to ``t_hand`` (T_world_grasp), reaches below :data:`TUNING.rim_clearance_m` over the
     rim (``rim``: the rim's centre, world, m; ``inner``, ``outer``: its radii, m) where it is
     within that clearance of the rim across (negative: clear of it). An upright container."""
-    m, d = world.model, world.data
-    move = t_hand @ np.linalg.inv(world.frame_pose(f"grasp_{side}"))
-    bodies = np.array(sorted(world.hand_bodies[side]))
-    signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
+    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
     worst = -np.inf
-    for g in np.flatnonzero(np.isin(m.geom_bodyid, bodies)):
-        centre, half = m.geom_aabb[g, :3], m.geom_aabb[g, 3:]
-        pts = (centre + signs * half) @ d.geom_xmat[g].reshape(3, 3).T + d.geom_xpos[g]
-        pts = pts @ move[:3, :3].T + move[:3, 3]
+    for pts in _hand_points(world, side, t_hand, corners):
         across = np.linalg.norm(pts[:, :2] - rim[:2], axis=1)
         if across.max() < inner - TUNING.rim_clearance_m or across.min() > outer + TUNING.rim_clearance_m:
             continue  # wholly inside the rim or wholly outside it
         worst = max(worst, float(rim[2]) + TUNING.rim_clearance_m - float(pts[:, 2].min()))
     return worst
+
+
+def _over_rim(
+    world: SimWorld, side: str, t_hand: np.ndarray, rim: np.ndarray, inner: float, outer: float
+) -> float:
+    """How high (m) the lowest point of hand ``side`` moved to ``t_hand`` is above the rim
+    where it is over the rim (``rim``: its centre; ``inner``, ``outer``: its radii, m), its
+    geoms' bounding boxes sampled at corners and edges' and faces' middles; +inf when nothing
+    is over it. Finer than :func:`_below_rim`, which takes a whole box straddling the rim: a
+    hand crossing the far rim to lean a tool in has its fingers beside the wall, outside."""
+    ticks = (-1, 0, 1)
+    grid = np.array([[sx, sy, sz] for sx in ticks for sy in ticks for sz in ticks], dtype=float)
+    low = np.inf
+    for pts in _hand_points(world, side, t_hand, grid):
+        across = np.linalg.norm(pts[:, :2] - rim[:2], axis=1)
+        over = (across >= inner) & (across <= outer)
+        if over.any():
+            low = min(low, float(pts[over, 2].min()) - float(rim[2]))
+    return low
+
+
+def _lean_room(world: SimWorld, starts: Mapping[str, np.ndarray], axis: np.ndarray,
+               pivots: Mapping[str, np.ndarray], lean: float, rim: np.ndarray, inner: float,
+               outer: float) -> float:
+    """The largest turn (rad, at most ``lean``) of each hand from ``starts`` (side →
+    T_world_grasp) about ``axis`` through its pivot along which no hand comes down onto the
+    rim (:func:`_over_rim`), in steps of :data:`TUNING.lean_step_rad`. (Kept the rim's
+    clearance above it, the KIT Mix servers, leaned 29° instead of 40°, ended 32-35° from
+    the vertical, one standing on its head, and the mixing circles were no longer found in
+    the span that holds them and the rest.)"""
+    steps = max(1, math.ceil(lean / TUNING.lean_step_rad))
+    room = 0.0
+    for k in range(1, steps + 1):
+        a = lean * k / steps
+        r = rot_axis(axis, a)
+        for s, pose in starts.items():
+            turned = make_T(r @ pose[:3, :3], pivots[s] + r @ (pose[:3, 3] - pivots[s]))
+            if _over_rim(world, s, turned, rim, inner, outer) < 0:
+                return room
+        room = a
+    return room
 
 
 def _felt(ctx: SkillContext, side: str, force: float) -> bool:
@@ -225,15 +275,20 @@ def mix_both(
         e1 = -e1  # away from the robot (leaning towards it, the arms reach 15° at most)
         reach = inner - half - TUNING.wall_margin_m
         back = math.sqrt(max(reach * reach - offset * offset, 0.0))
+        near = {s: hand(s, level[s] - back * e1) for s in sides}
+        move_both(ctl, near, MIN_JERK_PEAK * back / TUNING.approach_speed_m_s)
+        edges = {s: level[s] - back * e1 + half * e1 for s in sides}
+        # no farther than the hands, crossing the far rim, stay above it (leaned farther, a
+        # hand presses the rim and lifts its tool off the floor: a shallow bowl)
+        lean = _lean_room(world, near, np.cross(up, e1), edges, lean, rim, inner, body.rim_radius)
         r_lean = rot_axis(np.cross(up, e1), lean)
-        move_both(ctl, {s: hand(s, level[s] - back * e1) for s in sides},
-                  MIN_JERK_PEAK * back / TUNING.approach_speed_m_s)
         for s in sides:
-            edge = level[s] - back * e1 + half * e1
             r_work[s] = r_lean @ r_work[s]
-            level[s] = edge + r_lean @ (level[s] - back * e1 - edge)
+            level[s] = edges[s] + r_lean @ (level[s] - back * e1 - edges[s])
             spot[s] = spot[s] + float((level[s] - spot[s]) @ e1) * e1
-        move_both(ctl, {s: hand(s, level[s]) for s in sides}, TUNING.lift_s)
+        # along the arc about each head's far edge (a straight move cuts the chord, pushing the
+        # heads into the floor and the fingers down onto the far rim)
+        turn_both(ctl, near, np.cross(up, e1), edges, lean, TUNING.lift_s)
         _land(ctx, {s: hand(s, level[s] - TUNING.hover_m * up) for s in sides}, tools, container,
               TUNING.hover_m, force)
     else:
