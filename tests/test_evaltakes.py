@@ -29,6 +29,8 @@ _LID = ("segmentation: the lid on the bottle is a pair that never moves together
         " the start, take_lid becomes grasp)")
 #: (task, take or "capture") → why it composes to other steps than the clean demonstration.
 KNOWN = {("Open", take): _LID for take in ("capture", *STANDARD_TAKES) if take != "double_speed"}
+#: Open with the lid set down afterwards: the same pair, the same cause (at double speed too).
+KNOWN |= {("OpenPutDown", take): _LID for take in ("capture", *STANDARD_TAKES) if take != "resampled_100hz"}
 
 
 def test_a_capture_moves_markers_onto_stalks_adds_noise_and_a_gap():

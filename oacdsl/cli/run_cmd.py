@@ -155,7 +155,7 @@ def run(args: argparse.Namespace) -> int:
     check_outputs(args)
     if args.demonstration is not None:
         writable_folder(Path(args.execution).parent, "--execution")
-    demo_positions = demonstrated(args, library, scene, bindings, overrides.layout)
+    demo_positions, set_downs = demonstrated(args, library, scene, bindings, overrides.layout) or (None, None)
     note = prepare_backend(bool(args.video or args.frames))  # before MuJoCo is imported
     if note:
         then = "running without rendering" if note != NONE_FOUND else "trying MuJoCo's default (GLFW)"
@@ -179,6 +179,7 @@ def run(args: argparse.Namespace) -> int:
         args.seed,
         self_collision=not args.no_self_collision,
         demonstrated=demo_positions,
+        set_downs=set_downs,
         **overrides.kwargs(),
     )
     from oacdsl.runtime.layout import seed_note

@@ -19,8 +19,9 @@ __all__ = ["check_outputs", "demonstrated", "load_inputs", "writable_folder"]
 
 def demonstrated(
     args: argparse.Namespace, library: Any, scene: str | None, bindings: dict[str, str], layout: str | None
-) -> dict[str, Any] | None:
-    """First-frame positions of --demonstration for a 'layout demonstrated', else None (a warning
+) -> tuple[dict[str, Any], dict[str, Any]] | None:
+    """First-frame positions of --demonstration for a 'layout demonstrated' and where it sets
+    objects down (:func:`~oacdsl.runtime.demo_places.set_down_places`), else None (a warning
     when the scene wants them but no recording is given)."""
     from oacdsl.runtime.binding import choose_scene
 
@@ -45,7 +46,15 @@ def demonstrated(
         raise UsageError(f"{args.demonstration}: no such recording file")
     # grouped as oacc reproduce groups it: a recognised marker set (KIT) gives the hands
     grouped, _ = group_recording(read_recording(args.demonstration), None)
-    return demonstrated_positions(grouped, sc, library)
+    from oacdsl.runtime.demo_places import scene_hands, set_down_places
+
+    names, hands = [i.name for i in sc.tracked()], scene_hands(library, sc)
+    first = demonstrated_positions(grouped, sc, library)
+    if any(i.markers for i in sc.instances):  # grouped by the scene, as demonstrated_positions does
+        from oacdsl.segmentation.grouping import apply_scene_groups
+
+        grouped = apply_scene_groups(grouped, sc)
+    return first, set_down_places(grouped, names, hands)
 
 
 def load_inputs(paths: list[str], scene: str | None) -> tuple[Any, str | None]:

@@ -57,10 +57,12 @@ def execute_stage(
 ) -> ExecuteStage:
     """Execute ``oac``; with ``frames_dir``, render the robot there (:class:`StepCamera`).
     The scene's initial state comes from the scene, under ``overrides``; with ``layout
-    demonstrated`` the objects stand as at the first frame of ``recording``.
+    demonstrated`` the objects stand as at the first frame of ``recording``, and ``place`` sets
+    them down where it does (:mod:`oacdsl.runtime.demo_places`).
     Raises RuntimeFailure for a call that cannot run (bad binding)."""
     from oacdsl.report import bound_conditions
     from oacdsl.runtime.demo_layout import first_frame_positions
+    from oacdsl.runtime.demo_places import scene_hands, set_down_places
     from oacdsl.runtime.executor import prepare, run_prepared
     from oacdsl.runtime.layout import seed_note
     from oacdsl.segmentation.shapes import scene_shapes
@@ -68,8 +70,12 @@ def execute_stage(
     names = [i.name for i in scene.tracked()]
     shapes = scene_shapes(library, scene)
     demonstrated = first_frame_positions(recording, names, shapes) if recording is not None else None
+    hands = scene_hands(library, scene)
+    set_downs = set_down_places(recording, names, hands) if recording is not None else None
     given = (overrides or SceneOverrides()).kwargs()
-    run = prepare(library, oac, scene=scene, seed=seed, demonstrated=demonstrated, **given)
+    run = prepare(
+        library, oac, scene=scene, seed=seed, demonstrated=demonstrated, set_downs=set_downs, **given
+    )
     if warn is not None and (moved := seed_note(run.world.layout)) is not None:
         warn(moved)
     from oacdsl.runtime.recorder import ContactRecorder

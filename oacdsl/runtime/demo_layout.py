@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -32,7 +33,10 @@ from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.shapefit import pose_shape
 from oacdsl.segmentation.shapes import ShapeModel, scene_shapes
 
-__all__ = ["X_CENTRE_M", "demonstrated_positions", "first_frame_positions", "map_into_reach"]
+__all__ = [
+    "X_CENTRE_M", "TableMap", "demonstrated_positions", "first_frame_positions", "map_into_reach",
+    "table_map",
+]
 
 #: Where the middle of the demonstrated arrangement goes (robot frame, metres, x forward).
 X_CENTRE_M = 0.64
@@ -91,6 +95,48 @@ def _frame(hands: Mapping[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.
     return origin, np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
 
 
+@dataclass(frozen=True)
+class TableMap:
+    """The demonstration's horizontal frame onto the robot's table (module docstring): a point
+    ``p`` (m, motion capture frame) goes to ``(X_CENTRE_M + scale·(u − u_mean), scale·v)`` with
+    ``u = (p − origin)·forward`` and ``v = (p − origin)·left`` (before objects are pushed apart)."""
+
+    origin: np.ndarray
+    forward: np.ndarray
+    left: np.ndarray
+    u_mean: float
+    scale: float
+
+    def __call__(self, p: np.ndarray) -> np.ndarray:
+        """Robot-table (x, y) of ``p``, m."""
+        rel = np.asarray(p, float) - self.origin
+        return np.array([X_CENTRE_M + self.scale * (float(rel @ self.forward) - self.u_mean),
+                         self.scale * float(rel @ self.left)])
+
+
+def table_map(
+    objects: Mapping[str, np.ndarray], hands: Mapping[str, np.ndarray], radii: Mapping[str, float]
+) -> TableMap:
+    """The uniform map of ``objects`` (first-frame positions, m) onto the robot's table: the
+    demonstrator's frame from ``hands``, the arrangement's middle at :data:`X_CENTRE_M`,
+    shrunk (never grown) until every footprint (``radii``, m) fits the mapping region."""
+    origin, forward, left = _frame(hands)
+    names = sorted(objects)
+    rel = np.array([np.asarray(objects[n], float) - origin for n in names]).reshape(-1, 3)
+    u, v = rel @ forward, rel @ left
+    if hands and names and float(np.mean(u)) < 0.0:  # the objects are behind: the hands were crossed
+        forward, left, u, v = -forward, -left, -u, -v
+    u_mean = float(np.mean(u)) if names else 0.0
+    r = np.array([radii[n] for n in names])
+    half_x = 0.5 * (X_RANGE_M[1] - X_RANGE_M[0])
+    scale = 1.0
+    for spread, room in ((np.abs(u - u_mean) + r, half_x), (np.abs(v) + r, Y_LIMIT_M)):
+        widest = float(np.max(spread)) if names else 0.0
+        if widest > room:
+            scale = min(scale, room / widest)
+    return TableMap(origin, forward, left, u_mean, scale)
+
+
 def map_into_reach(
     objects: Mapping[str, np.ndarray],
     hands: Mapping[str, np.ndarray],
@@ -101,21 +147,10 @@ def map_into_reach(
     maps ``"r"``/``"l"`` to the demonstrator's hands; ``radii`` are footprints (m)."""
     if not objects:
         return {}
-    origin, forward, left = _frame(hands)
     names = sorted(objects)
-    rel = np.array([np.asarray(objects[n], float) - origin for n in names])
-    u, v = rel @ forward, rel @ left
-    if hands and float(np.mean(u)) < 0.0:  # the objects are behind: the hands were crossed
-        u, v = -u, -v
-    du = u - float(np.mean(u))
+    mapping = table_map(objects, hands, radii)
+    xy = np.array([mapping(objects[n]) for n in names])
     r = np.array([radii[n] for n in names])
-    half_x = 0.5 * (X_RANGE_M[1] - X_RANGE_M[0])
-    scale = 1.0
-    for spread, room in ((np.abs(du) + r, half_x), (np.abs(v) + r, Y_LIMIT_M)):
-        widest = float(np.max(spread))
-        if widest > room:
-            scale = min(scale, room / widest)
-    xy = np.column_stack([X_CENTRE_M + scale * du, scale * v])
     xy = _separate(xy, r, gap_m)
     out = {n: (float(x), float(y)) for n, (x, y) in zip(names, xy, strict=True)}
     for n, (x, y), rad in zip(names, xy, r, strict=True):

@@ -108,13 +108,15 @@ def prepare(
     layout: str | None = None,
     demonstrated: Mapping[str, Any] | None = None,
     held: Mapping[str, str] | None = None,
+    set_downs: Mapping[str, Any] | None = None,
 ) -> Run:
     """Bind, lay out and build everything :func:`execute` needs (raises RuntimeFailure).
 
     The scene's initial state (``at``, ``in``, ``layout``) is the default; ``places``,
     ``fill``, ``balls`` and ``layout`` override it (the command line's ``--place``, …);
     ``demonstrated`` holds the recording's first-frame positions for ``layout demonstrated``
-    (:func:`oacdsl.runtime.layout.plan_layout`). A liquid the OAC's own preconditions put
+    (:func:`oacdsl.runtime.layout.plan_layout`), ``set_downs`` where it sets objects down
+    (:func:`oacdsl.runtime.demo_places.set_down_places`). A liquid the OAC's own preconditions put
     in a container (``l <-> c``) starts there unless ``fill`` says otherwise. ``held`` (hand →
     object) has each hand grasp its object first, before the observers see anything."""
     if isinstance(oac, str):
@@ -139,7 +141,8 @@ def prepare(
     contents = liquid_contents(library, sc, oac, bound)
     contents.update(fill or {})
     plan = plan_layout(
-        library, sc, contents, seed, places, balls=balls, layout=layout, demonstrated=demonstrated
+        library, sc, contents, seed, places, balls=balls, layout=layout, demonstrated=demonstrated,
+        set_downs=set_downs,
     )
     world = SimWorld(build_model(plan, seed))
     ik = WholeBodyIK(self_collision=self_collision)

@@ -24,7 +24,7 @@ arrangement.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -35,6 +35,7 @@ from oacdsl.library import Library
 from oacdsl.model import Scene
 from oacdsl.runtime.bodies import Body, bodies_for_scene
 from oacdsl.runtime.demo_layout import map_into_reach
+from oacdsl.runtime.demo_places import set_downs_on_table
 from oacdsl.runtime.objects import TABLE_DEPTH, TABLE_FRONT
 from oacdsl.units import language_si
 
@@ -110,6 +111,9 @@ class Layout:
     #: Objects the seed left where they were: placed by the caller, stacked on another, or
     #: with no free room within :data:`MAX_SHIFT_M` (sorted; empty without a seed).
     unmoved: tuple[str, ...] = ()
+    #: Where the demonstration sets each object down, in order, as robot-table (x, y), m
+    #: (:func:`oacdsl.runtime.demo_places.mapped_set_downs`; only with ``layout demonstrated``).
+    set_downs: Mapping[str, tuple[tuple[float, float], ...]] = field(default_factory=dict)
 
     def ball_count(self, liquid: str) -> int:
         """How many balls ``liquid`` has."""
@@ -142,6 +146,7 @@ def plan_layout(
     balls: Mapping[str, int] | None = None,
     layout: str | None = None,
     demonstrated: Mapping[str, np.ndarray] | None = None,
+    set_downs: Mapping[str, Sequence[np.ndarray]] | None = None,
 ) -> Layout:
     """The layout of ``scene`` (see the module docstring).
 
@@ -150,7 +155,8 @@ def plan_layout(
     scene's ``at``; ``balls`` sets liquids' ball counts; ``layout`` (``auto`` or
     ``demonstrated``) replaces the scene's layout and its ``at``s; ``demonstrated`` holds
     the first-frame position (m, motion capture frame) of each marker group, hands
-    included, for ``demonstrated``.
+    included, for ``demonstrated``; ``set_downs`` where the demonstration sets objects down
+    (:func:`oacdsl.runtime.demo_places.set_down_places`), mapped as the layout is.
     """
     built = scene.model_copy(update={"instances": tuple(i for i in scene.instances if not i.ignored)})
     bodies = bodies_for_scene(library, built)
@@ -185,6 +191,12 @@ def plan_layout(
         placed[name], sources[name] = placed[support], "demonstrated"
     for name in names:
         sources.setdefault(name, "auto")
+    mapped = {}
+    if demonstrated and set_downs:  # relative to the objects laid out as demonstrated
+        laid = [n for n in names if sources.get(n) == "demonstrated" and n in demonstrated]
+        demo_hands = {side: demonstrated[h] for h, side in hands.items() if h in demonstrated}
+        radii = {n: bodies[n].radius for n in laid}
+        mapped = set_downs_on_table(set_downs, demonstrated, demo_hands, radii, placed, stacks)
     placements = tuple(Placement(n, bodies[n], placed[n][0], placed[n][1], on=stacks.get(n)) for n in names)
     return Layout(
         scene.name,
@@ -197,6 +209,7 @@ def plan_layout(
         balls=counts,
         sources=sources,
         unmoved=unmoved,
+        set_downs=mapped,
     )
 
 

@@ -247,21 +247,25 @@ class Motion:
 
     def release(self, obj: str) -> None:
         """Let go of ``obj``: weld off, the fingers open (a power grasp from above keeps its thumb
-        folded: opened, it reaches 12 cm below the palm, into the support), the pick forgotten."""
+        folded: opened, it reaches 12 cm below the palm, into the support; a pinch opens its thumb
+        only as far as the top preshape's: opened wide, it swings across the edge it pinched and
+        pushed a lid let go on a pot 9 cm off it), the pick forgotten."""
         ctx = self.ctx
         ctx.ctl.activity = f"releasing {obj}"
         ctx.world.release(self.side)
         grasp = ctx.library.grasp_for(ctx.classes[obj])
         top_power = grasp is not None and grasp.approach == "top" and grasp.type == "power"
-        ctx.ctl.set_fingers(self.side, TOP_PRESHAPE if top_power else self._open_shape())
+        pinch = grasp is not None and grasp.type == "pinch"
+        ctx.ctl.set_fingers(self.side, TOP_PRESHAPE if top_power else self._open_shape(pinch))
         ctx.ctl.wait(self.tuning.open_s)
         ctx.picked.pop(self.side, None)
 
-    def _open_shape(self) -> dict[str, float]:
+    def _open_shape(self, pinch: bool = False) -> dict[str, float]:
         """The open hand (:data:`OPEN`), or, when opening it so would bring its boxes more than the
         tuning's ``open_drop_m`` lower than they are now, only the fingers opened and the thumb kept
         where it is (a pinch on the rim of a plate set on edge in a rack: the opening thumb swung
-        down onto a wall, 60 N)."""
+        down onto a wall, 60 N); else, for a ``pinch``, the thumb opened only to the top
+        preshape's (:data:`TOP_PRESHAPE`)."""
         from oacdsl.runtime.handgap import hand_box_poses
         from oacdsl.runtime.hands import finger_joint_names
 
@@ -275,7 +279,7 @@ class Motion:
             return min(float(t[2, 3] - np.abs(t[2, :3]) @ h) for t, h in boxes)
 
         if lowest(now) - lowest(OPEN) <= self.tuning.open_drop_m:
-            return dict(OPEN)
+            return {j: TOP_PRESHAPE[j] if pinch and j.startswith("thumb") else v for j, v in OPEN.items()}
         # the thumb kept at its command, not where it is measured: pressed on the object it may be
         # past its limit, and the IK, given that, finds no solution
         held = self.ctx.ctl.fingers[side]

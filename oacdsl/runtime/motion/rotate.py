@@ -29,7 +29,7 @@ from oacdsl.runtime.transforms import make_T, rot_axis
 if TYPE_CHECKING:
     from oacdsl.runtime.motion.context import MotionContext
 
-__all__ = ["rotate_on", "close_on", "angle_about"]
+__all__ = ["rotate_on", "close_on", "angle_about", "centre", "centre_over"]
 
 
 def angle_about(axis: np.ndarray, r_from: np.ndarray, r_to: np.ndarray) -> float:
@@ -112,6 +112,23 @@ def centre(ctx: MotionContext, m: Motion, obj: str, target: str, axis: np.ndarra
         m.go(goal, t.turn_centre_s)
         m.hold_still(t.pause_s)
     return float(np.linalg.norm(_off_axis(ctx, obj, target, axis)))
+
+
+def centre_over(ctx: MotionContext, m: Motion, obj: str, target: str) -> bool:
+    """Before the held ``obj`` is let go on ``target``: when it rests on ``target``'s top (its
+    lowest point no more than the tuning's ``cover_slack_m`` below that) and stands there only
+    when centred (``target`` is an open container, on whose rim it lies, a lid on a pot: off
+    the middle by more than the rim's overlap, one side falls in; or its middle is beyond
+    ``target``'s footprint), slide it, pressed on, onto the middle (:func:`centre`). True
+    when it slid."""
+    body = ctx.body(target)
+    if _low(ctx, obj) < _top(ctx, target) - m.tuning.cover_slack_m:
+        return False  # inside it, or leaning against it: where it is
+    axis = ctx.world.body_pose(target)[:3, 2]
+    if not (body.container or float(np.linalg.norm(_off_axis(ctx, obj, target, axis))) > body.radius):
+        return False
+    centre(ctx, m, obj, target, axis)
+    return True
 
 
 def close_on(ctx: MotionContext, m: Motion, obj: str, closed: dict[str, float], what: str) -> None:

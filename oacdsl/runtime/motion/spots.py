@@ -31,6 +31,7 @@ def free_spots(
     tuning: Tuning = TUNING,
     limit: int = 8,
     hand_xy_m: tuple[np.ndarray, ...] = (),
+    near_xy_m: np.ndarray | None = None,
 ) -> list[np.ndarray]:
     """Up to ``limit`` free (x, y) spots of the table (m) for ``obj`` (footprint radius
     ``radius_m``) held by hand ``side``, best first (module docstring).
@@ -39,7 +40,11 @@ def free_spots(
     as it backs off; each keeps half of ``tuning.near_path_m`` clear of every footprint too,
     so that letting go does not knock over a neighbour; and the forearm, seen from above as
     the last ``tuning.forearm_m`` of the segment from the elbow (where it is now) to the
-    hand, passes over no footprint (a cup set down beyond another knocks it over)."""
+    hand, passes over no footprint (a cup set down beyond another knocks it over).
+
+    ``near_xy_m``: a wanted place (x, y, m; where the demonstration set the object down): the
+    grid is laid through it, only spots within ``tuning.demo_spot_within_m`` of it count, and
+    the nearest to it come first, on whichever side."""
     blocked = [(xy, r) for xy, r, _ in obstacles(world, {obj})]
     for s, held in world.held.items():
         if held is not None and held != obj:
@@ -54,6 +59,12 @@ def free_spots(
     ys = np.arange(-y1, y1 + 1e-9, step)
     here = world.body_pose(obj)[:2, 3]
     own = 1.0 if side == "l" else -1.0  # the left hand's side is +y
+    if near_xy_m is not None:
+        here, own = np.asarray(near_xy_m, float), 0.0
+        n = int(np.ceil(tuning.demo_spot_within_m / step))
+        xs, ys = (c + step * np.arange(-n, n + 1) for c in here)
+        xs = xs[(xs >= x0 - 1e-9) & (xs <= x1 + 1e-9)]
+        ys = ys[np.abs(ys) <= y1 + 1e-9]
     spots = []
     for x in xs:
         for y in ys:
@@ -70,7 +81,8 @@ def free_spots(
                 _to_forearm(xy, elbow, hand, tuning.forearm_m) >= r + tuning.near_path_m / 2
                 for xy, r in blocked
             )
-            if clear and hand_clear and arm_clear:
+            near = near_xy_m is None or float(np.linalg.norm(p - here)) <= tuning.demo_spot_within_m
+            if near and clear and hand_clear and arm_clear:
                 wrong_side = float(y) * own < 0
                 spots.append((wrong_side, float(np.linalg.norm(p - here)), p))
     spots.sort(key=lambda s: (s[0], s[1]))

@@ -105,6 +105,9 @@ class Tuning:
     turn_seat_m: float = 0.01
     #: how far the object's axis may be off the target's when the hand lets go of it, m
     turn_centred_m: float = 0.005
+    #: an object whose lowest point is no more than this below another's top rests on it
+    #: (``place`` centres it there on an open container's rim), m
+    cover_slack_m: float = 0.01
     #: most moves that bring the object back onto the target's axis, and the time of each, s
     turn_centre_tries: int = 4
     turn_centre_s: float = 0.25
@@ -139,6 +142,11 @@ class Tuning:
     #: turns about its axis a round object may be set down with on a free spot, the hand
     #: turning with it (so it stands on another side and withdraws another way), rad; as held first
     spot_turns_rad: tuple[float, ...] = (0.0, -0.52, 0.52, -1.05, 1.05, -1.57, 1.57)
+    #: a place the demonstration set an object down on: spots within this of it are tried
+    #: (nearest first; none passing: as when there is none), m; and nearer than this to where
+    #: it was picked up, it goes back there (the person put it back), m
+    demo_spot_within_m: float = 0.08
+    demo_spot_back_m: float = 0.05
 
     # --- set down turned as demonstrated (touch's tilt) ---------------------------------------
     #: a held object is turned to the demonstrated end tilt only when it is held farther from it

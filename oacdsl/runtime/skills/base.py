@@ -77,6 +77,8 @@ class SkillContext:
     picked: dict[str, Pick] = field(default_factory=dict)
     expected: WorldState | None = None
     coming: tuple[tuple[str, str], ...] = ()
+    #: how many times each object has been set down on the table so far (``place``)
+    set_downs: dict[str, int] = field(default_factory=dict)
 
     @property
     def world(self) -> SimWorld:

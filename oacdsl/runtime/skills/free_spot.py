@@ -14,6 +14,8 @@ reaches it with the arm and hand keeping as much from the table and the other ob
 the hover, where it rests and as it withdraws (:func:`~oacdsl.runtime.armroom.arm_room`: an
 elbow laid on a cup beside the way, the back of a hand withdrawing into a neighbour). Spots
 that keep only the second come next; when none does, the first the hand reaches, as held.
+:func:`spot_near` judges the spots near a wanted place (where the demonstration set the
+object down) the same way, and gives None when none passes.
 """
 
 from __future__ import annotations
@@ -30,7 +32,7 @@ from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
 from oacdsl.runtime.skills.grasp import grasp_candidates
 from oacdsl.runtime.transforms import make_T, rot_z
 
-__all__ = ["free_spot", "hand_offsets"]
+__all__ = ["free_spot", "spot_near", "hand_offsets"]
 
 
 def free_spot(
@@ -47,20 +49,61 @@ def free_spot(
     short of the table) and, with the other hand holding something, with that hand keeping it
     where it is (reached only by letting the other hand's bottle rise, the lid hung above the
     table). Raises when none is free or reachable."""
+    options = _options(ctx, side, obj, t_obj_in_hand, r_obj, approach, None)
+    if not options:
+        raise RuntimeFailure(f"place: no free spot on the table for {obj}")
+    chosen = _judged(ctx, side, obj, options, approach)
+    if chosen is not None:
+        return chosen
+    plain = [o for o in options if o[2] == 0.0][: TUNING.spot_tries]
+    plain = [o for o in plain if _with_other(ctx, side, o[0])] or plain
+    what = f"a free spot of the table for {obj}"
+    return ctx.first_reachable(side, [(o[0], (o[1][:2, 3], 0.0)) for o in plain], what)
+
+
+def spot_near(
+    ctx: SkillContext,
+    side: str,
+    obj: str,
+    t_obj_in_hand: np.ndarray,
+    r_obj: np.ndarray,
+    approach: np.ndarray | None,
+    near_xy_m: np.ndarray,
+) -> tuple[np.ndarray, float] | None:
+    """As :func:`free_spot`, among the free spots within ``Tuning.demo_spot_within_m`` of
+    ``near_xy_m`` (where the demonstration set ``obj`` down, m), nearest first; None when
+    none passes the same tests (the caller then does as without it)."""
+    options = _options(ctx, side, obj, t_obj_in_hand, r_obj, approach, np.asarray(near_xy_m, float))
+    return _judged(ctx, side, obj, options, approach) if options else None
+
+
+Option = tuple[np.ndarray, np.ndarray, float]  # (T_world_grasp where the descent ends, T_world_obj, turn)
+
+
+def _options(
+    ctx: SkillContext,
+    side: str,
+    obj: str,
+    t_obj_in_hand: np.ndarray,
+    r_obj: np.ndarray,
+    approach: np.ndarray | None,
+    near: np.ndarray | None,
+) -> list[Option]:
+    """The candidate spots and turns, best first: on the hand's own side and nearest to where
+    ``obj`` is now, or nearest to ``near``."""
     world, t = ctx.world, TUNING
     in_hand = np.linalg.inv(t_obj_in_hand)
     back = np.array([0.0, 0.0, -1.0]) if approach is None else approach
-    here = world.body_pose(obj)[:2, 3]
+    here = world.body_pose(obj)[:2, 3] if near is None else near
     own = 1.0 if side == "l" else -1.0  # the left hand's side is +y
     candidates = []
     for turn in t.spot_turns_rad if ctx.body(obj).round else (0.0,):
         r = rot_z(turn)[:3, :3]
         offsets = hand_offsets(in_hand, r @ r_obj, r @ back)
-        for xy in free_spots(world, side, obj, ctx.body(obj).radius, hand_xy_m=offsets, limit=t.spot_tries):
-            key = (float(xy[1]) * own < 0, float(np.linalg.norm(xy - here)), abs(turn))
+        radius = ctx.body(obj).radius
+        for xy in free_spots(world, side, obj, radius, hand_xy_m=offsets, limit=t.spot_tries, near_xy_m=near):
+            key = (near is None and float(xy[1]) * own < 0, float(np.linalg.norm(xy - here)), abs(turn))
             candidates.append((key, xy, turn))
-    if not candidates:
-        raise RuntimeFailure(f"place: no free spot on the table for {obj}")
     candidates.sort(key=lambda c: c[0])
     options = []
     for _, xy, turn in candidates:
@@ -68,33 +111,42 @@ def free_spot(
         down = t_obj.copy()
         down[2, 3] -= t.support_search_m
         options.append((down @ in_hand, t_obj, turn))
+    return options
+
+
+def _with_other(ctx: SkillContext, side: str, t_down: np.ndarray) -> bool:
+    """Reached with the other hand keeping what it holds where it is (when it holds something)."""
     other = other_side(side)
-    keep = ctx.ctl.ik.goal(other) if world.held.get(other) is not None else None
+    if ctx.world.held.get(other) is None:
+        return True
+    keep = ctx.ctl.ik.goal(other)
+    return ctx.ctl.ik.try_reach_both({side: t_down, other: keep}) < REACH_TOLERANCE_M
 
-    def with_other(option: tuple[np.ndarray, np.ndarray, float]) -> bool:
-        """Reached with the other hand keeping what it holds where it is (when it holds something)."""
-        return keep is None or ctx.ctl.ik.try_reach_both({side: option[0], other: keep}) < REACH_TOLERANCE_M
 
+def _judged(
+    ctx: SkillContext, side: str, obj: str, options: list[Option], approach: np.ndarray | None
+) -> tuple[np.ndarray, float] | None:
+    """The first of ``options`` out of the way of the run's coming takes, reached with the other
+    hand kept where it is, with room for the arm (:func:`_roomy`); then the first of the rest
+    that passes the last two; None when none does."""
+    t = TUNING
+    back = np.array([0.0, 0.0, -1.0]) if approach is None else approach
     coming = _coming_postures(ctx, obj)
     clear: dict[tuple[float, float], bool] = {}
 
     def out_of_the_way(t_obj: np.ndarray) -> bool:
         at = (float(t_obj[0, 3]), float(t_obj[1, 3]))  # grid points: the same spot turned, the same key
         if at not in clear:
-            clear[at] = all(room_to_object(world, s, q, obj, t_obj) >= t.arm_room_m for s, q in coming)
+            clear[at] = all(room_to_object(ctx.world, s, q, obj, t_obj) >= t.arm_room_m for s, q in coming)
         return clear[at]
 
     first = [o for o in options if out_of_the_way(o[1])]
     judged = first + [o for o in options if not out_of_the_way(o[1])]
-    for option in judged[: t.spot_tries]:
-        t_down, t_obj, turn = option
+    for t_down, t_obj, turn in judged[: t.spot_tries]:
         way_back = rot_z(turn)[:3, :3] @ back if approach is not None else None
-        if with_other(option) and _roomy(ctx, side, obj, t_down, way_back):
+        if _with_other(ctx, side, t_down) and _roomy(ctx, side, obj, t_down, way_back):
             return t_obj[:2, 3], turn
-    plain = [o for o in options if o[2] == 0.0][: t.spot_tries]
-    plain = [o for o in plain if with_other(o)] or plain
-    what = f"a free spot of the table for {obj}"
-    return ctx.first_reachable(side, [(o[0], (o[1][:2, 3], 0.0)) for o in plain], what)
+    return None
 
 
 def hand_offsets(hand_in_obj: np.ndarray, r_obj: np.ndarray, back: np.ndarray) -> tuple[np.ndarray, ...]:

@@ -7,7 +7,11 @@ stays on the tray it wiped), it is set down on that object — where it is, when
 it already, else above its middle; otherwise (or when it was picked up from that very
 object) it goes back to where it was picked up, unless something stands there now, what it
 stood on is held, or it was taken from the other hand (a hand-over: that pose is in the
-air): then on the first free spot of the table. Composition: carry over the spot, lower
+air): then on the first free spot of the table. With ``layout demonstrated``, an object the
+demonstration set down on the table elsewhere goes to a free spot near that place
+(``Layout.set_downs``, :mod:`oacdsl.runtime.demo_places`; none passing the free-spot tests:
+as without it). An object let go on an open container's rim is slid onto its middle first
+(:func:`~oacdsl.runtime.motion.rotate.centre_over`). Composition: carry over the spot, lower
 onto the support (guarded by the wrist force), hold still, release, withdraw.
 """
 
@@ -21,9 +25,10 @@ import numpy as np
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.motion import TUNING, Motion
 from oacdsl.runtime.motion.hand import felt_nothing
+from oacdsl.runtime.motion.rotate import centre_over
 from oacdsl.runtime.motion.spots import free_spots
 from oacdsl.runtime.skills.base import Pick, SkillContext
-from oacdsl.runtime.skills.free_spot import free_spot, hand_offsets
+from oacdsl.runtime.skills.free_spot import free_spot, hand_offsets, spot_near
 from oacdsl.runtime.transforms import make_T, rot_z
 from oacdsl.skills import SIGNATURES
 
@@ -66,9 +71,21 @@ def set_down_pose(
     origin = pick.origin if pick is not None else t_obj
     support = target_support(ctx, obj)
     r_obj = origin[:3, :3]  # standing as it stood when it was picked up
-    if support is None and not _origin_free(ctx, obj, pick):
+    approach = pick.approach if pick is not None else None
+    demo = _demonstrated_place(ctx, obj, pick) if support is None else None
+    spot = None
+    if demo is not None:  # where the person set it down, on a spot free and roomy enough
         r_obj = rot_z(math.atan2(t_obj[1, 0], t_obj[0, 0]))  # upright, turned as it is held now
-        approach = pick.approach if pick is not None else None
+        spot = spot_near(ctx, side, obj, t_obj_in_hand, r_obj, approach, demo)
+        if spot is None:
+            r_obj = origin[:3, :3]
+    if spot is not None:
+        xy, turn = spot
+        where, r_obj = "its demonstrated place", rot_z(turn) @ r_obj
+        if pick is not None and turn:  # the hand turned about the object: it withdraws turned too
+            ctx.picked[side] = replace(pick, approach=rot_z(turn) @ pick.approach)
+    elif support is None and not _origin_free(ctx, obj, pick):
+        r_obj = rot_z(math.atan2(t_obj[1, 0], t_obj[0, 0]))  # upright, turned as it is held now
         xy, turn = free_spot(ctx, side, obj, t_obj_in_hand, r_obj, approach)
         where, r_obj = "a free spot of the table", rot_z(turn) @ r_obj
         if pick is not None and turn:  # the hand turned about the object: it withdraws turned too
@@ -82,6 +99,21 @@ def set_down_pose(
     height = ctx.support_height(xy, exclude=obj)
     target_obj = make_T(r_obj, (xy[0], xy[1], height + TUNING.hover_m))
     return target_obj @ np.linalg.inv(t_obj_in_hand), where, support
+
+
+def _demonstrated_place(ctx: SkillContext, obj: str, pick: Pick | None) -> np.ndarray | None:
+    """(x, y) (m) of the table where the demonstration sets ``obj`` down this time (the k-th
+    of its set-down places for its k-th set-down on the table, the last one after that;
+    :mod:`oacdsl.runtime.demo_places`), or None: none known, or nearer than the tuning's
+    ``demo_spot_back_m`` to where it was picked up while that is free (it goes back there)."""
+    places = ctx.world.layout.set_downs.get(obj)
+    count = ctx.set_downs.get(obj, 0)
+    ctx.set_downs[obj] = count + 1
+    if not places:
+        return None
+    xy = np.asarray(places[min(count, len(places) - 1)], float)
+    back = pick is not None and float(np.linalg.norm(xy - pick.origin[:2, 3])) < TUNING.demo_spot_back_m
+    return None if back and _origin_free(ctx, obj, pick) else xy
 
 
 def _origin_free(ctx: SkillContext, obj: str, pick: Pick | None) -> bool:
@@ -126,6 +158,8 @@ def _set_down(ctx: SkillContext, m: Motion, obj: str, pick: Pick | None, force: 
     ctl, t = ctx.ctl, m.tuning
     hover, where, support = set_down_pose(ctx, m.side, obj, pick)
     if support is not None and ctx.world.touching(obj, support):  # no hover: that would break the contact
+        if centre_over(ctx, m, obj, support):  # a lid let go off a pot's middle tips in
+            hover = ctl.ik.goal(m.side)
         ctl.activity = f"setting {obj} down on {support}"
         m.lower_onto_support(hover, t.support_search_m, f"placing {obj}", force)
         return
@@ -135,17 +169,20 @@ def _set_down(ctx: SkillContext, m: Motion, obj: str, pick: Pick | None, force: 
     m.hold_still(t.carry_pause_s)
     ctl.activity = f"setting {obj} down"
     depth = t.hover_m + t.support_search_m
-    if not m.felt_support(hover, depth, force):
-        if where != "its place" or ctx.world.supported(obj):
-            raise felt_nothing(f"placing {obj}", depth)
-        # the arm stalled above its place, nothing felt, the object resting on nothing: at the
-        # edge of its reach (a sponge that shifted in the hand as it wiped, set down on the
-        # robot's far side); raised again, it goes to the free spot whose descent the hand
-        # reaches best
-        m.go(hover, t.lift_s)
-        hover = _best_reached_spot(ctx, m.side, obj, pick)
-        ctl.activity = f"carrying {obj} to a free spot of the table"
-        m.carry(hover, {obj})
-        m.hold_still(t.carry_pause_s)
-        ctl.activity = f"setting {obj} down"
-        m.lower_onto_support(hover, depth, f"placing {obj}", force)
+    if m.felt_support(hover, depth, force):
+        if support is not None and ctx.world.touching(obj, support):
+            centre_over(ctx, m, obj, support)  # the arm lags: it may have come down off the middle
+        return
+    if where != "its place" or ctx.world.supported(obj):
+        raise felt_nothing(f"placing {obj}", depth)
+    # the arm stalled above its place, nothing felt, the object resting on nothing: at the
+    # edge of its reach (a sponge that shifted in the hand as it wiped, set down on the
+    # robot's far side); raised again, it goes to the free spot whose descent the hand
+    # reaches best
+    m.go(hover, t.lift_s)
+    hover = _best_reached_spot(ctx, m.side, obj, pick)
+    ctl.activity = f"carrying {obj} to a free spot of the table"
+    m.carry(hover, {obj})
+    m.hold_still(t.carry_pause_s)
+    ctl.activity = f"setting {obj} down"
+    m.lower_onto_support(hover, depth, f"placing {obj}", force)
