@@ -182,6 +182,8 @@ def read_contacts(path: str | Path) -> SimContacts:
         raise InputError(f"cannot read: {error.strerror or error}", location=str(path)) from None
     except (UnicodeDecodeError, json.JSONDecodeError) as error:
         raise InputError(f"not a JSON document: {error}", location=str(path)) from None
+    except RecursionError:
+        raise InputError("nested too deeply; not a contacts file", location=str(path)) from None
     if not isinstance(doc, dict):
         raise InputError("not a contacts file: expected a JSON object", location=str(path))
     return SimContacts.from_json(doc, str(path))

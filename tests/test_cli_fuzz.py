@@ -438,7 +438,7 @@ def test_sigterm_during_a_run_removes_its_staging_folder(tmp_path, monkeypatch, 
         time.sleep(5)
         raise AssertionError("SIGTERM did not stop the run")
 
-    monkeypatch.setattr(pipeline_run, "_stages", terminated)
+    monkeypatch.setattr(pipeline_run, "run_stages", terminated)
     code = main(["reproduce", "--out", str(tmp_path / "out"), "--no-record", "--no-render", "--quiet"])
     assert code == 143
     assert capsys.readouterr().err.strip().endswith("oacc: terminated")

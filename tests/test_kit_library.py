@@ -138,7 +138,7 @@ def test_the_demonstrated_layout_keeps_the_kit_demonstrators_sides() -> None:
 
 
 def test_untracked_instances_are_reported_with_the_steps_that_judged_them() -> None:
-    from oacdsl.pipeline.run import untracked_judged
+    from oacdsl.pipeline.verdict import untracked_judged
 
     lib = load_library([KIT])
     run = {"steps": [

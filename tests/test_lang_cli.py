@@ -137,6 +137,15 @@ def test_fmt_stdin():
     assert out.returncode == 0 and out.stdout == "class Cup : Container, Graspable\n"
 
 
+def test_fmt_stdin_that_is_not_utf8_is_e024_as_a_file_is():
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    out = subprocess.run([sys.executable, "-m", "oacdsl", "fmt", "-"], input=b"class A\n\xff\xfe oac",
+                         capture_output=True, cwd=ROOT, env=env)
+    assert out.returncode == 2 and out.stdout == b""
+    expected = "oacc: error: <stdin>:2:1: error[E024]: not UTF-8 text (byte 0xff on line 2)\n"
+    assert out.stderr.decode() == expected
+
+
 def test_fmt_formats_a_symlinks_target_once_and_keeps_the_link(tmp_path):
     lib = copy_library(tmp_path)
     actions = lib / "actions.oac"

@@ -46,6 +46,9 @@ BAD = [
     (G + "  effect h <-> o execute place steps { }", "E001", "or '}' to close the OAC", "2:32"),
     (G + "  pre h <- o", "E002", "unexpected character '<', expected '<->' between the two objects", "2:9"),
     (G + "  pre h <-> o;", "E002", "unexpected character ';'", "2:14"),
+    # at the start of a file: what is expected in words, not the grammar's rule names
+    ("@class A", "E002", "unexpected character '@', expected a declaration ('class', 'scene'", "1:1"),
+    ("\n  $", "E002", "unexpected character '$', expected a declaration ('class', 'scene'", "2:3"),
     ('scene s { a : Cup markers ("m1) }', "E002", "unterminated string", "1:28"),
     # semantic
     ("scene s {\n  a : Cpu\n}", "E003", "unknown class 'Cpu' (did you mean 'Cup'?)", "2:7"),

@@ -124,3 +124,25 @@ def test_control_characters_in_a_marker_name_survive_printing():
     printed = print_module(module)
     assert "\r" not in printed
     assert parse_text(printed, "ctl.oac") == module
+
+
+ROOT = GOLDEN.parents[2]
+#: Every .oac file of the repository: the libraries (all folders) and the test data.
+FIXTURES = sorted(
+    str(p.relative_to(ROOT))
+    for d in ("library", "tests/data", "tests/golden")
+    for p in (ROOT / d).rglob("*.oac")
+)
+
+
+def test_the_fixtures_are_found():
+    assert len(FIXTURES) >= 30 and {"library/kitchen.oac", "tests/data/runtime_tasks.oac"} <= set(FIXTURES)
+
+
+@pytest.mark.parametrize("path", FIXTURES)
+def test_every_fixture_round_trips_through_the_printer(path):
+    module = parse_text((ROOT / path).read_text(encoding="utf-8"), path)
+    printed = print_module(module)
+    again = parse_text(printed, path)
+    assert again == module  # parse(print(m)) == m
+    assert print_module(again) == printed  # printing is idempotent

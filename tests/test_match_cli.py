@@ -194,3 +194,13 @@ def test_compose_writes_nothing_when_the_target_conflicts(capsys, lib_dir, tmp_p
                        "--name", "dough", "--propose")
     assert code == 1 and "already holds a different 'dough'" in err and "--force" in err
     assert sorted(p.name for p in drafts.iterdir()) == ["dough.oac"]  # no draft written either
+
+
+@pytest.mark.parametrize("command", ["match", "compose"])
+def test_a_demonstration_no_scene_fits_is_named_in_the_error(capsys, lib_dir, dough_json, tmp_path, command):
+    renamed = tmp_path / "renamed.json"
+    renamed.write_text(dough_json.read_text().replace("red_cup", "blue_jar"))
+    extra = ["--name", "x", "--dry-run"] if command == "compose" else []
+    code, _, err = run(capsys, command, str(renamed), "--library", str(lib_dir), *extra)
+    assert code == 1 and len(err.strip().splitlines()) == 1
+    assert err.startswith(f"oacc: error: {renamed}: no scene of the library has exactly the recording's")

@@ -288,9 +288,20 @@ def test_many_runs_options_are_checked(capsys):
     from oacdsl.cli import main as oacc
 
     assert oacc(["run", "grasp", "--library", str(LIBRARY), "--workers", "2"]) == 2
-    assert "--workers, --scheduler and --place-samples go with --seeds A:B" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "--workers, --scheduler, --worker-wait and --place-samples go with --seeds A:B" in err
     with pytest.raises(SystemExit):
         oacc(["run", "grasp", "--seeds", "5:5"])
     assert "expected A:B, whole numbers with 0 <= A < B" in capsys.readouterr().err
     assert oacc(["run", "grasp", "--library", str(LIBRARY), "--seeds", "0:2", "--seed", "3"]) == 2
     assert "--seed and --seeds: give one" in capsys.readouterr().err
+
+
+def test_an_out_folder_that_cannot_be_made_stops_the_job_before_it_starts(tmp_path, capsys):
+    (tmp_path / "a.c3d").write_bytes(b"not a c3d file")
+    (tmp_path / "afile").write_text("a file, not a folder", encoding="utf-8")
+    out = tmp_path / "afile" / "sub" / "mined"
+    assert main(["mine", str(tmp_path / "a.c3d"), "--library", str(LIBRARY), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    why = f"cannot make the job's folder: {tmp_path / 'afile'} is not a folder"
+    assert err.splitlines() == [f"oacc: error: {out}: {why}"]

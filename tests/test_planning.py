@@ -89,6 +89,32 @@ def test_goal_atoms_are_parsed_with_the_languages_syntax():
         parse_atoms("liquid_one <- mixer")
 
 
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("mixer <->", "--goal:1:10: the text ends, expected an object or 'nothing' after '<->'"),
+        ("not", "--goal:1:4: the text ends, expected an object after 'not'"),
+        ("a <-> b c", "--goal:1:9: unexpected 'c', expected ',' and another relation"),
+        ("a <-> b effect c <-> d", "--goal:1:9: unexpected 'effect', expected ',' and another relation"),
+        ("a <-> b execute x", "--goal:1:9: unexpected 'execute', expected ',' and another relation"),
+        ("a <-> b }", "--goal:1:9: unexpected '}', expected ',' and another relation"),
+        ("a <-> b,, c <-> d", "--goal:1:9: unexpected ',', expected a relation such as 'h <-> o'"),
+    ],
+)
+def test_a_goal_that_is_not_only_atoms_is_refused_at_its_column(text, message):
+    """Nothing of an OAC around the atoms shows (no 'effect', 'execute SKILL' expected), and
+    nothing after them is taken for another part of an OAC (``effect c <-> d`` was dropped)."""
+    with pytest.raises(UsageError) as caught:
+        parse_atoms(text)
+    assert str(caught.value).startswith(message)
+
+
+def test_repeated_goal_atoms_are_one_and_columns_point_at_each_atom():
+    atoms = parse_atoms("b <-> a, a <-> b,  not x <-> nothing,")
+    assert [atom_text(a) for a in atoms] == ["a <-> b", "not x <-> nothing"]
+    assert [a.span.column for a in atoms] == [1, 20]
+
+
 def test_unknown_instances_are_one_line_with_did_you_mean(capsys):
     assert main(["plan", "--scene", "kitchen", "--goal", "mixer <-> orange_bowl, liquid_on <-> mixer"]) == 2
     err = capsys.readouterr().err.strip()
@@ -252,3 +278,19 @@ def test_the_planner_leaves_nothing_in_the_working_folder(tmp_path, monkeypatch)
     result = plan_goal(lib, scene, scene_state(scene), parse_atoms("mixer <-> orange_bowl"))
     assert result.plan is not None and len(result.plan) == 2
     assert list(tmp_path.iterdir()) == []  # Fast Downward's output.sas went to a folder of its own
+
+
+def test_a_bad_from_document_is_one_line(tmp_path, capsys):
+    goal = ["plan", "--scene", "kitchen", "--goal", "mixer <-> orange_bowl", "--from"]
+    cases = {
+        "cut.json": ('{"steps": [', ":1:12: not JSON: Expecting value"),
+        "deep.json": ("[" * 50_000 + "]" * 50_000, ": nested too deeply; not a run document"),
+        "empty_run.json": ('{"steps": []}', ": no executed steps to take the world state from"),
+    }
+    for name, (text, message) in cases.items():
+        (tmp_path / name).write_text(text, encoding="utf-8")
+        assert main([*goal, str(tmp_path / name)]) == 2
+        err = capsys.readouterr().err
+        assert err.splitlines() == [f"oacc: error: {tmp_path / name}{message}"], err
+    assert main([*goal, str(tmp_path / "missing.json")]) == 2
+    assert capsys.readouterr().err.strip() == f"oacc: error: {tmp_path / 'missing.json'}: no such file"

@@ -97,7 +97,7 @@ def test_a_run_stopped_early_leaves_out_the_steps_it_never_executed(base):
     # the sub-actions of steps after a failed one point at no execution (else result.json
     # would not validate and the report of a failed run would be lost)
     from oacdsl.pipeline.result import ResultRecord
-    from oacdsl.pipeline.run import _unexecuted_steps
+    from oacdsl.pipeline.stages import _unexecuted_steps
 
     _, result = base
     record = ResultRecord(created_utc="", oacdsl_version="", demonstration=result["demonstration"])

@@ -170,3 +170,11 @@ def test_the_contacts_recorder_lists_the_controllers_regrasps_as_frames() -> Non
                             relations=lambda: WorldState.of(("lid", "left_hand"), [])))
     regrasps.append((2.013, 2.031, "l", "lid"))  # appended by the controller during the run
     assert rec.to_json()["internal"] == [{"relation": ["left_hand", "lid"], "from_frame": 1, "to_frame": 5}]
+
+
+def test_a_contacts_file_nested_too_deeply_is_an_input_error_naming_it(tmp_path: Path) -> None:
+    path = tmp_path / "run.contacts.json"
+    path.write_text("[" * 100_000 + "]" * 100_000)  # deeper than the JSON reader recurses
+    with pytest.raises(InputError, match="nested too deeply") as caught:
+        read_contacts(path)
+    assert str(path) in str(caught.value)

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 
 from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
 from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
-from oacdsl.errors import UsageError
+from oacdsl.errors import MatchingError, UsageError
 from oacdsl.segmentation.params import DEFAULT_MODE
 
 if TYPE_CHECKING:
@@ -71,10 +71,15 @@ def load_inputs(args: argparse.Namespace) -> Inputs:
                 " segmentation already (.json)"
             )
     params = params_from_args(args)  # bad units fail before any reading
-    with printed_warnings():
-        inputs = load(args.recording, args.library or ["library"], args.scene, params, fmt=args.format,
-                      preset=args.preset, allow_truncated=allow_truncated(args), segmentations=True,
-                      note=note)
+    try:
+        with printed_warnings():
+            inputs = load(args.recording, args.library or ["library"], args.scene, params, fmt=args.format,
+                          preset=args.preset, allow_truncated=allow_truncated(args), segmentations=True,
+                          note=note)
+    except MatchingError as error:  # no scene, or several, fit the demonstration: name it
+        if args.scene is not None or error.location is not None:
+            raise
+        raise MatchingError(error.message, location=args.recording) from None
     for text in inputs.warnings:  # learned files left out of the library (they no longer compile)
         print(f"oacc: warning: {text}", file=sys.stderr)
     if inputs.recording is not None:

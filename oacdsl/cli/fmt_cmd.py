@@ -43,8 +43,10 @@ def run(args: argparse.Namespace) -> int:
     from oacdsl.compiler.printer import print_module
     from oacdsl.errors import LanguageError
 
-    if args.paths == ["-"]:
-        text = sys.stdin.read()
+    if args.paths == ["-"]:  # decoded as a file is: bytes that are not UTF-8 are E024, exit 2
+        stream = getattr(sys.stdin, "buffer", None)
+        data = stream.read() if stream is not None else sys.stdin.read().encode("utf-8", "surrogateescape")
+        text = decode_source(data, "<stdin>")
         try:
             print(print_module(parse_text(text, "<stdin>")), end="")
         except LanguageError as error:

@@ -21,6 +21,7 @@ the recordings already in the table are skipped. Dask is the extra 'scale'.
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     from oacdsl.cli.segment_cmd import add_aas_options
+    from oacdsl.mining.cluster import WORKER_WAIT_S
 
     p = sub.add_parser(
         "mine",
@@ -52,6 +53,12 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
         metavar="ADDRESS",
         help="use a running Dask scheduler (tcp://host:8786) instead of an embedded cluster",
     )
+    p.add_argument(
+        "--worker-wait",
+        type=float,
+        metavar="SECONDS",
+        help=f"with --scheduler: stop when no worker has joined it after SECONDS (default {WORKER_WAIT_S:g})",
+    )
     p.add_argument("--dashboard", action="store_true", help="start the Dask dashboard and print its address")
     p.add_argument("--json", action="store_true", help="print the summary's figures as JSON")
     g = p.add_argument_group("segmentation (as oacc segment)")
@@ -61,7 +68,12 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 
 def run(args: argparse.Namespace) -> int:
     from oacdsl.cli.segment_cmd import params_from_args
+    from oacdsl.errors import UsageError
     from oacdsl.mining import MineTable, mine, summarise
+    from oacdsl.mining.cluster import WORKER_WAIT_S
+
+    if args.worker_wait is not None and args.scheduler is None:
+        raise UsageError("--worker-wait goes with --scheduler (the embedded cluster's workers are its own)")
 
     params = params_from_args(args)  # bad units fail before anything starts
 
@@ -77,6 +89,7 @@ def run(args: argparse.Namespace) -> int:
         compose=args.compose,
         workers=args.workers,
         scheduler=args.scheduler,
+        worker_wait_s=WORKER_WAIT_S if args.worker_wait is None else args.worker_wait,
         dashboard=args.dashboard,
         progress=sys.stderr,
         note=note,

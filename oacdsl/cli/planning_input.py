@@ -63,7 +63,7 @@ def _scene(library: Any, name: str | None, named: set[str]) -> Any:
 
 def read_input(args: argparse.Namespace, paths: list[str], *, need_goal: bool) -> PlanningInput:
     """Library, scene, start state and goal of the command line (UsageError when wrong)."""
-    from oacdsl.cli.run_cmd import load_inputs
+    from oacdsl.cli.run_inputs import load_inputs
     from oacdsl.planning.state import check_atoms, parse_atoms, scene_state, state_from_result, stated
 
     if need_goal and not args.goal:

@@ -26,6 +26,12 @@ def add_many_options(p: argparse.ArgumentParser) -> None:
     )
     g.add_argument("--workers", type=int, metavar="N", help="worker processes (default: one per core)")
     g.add_argument("--scheduler", metavar="ADDRESS", help="a running Dask scheduler (tcp://host:8786)")
+    g.add_argument(
+        "--worker-wait",
+        type=float,
+        metavar="SECONDS",
+        help="with --scheduler: stop when no worker has joined it after SECONDS (default 120)",
+    )
 
 
 def parse_seeds(text: str) -> range:
@@ -54,6 +60,8 @@ def run_many_cmd(
         raise UsageError("--seed and --seeds: give one")
     if args.video or args.frames or args.view or args.demonstration:
         raise UsageError("--seeds runs without --video, --frames, --view or --demonstration")
+    if args.worker_wait is not None and args.scheduler is None:
+        raise UsageError("--worker-wait goes with --scheduler (the embedded cluster's workers are its own)")
     if args.place_samples < 1:
         raise UsageError(f"--place-samples {args.place_samples}: at least 1")
     kw = overrides.kwargs()
@@ -74,6 +82,7 @@ def run_many_cmd(
             args.place_samples,
             workers=args.workers,
             scheduler=args.scheduler,
+            worker_wait_s=args.worker_wait,
             on_result=record,
             progress=sys.stderr,
         )

@@ -112,7 +112,9 @@ def _accepted(error: UnexpectedInput) -> set[str]:
     if isinstance(error, UnexpectedToken):
         return set(error.accepts or error.expected)
     if isinstance(error, UnexpectedCharacters):
-        return set(error.allowed or ())
+        # the contextual lexer's allowed set is its parser state's keys: rules too (``_decl``,
+        # ``__start_star_0`` in the first state); only terminals (upper case) are expected text
+        return {name for name in error.allowed or () if name == name.upper()}
     return set()
 
 

@@ -18,6 +18,11 @@ the scheduler too (:data:`SCHEDULER_CONFIG`).
 :func:`close` ends a job in order: the client first (the scheduler forgets the job's data),
 then each worker closes gracefully, then the scheduler, so that no side reads a connection
 the other has already dropped.
+
+A running scheduler may have no worker yet (a batch queue still starting them) or never get one
+(a worker that cannot reach it): :func:`client_for` waits at most ``worker_wait_s`` for the first
+worker to join, saying so on the progress stream every :data:`WAIT_NOTE_S`, then stops the job
+with a one-line :class:`~oacdsl.errors.UsageError` instead of waiting forever.
 """
 
 from __future__ import annotations
@@ -27,13 +32,30 @@ import json
 import logging
 import os
 import sys
+import time
 import uuid
 from collections.abc import Sequence
-from typing import Any
+from typing import IO, Any
 
 from oacdsl.errors import UsageError
 
-__all__ = ["SCHEDULER_CONFIG", "WORKER_CONFIG", "WORKER_ENV", "client_for", "close", "share", "worker_count"]
+__all__ = [
+    "SCHEDULER_CONFIG",
+    "WAIT_NOTE_S",
+    "WORKER_CONFIG",
+    "WORKER_ENV",
+    "WORKER_WAIT_S",
+    "client_for",
+    "close",
+    "share",
+    "wait_for_worker",
+    "worker_count",
+]
+
+#: How long a job given a running scheduler waits for its first worker (``--worker-wait``).
+WORKER_WAIT_S = 120.0
+#: While waiting, a line on the progress stream this often.
+WAIT_NOTE_S = 10.0
 
 #: Dask settings of the embedded cluster's workers: no statistical profiler (it samples every
 #: thread's stack 100 times a second: ~3 % of a core while idle, more while a task runs) and
@@ -119,10 +141,52 @@ def _local(n: int, dashboard: bool, preload: Sequence[str]) -> Any:
         raise
 
 
+def wait_for_worker(
+    client: Any, scheduler: str, wait_s: float = WORKER_WAIT_S, progress: IO[str] | None = None
+) -> int:
+    """The number of workers of the running cluster once at least one has joined; waits at most
+    ``wait_s`` seconds for the first, writing a line to ``progress`` at the start and every
+    :data:`WAIT_NOTE_S` seconds; :class:`UsageError` (exit 2) when none joined in time."""
+    t0 = time.monotonic()
+    deadline = t0 + wait_s
+    next_note, told = t0, False
+    while True:
+        try:
+            n = len(client.nthreads())
+        except (OSError, TimeoutError) as error:
+            raise UsageError(f"--scheduler {scheduler}: lost the Dask scheduler ({error})") from None
+        if n:
+            if told and progress is not None:
+                waited_s = time.monotonic() - t0
+                print(f"oacc: {n} worker(s) joined {scheduler} after {waited_s:.0f} s", file=progress)
+            return n
+        now = time.monotonic()
+        if now >= deadline:
+            raise UsageError(
+                f"--scheduler {scheduler}: no Dask worker joined in {wait_s:g} s"
+                f" (start one with 'dask worker {scheduler}', or wait longer with --worker-wait SECONDS)"
+            )
+        if progress is not None and now >= next_note:
+            print(
+                f"oacc: waiting for a Dask worker to join {scheduler}: {now - t0:.0f} s of {wait_s:g} s",
+                file=progress,
+                flush=True,
+            )
+            next_note, told = now + WAIT_NOTE_S, True
+        time.sleep(min(0.5, max(0.0, deadline - now)))
+
+
 def client_for(
-    workers: int | None, scheduler: str | None, dashboard: bool, preload: Sequence[str] = ()
+    workers: int | None,
+    scheduler: str | None,
+    dashboard: bool,
+    preload: Sequence[str] = (),
+    *,
+    worker_wait_s: float = WORKER_WAIT_S,
+    progress: IO[str] | None = None,
 ) -> tuple[Any, Any]:
-    """``(client, cluster)``: a client of the running scheduler at ``scheduler`` (cluster None), or
+    """``(client, cluster)``: a client of the running scheduler at ``scheduler`` (cluster None)
+    once a worker has joined it (:func:`wait_for_worker`, at most ``worker_wait_s`` seconds), or
     of an embedded cluster of ``workers`` processes (default: one per core) forked after this
     process imported the modules ``preload`` (the job's tasks' own imports)."""
     try:
@@ -130,10 +194,18 @@ def client_for(
     except ImportError as error:
         raise UsageError(f"mining needs the 'scale' extra (pip install -e '.[scale]'): {error}") from None
     if scheduler is not None:
+        if not worker_wait_s > 0:
+            raise UsageError(f"--worker-wait {worker_wait_s:g}: more than 0 seconds")
         try:
-            return Client(scheduler, timeout="30s"), None
+            client = Client(scheduler, timeout="30s")
         except (OSError, TimeoutError) as error:
             raise UsageError(f"--scheduler {scheduler}: cannot reach the Dask scheduler ({error})") from None
+        try:
+            wait_for_worker(client, scheduler, worker_wait_s, progress)
+        except BaseException:
+            client.close()
+            raise
+        return client, None
     n = workers if workers is not None else max(1, os.cpu_count() or 1)
     cluster = _local(n, dashboard, preload)
     try:

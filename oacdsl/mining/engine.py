@@ -15,6 +15,7 @@ each of its recordings. At the end the summary page is written (:mod:`oacdsl.min
 
 from __future__ import annotations
 
+import os
 import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
@@ -23,7 +24,7 @@ from pathlib import Path
 from typing import IO, Any
 
 from oacdsl.errors import InputError, UsageError
-from oacdsl.mining.cluster import client_for, close, share, worker_count
+from oacdsl.mining.cluster import WORKER_WAIT_S, client_for, close, share, worker_count
 from oacdsl.mining.inputs import RecordingFile, expand_recordings
 from oacdsl.mining.table import TABLE_NAME, MineTable
 from oacdsl.mining.task import PRELOAD, JobSpec, analyse_batch
@@ -145,6 +146,20 @@ def _results(client: Any, spec: JobSpec, work: list[list[RecordingFile]]) -> Ite
             yield [_worker_error(rec, error) for rec in futures[future]]
 
 
+def _check_makeable(folder: Path) -> None:
+    """:class:`InputError` (exit 2) when ``folder`` cannot be made: the nearest existing path above
+    it is a file, or a folder this process may not write in."""
+    above = folder
+    while not above.exists() and above.parent != above:
+        above = above.parent
+    if above == folder:
+        return
+    if not above.is_dir():
+        raise InputError(f"cannot make the job's folder: {above} is not a folder", location=str(folder))
+    if not os.access(above, os.W_OK | os.X_OK):
+        raise InputError(f"cannot make the job's folder: {above} is not writable", location=str(folder))
+
+
 def mine(
     recordings: Sequence[str],
     library: Sequence[str | Path],
@@ -155,13 +170,16 @@ def mine(
     compose: bool = False,
     workers: int | None = None,
     scheduler: str | None = None,
+    worker_wait_s: float = WORKER_WAIT_S,
     dashboard: bool = False,
     progress: IO[str] | None = sys.stderr,
     note: Callable[[str], None] | None = None,
 ) -> MineResult:
     """Segment and match every recording against ``library`` (module doc); ``out`` is the job's
     folder (its table and summary page). ``workers``: processes of the embedded cluster (default:
-    the machine's cores); ``scheduler``: the address of a running Dask scheduler instead."""
+    the machine's cores); ``scheduler``: the address of a running Dask scheduler instead, whose
+    first worker is awaited at most ``worker_wait_s`` seconds (a line on ``progress`` while
+    waiting; :class:`UsageError` when none joins)."""
     from oacdsl.mining.summary import write_summary
     from oacdsl.pipeline.inputs import open_library
 
@@ -175,15 +193,24 @@ def mine(
     folder = Path(out)
     if folder.exists() and not folder.is_dir():
         raise InputError("not a folder: the job's output folder", location=str(folder))
+    _check_makeable(folder)  # before the cluster starts: a bad --out costs nothing
     todo = _not_done(files, folder / TABLE_NAME)
     ticker = _Ticker(len(todo), progress)
     address = None
     rows: list[dict[str, Any]] = []
     # the cluster starts first: its workers come up while this process parses the library
-    client, cluster = client_for(workers, scheduler, dashboard, PRELOAD) if todo else (None, None)
+    client, cluster = (
+        client_for(workers, scheduler, dashboard, PRELOAD, worker_wait_s=worker_wait_s, progress=progress)
+        if todo
+        else (None, None)
+    )
     try:
         parsed = open_library([Path(p) for p in paths])  # a library that does not compile fails here, once
-        folder.mkdir(parents=True, exist_ok=True)
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+        except OSError as error:
+            why = error.strerror or error
+            raise InputError(f"cannot make the job's folder: {why}", location=str(folder)) from None
         spec = JobSpec(paths, scene, _params_dict(params), compose, parsed)
         with MineTable(folder / TABLE_NAME) as table:
             if client is not None:

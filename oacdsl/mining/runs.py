@@ -107,19 +107,23 @@ def run_many(
     *,
     workers: int | None = None,
     scheduler: str | None = None,
+    worker_wait_s: float | None = None,
     on_result: Callable[[dict[str, Any]], None] | None = None,
     progress: IO[str] | None = None,
 ) -> list[dict[str, Any]]:
     """Every (seed, sample) run on the cluster; ``on_result`` hears each document as it arrives
-    (the caller records it); the documents sorted by seed and sample."""
+    (the caller records it); the documents sorted by seed and sample. With ``scheduler``, its first
+    worker is awaited at most ``worker_wait_s`` seconds (default
+    :data:`~oacdsl.mining.cluster.WORKER_WAIT_S`)."""
     from dask.distributed import as_completed
 
-    from oacdsl.mining.cluster import client_for, close, share
+    from oacdsl.mining.cluster import WORKER_WAIT_S, client_for, close, share
     from oacdsl.mining.engine import _Ticker
 
     jobs = [(s, k) for s in seeds for k in range(samples)]
     ticker = _Ticker(len(jobs), progress, "ran", "runs")
-    client, cluster = client_for(workers, scheduler, False, PRELOAD)
+    wait_s = WORKER_WAIT_S if worker_wait_s is None else worker_wait_s
+    client, cluster = client_for(workers, scheduler, False, PRELOAD, worker_wait_s=wait_s, progress=progress)
     out = []
     try:
         if spec.parsed is None:  # parsed here while the workers start, not once in each of them

@@ -114,8 +114,8 @@ def _read(path: str, library: Any, scene_name: str | None) -> tuple[Any, Any, An
     """The grouped recording, the library (with an outside scene file added) and its scene, checked
     as ``oacc match`` checks them (:func:`oacdsl.pipeline.inputs.load_inputs`)."""
     from oacdsl.errors import InputError
-    from oacdsl.pipeline.inputs import _check_tracked as check_tracked
     from oacdsl.pipeline.inputs import resolve_scene
+    from oacdsl.pipeline.library_scene import check_tracked
     from oacdsl.segmentation.grouping import apply_scene_groups, group_recording
     from oacdsl.segmentation.readers import read_recording
 

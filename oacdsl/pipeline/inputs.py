@@ -19,14 +19,15 @@ and a library: one library). **The scene** is ``--scene NAME`` of the library, a
 the recording's marker groups; every instance of the demonstration must be one of
 them. Everything here is checked before anything is written; each problem is a
 one-line error (:mod:`oacdsl.errors`).
+
+The defaults (bundled demonstration, library, name) are in :mod:`oacdsl.pipeline.bundled`,
+the library and scene in :mod:`oacdsl.pipeline.library_scene`; all are imported from here.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import json
-import re
-import unicodedata
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -34,6 +35,15 @@ from pathlib import Path
 from oacdsl.errors import InputError, UsageError
 from oacdsl.library import Library
 from oacdsl.model import Scene
+from oacdsl.pipeline.bundled import (
+    BUNDLED_NAME,
+    bundled_recording,
+    default_library,
+    default_name,
+    source_root,
+)
+from oacdsl.pipeline.library_scene import check_tracked as _check_tracked
+from oacdsl.pipeline.library_scene import open_library, resolve_scene
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import Keyframe, Segmentation
@@ -52,59 +62,6 @@ __all__ = [
     "resolve_scene",
     "source_root",
 ]
-
-#: The bundled demonstration, relative to the source tree.
-BUNDLED_NAME = "data/dough.c3d"
-
-
-def source_root() -> Path | None:
-    """The source tree the package runs from (a checkout or an editable install), else None."""
-    root = Path(__file__).resolve().parents[2]
-    return root if (root / "pyproject.toml").is_file() and (root / "oacdsl").is_dir() else None
-
-
-def bundled_recording() -> tuple[Recording, str]:
-    """The bundled dough demonstration and where it came from (the file, or ``synth:dough``)."""
-    root = source_root()
-    path = root / BUNDLED_NAME if root is not None else None
-    if path is not None and path.is_file():
-        from oacdsl.segmentation.readers import read_recording
-
-        return read_recording(path), _shown(path)
-    from oacdsl.segmentation.synth import DEFAULT_SEED, dough_demonstration
-
-    return dough_demonstration(DEFAULT_SEED).recording, f"synth:dough (seed {DEFAULT_SEED}, generated)"
-
-
-def _shown(path: Path) -> str:
-    """``path`` relative to the working folder when it lies inside it."""
-    try:
-        return str(path.resolve().relative_to(Path.cwd().resolve()))
-    except ValueError:
-        return str(path)
-
-
-def default_library() -> Path:
-    """``library/`` in the working folder, else the source tree's ``library/``."""
-    here = Path("library")
-    root = source_root()
-    if here.is_dir() or root is None or not (root / "library").is_dir():
-        return here
-    return root / "library"
-
-
-def default_name(source: str) -> str:
-    """A name for the composed OAC from the recording's file name: ``Pour-01.c3d`` → ``pour_01``,
-    ``Crêpe.c3d`` → ``crepe`` (ASCII letters, digits and ``_``; at most 200 characters)."""
-    stem = Path(source.split(" ")[0].split(":")[-1]).name
-    for suffix in (".mmm.xml", ".xml", ".c3d", ".tsv", ".csv", ".json"):
-        if stem.lower().endswith(suffix):
-            stem = stem[: -len(suffix)]
-            break
-    ascii_stem = unicodedata.normalize("NFKD", stem.lower()).encode("ascii", "ignore").decode("ascii")
-    name = re.sub(r"[^a-z0-9]+", "_", ascii_stem).strip("_") or "demonstration"
-    name = name if name[0].isalpha() else f"demo_{name}"
-    return name[:200].rstrip("_")  # an ASCII identifier, and NAME.oac a file name of any file system
 
 
 @dataclass(frozen=True)
@@ -206,75 +163,6 @@ def read_segmentation_json(path: Path) -> Segmentation:
         raise InputError(f"not a segmentation (oacc segment --json): {what}", location=str(path)) from error
 
 
-def open_library(path: Path | Sequence[Path], left_out: list[str] | None = None) -> Library:
-    """The library at ``path`` (a folder without its drafts/, or a file; or several of them, loaded
-    as one library), as ``--library`` reads it.
-
-    A composed OAC in a ``learned/`` folder that no longer compiles with the rest of the library
-    (an OAC it calls was changed since) is left out, and ``left_out`` (when given) hears which
-    file and why: what an earlier composition wrote never stops matching and composing, and
-    the next composition of that name replaces the file while it is unedited
-    (:mod:`oacdsl.matching.emit`). Errors in any other file stop as before.
-    """
-    from oacdsl.compiler.parser import read_bytes
-    from oacdsl.matching.emit import LEARNED, compile_leaving_out, library_files
-
-    files: list[Path] = []
-    for one in [path] if isinstance(path, Path) else path:
-        if not one.exists():
-            raise InputError("no such library folder or file (give one with --library DIR)",
-                             location=str(one))
-        found = library_files(one)
-        if not found:
-            raise InputError("no .oac files in the library", location=str(one))
-        files += [f for f in found if f not in files]
-    sources: dict[str, str | bytes] = {str(f): read_bytes(f) for f in files}
-    stale = {str(f) for f in files if f.parent.name == LEARNED} if len(files) > 1 else set()
-    result, dropped = compile_leaving_out(sources, stale)
-    if not result.ok:
-        raise result.error()
-    if left_out is not None:
-        left_out += [
-            f"{f} left out: it no longer compiles with the library ({why}); composing that name"
-            " again replaces it while unedited"
-            for f, why in dropped
-        ]
-    return Library(result.modules)
-
-
-def resolve_scene(
-    library: Library, instances: tuple[str, ...], value: str | None
-) -> tuple[Library, Scene, Path | None]:
-    """The scene for ``--scene value`` (a name, a .oac file, or None: found by ``instances``), the
-    library it belongs to, and the scene file when it lies outside the library."""
-    from oacdsl.matching.demonstration import find_scene
-
-    if value is None or not (value.endswith(".oac") or Path(value).is_file()):
-        return library, find_scene(library, instances, value), None
-    from oacdsl.compiler import compile_sources, parse_file, read_source
-
-    path = Path(value)
-    if not path.is_file():
-        raise InputError("no such scene file", location=value)
-    inside = {Path(m.path).resolve() for m in library.modules}
-    if path.resolve() in inside:  # already part of the library
-        named = [d.name for d in parse_file(path).decls if isinstance(d, Scene)]
-        if len(named) != 1:
-            raise UsageError(f"{value}: a scene file must hold exactly one scene, it holds {len(named)}")
-        return library, library.scenes[named[0]], None
-    sources = {m.path: read_source(Path(m.path)) for m in library.modules if Path(m.path).is_file()}
-    sources[str(path)] = read_source(path)
-    result = compile_sources(sources)
-    if not result.ok:
-        raise result.error()
-    extra = next(m for m in result.modules if m.path == str(path))
-    scenes = [d for d in extra.decls if isinstance(d, Scene)]
-    if len(scenes) != 1:
-        raise UsageError(f"{value}: a scene file must hold exactly one scene, it holds {len(scenes)}")
-    merged = Library(result.modules)
-    return merged, merged.scenes[scenes[0].name], path
-
-
 def load_inputs(
     recording: str | Path | None,
     library: str | Path | Sequence[str | Path] | None,
@@ -343,23 +231,3 @@ def load_inputs(
     if rec is not None and not instances:
         raise InputError("the recording has no marker groups to segment", location=source)
     return Inputs(lib, library_path, sc, source, params, rec, seg, outside, tuple(paths), tuple(left_out))
-
-
-def _check_tracked(instances: tuple[str, ...], scene: Scene, source: str, what: str) -> None:
-    """The demonstration's instances are the tracked instances of the scene, no more and no fewer."""
-    tracked = {i.name for i in scene.tracked()}
-    unknown = sorted(set(instances) - tracked)
-    if unknown:
-        known = ", ".join(sorted(tracked))
-        raise InputError(
-            f"{what} {', '.join(unknown)} are not tracked instances of scene {scene.name!r} ({known})",
-            location=source,
-        )
-    lacking = sorted(tracked - set(instances))
-    if lacking:  # as oacc segment refuses it: a tracked instance the demonstration cannot show
-        raise InputError(
-            f"scene {scene.name!r}: tracked instance{'s' if len(lacking) > 1 else ''} {', '.join(lacking)}"
-            f" not among the demonstration's {what} ({', '.join(sorted(instances)) or 'none'});"
-            " mark an instance the recording does not track 'untracked'",
-            location=source,
-        )

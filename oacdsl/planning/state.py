@@ -6,7 +6,7 @@ nor ignored), with the scene's ``in`` statements as relations (a liquid touches 
 container); every other instance touches nothing, as the robot's objects stand on the
 table, which is environment. Goals and stated relations (``--goal``, ``--state``) are
 written in the language's atom syntax (``liquid_one <-> orange_bowl, not mixer <-> nothing``)
-and parsed by the language's own parser.
+and parsed by :mod:`oacdsl.planning.atoms`.
 """
 
 from __future__ import annotations
@@ -16,10 +16,11 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
-from oacdsl.errors import InputError, LanguageError, UsageError, did_you_mean
+from oacdsl.errors import InputError, UsageError, did_you_mean
 from oacdsl.library import Library
 from oacdsl.matching.conditions import apply_effects, holds
-from oacdsl.model import Atom, Oac, Scene
+from oacdsl.model import Atom, Scene
+from oacdsl.planning.atoms import parse_atoms
 from oacdsl.world import NOTHING, WorldState, relation
 
 __all__ = [
@@ -32,9 +33,6 @@ __all__ = [
     "stated",
 ]
 
-_HEAD = "oac goal() {\npre "  # the goal's text starts line 2, column 5
-
-
 def scene_state(scene: Scene) -> WorldState:
     """The scene's initial state: its related instances, each liquid in the container its
     ``in`` statement names."""
@@ -43,30 +41,8 @@ def scene_state(scene: Scene) -> WorldState:
     return WorldState.of(names, pairs)
 
 
-def parse_atoms(text: str, what: str = "--goal") -> tuple[Atom, ...]:
-    """The comma-separated atoms of ``text`` (UsageError ``--goal:1:COL: …`` on a syntax error)."""
-    from oacdsl.compiler.parser import parse_text
-
-    if not text.strip():
-        raise UsageError(f"{what}: no atoms given (e.g. \"liquid_one <-> orange_bowl\")")
-    if "\n" in text or "\r" in text:
-        raise UsageError(f"{what}: atoms are written on one line, separated by commas")
-    try:
-        module = parse_text(f"{_HEAD}{text}\nexecute goal\n}}\n", what)
-    except LanguageError as error:
-        diag = error.diagnostics[0] if error.diagnostics else None
-        span = getattr(diag, "span", None)
-        col = max(1, span.column - 4) if span is not None and span.line == 2 else len(text) + 1
-        message = getattr(diag, "message", str(error))
-        raise UsageError(f"{what}:1:{col}: {message}") from None
-    oac = module.decls[0]
-    if not isinstance(oac, Oac):  # cannot happen: the text holds one oac
-        raise UsageError(f"{what}: not a list of atoms")
-    return oac.pre
-
-
 def _column(atom: Atom) -> int:
-    return max(1, atom.span.column - 4) if atom.span is not None and atom.span.line == 2 else 1
+    return atom.span.column if atom.span is not None else 1
 
 
 def check_atoms(atoms: Iterable[Atom], instances: Iterable[str], what: str = "--goal") -> None:
@@ -115,7 +91,9 @@ def state_from_result(path: str, instances: Iterable[str]) -> WorldState:
     except (OSError, UnicodeDecodeError) as error:
         raise InputError(f"cannot read: {error}", location=path) from None
     except json.JSONDecodeError as error:
-        raise InputError(f"{error.lineno}:{error.colno}: not JSON: {error.msg}", location=path) from None
+        raise InputError(f"not JSON: {error.msg}", location=f"{path}:{error.lineno}:{error.colno}") from None
+    except RecursionError:
+        raise InputError("nested too deeply; not a run document", location=path) from None
     known = frozenset(instances)
     pairs = []
     for index, pair in enumerate(_pairs_of(doc, path)):

@@ -1,0 +1,81 @@
+"""The verdict of ``reproduce`` (:func:`verdict`): success or the failed stage, and the one
+paragraph the report and ``result.json`` print; :func:`untracked_judged`: how the step effects
+judged each untracked instance (see :mod:`oacdsl.pipeline.run`)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from oacdsl.errors import OacError
+from oacdsl.pipeline.result import ResultRecord
+
+__all__ = ["untracked_judged", "verdict"]
+
+
+def verdict(result: ResultRecord, failure: tuple[str, OacError] | None, name: str) -> dict[str, Any]:
+    if failure is not None:
+        stage, error = failure
+        return {"success": False, "summary": f"The {stage} stage failed: {error}", "failed_stage": stage}
+    run, v = result.run, result.verification
+    if run is not None and not run.success:
+        return {
+            "success": False,
+            "failed_stage": "execute",
+            "summary": f"The robot did not complete {name}: {run.error or 'a step failed'}.",
+        }
+    extra = (v.model_extra or {}) if v is not None else {}
+    flags = {"verified": bool(v.verified), "faithful": bool(extra.get("faithful", v.verified))} \
+        if v is not None else {}
+    failed = [c for c in extra.get("checks", []) if not c["passed"]]
+    if v is not None and not v.verified:
+        named = "; ".join(f"{c['name']}: {c['detail']}" for c in failed if c["kind"] != "motion")
+        return {
+            "success": False,
+            "failed_stage": "verify",
+            **flags,
+            "failed_checks": [c["name"] for c in failed],
+            "summary": f"The robot executed {name}, but the outcome differs from the demonstration:"
+            f" {v.verdict}." + (f" Failed: {named}." if named else ""),
+        }
+    m = run.metrics if run is not None else {}
+    balls = f", {m['balls_in_bowl']} of {m['balls_total']} balls in the bowl" if m.get("balls_total") else ""
+    liquid = ""
+    for u in (v.model_extra or {}).get("untracked", []) if v is not None else []:
+        judged = "; ".join(
+            f"step {j['step']} {j['oac']} observed " + ", ".join(" <-> ".join(p) for p in j["relations"])
+            for j in u["judged_by"]
+        )
+        liquid += (f" The untracked {u['instance']} is not in the recording, so not compared: the robot's"
+                   f" step effects judged it ({judged or 'no step predicts it'}).")
+    n = len(v.demonstration) if v is not None else 0
+    source = "its simulated contacts" if extra.get("relations_source") == "simulation contacts" else \
+        "its own recording, segmented by the same AAS,"
+    unfaithful = ""
+    if flags and not flags["faithful"]:
+        unfaithful = " Not faithful: " + "; ".join(f"{c['name']}: {c['detail']}" for c in failed) + "."
+    ends = " every tracked object ends as demonstrated;" if "checks" in extra else ""
+    return {
+        "success": True,
+        **flags,
+        "failed_checks": [c["name"] for c in failed],
+        "summary": f"ARMAR-III executed {name} ({len(run.steps) if run else 0} steps{balls}), and"
+        f" {source} shows the demonstration's {n} world-state changes in order (edit distance"
+        f" {v.distance if v else '–'});{ends} {'faithful' if flags.get('faithful') else 'verified'}."
+        f"{unfaithful}{liquid}",
+    }
+
+
+def untracked_judged(scene: Any, run_doc: dict[str, Any]) -> list[dict[str, Any]]:
+    """How each untracked instance (a liquid the recording does not track) was judged: the
+    executed steps whose predicted effects name it (their effect judge observed them in the
+    simulation, else the run failed there). The closed loop leaves these instances out."""
+    out = []
+    for inst in scene.untracked():
+        judged = [
+            {"step": k, "oac": s["oac"], "relations": [p for p in s["predicted"] if inst.name in p],
+             "success": s["success"]}
+            for k, s in enumerate(run_doc.get("steps", []), 1)
+            if any(inst.name in p for p in s["predicted"])
+        ]
+        out.append({"instance": inst.name, "judged_by": judged})
+    return out
