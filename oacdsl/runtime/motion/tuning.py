@@ -74,6 +74,10 @@ class Tuning:
     wall_margin_m: float = 0.005
     #: free space kept between a hand and a container's rim, m
     rim_clearance_m: float = 0.015
+    #: free space kept between the collision boxes of a hand working right over the other hand
+    #: (pouring into the cup it holds; the arm follows the tilt within a few mm there) and that
+    #: hand's, m (as ``FOLLOW.hand_clearance_m``)
+    hands_clearance_m: float = 0.01
     #: height of a tool's tip above a rim before it goes in, m
     above_rim_m: float = 0.05
     #: how far beyond a wall (or into a floor) a tool is aimed to stay in contact with it, m

@@ -21,7 +21,10 @@ its rim), so at every step of the tilt the lip is raised as much as the hand's c
 boxes need to stay :data:`~oacdsl.runtime.motion.tuning.Tuning.rim_clearance_m` above the
 target's rim where they are over it, and no more: the hand passes over the rim half-way
 through the tilt, the balls leave the lip later, from its usual height (KIT Pour: the
-right thumb met the cup while pouring).
+right thumb met the cup while pouring). The source and the pouring hand keep
+:data:`~oacdsl.runtime.motion.tuning.Tuning.hands_clearance_m` from the collision boxes of the
+palm, fingers and thumb of a hand that holds the target, as they are: boxes beside them need
+no lift, boxes over them are passed over (:mod:`oacdsl.runtime.boxlift`).
 
 When the other hand holds something else, the emptied source is carried back to where it
 was brought from, out of the target's way: the other hand may work over the target next
@@ -37,6 +40,7 @@ import numpy as np
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.armroom import arm_room
 from oacdsl.runtime.bodies import Body
+from oacdsl.runtime.boxlift import lift_to_clear
 from oacdsl.runtime.control import CONTROL_DT_S
 from oacdsl.runtime.motion import TUNING, Motion, OtherHand
 from oacdsl.runtime.shapes import hand_corners, world_corners
@@ -159,40 +163,36 @@ def pour(
     hand_pts = hand_corners(world, side)
     holder = ctx.other_holder(side, target)
     keep = world.frame_pose(f"grasp_{holder}") if holder is not None else None
-    # the other hand holding the target keeps its place: the columns over its boxes (grown by
-    # the rim clearance) are kept clear by the source and this hand, as the rim is
-    boxes = np.zeros((0, 8, 3)) if keep is None or holder is None else (
-        hand_corners(world, holder) @ keep[:3, :3].T + keep[:3, 3]).reshape(-1, 8, 3)
-    box_lo = boxes[:, :, :2].min(axis=1) - TUNING.rim_clearance_m
-    box_hi = boxes[:, :, :2].max(axis=1) + TUNING.rim_clearance_m
-    box_top = boxes[:, :, 2].max(axis=1) + TUNING.rim_clearance_m
+    # the other hand holding the target keeps its place: the source and this hand keep
+    # TUNING.hands_clearance_m from its palm, fingers and thumb as they are (a box beside one of
+    # them needs no lift, a box over it goes over it)
+    holder_pts = np.zeros((0, 3)) if keep is None or holder is None else (
+        hand_corners(world, holder) @ keep[:3, :3].T + keep[:3, 3])
 
-    def below_holder(pts: np.ndarray) -> float:
-        """How far (m) the lowest of ``pts`` (world) over a box of the other hand is below
-        that box's top and the clearance (negative: clear; -inf: over none)."""
-        over = ((pts[None, :, :2] >= box_lo[:, None]) & (pts[None, :, :2] <= box_hi[:, None])).all(axis=2)
-        return float((box_top[:, None] - pts[None, :, 2])[over].max()) if over.any() else -math.inf
+    def over_holder(pts: np.ndarray, from_m: float = 0.0) -> float:
+        """The least lift (m, at least ``from_m``) of the boxes with corners ``pts`` (world) after
+        which they keep :data:`TUNING.hands_clearance_m` from the other hand's."""
+        return lift_to_clear(pts, holder_pts, TUNING.hands_clearance_m, from_m) if len(holder_pts) else from_m
 
     def need(u: np.ndarray, s: float, base: float) -> float:
         """How much higher (m) than ``base`` above its place the lip must be at ``s`` of the
         tilt so that the cup stays above the target's rim where it is over the wall or beyond
         it and above its floor inside it, and the pouring hand (its palm and fingers reach
         around and past the cup) stays :data:`TUNING.rim_clearance_m` above the rim wherever
-        it is over the target or its rim."""
+        it is over the target or its rim; both keep :data:`TUNING.hands_clearance_m` from the
+        boxes of a hand that holds the target (:func:`~oacdsl.runtime.boxlift.lift_to_clear`)."""
         t_hand = hand_at(u, tilt * s, base)
         pts = world_corners(cup, t_hand @ cup_in_hand)
         d = np.hypot(pts[:, 0] - centre[0], pts[:, 1] - centre[1])
         near = d < bowl.rim_radius + TUNING.end_margin_m
         low = np.where(d < bowl.inner_radius - TUNING.end_margin_m, floor_z, rim_z) + TUNING.end_margin_m
         out = float((low - pts[:, 2])[near].max()) if near.any() else 0.0
-        out = max(out, below_holder(pts))
-        pts = hand_pts @ t_hand[:3, :3].T + t_hand[:3, 3]
-        out = max(out, below_holder(pts))
-        over = np.hypot(pts[:, 0] - centre[0], pts[:, 1] - centre[1])
+        hand = hand_pts @ t_hand[:3, :3].T + t_hand[:3, 3]
+        over = np.hypot(hand[:, 0] - centre[0], hand[:, 1] - centre[1])
         near = over < bowl.rim_radius + TUNING.rim_clearance_m
         if near.any():
-            out = max(out, float((rim_z + TUNING.rim_clearance_m - pts[:, 2])[near].max()))
-        return out
+            out = max(out, float((rim_z + TUNING.rim_clearance_m - hand[:, 2])[near].max()))
+        return over_holder(np.vstack([pts, hand]), max(out, 0))
 
     def lifted(u: np.ndarray, s: float, base: float) -> np.ndarray:
         """The hand's pose at ``s`` of the tilt, the lip ``base`` higher than its place and as
@@ -252,8 +252,8 @@ def pour(
         t_src = world.body_pose(source)
         t_src[:2, 3] = centre[:2] + u[:2] * bowl.rim_radius
         t_go = t_src @ np.linalg.inv(cup_in_hand)
-        meets = below_holder(world_corners(cup, t_src)), below_holder(hand_pts @ t_go[:3, :3].T + t_go[:3, 3])
-        if max(meets) < 0:
+        slid = np.vstack([world_corners(cup, t_src), hand_pts @ t_go[:3, :3].T + t_go[:3, 3]])
+        if not over_holder(slid):
             go(t_go, TUNING.shift_s)  # else it rests where it is: the slide would meet the other hand
         m.hold_still()
     ctl.activity = f"bringing {source} over {target}"
