@@ -113,11 +113,15 @@ def grasp_candidates(ctx: SkillContext, hand: str, obj: str, shared: bool = Fals
         left = ctx.world.frame_pose("grasp_l")[:3, 3] - ctx.world.frame_pose("grasp_r")[:3, 3]
         own = left if side == "l" else -left
         plans = [p for p in plans if float((p.grasp[:3, 3] - t_obj[:3, 3]) @ own) > 0] or plans
-    plans = [clear_pre_grasp(ctx, p, obj) for p in plans]
-    free = [ctx.clearance(p.pre_grasp[:3, 3], p.grasp[:3, 3], {obj}) >= HAND_HALF_WIDTH_M for p in plans]
-    return [p for p, ok in zip(plans, free, strict=True) if ok] + [
-        p for p, ok in zip(plans, free, strict=True) if not ok
-    ]
+    def free(p: GraspPlan) -> bool:
+        return ctx.clearance(p.pre_grasp[:3, 3], p.grasp[:3, 3], {obj}) >= HAND_HALF_WIDTH_M
+
+    # the planned approaches whose corridor is free first; then those made free by a shorter
+    # approach (clear_pre_grasp: a left hand pouring a cup across its body, taken so, reached
+    # it past the bowl, 111 N, where a planned free approach was there); then the others
+    clear = [p for p in plans if free(p)]
+    moved = [clear_pre_grasp(ctx, p, obj) for p in plans if not free(p)]
+    return clear + [p for p in moved if free(p)] + [p for p in moved if not free(p)]
 
 
 def clear_pre_grasp(ctx: SkillContext, plan: GraspPlan, obj: str) -> GraspPlan:
