@@ -93,21 +93,24 @@ def _low(ctx: MotionContext, obj: str) -> float:
     return lowest_z(ctx.body(obj), ctx.world.body_pose(obj))
 
 
-def centre(ctx: MotionContext, m: Motion, obj: str, target: str, axis: np.ndarray) -> float:
-    """Slide the held ``obj`` back onto ``target``'s axis, its lowest point kept pressed on
+def centre(ctx: MotionContext, m: Motion, obj: str, target: str, axis: np.ndarray,
+           below_m: float | None = None) -> float:
+    """Slide the held ``obj`` back onto ``target``'s axis, its lowest point kept ``below_m``
+    (default the tuning's ``press_m``: pressed on it; negative: just clear of it) below
     ``target``'s top (the arm's own error is measured on the object and made up for, move
     after move); returns how far off the axis it stays, m."""
     world, t = ctx.world, m.tuning
+    below = t.press_m if below_m is None else below_m
     for _ in range(t.turn_centre_tries):
         off = _off_axis(ctx, obj, target, axis)
-        if float(np.linalg.norm(off)) <= t.turn_centred_m and world.touching(obj, target):
+        if float(np.linalg.norm(off)) <= t.turn_centred_m and (below <= 0 or world.touching(obj, target)):
             break
         ctx.ctl.activity = f"setting {obj} on the middle of {target}"
         here = m.here()
         goal = make_T(here[:3, :3], here[:3, 3] - off)
         # down from where the hand really is (not from its target, which may be lower already)
         goal[2, 3] = (
-            world.frame_pose(f"grasp_{m.side}")[2, 3] - (_low(ctx, obj) - _top(ctx, target)) - t.press_m
+            world.frame_pose(f"grasp_{m.side}")[2, 3] - (_low(ctx, obj) - _top(ctx, target)) - below
         )
         m.go(goal, t.turn_centre_s)
         m.hold_still(t.pause_s)
@@ -119,15 +122,19 @@ def centre_over(ctx: MotionContext, m: Motion, obj: str, target: str) -> bool:
     lowest point no more than the tuning's ``cover_slack_m`` below that) and stands there only
     when centred (``target`` is an open container, on whose rim it lies, a lid on a pot: off
     the middle by more than the rim's overlap, one side falls in; or its middle is beyond
-    ``target``'s footprint), slide it, pressed on, onto the middle (:func:`centre`). True
-    when it slid."""
+    ``target``'s footprint), slide it onto the middle (:func:`centre`), its lowest point
+    raised the tuning's ``press_m`` clear of the top (a lid 3 cm off a pot's middle dips its
+    near edge into the opening; slid pressed on, that edge met the pot's inner wall, 65 N),
+    then lower it until the two touch again. True when it slid."""
     body = ctx.body(target)
     if _low(ctx, obj) < _top(ctx, target) - m.tuning.cover_slack_m:
         return False  # inside it, or leaning against it: where it is
     axis = ctx.world.body_pose(target)[:3, 2]
     if not (body.container or float(np.linalg.norm(_off_axis(ctx, obj, target, axis))) > body.radius):
         return False
-    centre(ctx, m, obj, target, axis)
+    centre(ctx, m, obj, target, axis, below_m=-m.tuning.press_m)
+    touching = m.touching(obj, target)
+    m.approach(down(m.here(), 3 * m.tuning.press_m), touching, wait_for=touching)
     return True
 
 

@@ -81,18 +81,32 @@ def _slot_poses(ctx: SkillContext, obj: str, target: str, hover: float, t: Tunin
     return out
 
 
+def _least_turn(z_from: np.ndarray, z_to: np.ndarray, across: np.ndarray) -> np.ndarray:
+    """The rotation (3x3) turning unit ``z_from`` onto unit ``z_to`` about an axis across both;
+    half a turn about ``across`` when they are opposite."""
+    axis = np.cross(z_from, z_to)
+    norm = float(np.linalg.norm(axis))
+    angle = math.atan2(norm, float(z_from @ z_to))
+    if norm < 1e-9:
+        return rot_axis(across, angle) if angle > 1.0 else np.eye(3)
+    return rot_axis(axis / norm, angle)
+
+
 def _tilted_poses(ctx: SkillContext, obj: str, target: str, tilt: float, hover: float, t: Tuning
                   ) -> list[Goal]:
     """(T_world_object over ``target``'s middle, how far it may go down, what, None): ``obj`` as held,
-    its axis tilted to ``tilt`` from the target's about horizontal axes round the compass."""
+    turned the least that puts its axis at ``tilt`` from the target's, the target's axis turned by
+    ``tilt`` about horizontal axes round the compass (an object held leaning 8°, turned by what is
+    left of the tilt about those axes, missed the tilt by up to 16°)."""
     t_o = ctx.world.body_pose(obj)
-    tgt = world_corners(ctx.body(target), ctx.world.body_pose(target))
+    t_t = ctx.world.body_pose(target)
+    tgt = world_corners(ctx.body(target), t_t)
     mid, top = np.mean([tgt.min(axis=0), tgt.max(axis=0)], axis=0), float(tgt[:, 2].max())
-    delta = tilt - tilt_now(ctx, obj, target)
     depth = hover + float(np.ptp(tgt[:, 2]))
     out: list[Goal] = []
     for a in round_angles(t.stand_spin_tries):
-        r_obj = rot_axis(np.array([math.cos(a), math.sin(a), 0.0]), delta) @ t_o[:3, :3]
+        across = np.array([math.cos(a), math.sin(a), 0.0])
+        r_obj = _least_turn(t_o[:3, 2], rot_axis(across, tilt) @ t_t[:3, 2], across) @ t_o[:3, :3]
         out.append((placed_by_box(ctx.body(obj), r_obj, mid[:2], top + hover), depth, f"the top of {target}",
                     None))
     return out
