@@ -203,10 +203,11 @@ def close_demo(capture: Capture = CLEAN) -> Recording:
     return s.recording("synthetic Close", capture)
 
 
-def open_demo(capture: Capture = CLEAN) -> Recording:
-    """Open: the lid on the bottle; the right hand holds the bottle, the left hand takes the
-    lid, unscrews it (240° counterclockwise) and lifts it off; both hands keep holding."""
-    s = Story(11.0)
+def _unscrewed(end_s: float) -> tuple[Story, Track, Track, Track, Track, np.ndarray]:
+    """The start of Open in a story of ``end_s`` seconds: the lid on the bottle; the right hand
+    takes the bottle, the left the lid, unscrews it (240° counterclockwise) and lifts it off
+    (by 9.6 s). (story, bottle, lid, right hand, left hand, the lid's grip on the bottle, m)."""
+    s = Story(end_s)
     bottle_at = np.array([0.12, 0.42, TABLE_Z_M])
     bottle = s.body("bottle", tuple(bottle_at))
     lid = s.body("lid", tuple(bottle_at + [0.0, 0.0, 0.181]))
@@ -215,7 +216,15 @@ def open_demo(capture: Capture = CLEAN) -> Recording:
     top = bottle_at + [0.0, 0.0, 0.181 + 0.045]
     left.hold(2.6).move(3.8, top, FROM_ABOVE, via_m=[top + [-0.05, 0, 0.15]], end_tau=0.95).hold(4.2)
     spin(left, 8.2, np.radians(240.0), bottle_at).hold(8.6)
-    left.move(9.6, top + [0.0, 0.0, 0.08]).hold(11.0)
+    left.move(9.6, top + [0.0, 0.0, 0.08])
+    return s, bottle, lid, right, left, top
+
+
+def open_demo(capture: Capture = CLEAN) -> Recording:
+    """Open: the lid on the bottle; the right hand holds the bottle, the left hand takes the
+    lid, unscrews it (240° counterclockwise) and lifts it off; both hands keep holding."""
+    s, bottle, lid, right, left, _ = _unscrewed(11.0)
+    left.hold(11.0)
     bottle.hold(11.0)
     lid.hold(3.8).follow(left, 11.0)
     right.hold(11.0)
@@ -226,17 +235,9 @@ def open_put_down_demo(capture: Capture = CLEAN) -> Recording:
     """Open as :func:`open_demo`, then the left hand sets the lid down on the table on its own
     side and withdraws (where the KIT Open clips' lid ends is not known here: the evaluation
     recordings are not opened); the right hand keeps holding the bottle."""
-    s = Story(14.0)
-    bottle_at = np.array([0.12, 0.42, TABLE_Z_M])
+    s, bottle, lid, right, left, _ = _unscrewed(14.0)
     down_at = np.array([-0.30, 0.34, TABLE_Z_M])
-    bottle = s.body("bottle", tuple(bottle_at))
-    lid = s.body("lid", tuple(bottle_at + [0.0, 0.0, 0.181]))
-    right, left = s.hand("right"), s.hand("left")
-    right.hold(0.8).move(2.0, bottle_at + [0.055, 0.0, 0.08], end_tau=0.95)
-    top = bottle_at + [0.0, 0.0, 0.181 + 0.045]
-    left.hold(2.6).move(3.8, top, FROM_ABOVE, via_m=[top + [-0.05, 0, 0.15]], end_tau=0.95).hold(4.2)
-    spin(left, 8.2, np.radians(240.0), bottle_at).hold(8.6)
-    left.move(9.6, top + [0.0, 0.0, 0.08]).hold(9.8)
+    left.hold(9.8)
     grip = np.array([0.0, 0.0, 0.045])
     left.move(11.2, down_at + grip, via_m=[down_at + grip + [0, 0, 0.10]], end_tau=0.97).hold(11.8)
     left.move(13.0, down_at + [-0.15, -0.15, 0.20], start_tau=0.3).hold(14.0)
