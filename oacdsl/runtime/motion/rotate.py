@@ -93,6 +93,15 @@ def _low(ctx: MotionContext, obj: str) -> float:
     return lowest_z(ctx.body(obj), ctx.world.body_pose(obj))
 
 
+def _above(ctx: MotionContext, obj: str, target: str, near_m: float) -> float:
+    """How far ``obj`` (on or over ``target``) is above it, m (negative: pressed into it):
+    the simulation's distance between the two where they are near (exact for a tilted
+    object, whose bounding box reaches lower than its rim) when nearer than ``near_m``, else
+    lowest point to top."""
+    near = ctx.world.gap_m(obj, target, most_m=near_m)
+    return near if near < near_m else _low(ctx, obj) - _top(ctx, target)
+
+
 def centre(ctx: MotionContext, m: Motion, obj: str, target: str, axis: np.ndarray,
            below_m: float | None = None) -> float:
     """Slide the held ``obj`` back onto ``target``'s axis, its lowest point kept ``below_m``
@@ -109,9 +118,8 @@ def centre(ctx: MotionContext, m: Motion, obj: str, target: str, axis: np.ndarra
         here = m.here()
         goal = make_T(here[:3, :3], here[:3, 3] - off)
         # down from where the hand really is (not from its target, which may be lower already)
-        goal[2, 3] = (
-            world.frame_pose(f"grasp_{m.side}")[2, 3] - (_low(ctx, obj) - _top(ctx, target)) - below
-        )
+        above = _above(ctx, obj, target, t.gap_measured_within_m)
+        goal[2, 3] = world.frame_pose(f"grasp_{m.side}")[2, 3] - above - below
         m.go(goal, t.turn_centre_s)
         m.hold_still(t.pause_s)
     return float(np.linalg.norm(_off_axis(ctx, obj, target, axis)))
@@ -226,7 +234,7 @@ def rotate_on(
         # each regrasp), and kept on the target: its lowest point pressed a little below the top
         goal = _turned(here, axis, t_now[:3, 3], step)
         goal[:3, 3] -= _off_axis(ctx, obj, target, axis)
-        goal[2, 3] -= _low(ctx, obj) - _top(ctx, target) + t.press_m
+        goal[2, 3] -= _above(ctx, obj, target, t.gap_measured_within_m) + t.press_m
         m.go(goal, turn_s)
         m.hold_still(t.pause_s)
         last = world.body_pose(obj)[:3, :3].copy()
