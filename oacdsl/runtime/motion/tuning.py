@@ -185,6 +185,10 @@ class Tuning:
     #: cucumber for 0.2 s; not eased, it chattered on it for 0.5 s: synthetic Peel, seed 0)
     slide_back_ease_share: float = 0.5
 
+    #: how many times a hand about to let go of an object pressed on a support raises its goal
+    #: to where it really is (``Motion.ease``: each about halves the press)
+    ease_tries: int = 3
+
     # --- rise / lift -----------------------------------------------------------------------
     #: how far a held object is lifted off what it touches, m
     lift_m: float = 0.12
