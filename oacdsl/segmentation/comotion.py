@@ -156,8 +156,8 @@ def comotion(
     out: dict[int, tuple[list[tuple[int, int]], float]] = {}
     for q, (dmin, carry) in signals.items():
         spans, thresholds = [], []
-        for a, b in _episodes(carry, min_len, bridge):
-            threshold = min(_nanmedian1d(dmin[a:b]) * (1 + settings.margin), params.distance_m)
+        for a, b, median in _near_episodes(dmin, _episodes(carry, min_len, bridge), params.distance_m):
+            threshold = min(median * (1 + settings.margin), params.distance_m)
             spans.append(_extend(dmin, a, b, threshold, bridge))
             thresholds.append(threshold)
         if spans:
@@ -229,7 +229,7 @@ def _scan_chunk(
         closest = np.sqrt(np.fmin.reduce(sq, axis=0))
         a, b = table.instance_pairs[q]
         slower = np.fmin(speeds[a], speeds[b])
-        moving = (closest < params.distance_m) & (slower > settings.move_speed_m_s)
+        moving = (closest < reach) & (slower > settings.move_speed_m_s)  # within d: _near_episodes
         is_carry = moving.copy()
         cols = moving.nonzero()[0]  # the distance change matters only where both move
         if cols.size:
@@ -381,6 +381,33 @@ def _episodes(carry: np.ndarray, min_len: int, bridge: int) -> list[tuple[int, i
     return out
 
 
+#: An episode of co-motion farther than this many times the pair's closest one (their medians)
+#: is two hands moving alike, not a grip: KIT Stir's spoon brought towards the cup moves with
+#: it 160 mm away, four times its 41 mm in the cup. The development clips' and the synthetic
+#: demonstrations' pairs co-move at up to 1.63 times their closest (Scoop: the cup held up to the
+#: ladle at 143 mm, 1.58 times their 91 mm while it pours; the cup in the hand as it is lifted).
+FAR_RATIO = 2.0
+
+
+def _near_episodes(dmin: np.ndarray, episodes: list[tuple[int, int]],
+                   cap_m: float) -> list[tuple[int, int, float]]:
+    """``(a, b, median closest distance)`` of the ``episodes`` that count: the pair co-moves
+    within ``cap_m`` (``d``) somewhere, and each episode lies within :data:`FAR_RATIO` times the
+    closest one.
+
+    The scan finds co-motion up to ``d × (1 + margin)``, not ``d``: a cap that does not follow
+    the scene's scale exactly (``d`` grows with the hands' size, and a subject's hands differ
+    from the reference's by ±6 %) made the same co-motion count in one take and not in another
+    (KIT Scoop's cup and ladle at 143-149 mm in the original, 165-171 mm in a take ×1.15 whose
+    ``d`` is 163.5 mm; Stir's spoon at 155-165 mm out of ``d`` in the original, within it at ×0.9).
+    The ratio to the pair's own closest co-motion is the same at every scale."""
+    found = [(a, b, _nanmedian1d(dmin[a:b])) for a, b in episodes]
+    closest = min((m for _, _, m in found if m == m), default=float("inf"))  # NaN: no distance
+    if not closest < cap_m:
+        return []
+    return [(a, b, m) for a, b, m in found if m <= FAR_RATIO * closest]
+
+
 _EXTEND_WINDOW = 2048  # frames either side of an episode looked at first by _extend
 
 
@@ -412,12 +439,13 @@ def _extend_window(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: i
         return None
     keep[0] |= starts[0] == 0
     keep[-1] |= ends[-1] == size
-    starts, ends = starts[keep], ends[keep]
-    i = int(starts.searchsorted(a, side="left")) - 1
-    j = int(ends.searchsorted(b, side="right"))
-    if (i < 0 and lo > 0) or (j >= ends.size and hi < size):  # an end not decided in the window
+    kept = keep.nonzero()[0]
+    i = int(starts[kept].searchsorted(a, side="left")) - 1
+    j = int(ends[kept].searchsorted(b, side="right"))
+    if (i < 0 and lo > 0) or (j >= kept.size and hi < size):  # an end not decided in the window
         return None
-    return (min(int(ends[i]), a) if i >= 0 else 0, max(int(starts[j]), b) if j < ends.size else size)
+    return _ends(starts, ends, keep, kept[i] if i >= 0 else -1, kept[j] if j < kept.size else -1,
+                 a, b, bridge, size)
 
 
 def _extend_in(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int = 0) -> tuple[int, int]:
@@ -432,12 +460,32 @@ def _extend_in(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int =
     padded = np.concatenate([[False], beyond, [False]])
     edges = np.flatnonzero(padded[1:] != padded[:-1])
     starts, ends = edges[::2], edges[1::2]  # runs [s, e) beyond the threshold
+    keep = np.ones(starts.size, dtype=bool)
     if bridge > 0:  # short excursions between two frames within the threshold do not count
         keep = ~((ends - starts <= bridge) & (starts > 0) & (ends < beyond.size))
-        starts, ends = starts[keep], ends[keep]
-    i = int(np.searchsorted(starts, a, side="left")) - 1  # the last run that starts before a
-    j = int(np.searchsorted(ends, b, side="right"))  # the first run that ends after b
-    return (min(int(ends[i]), a) if i >= 0 else 0, max(int(starts[j]), b) if j < ends.size else dmin.size)
+    kept = keep.nonzero()[0]
+    i = int(np.searchsorted(starts[kept], a, side="left")) - 1  # the last run that starts before a
+    j = int(np.searchsorted(ends[kept], b, side="right"))  # the first run that ends after b
+    return _ends(starts, ends, keep, int(kept[i]) if i >= 0 else -1, int(kept[j]) if j < kept.size else -1,
+                 a, b, bridge, dmin.size)
+
+
+def _ends(starts: np.ndarray, ends: np.ndarray, keep: np.ndarray, i: int, j: int, a: int, b: int,
+          bridge: int, size: int) -> tuple[int, int]:
+    """The grown interval's ends, given the runs beyond the threshold ``[starts, ends)``, which of
+    them end the growth (``keep``), the one before ``[a, b)`` (``i``) and the one after (``j``;
+    -1: none).
+
+    **A let-go is the first leave that is followed by moving apart**: a bridged excursion followed
+    by a return within the threshold of at most ``bridge`` frames, and then by the leave that ends
+    the growth, is where the hand let go (the hand opens, leaves, passes back through the grip's
+    distance for a frame and leaves: KIT Stir's spoon at ×0.6 speed, whose return the bridge would
+    join). Not so backwards: a grasp's grip flickers as it closes (the synthetic task
+    demonstrations' grasps and KIT Stir's cup would begin 0.1-0.2 s later)."""
+    if j >= 0:
+        while j > 0 and not keep[j - 1] and starts[j - 1] >= b and starts[j] - ends[j - 1] <= bridge:
+            j -= 1
+    return (min(int(ends[i]), a) if i >= 0 else 0, max(int(starts[j]), b) if j >= 0 else size)
 
 
 def _union(spans: list[tuple[int, int]]) -> list[tuple[int, int]]:
