@@ -207,7 +207,8 @@ def _alike_scene(far_m: float, near_m: float) -> Recording:
     (frames 100-150), b comes to ``near_m`` of a (150-200), the two move together again (200-300),
     b leaves (350-420)."""
     off = 0.06  # the layouts' closest markers are 6 cm inside their centres' offset
-    a = path(F, [(0, (0, 0, 0)), (100, (0, 0, 0)), (150, (0.3, 0, 0)), (200, (0.3, 0, 0)), (300, (0.7, 0, 0))])
+    a = path(F, [(0, (0, 0, 0)), (100, (0, 0, 0)), (150, (0.3, 0, 0)), (200, (0.3, 0, 0)),
+                 (300, (0.7, 0, 0))])
     b = path(F, [(0, (0, far_m + off + 0.2, 0)), (60, (0, far_m + off, 0)), (100, (0, far_m + off, 0)),
                  (150, (0.3, far_m + off, 0)), (200, (0.3, near_m + off, 0)), (300, (0.7, near_m + off, 0)),
                  (350, (0.7, near_m + off, 0)), (420, (0.7, near_m + off + 0.3, 0))])
