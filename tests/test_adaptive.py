@@ -171,7 +171,7 @@ def _extend_per_frame(dmin: np.ndarray, a: int, b: int, threshold: float, bridge
 
 
 def test_episode_extension_matches_a_per_frame_walk():
-    from oacdsl.segmentation.comotion import _extend
+    from oacdsl.segmentation.episodes import _extend
 
     rng = np.random.default_rng(7)
     for _ in range(3000):
@@ -189,7 +189,7 @@ def test_a_let_go_with_a_brief_return_ends_at_the_first_leave():
     leaves (KIT Stir's spoon at ×0.6 speed): the let-go is the first leave, which the bridge alone
     would join to the return. A leave followed by a return that lasts is still bridged, and so is
     the grasp's flicker before the episode (only the let-go is moved)."""
-    from oacdsl.segmentation import comotion as cm
+    from oacdsl.segmentation import episodes as cm
 
     held, out, thr = 0.037, 0.06, 0.043
     let_go = np.array([out] * 5 + [held] * 10 + [out, held] + [out] * 5, dtype=np.float32)
@@ -220,7 +220,7 @@ def test_co_motion_far_beyond_the_pairs_closest_is_no_grip():
     more than FAR_RATIO times the pair's closest, is two hands moving alike (KIT Stir's spoon
     brought towards the cup), not a grip; at 140 mm with a closest of 90 mm it is one (Scoop's cup
     held up to the ladle)."""
-    from oacdsl.segmentation.comotion import FAR_RATIO
+    from oacdsl.segmentation.episodes import FAR_RATIO
 
     assert 0.13 > FAR_RATIO * 0.04 and 0.14 < FAR_RATIO * 0.09
     kfs = summary(segment(_alike_scene(0.13, 0.04), AasParams(mode="adaptive", merge_s=0.0)))
@@ -233,7 +233,7 @@ def test_co_motion_beyond_d_counts_within_twice_the_pairs_closest():
     """The scan finds co-motion up to d × (1 + margin), and an episode beyond d counts when the pair
     co-moves within d too and it lies within FAR_RATIO times the closest (a take 15 % larger of
     KIT Scoop: the cup held up to the ladle 165-171 mm away, d 163.5 mm)."""
-    from oacdsl.segmentation.comotion import _near_episodes
+    from oacdsl.segmentation.episodes import _near_episodes
 
     d = np.array([0.165] * 3 + [0.12] * 3 + [0.10] * 3 + [0.30] * 3, dtype=np.float32)
     eps = [(0, 3), (6, 9), (9, 12)]
@@ -245,7 +245,7 @@ def test_co_motion_beyond_d_counts_within_twice_the_pairs_closest():
 def test_windowed_extend_equals_the_whole_recording_pass(monkeypatch: pytest.MonkeyPatch) -> None:
     """_extend looks at a window around the episode first; it must grow exactly as the pass over
     the whole recording does (short windows: runs cut at the window's edges, bridges, gaps)."""
-    from oacdsl.segmentation import comotion as cm
+    from oacdsl.segmentation import episodes as cm
 
     rng = np.random.default_rng(3)
     for _ in range(500):
@@ -293,7 +293,7 @@ def test_sorted_median_equals_nanmedian_with_and_without_gaps() -> None:
 
 def test_episode_median_equals_nanmedian() -> None:
     """_nanmedian1d (an episode's closest distance) is float(np.nanmedian(x)) of float32 values."""
-    from oacdsl.segmentation.comotion import _nanmedian1d
+    from oacdsl.segmentation.episodes import _nanmedian1d
 
     rng = np.random.default_rng(9)
     for _ in range(2000):
