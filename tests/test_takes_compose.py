@@ -34,7 +34,6 @@ _COARSE = ("a 10 Hz take at double speed: one frame is 0.2 s of the demonstratio
            " margin of the coincidence window or of the tools' meeting")
 #: (clip, take) → why it composes to other steps today (docs/segmentation.md, "Measured").
 KNOWN = {
-    ("Mix", "double_speed"): _COARSE,
     ("Wipe", "double_speed"): _COARSE,
 }
 
