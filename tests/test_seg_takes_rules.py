@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from oacdsl.segmentation.comotion import _episodes, frames_within
+from oacdsl.segmentation.comotion import frames_within
+from oacdsl.segmentation.episodes import _episodes
 
 
 def _mask(n: int, *runs: tuple[int, int]) -> np.ndarray:
