@@ -213,7 +213,8 @@ def test_no_scene_fits_the_recording_is_exit_1_in_every_command(capsys, tmp_path
     dough = str(ROOT / "data" / "dough.c3d")
     extra = {"compose": ["--name", "x", "--dry-run"], "verify": [dough],
              "reproduce": ["--out", str(tmp_path / "out"), "--db", str(tmp_path / "runs.sqlite3")]}
-    code, out, err = run(capsys, command, dough, *extra.get(command, []), "--library", str(ROOT / "library" / "kit"))
+    kit = str(ROOT / "library" / "kit")
+    code, out, err = run(capsys, command, dough, *extra.get(command, []), "--library", kit)
     assert code == 1 and out == "" and len(err.strip().splitlines()) == 1
     assert err.startswith(f"oacc: error: {dough}: no scene of the library has exactly the recording's")
     assert list(tmp_path.iterdir()) == []  # nothing written

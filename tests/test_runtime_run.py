@@ -220,8 +220,8 @@ def test_oacc_run_usage_errors(tmp_path):
         (["--db", a_file / "runs.sqlite3"], "cannot record runs here"),
         (["--db", tmp_path], "is a directory"),
     ]:
-        out = oacc_run(tmp_path, "grasp", "--scene", "kitchen", "--bind", "h=right_hand", "--bind", "o=green_cup",
-                       *map(str, args))
+        bound = ["--scene", "kitchen", "--bind", "h=right_hand", "--bind", "o=green_cup"]
+        out = oacc_run(tmp_path, "grasp", *bound, *map(str, args))
         assert out.returncode == 2 and "Traceback" not in out.stderr, (args, out.stderr)
         lines = out.stderr.strip().splitlines()
         assert message in lines[-1], (args, out.stderr)

@@ -28,7 +28,7 @@ from oacdsl.cli.run_many import add_many_options, check_many_options
 from oacdsl.cli.scene_options import add_scene_options, pairs, scene_overrides
 from oacdsl.errors import RuntimeFailure, UsageError
 
-__all__ = ["register", "run", "load_inputs"]
+__all__ = ["register", "run", "load_inputs", "add_adaptive_options"]
 
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]

@@ -34,6 +34,7 @@ __all__ = [
     "match_stage",
     "segment_stage",
     "steps_by_sub_action",
+    "match_doc",
 ]
 
 
