@@ -14,8 +14,8 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from oacdsl.cli.aas_options import PRESET_HELP, add_aas_options
 from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
-from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
 from oacdsl.errors import MatchingError, OacError, UsageError
 from oacdsl.segmentation.params import DEFAULT_MODE
 
@@ -57,7 +57,7 @@ def add_input_options(p: argparse.ArgumentParser) -> None:
 
 def load_inputs(args: argparse.Namespace) -> Inputs:
     """Library, scene and demonstration for a ``match``/``compose`` command line."""
-    from oacdsl.cli.segment_cmd import params_from_args
+    from oacdsl.cli.aas_options import params_from_args
     from oacdsl.pipeline.inputs import load_inputs as load
 
     if Path(args.recording).suffix.lower() == ".json":

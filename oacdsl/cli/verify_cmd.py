@@ -7,8 +7,8 @@ import json
 from pathlib import Path
 from typing import Any
 
+from oacdsl.cli.aas_options import PRESET_HELP, add_aas_options
 from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
-from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
 
 DESCRIPTION = """\
 Compare a recording of an execution with the demonstration, judged on the physical outcome
@@ -84,9 +84,9 @@ def load_execution(path: str, inputs: Any, fmt: str | None, preset: str | None, 
 
 
 def run(args: argparse.Namespace) -> int:
+    from oacdsl.cli.aas_options import params_from_args
     from oacdsl.cli.demo_input import located
     from oacdsl.cli.demo_input import note as print_note
-    from oacdsl.cli.segment_cmd import params_from_args
     from oacdsl.errors import MatchingError
     from oacdsl.pipeline import load_inputs
     from oacdsl.verify_contacts import contacts_path, read_contacts
