@@ -171,7 +171,7 @@ def _extend_per_frame(dmin: np.ndarray, a: int, b: int, threshold: float, bridge
 
 
 def test_episode_extension_matches_a_per_frame_walk():
-    from oacdsl.segmentation.episodes import _extend
+    from oacdsl.segmentation.episodes import extend_episode
 
     rng = np.random.default_rng(7)
     for _ in range(3000):
@@ -181,7 +181,8 @@ def test_episode_extension_matches_a_per_frame_walk():
         a = int(rng.integers(0, n))
         b = int(rng.integers(a + 1, n + 1))
         threshold, bridge = float(rng.random()), int(rng.integers(0, 4))
-        assert _extend(dmin, a, b, threshold, bridge) == _extend_per_frame(dmin, a, b, threshold, bridge)
+        expected = _extend_per_frame(dmin, a, b, threshold, bridge)
+        assert extend_episode(dmin, a, b, threshold, bridge) == expected
 
 
 def test_a_let_go_with_a_brief_return_ends_at_the_first_leave():
@@ -194,7 +195,7 @@ def test_a_let_go_with_a_brief_return_ends_at_the_first_leave():
     held, out, thr = 0.037, 0.06, 0.043
     let_go = np.array([out] * 5 + [held] * 10 + [out, held] + [out] * 5, dtype=np.float32)
     assert cm._extend_in(let_go, 7, 10, thr, bridge=1) == (5, 15)
-    assert cm._extend(let_go, 7, 10, thr, bridge=1) == (5, 15)
+    assert cm.extend_episode(let_go, 7, 10, thr, bridge=1) == (5, 15)
     assert cm._extend_in(let_go, 7, 10, thr, bridge=0) == (5, 15)
     lasting = np.array([out] * 5 + [held] * 10 + [out, held, held] + [out] * 5, dtype=np.float32)
     assert cm._extend_in(lasting, 7, 10, thr, bridge=1) == (5, 18)
@@ -233,13 +234,13 @@ def test_co_motion_beyond_d_counts_within_twice_the_pairs_closest():
     """The scan finds co-motion up to d × (1 + margin), and an episode beyond d counts when the pair
     co-moves within d too and it lies within FAR_RATIO times the closest (a take 15 % larger of
     KIT Scoop: the cup held up to the ladle 165-171 mm away, d 163.5 mm)."""
-    from oacdsl.segmentation.episodes import _near_episodes
+    from oacdsl.segmentation.episodes import near_episodes
 
     d = np.array([0.165] * 3 + [0.12] * 3 + [0.10] * 3 + [0.30] * 3, dtype=np.float32)
     eps = [(0, 3), (6, 9), (9, 12)]
-    assert [(a, b) for a, b, _ in _near_episodes(d, eps, 0.15)] == [(0, 3), (6, 9)]
-    assert _near_episodes(d, [(0, 3)], 0.15) == []  # nothing within d: no grip at all
-    assert [(a, b) for a, b, _ in _near_episodes(d, [(0, 3), (3, 6)], 0.15)] == [(0, 3), (3, 6)]
+    assert [(a, b) for a, b, _ in near_episodes(d, eps, 0.15)] == [(0, 3), (6, 9)]
+    assert near_episodes(d, [(0, 3)], 0.15) == []  # nothing within d: no grip at all
+    assert [(a, b) for a, b, _ in near_episodes(d, [(0, 3), (3, 6)], 0.15)] == [(0, 3), (3, 6)]
 
 
 def test_windowed_extend_equals_the_whole_recording_pass(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -256,7 +257,8 @@ def test_windowed_extend_equals_the_whole_recording_pass(monkeypatch: pytest.Mon
         a = int(rng.integers(0, n))
         b = int(rng.integers(a + 1, n + 1))
         threshold, bridge = float(rng.random() * 0.2), int(rng.integers(0, 12))
-        assert cm._extend(dmin, a, b, threshold, bridge) == cm._extend_in(dmin, a, b, threshold, bridge)
+        assert cm.extend_episode(dmin, a, b, threshold, bridge) == cm._extend_in(
+            dmin, a, b, threshold, bridge)
 
 
 def test_instance_speed_median_by_network_equals_the_sorted_median() -> None:

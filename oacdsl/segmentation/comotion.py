@@ -16,7 +16,7 @@ from typing import NamedTuple
 import numpy as np
 
 from oacdsl.errors import SegmentationError
-from oacdsl.segmentation.episodes import _episodes, _extend, _near_episodes, _union
+from oacdsl.segmentation.episodes import extend_episode, find_episodes, near_episodes, union_spans
 from oacdsl.segmentation.geometry import BOUND_MARGIN_M, ChunkGeometry, chunk_frames_for
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
@@ -157,12 +157,12 @@ def comotion(
     out: dict[int, tuple[list[tuple[int, int]], float]] = {}
     for q, (dmin, carry) in signals.items():
         spans, thresholds = [], []
-        for a, b, median in _near_episodes(dmin, _episodes(carry, min_len, bridge), params.distance_m):
+        for a, b, median in near_episodes(dmin, find_episodes(carry, min_len, bridge), params.distance_m):
             threshold = min(median * (1 + settings.margin), params.distance_m)
-            spans.append(_extend(dmin, a, b, threshold, bridge))
+            spans.append(extend_episode(dmin, a, b, threshold, bridge))
             thresholds.append(threshold)
         if spans:
-            out[q] = (_union(spans), float(np.median(thresholds)))
+            out[q] = (union_spans(spans), float(np.median(thresholds)))
     return CoMotion(out, {q: dmin for q, (dmin, _) in signals.items()}, speeds)
 
 
@@ -230,7 +230,7 @@ def _scan_chunk(
         closest = np.sqrt(np.fmin.reduce(sq, axis=0))
         a, b = table.instance_pairs[q]
         slower = np.fmin(speeds[a], speeds[b])
-        moving = (closest < reach) & (slower > settings.move_speed_m_s)  # within d: _near_episodes
+        moving = (closest < reach) & (slower > settings.move_speed_m_s)  # within d: near_episodes
         is_carry = moving.copy()
         cols = moving.nonzero()[0]  # the distance change matters only where both move
         if cols.size:

@@ -3,7 +3,7 @@ of the adaptive touch detector, on one instance pair's per-frame signals.
 
 :func:`oacdsl.segmentation.comotion.comotion` scans the recording for each pair's closest marker
 distance and co-motion frames; this module turns those into episodes (:func:`_episodes`, the ones
-that count: :func:`_near_episodes`) and grows each into the interval in which the pair touches
+that count: :func:`near_episodes`) and grows each into the interval in which the pair touches
 (:func:`_extend`).
 """
 
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["FAR_RATIO"]
+__all__ = ["FAR_RATIO", "extend_episode", "find_episodes", "near_episodes", "union_spans"]
 
 
 def _nanmedian1d(x: np.ndarray) -> float:
@@ -36,7 +36,7 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))
 
 
-def _episodes(carry: np.ndarray, min_len: int, bridge: int) -> list[tuple[int, int]]:
+def find_episodes(carry: np.ndarray, min_len: int, bridge: int) -> list[tuple[int, int]]:
     """The co-motion runs ``[a, b)`` of ``carry`` that are episodes: the runs of at least
     ``min_len`` frames, and the shorter runs that lead up to one — a run of ``min_len`` follows
     them after interruptions of at most ``bridge`` frames each.
@@ -71,7 +71,7 @@ def _episodes(carry: np.ndarray, min_len: int, bridge: int) -> list[tuple[int, i
 FAR_RATIO = 2.0
 
 
-def _near_episodes(dmin: np.ndarray, episodes: list[tuple[int, int]],
+def near_episodes(dmin: np.ndarray, episodes: list[tuple[int, int]],
                    cap_m: float) -> list[tuple[int, int, float]]:
     """``(a, b, median closest distance)`` of the ``episodes`` that count: the pair co-moves
     within ``cap_m`` (``d``) somewhere, and each episode lies within :data:`FAR_RATIO` times the
@@ -93,7 +93,7 @@ def _near_episodes(dmin: np.ndarray, episodes: list[tuple[int, int]],
 _EXTEND_WINDOW = 2048  # frames either side of an episode looked at first by _extend
 
 
-def _extend(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int = 0) -> tuple[int, int]:
+def extend_episode(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int = 0) -> tuple[int, int]:
     """:func:`_extend_in` on ``_EXTEND_WINDOW`` frames either side of ``[a, b)`` when that decides
     both ends (a run beyond ``threshold`` that stops the growth on each side, whose length is
     known), else on the whole recording: the same result, without a pass over all of it."""
@@ -170,7 +170,7 @@ def _ends(starts: np.ndarray, ends: np.ndarray, keep: np.ndarray, i: int, j: int
     return (min(int(ends[i]), a) if i >= 0 else 0, max(int(starts[j]), b) if j >= 0 else size)
 
 
-def _union(spans: list[tuple[int, int]]) -> list[tuple[int, int]]:
+def union_spans(spans: list[tuple[int, int]]) -> list[tuple[int, int]]:
     merged: list[tuple[int, int]] = []
     for a, b in sorted(spans):
         if merged and a <= merged[-1][1]:
