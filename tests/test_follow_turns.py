@@ -165,28 +165,37 @@ def test_the_synthetic_open_s_unscrewing_splits_for_either_hand(take: str, tmp_p
 
 
 @pytest.mark.slow
-def test_the_synthetic_open_unscrewed_by_follow_is_reproduced_and_verified(tmp_path: Path) -> None:
+@pytest.mark.parametrize("take", ["as demonstrated", "mirrored"])
+def test_the_synthetic_open_unscrewed_by_follow_is_reproduced_and_verified(take: str, tmp_path: Path) -> None:
     """``execute follow(h, lid, bottle)`` instead of ``twist``: the lid turned 240° in pieces with
     regrasps, which the verifier does not count as changes of the task (distance 0), and the turn
-    is the demonstrated one (faithful: motion.3.turn)."""
+    is the demonstrated one (faithful: motion.3.turn); by the left hand counterclockwise as
+    demonstrated, by the right hand clockwise in the mirrored take."""
     pytest.importorskip("mujoco", reason="the robot runtime needs the 'robot' extra (mujoco)")
     import _task_demos as demos
 
     from oacdsl.pipeline import load_inputs, reproduce
     from oacdsl.runtime.overrides import SceneOverrides
     from oacdsl.segmentation import AasParams
+    from oacdsl.segmentation.readers import write_recording
+    from oacdsl.segmentation.takes import mirrored
 
     library = tmp_path / "open_follow"
     shutil.copytree(OPEN_FOLLOW, library, ignore=shutil.ignore_patterns("learned", "drafts"))
-    inputs = load_inputs(demos.write("Open", tmp_path), [library], None, AasParams())
+    rec = demos.open_demo()
+    if take == "mirrored":
+        rec = mirrored(rec)[0]
+    inputs = load_inputs(Path(write_recording(rec, tmp_path / "open.c3d")), [library], None, AasParams())
     outcome = reproduce(inputs, name="open_follow", out=tmp_path / "out", db=None, render=False, quiet=True,
                         force=True, overrides=SceneOverrides(layout="demonstrated"))
     result = outcome.result
-    assert [s["oac"] for s in result["compose"]["steps"]] == ["grasp", "take_lid", "unscrew"]
+    hand = "left_hand" if take == "as demonstrated" else "right_hand"
+    assert [(s["oac"], s["binding"].get("h")) for s in result["run"]["steps"]][-1] == ("unscrew", hand)
     assert [s["oac"] for s in result["run"]["steps"]] == ["grasp", "take_lid", "unscrew"]
     assert result["verdict"]["faithful"], result["verdict"]["summary"]
     assert result["verification"]["distance"] == 0
     assert result["run"]["metrics"]["regrasps"] >= 9  # 240° in pieces of 24°
     turn = next(c for c in result["verification"]["checks"] if c["name"] == "motion.3.turn")
-    assert turn["passed"] and turn["demonstration"] == "+240°", turn
-    assert 200 <= float(turn["execution"].strip("+°")) <= 300, turn  # not 30° (scaled down to 'turn')
+    sign = "+" if take == "as demonstrated" else "-"
+    assert turn["passed"] and turn["demonstration"] == f"{sign}240°", turn
+    assert turn["execution"].startswith(sign) and 200 <= abs(float(turn["execution"].strip("+-°"))) <= 300, turn

@@ -160,9 +160,10 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
 
     def start_lift(r: Retargeted) -> float:
         """How far the core is raised: its lowest point ``hover_m`` over the target's top, or,
-        resting on it, from where it rests, pressed ``press`` on."""
+        resting on it, from where it rests (pressed on, the hand's fingers round a lid let go
+        of for a regrasp reached the bottle)."""
         if resting:
-            return ref_height() - press - float(r.positions_m[r.core, 2])
+            return ref_height() - float(r.positions_m[r.core, 2])
         return top + FOLLOW.hover_m - lowest_z(body_o, pose_at(r, r.core))
 
     lift = start_lift(plan)
