@@ -47,7 +47,7 @@ def _retargeted(angle_deg: float, turn_deg: float = 25.0, tilt_deg: float = 0.0,
 
 
 def test_twists_are_unwrapped_beyond_half_a_turn_and_the_swing_is_the_rest() -> None:
-    from oacdsl.runtime.follow_turns import twist_of
+    from oacdsl.segmentation.followpath import twist_of
 
     path = _unscrew(535.0, tilt_deg=10.0)  # KIT Open's description: 535 degrees
     rotations = np.array([from_rotvec(r) for r in path[:, 4:]])

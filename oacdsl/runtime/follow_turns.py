@@ -2,7 +2,8 @@
 
 A demonstrated path may turn the held object about its own axis further than a wrist can (a
 lid unscrewed by 240°, 535° in KIT's Open). When the object can rest on the target between
-two pieces (``follow`` decides: docs/runtime.md, "follow"), :func:`twist_of` separates each
+two pieces (``follow`` decides: docs/runtime.md, "follow"),
+:func:`~oacdsl.segmentation.followpath.twist_of` separates each
 keyframe's rotation into a *twist* about the object's own axis, unwrapped over the path (any
 angle, not the shortest arc), and the rest, the *swing*. ``retarget`` keeps the twist whole and
 caps only the swing; :func:`split` cuts the twist into equal pieces of at most the wrist's
@@ -17,34 +18,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
-from typing import TYPE_CHECKING
 
 import numpy as np
 
+from oacdsl.runtime.retarget import Retargeted
 from oacdsl.segmentation.followpath import from_rotvec, rotvec
 
-if TYPE_CHECKING:
-    from oacdsl.runtime.retarget import Retargeted
-
-__all__ = ["split", "twist_of", "wound"]
-
-
-def twist_of(rotations: np.ndarray, axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``(twists_rad (n,), swings (n, 3, 3))`` of rotations (n, 3, 3) about the unit ``axis``
-    (the frame the rotations act in): rotation k = swing k @ (turn by twist k about ``axis``).
-    Twists are unwrapped from keyframe to keyframe (each step taken as the shorter way round:
-    keyframes 0.1 s apart turn far less than half a turn), so they go beyond ±π."""
-    a = np.asarray(axis, dtype=np.float64) / float(np.linalg.norm(axis))
-    wrapped = np.empty(len(rotations))
-    for k, rot in enumerate(rotations):
-        v = rotvec(rot)
-        angle = float(np.linalg.norm(v))
-        along = math.sin(angle / 2.0) * float(v @ a) / angle if angle > 1e-12 else 0.0
-        wrapped[k] = 2.0 * math.atan2(along, math.cos(angle / 2.0))
-    steps = (np.diff(wrapped) + math.pi) % (2.0 * math.pi) - math.pi
-    twists = np.r_[wrapped[:1], wrapped[0] + np.cumsum(steps)]
-    swings = np.array([rot @ from_rotvec(-t * a) for rot, t in zip(rotations, twists, strict=True)])
-    return twists, swings
+__all__ = ["split", "wound"]
 
 
 def split(r: Retargeted, turn_rad: float, piece_s: float = 0.0) -> tuple[Retargeted, tuple[int, ...]]:

@@ -37,8 +37,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.follow_turns import twist_of
-from oacdsl.segmentation.followpath import MIN_OFFSET_M, from_rotvec, rotvec
+from oacdsl.segmentation.followpath import MIN_OFFSET_M, from_rotvec, rotvec, twist_of
 from oacdsl.segmentation.motionfeatures import core_frames
 
 __all__ = [
