@@ -11,10 +11,10 @@ reliable — both rigid fits' median residual below ``reliable_residual_m`` — 
 - **strokes / cycles**: the demonstration shows an oscillation (a period found) of at least
   ``min_cycles`` cycles: the execution must oscillate with at least ``cycles_share`` of
   them, its radius within ``amplitude_factor`` of the demonstration's. Where the execution's
-  span read whole shows none, its oscillation is read on each stretch in which the object
-  keeps moving relative to its target (:func:`oscillation`): a robot sets its tools down and
-  rests before its hands let go, within the span, and that rest can be longer than its
-  circles (its path's core, where it dwells, is then the rest);
+  span read whole shows none, its oscillation is read on each run of stretches in which the
+  object keeps moving relative to its target (:func:`oscillation`): a robot sets its tools
+  down and rests before its hands let go, within the span, and that rest can be longer than
+  its circles (its path's core, where it dwells, is then the rest);
 - **turn** about the target's axis (a lid): the demonstration turns ``min_turn_rad`` or
   more: the execution turns at least ``turn_share`` of it, the same way round (either way
   when hands may be exchanged: a mirrored take turns the other way);
@@ -98,18 +98,22 @@ def moving_stretches(times_s: np.ndarray, T_target_object: np.ndarray, still_spe
 def oscillation(times_s: np.ndarray, T_target_object: np.ndarray, tol: VerifyTolerances) -> MotionFeatures:
     """The features of an execution's path (``T_target_object``, metres, over ``times_s``)
     as the cycles check reads them: the whole path's, or, where that shows no oscillation, those
-    of the moving stretch (:func:`moving_stretches`) with the most cycles (module doc)."""
+    of the run of consecutive moving stretches (:func:`moving_stretches`) with the most cycles
+    (module doc): a single stretch holds circles the robot stopped after, before it sets the
+    tool down; joined, stretches hold strokes with a stop at each end."""
     t = np.asarray(times_s, dtype=np.float64)
     whole = motion_features(t, T_target_object)
     if whole.cycles is not None:
         return whole
     best = whole
-    for a, b in moving_stretches(t, T_target_object, tol.still_speed_m_s, tol.still_pause_s):
-        if b - a < 2 or (a, b) == (0, len(t)):
-            continue
-        f = motion_features(t[a:b], T_target_object[a:b])
-        if f.cycles is not None and (best.cycles is None or f.cycles > best.cycles):
-            best = f
+    stretches = moving_stretches(t, T_target_object, tol.still_speed_m_s, tol.still_pause_s)
+    for i, (a, _) in enumerate(stretches):
+        for _, b in stretches[i:]:
+            if b - a < 2 or (a, b) == (0, len(t)):
+                continue
+            f = motion_features(t[a:b], T_target_object[a:b])
+            if f.cycles is not None and (best.cycles is None or f.cycles > best.cycles):
+                best = f
     return best
 
 

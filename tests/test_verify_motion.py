@@ -95,3 +95,23 @@ def test_straightened_circles_followed_by_a_rest_are_no_oscillation() -> None:
     times, T = _with_rest(m)
     assert oscillation(times, T, DEFAULT_TOLERANCES).cycles is None
     assert oscillation(m.times_s, m.T_target_object, DEFAULT_TOLERANCES).cycles is None
+
+
+def test_strokes_that_stop_at_each_end_are_read_across_their_stops() -> None:
+    """Four strokes of 5 cm, 0.5 s each way, stopping 0.15 s at each end (each stroke is a
+    min-jerk move), then, after a stop, set down 4 cm aside and rested 3 s: no single moving
+    stretch holds an oscillation, the strokes joined do."""
+    dt = 0.01
+    go = _min_jerk(50)
+    stop = np.zeros(15)
+    x = np.concatenate([np.r_[stop, 0.05 * go, stop + 0.05, 0.05 - 0.05 * go] for _ in range(4)]
+                       + [stop, -0.04 * _min_jerk(60), np.full(300, -0.04)])
+    times = dt * np.arange(len(x))
+    T = np.repeat(np.eye(4)[None], len(x), axis=0)
+    T[:, 0, 3] = x
+    tol = DEFAULT_TOLERANCES
+    stretches = moving_stretches(times, T, tol.still_speed_m_s, tol.still_pause_s)
+    assert len(stretches) >= 8
+    assert all(motion_features(times[a:b], T[a:b]).cycles is None for a, b in stretches)
+    f = oscillation(times, T, tol)
+    assert f.cycles is not None and f.cycles >= 3.0, f
