@@ -3,9 +3,10 @@ them: the take written to a file, composed, executed on ARMAR-III, verified (a m
 with the hands free to be exchanged). At half speed and left-handed (seed 1) the servers circle
 three times and are then set down leaning and rested before the hands let go; read whole,
 that span showed no oscillation (docs/verify.md, cycles), so these were verified, not faithful.
-The standard double-speed take (10 Hz) composes otherwise (docs/kit.md); done twice as fast and
-recorded at 20 Hz it composes as the original, with 0.44 s circles: cut into 16 waypoints,
-each was one control tick, a jump the arms did not follow (the servers circled 2 mm)."""
+The standard double-speed take (10 Hz) composes with mix_both's default period (no period is
+found at 4.4 samples a circle, docs/kit.md); done twice as fast and recorded at 20 Hz it composes
+with the demonstrated 0.44 s circles: cut into 16 waypoints, each was one control tick, a jump
+the arms did not follow (the servers circled 2 mm)."""
 
 from __future__ import annotations
 
