@@ -225,6 +225,12 @@ class Tuning:
     #: how far a held object may drift while held still, m
     still_m: float = 0.02
 
+    # --- repeated paths (circles) ----------------------------------------------------------
+    #: shortest time of one waypoint of a repeated path, s: two control ticks. In one tick a
+    #: waypoint is a jump the arms do not follow (KIT Mix at double speed: 0.44 s circles cut
+    #: into 16 waypoints of one tick each ran at 0.32 s, and the servers circled 2 mm, not 22)
+    waypoint_min_s: float = 0.04
+
     # --- slide along a surface -------------------------------------------------------------
     #: mean speed of a slide (a stroke of a tool on a surface), m/s, and its shortest time, s
     slide_speed_m_s: float = 0.06 / 0.7
