@@ -30,6 +30,7 @@ __all__ = [
     "TABLE_WIDTH",
     "OBJECT_CONTYPE",
     "OBJECT_CONAFFINITY",
+    "BALL_CONTYPE",
 ]
 
 #: Height of the table top above the floor and its front edge (x), metres.
