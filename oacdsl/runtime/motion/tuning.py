@@ -183,6 +183,20 @@ class Tuning:
     #: surface (``Motion.slide_back``; eased to the light press, the peeler sprang off the
     #: cucumber for 0.2 s; not eased, it chattered on it for 0.5 s: synthetic Peel, seed 0)
     slide_back_ease_share: float = 0.5
+    #: force a tool is kept pressed on a surface with while it moves along it (a press
+    #: regulated on the wrist's measured force, ``motion.press.ForcePress``), N
+    press_force_n: float = 10.0
+    #: how fast the regulated press lowers (or raises) the hand per newton it lacks (or has
+    #: too much), m/s per N (at most the seek speed); and the share of a new force reading taken
+    #: into its filtered value at each control tick
+    press_gain_m_per_n_s: float = 0.001
+    press_filter_share: float = 0.3
+    #: the share of that rate the press rises at when it presses too hard (a peak of force
+    #: that passes is better borne than followed up: risen after it, the tool left the surface)
+    press_ease_share: float = 0.25
+    #: how far below (and above) its path the regulated press may aim the hand, m
+    press_depth_max_m: float = 0.008
+    press_rise_max_m: float = 0.004
 
     # --- rise / lift -----------------------------------------------------------------------
     #: how far a held object is lifted off what it touches, m
