@@ -21,6 +21,8 @@ execution.c3d and its contacts) for `oacc verify` later. `--library DIR`: anothe
 the KIT clips (`tests/data/kit_follow`: named skills replaced by the generic `follow`).
 `--take NAME`: reproduce another take of each clip instead, one of the standard takes
 (`oacc take --standard NAME`, e.g. `mirrored`: left-handed), written as MMM XML first.
+`dough-handover`, `dough-overlap`: the dough task's other stories (`oacc synth dough --story
+NAME`, synthesis seed 2013) reproduced with the bundled library, as `dough` is.
 """
 
 from __future__ import annotations
@@ -65,6 +67,22 @@ def segmentation_only(recording: Path) -> None:
     segment(rec, AasParams())
 
 
+#: The bundled task's other stories (`oacc synth dough --story NAME`), offered as clips.
+STORIES = ("dough-handover", "dough-overlap")
+
+
+def write_story(clip: str, folder: Path) -> Path:
+    """The dough story of ``clip`` (``dough-NAME``), synthesised as `oacc synth dough --story
+    NAME -o FOLDER/NAME.c3d` writes it."""
+    from oacdsl.cli import main as oacc
+
+    story = clip.removeprefix("dough-")
+    path = folder / f"{story}.c3d"
+    if oacc(["synth", "dough", "-o", str(path), "--story", story]) != 0:
+        raise SystemExit(f"oacc synth dough --story {story} failed")
+    return path
+
+
 def write_take(recording: Path, name: str, folder: Path) -> Path:
     """The standard take ``name`` of ``recording``, written as MMM XML into ``folder``
     (as ``oacc take --standard NAME`` writes it)."""
@@ -84,10 +102,11 @@ def reproduce_once(recording: Path | None, seed: int, work: Path, out: Path | No
     from oacdsl.pipeline.inputs import default_name
     from oacdsl.segmentation import AasParams
 
-    which = "kit" if recording is not None else "dough"
+    story = recording is not None and recording.suffix == ".c3d"  # a dough story
+    which = "kit" if recording is not None and not story else "dough"
     library = work / which
     if not library.exists():
-        source = kit if recording is not None else ROOT / "library"
+        source = kit if which == "kit" else ROOT / "library"
         shutil.copytree(source, library, ignore=shutil.ignore_patterns("learned", "drafts"))
     inputs = load_inputs(recording, library, None, AasParams())
     name = default_name(str(recording)) if recording is not None else "dough"
@@ -126,21 +145,24 @@ def main() -> int:
         print("shared/mocap is absent: nothing to measure", file=sys.stderr)
         return 2
     clips = [c.strip() for c in args.clips.split(",") if c.strip()]
-    unknown = [c for c in clips if c not in DEV and c != "dough"]
+    unknown = [c for c in clips if c not in DEV and c != "dough" and c not in STORIES]
     if unknown:
-        print(f"not a development clip: {', '.join(unknown)} (valid: {', '.join(DEV)})", file=sys.stderr)
+        valid = ", ".join([*DEV, "dough", *STORIES])
+        print(f"not a development clip: {', '.join(unknown)} (valid: {valid})", file=sys.stderr)
         return 2
     seeds = [int(s) for s in args.seeds.split(",")]
     keep = Path(args.keep) if args.keep else None
     print(f"{'clip':6} {'wall s':>7} {'cpu s':>6} {'seg s':>6} {'ratio':>6} {'verify':>6} {'vcpu':>5}"
           "  verified faithful  per seed (V faithful, v verified, x not)", flush=True)
     for clip in clips:
-        recording = MOCAP / "kit_bimanual" / DEV[clip] if clip != "dough" else None
+        recording = MOCAP / "kit_bimanual" / DEV[clip] if clip in DEV else None
         base = statistics.median(
             timed(lambda r=recording: segmentation_only(r))[1] for _ in range(args.repeats)
         ) if recording is not None else float("nan")
         walls, cpus, verdicts, shares, cpu_shares = [], [], [], [], []
         with tempfile.TemporaryDirectory() as tmp:
+            if clip in STORIES:
+                recording = write_story(clip, Path(tmp))
             if recording is not None and args.take is not None:
                 recording = write_take(recording, args.take, Path(tmp))
             for seed in seeds:

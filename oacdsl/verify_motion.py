@@ -10,7 +10,11 @@ reliable — both rigid fits' median residual below ``reliable_residual_m`` — 
 
 - **strokes / cycles**: the demonstration shows an oscillation (a period found) of at least
   ``min_cycles`` cycles: the execution must oscillate with at least ``cycles_share`` of
-  them, its radius within ``amplitude_factor`` of the demonstration's;
+  them, its radius within ``amplitude_factor`` of the demonstration's. Where the execution's
+  span read whole shows none, its oscillation is read on each run of stretches in which the
+  object keeps moving relative to its target (:func:`oscillation`): a robot sets its tools
+  down and rests before its hands let go, within the span, and that rest can be longer than
+  its circles (its path's core, where it dwells, is then the rest);
 - **turn** about the target's axis (a lid): the demonstration turns ``min_turn_rad`` or
   more: the execution turns at least ``turn_share`` of it, the same way round (either way
   when hands may be exchanged: a mirrored take turns the other way);
@@ -37,13 +41,13 @@ from typing import Any
 import numpy as np
 
 from oacdsl.segmentation.motion import SubActionMotion, sub_action_motion
-from oacdsl.segmentation.motionfeatures import motion_features
+from oacdsl.segmentation.motionfeatures import MotionFeatures, motion_features
 from oacdsl.segmentation.poses import ObjectPoses, relative
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import SubAction
 from oacdsl.verify_tolerances import VerifyTolerances
 
-__all__ = ["MotionCheck", "motion_checks", "tilt_gain"]
+__all__ = ["MotionCheck", "motion_checks", "moving_stretches", "oscillation", "tilt_gain"]
 
 
 @dataclass(frozen=True)
@@ -66,6 +70,51 @@ def tilt_gain(T_target_object: np.ndarray) -> float:
         return 0.0
     tilt = np.arccos(np.clip(T_target_object[ok, 2, 2], -1.0, 1.0))
     return float(tilt.max() - tilt[0])
+
+
+def moving_stretches(times_s: np.ndarray, T_target_object: np.ndarray, still_speed_m_s: float,
+                     still_pause_s: float) -> list[tuple[int, int]]:
+    """``[a, b)`` frame ranges in which the object keeps moving relative to its target: split
+    where it is slower than ``still_speed_m_s`` (m/s) for ``still_pause_s`` (s) or longer;
+    frames without a pose do not split."""
+    t = np.asarray(times_s, dtype=np.float64)
+    p = np.asarray(T_target_object, dtype=np.float64)[:, :3, 3]
+    ok = np.isfinite(p).all(axis=1)
+    still = np.zeros(len(t), dtype=bool)
+    if ok.sum() >= 2:
+        speed = np.linalg.norm(np.gradient(p[ok], t[ok], axis=0), axis=1)
+        still[ok] = speed < still_speed_m_s
+    dt = float(np.median(np.diff(t))) if len(t) > 1 else 0.0
+    edges = np.diff(np.r_[0, still.astype(np.int8), 0])
+    pause = np.zeros(len(t), dtype=bool)
+    for a, b in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1), strict=True):
+        if (b - a) * dt >= still_pause_s:
+            pause[a:b] = True
+    edges = np.diff(np.r_[0, (~pause).astype(np.int8), 0])
+    starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    return [(int(a), int(b)) for a, b in zip(starts, stops, strict=True)]
+
+
+def oscillation(times_s: np.ndarray, T_target_object: np.ndarray, tol: VerifyTolerances) -> MotionFeatures:
+    """The features of an execution's path (``T_target_object``, metres, over ``times_s``)
+    as the cycles check reads them: the whole path's, or, where that shows no oscillation, those
+    of the run of consecutive moving stretches (:func:`moving_stretches`) with the most cycles
+    (module doc): a single stretch holds circles the robot stopped after, before it sets the
+    tool down; joined, stretches hold strokes with a stop at each end."""
+    t = np.asarray(times_s, dtype=np.float64)
+    whole = motion_features(t, T_target_object)
+    if whole.cycles is not None:
+        return whole
+    best = whole
+    stretches = moving_stretches(t, T_target_object, tol.still_speed_m_s, tol.still_pause_s)
+    for i, (a, _) in enumerate(stretches):
+        for _, b in stretches[i:]:
+            if b - a < 2 or (a, b) == (0, len(t)):
+                continue
+            f = motion_features(t[a:b], T_target_object[a:b])
+            if f.cycles is not None and (best.cycles is None or f.cycles > best.cycles):
+                best = f
+    return best
 
 
 def _reexpressed(rec: Recording, a: int, b: int, moved: str, target: str | None,
@@ -149,7 +198,8 @@ def _judge(k: int, feature: str, d: SubActionMotion, feats: Any, gain: float,
     if span is None or T is None:
         why = "the execution has no sub-action aligned with it" if span is None else "no pose of the objects"
         return out(False, demo, "—", tolerance, f"sub-action {k + 1} ({label}): {why}")
-    f = motion_features(times[span[0] : span[1] + 1], T)
+    t = times[span[0] : span[1] + 1]
+    f = oscillation(t, T, tol) if feature == "cycles" else motion_features(t, T)
     if feature == "cycles":
         low, high = feats.radius_m / tol.amplitude_factor, feats.radius_m * tol.amplitude_factor
         enough = f.cycles is not None and f.cycles >= tol.cycles_share * feats.cycles

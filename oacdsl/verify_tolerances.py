@@ -70,6 +70,15 @@ class VerifyTolerances:
     cycles_share: float = 0.4
     #: The execution's oscillation radius within this factor of the demonstration's.
     amplitude_factor: float = 3.0
+    #: Where the execution's span, read whole, shows no oscillation, it is looked for in each
+    #: run of stretches in which the moved object keeps moving relative to its target: a
+    #: pause, the object slower than ``still_speed_m_s`` for ``still_pause_s`` or longer (an
+    #: arm's stop between two moves), ends a stretch. A robot's span can hold its own setting
+    #: down and a rest before its hands let go, longer than its circles (KIT Mix x0.5 and
+    #: mirrored, docs/verify.md); its six paths there read 1.5-5.4 cycles for any of 10-20 mm/s
+    #: and 0.05-0.3 s.
+    still_speed_m_s: float = 0.01
+    still_pause_s: float = 0.1
     #: A turn about the target's axis is judged where the demonstration turns at least
     #: this much, radians; the execution needs ``turn_share`` of it, the same way round.
     min_turn_rad: float = math.radians(60.0)

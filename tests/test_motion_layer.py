@@ -58,6 +58,18 @@ def test_the_tuning_record_is_frozen_and_in_si_units():
     assert dataclasses.replace(TUNING, hover_m=0.05).hover_m == 0.05
 
 
+def test_a_fast_cycle_is_cut_into_waypoints_of_two_control_ticks_at_least():
+    from oacdsl.runtime.control import CONTROL_DT_S
+    from oacdsl.runtime.motion import TUNING, waypoints_per_cycle
+
+    assert TUNING.waypoint_min_s >= 2 * CONTROL_DT_S - 1e-12
+    assert waypoints_per_cycle(0.89, 16) == 16  # KIT Mix as demonstrated: as before
+    for period in (0.3, 0.44, 0.6):  # KIT Mix at double speed: 0.44 s circles
+        n = waypoints_per_cycle(period, 16)
+        ticks = round(period / n / CONTROL_DT_S)
+        assert n < 16 and ticks >= 2 and n * ticks * CONTROL_DT_S <= period + 1e-9, (period, n, ticks)
+
+
 pytest.importorskip("mujoco", reason="the robot runtime needs the 'robot' extra (mujoco)")
 pytest.importorskip("placo", reason="the robot runtime needs the 'robot' extra (placo)")
 

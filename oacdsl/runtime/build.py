@@ -18,6 +18,7 @@ from oacdsl.runtime.armar3 import BASE_JOINTS, HEAD_JOINTS, TORSO_JOINTS
 from oacdsl.runtime.hands import OPEN, finger_joint_names
 from oacdsl.runtime.layout import Layout
 from oacdsl.runtime.objects import (
+    BALL_CONTYPE,
     OBJECT_CONAFFINITY,
     OBJECT_CONTYPE,
     TABLE_TOP,
@@ -37,6 +38,7 @@ __all__ = [
     "gains",
     "HOME",
     "home_posture",
+    "ROBOT_GROUP",
 ]
 
 #: Simulation time step, seconds.
@@ -136,7 +138,7 @@ def _add_sensors(spec: mujoco.MjSpec) -> None:
 def _add_environment(spec: mujoco.MjSpec, table: str) -> None:
     floor = spec.worldbody.add_geom()
     floor.name, floor.type, floor.size = "floor", mujoco.mjtGeom.mjGEOM_PLANE, (3.0, 3.0, 0.05)
-    floor.rgba, floor.contype, floor.conaffinity = (0.82, 0.82, 0.78, 1.0), 1, 1
+    floor.rgba, floor.contype, floor.conaffinity = (0.82, 0.82, 0.78, 1.0), 1, 1 | BALL_CONTYPE
     add_table(spec, table)
     for g in spec.body(table).geoms:
         g.contype, g.conaffinity = OBJECT_CONTYPE, OBJECT_CONAFFINITY

@@ -3,17 +3,23 @@ the other, defaults in one tuning record, and the controller's one control loop.
 
 - :mod:`~oacdsl.runtime.motion.tuning`: :class:`Tuning`, the defaults (SI units).
 - :mod:`~oacdsl.runtime.motion.paths`: collision-free ways over the objects on the table.
+- :mod:`~oacdsl.runtime.motion.timing`: how many waypoints a repeated path (circles) is cut into.
 - :mod:`~oacdsl.runtime.motion.hand`: :class:`Motion` (carry, guarded approach, press, slide,
   rise, hold still, release, withdraw) and :class:`OtherHand` (idle, steady, follow).
+- :mod:`~oacdsl.runtime.motion.press`: :class:`ForcePress`, a press regulated on the wrist's
+  measured force (a tool kept on a surface while it moves along it).
 """
 
 from __future__ import annotations
 
 from oacdsl.runtime.motion.hand import Motion, OtherHand, down, other_side, raised, withdrawal
 from oacdsl.runtime.motion.paths import carry_path, clearance, obstacles, via_height
+from oacdsl.runtime.motion.press import ForcePress
+from oacdsl.runtime.motion.timing import waypoints_per_cycle
 from oacdsl.runtime.motion.tuning import TUNING, Tuning
 
 __all__ = [
+    "ForcePress",
     "Motion",
     "OtherHand",
     "TUNING",
@@ -25,5 +31,6 @@ __all__ = [
     "other_side",
     "raised",
     "via_height",
+    "waypoints_per_cycle",
     "withdrawal",
 ]

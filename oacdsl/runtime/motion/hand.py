@@ -22,6 +22,7 @@ from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.control import CONTROL_DT_S, IDLE_HOLD_WEIGHT
 from oacdsl.runtime.hands import OPEN, TOP_PRESHAPE
 from oacdsl.runtime.motion.paths import carry_path
+from oacdsl.runtime.motion.press import ForcePress
 from oacdsl.runtime.motion.tuning import TUNING, Tuning
 from oacdsl.runtime.transforms import MIN_JERK_PEAK, interpolate, make_T
 
@@ -95,17 +96,21 @@ class Motion:
         until: Guard | None = None,
         orientation_weight: float | None = None,
         keep_contact: Guard | None = None,
+        press: ForcePress | None = None,
     ) -> bool:
         """Drive the hand along ``path`` in ``seconds``, the other hand by the policy; True when
         ``until`` stopped it (where it then is). ``orientation_weight``: how much the hand's
         orientation counts (a hand's position counts 1 per metre; 0.3 otherwise).
         ``keep_contact``: sliding on a surface, the path is lowered (at the tuning's seek speed,
-        at most its seek depth) while this is false, so that the tool stays on the surface."""
+        at most its seek depth) while this is false, so that the tool stays on the surface.
+        ``press``: the path lowered by a press regulated on the wrist's force instead."""
         ctl, side = self.ctx.ctl, self.side
         guards = {side: until} if until is not None else None
         weights = {side: orientation_weight} if orientation_weight is not None else None
         if keep_contact is not None:
             path = self._pressed(path, keep_contact)
+        if press is not None:
+            path = press.lowered(path)
         if self.policy is OtherHand.IDLE:
             if ctl.ik.active[self.other]:
                 ctl.ik.hold_hand(self.other, weight=IDLE_HOLD_WEIGHT)
@@ -133,10 +138,26 @@ class Motion:
 
         return lowered
 
-    def go(self, goal: np.ndarray, seconds: float, until: Guard | None = None) -> bool:
-        """Move the hand from its goal now to ``goal`` (T_world_grasp) in ``seconds``."""
-        start = self.ctx.ctl.ik.goal(self.side)
-        return self.along(lambda s: interpolate(start, goal, s), seconds, until)
+    def go(
+        self, goal: np.ndarray, seconds: float, until: Guard | None = None, press: ForcePress | None = None
+    ) -> bool:
+        """Move the hand from its goal now to ``goal`` (T_world_grasp) in ``seconds``; with
+        ``press``, ``goal`` is where the path goes unpressed (:meth:`along`)."""
+        start = self.ctx.ctl.ik.goal(self.side) if press is None else down(self.here(), -press.depth_m)
+        return self.along(lambda s: interpolate(start, goal, s), seconds, until, press=press)
+
+    def pressing(self, force_n: float | None = None) -> ForcePress:
+        """A press regulated on this hand's wrist force (:class:`ForcePress`, ``force_n``
+        default the tuning's), its tool's free weight read now, as the hand holds still for
+        the tuning's pause: call it before the tool touches anything."""
+        ctl, side, readings = self.ctx.ctl, self.side, []
+
+        def read() -> bool:
+            readings.append(float(ctl.world.wrist_force(side)[2]))
+            return False
+
+        ctl.wait(self.tuning.pause_s, read)
+        return ForcePress(ctl, side, float(np.mean(readings)), force_n, self.tuning)
 
     def here(self) -> np.ndarray:
         """The hand's commanded pose now (T_world_grasp)."""

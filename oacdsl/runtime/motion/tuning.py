@@ -28,6 +28,9 @@ class Tuning:
     near_path_m: float = 0.12
     #: room kept above what is flown over, m
     over_m: float = 0.03
+    #: how far from its start a carry may first move at its height to be out from under what
+    #: the other hand holds up (tried nearest first), m (motion/detour.py)
+    detour_steps_m: tuple[float, ...] = (0.06, 0.12, 0.18, 0.24)
     #: a still moment after a carry, before a guarded approach starts, s
     pause_s: float = 0.1
     #: a still moment after carrying something to where it is set down, s
@@ -184,6 +187,20 @@ class Tuning:
     #: surface (``Motion.slide_back``; eased to the light press, the peeler sprang off the
     #: cucumber for 0.2 s; not eased, it chattered on it for 0.5 s: synthetic Peel, seed 0)
     slide_back_ease_share: float = 0.5
+    #: force a tool is kept pressed on a surface with while it moves along it (a press
+    #: regulated on the wrist's measured force, ``motion.press.ForcePress``), N
+    press_force_n: float = 10.0
+    #: how fast the regulated press lowers (or raises) the hand per newton it lacks (or has
+    #: too much), m/s per N (at most the seek speed); and the share of a new force reading taken
+    #: into its filtered value at each control tick
+    press_gain_m_per_n_s: float = 0.001
+    press_filter_share: float = 0.3
+    #: the share of that rate the press rises at when it presses too hard (a peak of force
+    #: that passes is better borne than followed up: risen after it, the tool left the surface)
+    press_ease_share: float = 0.25
+    #: how far below (and above) its path the regulated press may aim the hand, m
+    press_depth_max_m: float = 0.008
+    press_rise_max_m: float = 0.004
 
     #: how many times a hand about to let go of an object pressed on a support raises its goal
     #: to where it really is (``Motion.ease``: each about halves the press)
@@ -229,6 +246,12 @@ class Tuning:
     hold_s: float = 0.5
     #: how far a held object may drift while held still, m
     still_m: float = 0.02
+
+    # --- repeated paths (circles) ----------------------------------------------------------
+    #: shortest time of one waypoint of a repeated path, s: two control ticks. In one tick a
+    #: waypoint is a jump the arms do not follow (KIT Mix at double speed: 0.44 s circles cut
+    #: into 16 waypoints of one tick each ran at 0.32 s, and the servers circled 2 mm, not 22)
+    waypoint_min_s: float = 0.04
 
     # --- slide along a surface -------------------------------------------------------------
     #: mean speed of a slide (a stroke of a tool on a surface), m/s, and its shortest time, s

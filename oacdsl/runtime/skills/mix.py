@@ -2,7 +2,8 @@
 
 The mixer is carried upright above the container, lowered until it touches the
 container (pushing the balls aside; the wrist force stops the descent at 15 N), and
-moved in circles pressed lightly onto the bottom; it stays in the container at the end,
+moved in circles pressed onto the bottom with a force regulated on the wrist's
+(:class:`~oacdsl.runtime.motion.press.ForcePress`); it stays in the container at the end,
 as the OAC's effect ``m <-> b`` says.
 """
 
@@ -29,8 +30,6 @@ CIRCLE_POINTS = 24
 CENTRE_S = 0.4
 #: How long a tool that went down without touching the container may still find it, s.
 FIND_S = 0.5
-#: While stirring the tool is held this far below the floor: a light press (about 10 N through the arm), m.
-STIR_PRESS_M = 0.002
 
 
 def mix(
@@ -47,7 +46,7 @@ def mix(
     """Stir ``container`` with the held ``tool``: ``turns`` circles of ``radius`` (m), ``period``
     (s) each; the descent stops when it touches the container or the wrist feels ``force`` (N).
     Composition: carry upright over the container, approach its floor (guarded), circles pressed
-    on the floor (slides), back to the middle, hold still."""
+    on the floor (slides, the press regulated on the wrist's force), back to the middle, hold still."""
     world, ctl, t = ctx.world, ctx.ctl, TUNING
     side = ctx.require_held(hand, tool)
     m = Motion(ctx, side)
@@ -64,6 +63,7 @@ def mix(
     ctl.activity = f"bringing {tool} over {container}"
     ctx.check_reachable(side, hand_for(above), f"the inside of {container}")
     m.carry(hand_for(above), {tool, container}, t.work_carry_s)
+    press = m.pressing()  # the tool's free weight, read before it goes in
     ctl.activity = f"lowering {tool} into {container}"
     # the container's inner floor; the tool is aimed a little below it, pushing the
     # (frictionless) balls aside, until it touches the container itself
@@ -73,15 +73,17 @@ def mix(
     touched = m.go(bottom, depth / t.set_down_speed_m_s, m.contact_or_force(tool, container, force))
     if not touched and not m.hold_still(FIND_S, m.touching(tool, container)):
         raise RuntimeFailure(f"mix: {tool} went down into {container} without touching it")
-    level = min(float(world.body_pose(tool)[2, 3]), floor) - STIR_PRESS_M
+    # the circles' level where the tool touched; the press starts as deep as a press on a touch
+    level = min(float(world.body_pose(tool)[2, 3]), floor)
+    press.depth_m = t.press_m
     ctl.activity = f"stirring {container} with {tool}"
     n = CIRCLE_POINTS
     for k in range(1, int(round(turns)) * n + 1):
         a = 2 * math.pi * k / n
         r = radius * min(1.0, k / n)
         p = np.array([centre[0] + r * math.sin(a), centre[1] + r * (1 - math.cos(a)) / 2, level])
-        m.go(hand_for(p), period / n)
-    m.go(hand_for(np.array([centre[0], centre[1], level])), CENTRE_S)
+        m.go(hand_for(p), period / n, press=press)
+    m.go(hand_for(np.array([centre[0], centre[1], level])), CENTRE_S, press=press)
     m.hold_still(2 * t.settle_s, m.touching(tool, container))
 
 

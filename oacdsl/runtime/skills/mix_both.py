@@ -25,7 +25,7 @@ from functools import partial
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.motion import TUNING
+from oacdsl.runtime.motion import TUNING, waypoints_per_cycle
 from oacdsl.runtime.motion.both import move_both, turn_both
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext, cm
@@ -40,7 +40,7 @@ SIGNATURE = SIGNATURES["mix_both"]
 D = SIGNATURE.defaults()
 #: Each tip's spot: this fraction of the inner radius from the middle.
 MIX_SPREAD = 0.5
-#: Points per circle.
+#: Points per circle (fewer for a fast one: :func:`~oacdsl.runtime.motion.waypoints_per_cycle`).
 CIRCLE_POINTS = 16
 #: How far below the floor the tips are aimed at the end (a contact stops them), m.
 AIM_BELOW_FLOOR_M = 2 * TUNING.aim_beyond_m
@@ -265,7 +265,7 @@ def mix_both(
             tip = held_tool(ctx, s, tools[s]).tip_world()
             level[s] = spot[s] + float((tip - spot[s]) @ up - TUNING.slide_press_m) * up
     ctl.activity = f"mixing in {container} with {t1} and {t2}"
-    n = CIRCLE_POINTS
+    n = waypoints_per_cycle(period, CIRCLE_POINTS)  # fewer for fast circles: none a jump
     for k in range(1, max(1, round(turns)) * n + 1):
         move_both(ctl, at(2 * math.pi * k / n, r * min(1.0, k / n)), period / n)
     ctl.activity = f"resting {t1} and {t2} in {container}"
