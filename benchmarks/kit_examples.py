@@ -5,7 +5,8 @@ verdict per seed and time per run.
 
 Each example OAC (``close_and_open``: twist; ``open_bottle``: twist from a lid that starts on
 its bottle, with the synthetic first frame of ``tests/test_kit_general.py``;
-``peel_cucumber``, ``transfer_to_bowl``: stroke; ``roll_the_pin``: roll) runs on ARMAR-III in
+``peel_cucumber``, ``transfer_to_bowl``: stroke; ``roll_the_pin``: roll; and those written from
+the docs alone: ``stack_block``, ``hand_over``, ``cover_pot``) runs on ARMAR-III in
 this process as ``oacc run NAME --library library/kit --library library/examples --seed N``
 does (no pictures, no run store). Printed per example: the verdict per seed (0: the scene's
 own places), the median wall seconds over the seeds, and the ratio against the baseline
@@ -29,13 +30,14 @@ from test_kit_general import FIRST_FRAME, library  # noqa: E402
 from oacdsl.errors import OacError  # noqa: E402
 from oacdsl.runtime.executor import prepare, run_prepared  # noqa: E402
 
-EXAMPLES = ("close_and_open", "open_bottle", "peel_cucumber", "transfer_to_bowl", "roll_the_pin")
+EXAMPLES = ("close_and_open", "open_bottle", "peel_cucumber", "transfer_to_bowl", "roll_the_pin",
+            "stack_block", "hand_over", "cover_pot")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seeds", default="0,1,2,3,4,5", help="seeds (0: the scene's places)")
-    parser.add_argument("--examples", default=",".join(EXAMPLES), help="which (default: all five)")
+    parser.add_argument("--examples", default=",".join(EXAMPLES), help="which (default: all eight)")
     args = parser.parse_args()
     seeds = [int(s) for s in args.seeds.split(",")]
     names = [n.strip() for n in args.examples.split(",") if n.strip()]

@@ -71,6 +71,8 @@ class Controller:
         for side in ("r", "l"):
             self.ik.hold_hand(side)
         self._tare = {s: world.wrist_force(s) for s in ("r", "l")}
+        #: each wrist's force with its hand empty and still (at the start): its own weight
+        self._free = dict(self._tare)
         self.fingers: dict[str, dict[str, float]] = {s: dict(OPEN) for s in ("r", "l")}
         self.activity = "idle"
         #: (let go s, taken again s, hand side, object), simulated time, of every regrasp internal
@@ -121,6 +123,12 @@ class Controller:
                     f"safety stop while {self.activity}: the {SIDE_NAME[side]} wrist felt {f:.0f} N"
                     f" (limit {self.force_limit_n:.0f} N)"
                 )
+
+    def pushed_up_n(self, side: str) -> float:
+        """How hard hand ``side`` is pushed up, N, beyond its own weight (its wrist force now
+        against the empty, still hand's): what it presses down on pushing back; a held
+        object hanging from it counts its weight negative. Meaningful while the arm is still."""
+        return -float(self.world.wrist_force(side)[2] - self._free[side][2])
 
     # --- motions: the one control loop ---------------------------------------------------------
     def drive(

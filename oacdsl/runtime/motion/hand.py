@@ -273,6 +273,9 @@ class Motion:
         pushed a lid let go on a pot 9 cm off it), the pick forgotten."""
         ctx = self.ctx
         ctx.ctl.activity = f"releasing {obj}"
+        if ctx.world.supported(obj):
+            self.ease(obj)
+        ctx.ctl.tare(self.side)  # letting go is a motion of its own: its force change counts from here
         ctx.world.release(self.side)
         grasp = ctx.library.grasp_for(ctx.classes[obj])
         top_power = grasp is not None and grasp.approach == "top" and grasp.type == "power"
@@ -280,6 +283,28 @@ class Motion:
         ctx.ctl.set_fingers(self.side, TOP_PRESHAPE if top_power else self._open_shape(pinch))
         ctx.ctl.wait(self.tuning.open_s)
         ctx.picked.pop(self.side, None)
+
+    def ease(self, obj: str) -> None:
+        """Ease the press of the held ``obj`` on what bears it before letting go: while the wrist
+        is pushed up by more than the tuning's obstacle force, the hand's goal is raised to where
+        the hand really is (pressed on, the arm stays below its goal), at most the tuning's
+        ``ease_tries`` times (each about halves the press), stopping when it is pushed up by no
+        more than the support force or ``obj`` loses its support. Each guarded motion counts its
+        force from its own start: a lid brought onto a pot by ``touch`` and pressed, then lowered
+        by ``place`` until the wrist felt the pot, was pressed on with 72-79 N, all of it off the
+        wrist at once when the hand let go (a 61 N safety stop); eased, 16-28 N."""
+        world, ctl, t = self.ctx.world, self.ctx.ctl, self.tuning
+
+        def eased() -> bool:
+            return ctl.pushed_up_n(self.side) <= t.support_force_n or not world.supported(obj)
+
+        if ctl.pushed_up_n(self.side) <= t.obstacle_force_n:
+            return
+        for _ in range(t.ease_tries):
+            now = self.here()
+            up = float(world.frame_pose(f"grasp_{self.side}")[2, 3] - now[2, 3])
+            if up <= 0 or self.go(raised(now, up), t.press_s, eased):
+                return
 
     def _open_shape(self, pinch: bool = False) -> dict[str, float]:
         """The open hand (:data:`OPEN`), or, when opening it so would bring its boxes more than the

@@ -112,6 +112,10 @@ class Tuning:
     turn_seat_m: float = 0.01
     #: how far the object's axis may be off the target's when the hand lets go of it, m
     turn_centred_m: float = 0.005
+    #: two objects nearer than this are judged by the simulation's distance between their
+    #: shapes, not their bounding boxes (the box of a lid held 6° tilted reaches 2 mm below its
+    #: rim: "pressed" by its box, it hung 0.2 mm over the bottle), m
+    gap_measured_within_m: float = 0.05
     #: an object whose lowest point is no more than this below another's top rests on it
     #: (``place`` centres it there on an open container's rim), m
     cover_slack_m: float = 0.01
@@ -197,6 +201,10 @@ class Tuning:
     #: how far below (and above) its path the regulated press may aim the hand, m
     press_depth_max_m: float = 0.008
     press_rise_max_m: float = 0.004
+
+    #: how many times a hand about to let go of an object pressed on a support raises its goal
+    #: to where it really is (``Motion.ease``: each about halves the press)
+    ease_tries: int = 3
 
     # --- rise / lift -----------------------------------------------------------------------
     #: how far a held object is lifted off what it touches, m
