@@ -163,9 +163,16 @@ class Tuning:
     #: wrist force change that stops a descent into a slot, N, unless the skill's own is higher (a
     #: plate hanging from its rim pulled the wrist by 8 N as it went down, touching nothing)
     slot_force_n: float = 20.0
+    #: solver steps of the static solve that finds how far the IK settles short of a hand kept
+    #: where it is (``Motion.stay``; a whole-body reach check takes 150)
+    stay_solve_steps: int = 150
     #: a still moment after a carry that turned the held object, s (an arm that turned a 0.4 kg
     #: plate on edge lagged its command by centimetres, and went down from there onto a wall)
     turn_settle_s: float = 1.0
+    #: poses along a turn in place, and solver steps at each, from which the joints' travel
+    #: through it is found (``touch``'s turn of an object set on edge)
+    turn_samples: int = 9
+    turn_sample_steps: int = 40
 
     # --- press -----------------------------------------------------------------------------
     #: how far a held object is pressed on once it touches, m
