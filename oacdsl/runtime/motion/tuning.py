@@ -193,6 +193,10 @@ class Tuning:
     lift_m: float = 0.12
     #: time of a lift, s
     lift_s: float = 1.0
+    #: a reach of both hands at once is slowed by these factors in turn until the whole-body IK
+    #: keeps each hand within the reach tolerance of its way; else the hands reach one after the
+    #: other (``grasp_both``)
+    pace_factors: tuple[float, ...] = (1.0, 1.5, 2.0, 3.0)
     #: a still moment after a lift or before a release, s (the arm, which lags its command,
     #: comes to rest: a knife let go while still pressing 9 N tipped over)
     settle_s: float = 0.3
