@@ -143,7 +143,7 @@ def _hand_low(ctx: SkillContext, side: str, t_world_grasp: np.ndarray) -> float:
 
 
 def _turn_s(ctx: SkillContext, side: str, first: np.ndarray, above: np.ndarray, t: Tuning) -> float:
-    """How long hand ``side`` takes to turn from ``first`` to ``above`` (T_world_grasp) in place:
+    """How long hand ``side`` takes to turn from ``first`` to ``above`` (T_world_grasp):
     at least the tuning's carry time, and as long as its joints need at their speed limits
     through the turn (the whole-body IK's postures at the tuning's ``turn_samples`` steps) at
     the peak speed of a min-jerk motion. Turning a plate on edge moves the forearm's roll joint
@@ -167,8 +167,9 @@ def _carry_then_turn(ctx: SkillContext, m: Motion, obj: str, target: str, above:
         m.carry(first, {obj, target}, t.carry_s)
         ctx.ctl.activity = f"turning {obj} over {what}"
         m.go(above, _turn_s(ctx, side, first, above, t))
-    else:
-        m.carry(above, {obj, target}, t.carry_s)
+    else:  # turned on the way, as slowly as the joints need for the turn
+        far = float(np.linalg.norm(above[:3, 3] - m.here()[:3, 3]))
+        m.carry(above, {obj, target}, max(_turn_s(ctx, side, m.here(), above, t), far / t.carry_speed_m_s))
     m.hold_still(t.turn_settle_s)
 
 
