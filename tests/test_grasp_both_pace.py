@@ -55,7 +55,7 @@ def test_two_hands_reaching_far_across_the_table_at_once_leave_their_ways() -> N
     takes one object after the other); the right hand alone keeps to its way at the planned
     pace, and the left alone gets off it by much less than with the other reaching too."""
     ctl, ways = _ways([ROOT / "library" / "kit"], "kit_wipe", ("plate_dish", "sponge_small"), WIPE_X2_SEED_1)
-    slower, settle = TUNING.pace_factors, TUNING.settle_s
+    slower, settle = TUNING.pace_factor, TUNING.settle_s
     together = lockstep_miss(ctl, ways, settle)
     assert together > 5 * REACH_TOLERANCE_M
     assert paced(ctl, ways, REACH_TOLERANCE_M, slower, settle) is None
@@ -72,6 +72,6 @@ def test_two_hands_taking_a_cup_and_a_block_in_front_of_them_reach_together() ->
     (KIT Stir and Mix take their cup and spoon, their two servers so, at the planned pace)."""
     library = [*STANDARD, ROOT / "tests" / "data" / "kit_skills.oac"]
     ctl, ways = _ways(library, "kit_touching", ("cup", "block"))
-    slower, settle = TUNING.pace_factors, TUNING.settle_s
+    slower, settle = TUNING.pace_factor, TUNING.settle_s
     assert lockstep_miss(ctl, ways, settle) > REACH_TOLERANCE_M
     assert paced(ctl, ways, REACH_TOLERANCE_M, slower, settle) == 1.5

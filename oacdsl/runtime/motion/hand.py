@@ -246,7 +246,7 @@ class Motion:
         here = ik.frame(name)
         with ik.trial():
             ik.set_hand_target(self.side, here)
-            for _ in range(self.tuning.stay_solve_steps):
+            for _ in range(self.tuning.stay_solve_tries):
                 ik.step()
             settled = ik.frame(name)[:3, 3]
         ik.set_hand_target(self.side, make_T(here[:3, :3], 2.0 * here[:3, 3] - settled))

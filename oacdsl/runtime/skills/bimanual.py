@@ -116,7 +116,7 @@ def grasp_both(
 ) -> None:
     """Grasp ``o1`` with ``h1`` and ``o2`` with ``h2`` at the same time, then lift both by ``lift``
     (m). Together only when the whole-body IK keeps both hands on their ways (slowed by the
-    tuning's ``pace_factors`` if need be: :func:`~oacdsl.runtime.motion.both.paced`); else one
+    tuning's ``pace_factor`` if need be: :func:`~oacdsl.runtime.motion.both.paced`); else one
     after the other. Both reaching far across the table at once, the torso bent to its limits
     and a hand sagged 17 cm below its way onto a rack (92 N) or stayed 12 cm above its grasp."""
     world, ctl = ctx.world, ctx.ctl
@@ -127,7 +127,7 @@ def grasp_both(
             raise RuntimeFailure(f"{hand} already holds {held}")
     p1, p2 = _pair(ctx, (h1, o1), (h2, o2))
     motions = [plan_grasp(ctx, h1, o1, p1), plan_grasp(ctx, h2, o2, p2)]
-    slower = TUNING.pace_factors
+    slower = TUNING.pace_factor
     ways = {m.side: _way(m) for m in motions}
     together = paced(ctl, ways, REACH_TOLERANCE_M, slower, TUNING.settle_s)
     if together is not None:
@@ -147,8 +147,8 @@ def grasp_both(
 
 def _pace(ctx: SkillContext, m: GraspMotion) -> float:
     """How much slower than planned hand ``m`` reaches alone so that it keeps to its way (the
-    slowest of the tuning's ``pace_factors`` when none does)."""
-    slower = TUNING.pace_factors
+    slowest of the tuning's ``pace_factor`` when none does)."""
+    slower = TUNING.pace_factor
     return paced(ctx.ctl, {m.side: _way(m)}, REACH_TOLERANCE_M, slower, TUNING.settle_s) or slower[-1]
 
 

@@ -145,12 +145,12 @@ def _hand_low(ctx: SkillContext, side: str, t_world_grasp: np.ndarray) -> float:
 def _turn_s(ctx: SkillContext, side: str, first: np.ndarray, above: np.ndarray, t: Tuning) -> float:
     """How long hand ``side`` takes to turn from ``first`` to ``above`` (T_world_grasp):
     at least the tuning's carry time, and as long as its joints need at their speed limits
-    through the turn (the whole-body IK's postures at the tuning's ``turn_samples`` steps) at
+    through the turn (the whole-body IK's postures at the tuning's ``turn_sample_tries`` steps) at
     the peak speed of a min-jerk motion. Turning a plate on edge moves the forearm's roll joint
     by 2.7-2.8 rad, 3.5 s at its limit: turned in 1.6 s, the arm lagged the turn and swung the
     hand 17 cm up and 9 cm across, the plate into the other hand (30-53 N)."""
-    poses = [interpolate(first, above, u) for u in np.linspace(0.0, 1.0, t.turn_samples)]
-    postures = [q for _, q in ctx.ctl.ik.reach_postures(side, poses, t.turn_sample_steps)]
+    poses = [interpolate(first, above, u) for u in np.linspace(0.0, 1.0, t.turn_sample_tries)]
+    postures = [q for _, q in ctx.ctl.ik.reach_postures(side, poses, t.turn_solve_tries)]
     return max(t.carry_s, MIN_JERK_PEAK * ctx.ctl.ik.travel_s(postures))
 
 
