@@ -59,3 +59,21 @@ def test_an_infeasible_problem_raises_a_runtime_failure_naming_the_frame():
         ik.step()
     assert isinstance(info.value, RuntimeFailure) and "whole-body IK failed" in str(info.value)
     assert info.value.frame.startswith("grasp_")
+
+
+def test_travel_s_is_the_slowest_joints_time_at_its_speed_limit_summed_over_the_legs():
+    """The least time through postures: per leg, the joint that needs longest at its speed limit
+    (the forearm's roll 1.5 rad/s, the torso 0.8 rad/s); the legs one after the other."""
+    from oacdsl.runtime.ik import VELOCITY_LIMITS
+
+    limit = {n: v for names, v in VELOCITY_LIMITS for n in names}
+    ik = WholeBodyIK()
+    start = ik.joints()
+    arm = next(n for n in start if n.startswith("underarm"))
+    hip = next(n for n in start if n.startswith("hip"))
+    turned = {**start, arm: start[arm] + 2.8}
+    bent = {**turned, hip: start[hip] + 0.4}
+    assert ik.travel_s([start]) == 0.0
+    assert ik.travel_s([start, turned]) == pytest.approx(2.8 / limit[arm])
+    assert ik.travel_s([start, turned, bent]) == pytest.approx(2.8 / limit[arm] + 0.4 / limit[hip])
+    assert ik.travel_s([start, bent]) == pytest.approx(max(2.8 / limit[arm], 0.4 / limit[hip]))

@@ -15,6 +15,7 @@ frame and last residual; the skills turn it into a :class:`~oacdsl.errors.Runtim
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -283,6 +284,15 @@ class WholeBodyIK:
             for _ in range(iterations):
                 self.step()
             return max(self.residual(s).miss_m for s in targets)
+
+    def travel_s(self, postures: Sequence[Mapping[str, float]]) -> float:
+        """The least time (s) in which the joints go through ``postures`` (:meth:`joints`) one
+        after the other at their speed limits (:data:`VELOCITY_LIMITS`), at constant speed."""
+        limit = {n: v for names, v in VELOCITY_LIMITS for n in names}
+        worst = 0.0
+        for a, b in itertools.pairwise(postures):
+            worst += max((abs(b[n] - a[n]) / limit[n] for n in a if n in limit and n in b), default=0.0)
+        return worst
 
     @contextmanager
     def trial(self) -> Iterator[None]:

@@ -15,10 +15,13 @@ from typing import Protocol
 
 import numpy as np
 
-from oacdsl.runtime.control import Controller
-from oacdsl.runtime.transforms import interpolate, make_T, rot_axis
+from oacdsl.runtime.control import CONTROL_DT_S, Controller
+from oacdsl.runtime.transforms import interpolate, make_T, min_jerk, rot_axis
 
-__all__ = ["Move", "lockstep", "move_both", "mover", "turn_both"]
+__all__ = ["Move", "lockstep", "lockstep_miss", "move_both", "mover", "paced", "turn_both"]
+
+#: A hand's way: (T_world_grasp, seconds) phases, driven in :func:`lockstep` with the other's.
+Way = list[tuple[np.ndarray, float]]
 
 
 def move_both(
@@ -85,10 +88,58 @@ def mover(
     return go
 
 
-def lockstep(ctl: Controller, paths: Mapping[str, list[tuple[np.ndarray, float]]]) -> None:
+def lockstep(ctl: Controller, paths: Mapping[str, Way]) -> None:
     """Follow each side's list of (T_world_grasp, seconds) together, phase by phase (equal
     lengths); a phase lasts as long as its slower hand needs."""
     for phase in zip(*paths.values(), strict=True):
         seconds = max(t for _, t in phase)
         if seconds > 0:
             move_both(ctl, {s: pose for s, (pose, _) in zip(paths, phase, strict=True)}, seconds)
+
+
+def lockstep_miss(ctl: Controller, paths: Mapping[str, Way], settle_s: float = 0.0) -> float:
+    """How far (m) a hand of the IK model gets off its way while :func:`lockstep` drives
+    ``paths``: the largest distance from a phase's straight line (a hand lagging along it is
+    not off it), or from the last pose once ``settle_s`` more have passed, found by running the
+    IK alone, tick by tick, in a trial (the IK runs open loop: its model is what the arms are
+    commanded; nothing moves). Ways each reachable at their ends may not be together on the
+    way: two hands reaching far across the table bent the torso to its limits, a hand sagged
+    17 cm below its way onto a rack or stayed 12 cm above its grasp."""
+    ik = ctl.ik
+    worst = 0.0
+    with ik.trial():
+        for phase in zip(*paths.values(), strict=True):
+            seconds = max(t for _, t in phase)
+            if seconds <= 0:
+                continue
+            starts = {s: ik.goal(s) for s in paths}
+            goals = {s: goal for s, (goal, _) in zip(paths, phase, strict=True)}
+            n = max(1, round(seconds / CONTROL_DT_S))
+            for k in range(1, n + 1):
+                for s in paths:
+                    ik.set_hand_target(s, interpolate(starts[s], goals[s], min_jerk(k / n)))
+                ik.step()
+                worst = max(worst, *(_off_segment(ik.frame(f"grasp_{s}")[:3, 3], starts[s][:3, 3],
+                                                  goals[s][:3, 3]) for s in paths))
+        for _ in range(round(settle_s / CONTROL_DT_S)):
+            ik.step()
+        return max(worst, *(ik.residual(s).position_m for s in paths))
+
+
+def paced(ctl: Controller, paths: Mapping[str, Way], tolerance_m: float, slower: tuple[float, ...],
+          settle_s: float = 0.0) -> float | None:
+    """The first factor of ``slower`` by which the phases of ``paths`` are slowed so that the IK
+    keeps each hand within ``tolerance_m`` of its way (:func:`lockstep_miss`); None when none
+    does (the ways are not for these hands together)."""
+    for f in slower:
+        if lockstep_miss(ctl, {s: [(pose, t * f) for pose, t in way] for s, way in paths.items()},
+                         settle_s) <= tolerance_m:
+            return f
+    return None
+
+
+def _off_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+    """The distance (m) of point ``p`` from the segment ``a``-``b``."""
+    ab = b - a
+    u = float(np.clip((p - a) @ ab / max(float(ab @ ab), 1e-12), 0.0, 1.0))
+    return float(np.linalg.norm(p - (a + u * ab)))

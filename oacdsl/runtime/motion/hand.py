@@ -3,7 +3,7 @@
 A skill makes a :class:`Motion` for the hand it moves, with the policy of the other hand
 (:class:`OtherHand`), and composes it of primitives: :meth:`Motion.carry` (along a way
 over the objects near it), :meth:`Motion.approach` (guarded: until a contact or a force),
-:meth:`Motion.press`, :meth:`Motion.slide` (and :meth:`Motion.slide_back`, a stroke's way
+:meth:`Motion.press`, :meth:`Motion.stay`, :meth:`Motion.slide` (and :meth:`Motion.slide_back`, a stroke's way
 back on the surface), :meth:`Motion.rise`, :meth:`Motion.hold_still`, :meth:`Motion.release`
 and :meth:`Motion.withdraw`. Every one of them runs through the controller's one control
 loop (:meth:`~oacdsl.runtime.control.Controller.drive`); their defaults come from one
@@ -255,6 +255,22 @@ class Motion:
         self.go(raised(self.here(), ease), t.press_s)
         self.slide(offset_m, seconds, keep_contact=touching)
         self.press(ease)
+
+    def stay(self) -> None:
+        """Command the hand so that the whole-body IK keeps it where its model is now. At the
+        edge of its reach the soft IK settles short of its command (its posture pulls back);
+        stopped where its model had come, an arm reaching 1.3 cm short rose 1 cm, relieved,
+        and lifted a plate it had just set into a slot off the floor. The command is set
+        beyond that pose by what a static solve towards it misses (nothing where the arm
+        reaches)."""
+        ik, name = self.ctx.ctl.ik, f"grasp_{self.side}"
+        here = ik.frame(name)
+        with ik.trial():
+            ik.set_hand_target(self.side, here)
+            for _ in range(self.tuning.stay_solve_tries):
+                ik.step()
+            settled = ik.frame(name)[:3, 3]
+        ik.set_hand_target(self.side, make_T(here[:3, :3], 2.0 * here[:3, 3] - settled))
 
     def rise(self, height_m: float | None = None, seconds: float | None = None) -> None:
         """Straight up by ``height_m`` (default: the tuning's lift)."""

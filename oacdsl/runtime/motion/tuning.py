@@ -170,9 +170,16 @@ class Tuning:
     #: wrist force change that stops a descent into a slot, N, unless the skill's own is higher (a
     #: plate hanging from its rim pulled the wrist by 8 N as it went down, touching nothing)
     slot_force_n: float = 20.0
+    #: solver steps of the static solve that finds how far the IK settles short of a hand kept
+    #: where it is (``Motion.stay``; a whole-body reach check takes 150)
+    stay_solve_tries: int = 150
     #: a still moment after a carry that turned the held object, s (an arm that turned a 0.4 kg
     #: plate on edge lagged its command by centimetres, and went down from there onto a wall)
     turn_settle_s: float = 1.0
+    #: poses along a turn in place, and solver steps at each, from which the joints' travel
+    #: through it is found (``touch``'s turn of an object set on edge)
+    turn_sample_tries: int = 9
+    turn_solve_tries: int = 40
 
     # --- press -----------------------------------------------------------------------------
     #: how far a held object is pressed on once it touches, m
@@ -211,6 +218,10 @@ class Tuning:
     lift_m: float = 0.12
     #: time of a lift, s
     lift_s: float = 1.0
+    #: a reach of both hands at once is slowed by these factors in turn until the whole-body IK
+    #: keeps each hand within the reach tolerance of its way; else the hands reach one after the
+    #: other (``grasp_both``)
+    pace_factor: tuple[float, ...] = (1.0, 1.5, 2.0, 3.0)
     #: a still moment after a lift or before a release, s (the arm, which lags its command,
     #: comes to rest: a knife let go while still pressing 9 N tipped over)
     settle_s: float = 0.3

@@ -22,10 +22,11 @@ from oacdsl.runtime.grasping import GraspPlan
 from oacdsl.runtime.handgap import hands_gap
 from oacdsl.runtime.hands import OPEN, TOP_PRESHAPE
 from oacdsl.runtime.motion import TUNING, down, withdrawal
-from oacdsl.runtime.motion.both import lockstep, move_both
+from oacdsl.runtime.motion.both import lockstep, move_both, paced
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext, cm
 from oacdsl.runtime.skills.grasp import (
     HANDS_APART_M,
+    GraspMotion,
     ease_off,
     grasp_candidates,
     lifted,
@@ -33,6 +34,7 @@ from oacdsl.runtime.skills.grasp import (
     preshape,
     secure,
 )
+from oacdsl.runtime.skills.hold_up import hold_in_front
 from oacdsl.runtime.skills.place import set_down_pose
 from oacdsl.runtime.transforms import MIN_JERK_PEAK
 from oacdsl.skills import SIGNATURES
@@ -40,6 +42,7 @@ from oacdsl.skills import SIGNATURES
 __all__ = ["grasp_both", "place_both", "reach_both"]
 
 GRASP_BOTH, PLACE_BOTH = SIGNATURES["grasp_both"].defaults(), SIGNATURES["place_both"].defaults()
+HOLD_UP = SIGNATURES["hold_up"].defaults()
 #: How many of each hand's reachable grasps are paired up.
 PAIR_CANDIDATES = 4
 
@@ -111,31 +114,70 @@ def _sides(ctx: SkillContext, h1: str, h2: str, what: str) -> tuple[str, str]:
 def grasp_both(
     ctx: SkillContext, h1: str, o1: str, h2: str, o2: str, *, lift: float = GRASP_BOTH["lift"]
 ) -> None:
-    """Grasp ``o1`` with ``h1`` and ``o2`` with ``h2`` at the same time, then lift both by ``lift`` (m)."""
+    """Grasp ``o1`` with ``h1`` and ``o2`` with ``h2`` at the same time, then lift both by ``lift``
+    (m). Together only when the whole-body IK keeps both hands on their ways (slowed by the
+    tuning's ``pace_factor`` if need be: :func:`~oacdsl.runtime.motion.both.paced`); else one
+    after the other. Both reaching far across the table at once, the torso bent to its limits
+    and a hand sagged 17 cm below its way onto a rack (92 N) or stayed 12 cm above its grasp."""
     world, ctl = ctx.world, ctx.ctl
     _sides(ctx, h1, h2, "grasp_both")
-    ctl.activity = f"reaching for {o1} and {o2}"
     for hand in (h1, h2):
         held = world.held[ctx.side(hand)]
         if held is not None:
             raise RuntimeFailure(f"{hand} already holds {held}")
     p1, p2 = _pair(ctx, (h1, o1), (h2, o2))
     motions = [plan_grasp(ctx, h1, o1, p1), plan_grasp(ctx, h2, o2, p2)]
+    slower = TUNING.pace_factor
+    ways = {m.side: _way(m) for m in motions}
+    together = paced(ctl, ways, REACH_TOLERANCE_M, slower, TUNING.settle_s)
+    if together is not None:
+        _take(ctx, motions, together, lift)
+        return
+    first, second = motions  # one after the other, each at a pace its arm keeps to its way
+    _take(ctx, [first], _pace(ctx, first), lift)
+    pace = paced(ctl, {second.side: _way(second)}, REACH_TOLERANCE_M, slower, TUNING.settle_s)
+    if pace is None and not first.handover:
+        # the first object held where it was taken keeps that arm stretched and the torso bent
+        # (a plate far out on the table: the other hand then stayed 9 cm from the sponge):
+        # brought in front of the robot on its hand's side first, as high as ``hold_up`` holds it
+        hold_in_front(ctx, h1, o1, up=max(HOLD_UP["lift"] - lift, 0.0))
+        second = plan_grasp(ctx, h2, o2)  # its own first reachable grasp from there
+    _take(ctx, [second], pace or _pace(ctx, second), lift)
+
+
+def _pace(ctx: SkillContext, m: GraspMotion) -> float:
+    """How much slower than planned hand ``m`` reaches alone so that it keeps to its way (the
+    slowest of the tuning's ``pace_factor`` when none does)."""
+    slower = TUNING.pace_factor
+    return paced(ctx.ctl, {m.side: _way(m)}, REACH_TOLERANCE_M, slower, TUNING.settle_s) or slower[-1]
+
+
+def _way(m: GraspMotion) -> list[tuple[np.ndarray, float]]:
+    """The way of a grasp's hand: its waypoints, then its approach to the grasp pose."""
+    return [*m.waypoints, (m.plan.grasp, m.approach_s)]
+
+
+def _take(ctx: SkillContext, motions: list[GraspMotion], slower: float, lift: float) -> None:
+    """Each hand of ``motions`` grasps its object, together, the motions ``slower`` times as long
+    as planned, then lifts it by ``lift`` (m)."""
+    world, ctl = ctx.world, ctx.ctl
+    names = " and ".join(m.obj for m in motions)
+    ctl.activity = f"reaching for {names}"
     for m in motions:
         if m.grasp.approach == "top":
             ctl.set_fingers(m.side, TOP_PRESHAPE)
-    lockstep(ctl, {m.side: m.waypoints for m in motions})
-    ctl.activity = f"approaching {o1} and {o2}"
+    lockstep(ctl, {m.side: [(pose, t * slower) for pose, t in m.waypoints] for m in motions})
+    ctl.activity = f"approaching {names}"
     move_both(
         ctl,
         {m.side: m.plan.end for m in motions},
-        max(m.approach_s for m in motions),
+        slower * max(m.approach_s for m in motions),
         {m.side: partial(m.arrived, world) for m in motions},
     )
     eased = {m.side: e for m in motions if (e := ease_off(ctx, m)) is not None}
     if eased:
         move_both(ctl, eased, TUNING.press_s)
-    ctl.activity = f"closing {h1} on {o1} and {h2} on {o2}"
+    ctl.activity = " and ".join(f"closing {m.hand} on {m.obj}" for m in motions)
     for m in motions:
         ctl.set_fingers(m.side, m.closed)
     # each hand is welded the moment its fingers touch (a closing finger pushes a light object away)
@@ -153,7 +195,7 @@ def grasp_both(
     ctl.wait(TUNING.settle_s)
     up = {m.side: lifted(ctx, m.side, lift) for m in motions if not m.handover}
     if up:
-        ctl.activity = f"lifting {o1} and {o2}"
+        ctl.activity = f"lifting {names}"
         move_both(ctl, up, TUNING.lift_s)
 
 

@@ -24,7 +24,7 @@ from oacdsl.runtime.skills.grasp import reach_and_grasp
 from oacdsl.runtime.transforms import make_T
 from oacdsl.skills import SIGNATURES
 
-__all__ = ["hold_up", "SIGNATURE"]
+__all__ = ["hold_up", "hold_in_front", "SIGNATURE"]
 
 SIGNATURE = SIGNATURES["hold_up"]
 D = SIGNATURE.defaults()
@@ -41,16 +41,24 @@ def hold_up(
 ) -> None:
     """Grasp ``obj`` with ``hand``, lift it by ``lift`` (m) and hold its middle ``forward`` (m)
     in front of the robot and ``aside`` (m) to the hand's side."""
-    world, ctl = ctx.world, ctx.ctl
     side = ctx.side(hand)
     reach_and_grasp(ctx, hand, obj, lift=lift)
     if ctx.other_holder(side, obj) is not None:  # a hand-over: the other hand holds it too
         return
+    hold_in_front(ctx, hand, obj, forward, aside)
+
+
+def hold_in_front(ctx: SkillContext, hand: str, obj: str, forward: float = D["forward"],
+                  aside: float = D["aside"], up: float = 0.0) -> None:
+    """Carry ``obj``, held by ``hand``, ``up`` (m) higher than it is, until its middle is
+    ``forward`` (m) in front of the robot and ``aside`` (m) to the hand's side."""
+    world, ctl = ctx.world, ctx.ctl
+    side = ctx.side(hand)
     m = Motion(ctx, side)
     goal_mid = np.array([forward, aside if side == "l" else -aside])
     now = m.here()
     shift = goal_mid - _middle(ctx, obj)
-    goal = make_T(now[:3, :3], now[:3, 3] + np.array([shift[0], shift[1], 0.0]))
+    goal = make_T(now[:3, :3], now[:3, 3] + np.array([shift[0], shift[1], up]))
     ctl.activity = f"holding {obj} up"
     ctx.check_reachable(side, goal, f"the place in front of the robot to hold {obj} up")
     m.carry(goal, {obj}, m.tuning.carry_s)

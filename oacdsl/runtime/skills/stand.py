@@ -31,7 +31,7 @@ from oacdsl.runtime.hands import OPEN, finger_joint_names
 from oacdsl.runtime.motion import Motion, Tuning, down, other_side
 from oacdsl.runtime.shapes import world_corners
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext, cm, fmt_xyz
-from oacdsl.runtime.transforms import make_T, rot_axis
+from oacdsl.runtime.transforms import MIN_JERK_PEAK, interpolate, make_T, rot_axis
 from oacdsl.runtime.turning import frame_zx, hull_points, on_edge, placed_by_box, round_angles
 
 __all__ = ["tilt_now", "needs_turn", "set_turned"]
@@ -142,6 +142,18 @@ def _hand_low(ctx: SkillContext, side: str, t_world_grasp: np.ndarray) -> float:
                for fingers in (now, OPEN) for t, h in hand_box_poses(side, t_world_grasp, fingers))
 
 
+def _turn_s(ctx: SkillContext, side: str, first: np.ndarray, above: np.ndarray, t: Tuning) -> float:
+    """How long hand ``side`` takes to turn from ``first`` to ``above`` (T_world_grasp):
+    at least the tuning's carry time, and as long as its joints need at their speed limits
+    through the turn (the whole-body IK's postures at the tuning's ``turn_sample_tries`` steps) at
+    the peak speed of a min-jerk motion. Turning a plate on edge moves the forearm's roll joint
+    by 2.7-2.8 rad, 3.5 s at its limit: turned in 1.6 s, the arm lagged the turn and swung the
+    hand 17 cm up and 9 cm across, the plate into the other hand (30-53 N)."""
+    poses = [interpolate(first, above, u) for u in np.linspace(0.0, 1.0, t.turn_sample_tries)]
+    postures = [q for _, q in ctx.ctl.ik.reach_postures(side, poses, t.turn_solve_tries)]
+    return max(t.carry_s, MIN_JERK_PEAK * ctx.ctl.ik.travel_s(postures))
+
+
 def _carry_then_turn(ctx: SkillContext, m: Motion, obj: str, target: str, above: np.ndarray,
                      what: str) -> None:
     """Carry the held ``obj`` to ``above`` (T_world_grasp), turning it there: first as it is held to
@@ -154,9 +166,10 @@ def _carry_then_turn(ctx: SkillContext, m: Motion, obj: str, target: str, above:
     if ctx.ctl.ik.try_reach_both({side: first, **keep}) <= REACH_TOLERANCE_M:
         m.carry(first, {obj, target}, t.carry_s)
         ctx.ctl.activity = f"turning {obj} over {what}"
-        m.go(above, t.carry_s)
-    else:
-        m.carry(above, {obj, target}, t.carry_s)
+        m.go(above, _turn_s(ctx, side, first, above, t))
+    else:  # turned on the way, as slowly as the joints need for the turn
+        far = float(np.linalg.norm(above[:3, 3] - m.here()[:3, 3]))
+        m.carry(above, {obj, target}, max(_turn_s(ctx, side, m.here(), above, t), far / t.carry_speed_m_s))
     m.hold_still(t.turn_settle_s)
 
 
@@ -221,6 +234,7 @@ def set_turned(ctx: SkillContext, m: Motion, obj: str, target: str, tilt: float,
         m.approach(down(above, depth + m.tuning.support_search_m), guard, m.tuning.set_down_speed_m_s)
         touching = m.touching(obj, target)
         if touching():
+            m.stay()  # at the edge of its reach the arm, stopped, would rise off the floor
             m.press()  # resting on it (the arm lags: where it first touched, it floats)
         return m.hold_still(m.tuning.contact_wait_s, touching) or touching()
     return m.approach(down(above, depth), m.contact_or_force(obj, target, force),
