@@ -58,6 +58,7 @@ from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.robust import RobustDetector
 from oacdsl.segmentation.scales import DemoScale, measure, scale_params, scale_settings, tool_reach_m
 from oacdsl.segmentation.shapes import ShapeModel
+from oacdsl.segmentation.stacking import resting_on_top, with_rests
 from oacdsl.segmentation.tooluse import agents_of, tool_contacts
 
 __all__ = ["AdaptiveDetector", "AdaptiveSettings", "comotion"]
@@ -149,6 +150,12 @@ class AdaptiveDetector:
         found = comotion(recording, table, self.params, self._run, self.filler,
                          keep_speeds=agents if self._run.hold_still else ())
         learned = found.learned
+        if self._run.stacked:  # an object at rest on top of another (stacking.py)
+            learned = with_rests(learned, resting_on_top(
+                recording, table, found.closest, {q: s for q, (s, _) in learned.items()}, agents,
+                self.params.distance_m,
+                self._run.move_speed_m_s, self._run.lag_s, self._run.tool_dwell_s,
+                self._run.tool_bridge_s, self._run.margin))
         # the paper's rule per pair: at the pair's learned distance, else at the static distance
         by_distance: dict[float, np.ndarray] = {}
         default = np.ones(n_q, dtype=bool)

@@ -75,6 +75,9 @@ class AdaptiveSettings:
             (:mod:`oacdsl.segmentation.holding`; on by default: on the KIT development clips it
             changes no keyframe, hand F1, tool contact or composed take, and it finds a hand
             holding a bottle still while the other hand turns its lid).
+        stacked: an object at rest on top of another touches it, from where it was set down until
+            it is lifted off (:mod:`oacdsl.segmentation.stacking`; on: a lid on its bottle, whose
+            markers are farther apart than the static distance).
         merge: how keyframes are merged: ``"connected"`` (the default: only changes sharing an
             instance, a group at its first change of an agent's contact, else its last frame;
             :func:`~oacdsl.segmentation.keyframes.merge_keyframes`) or ``"paper"`` (the paper's
@@ -99,6 +102,7 @@ class AdaptiveSettings:
     fill_gaps: bool = True
     merge: str = "connected"
     hold_still: bool = True
+    stacked: bool = True
 
     def __post_init__(self) -> None:
         for name in ("static_distance_m", "move_speed_m_s", "rigid_ratio", "lag_s", "tool_dwell_s"):
