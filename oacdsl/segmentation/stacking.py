@@ -35,7 +35,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from oacdsl.segmentation.comotion import _extend, _union, frames_within
+from oacdsl.segmentation.comotion import _extend, _nanmedian0, _union, frames_within
 from oacdsl.segmentation.holding import _speeds
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.recording import Recording
@@ -118,21 +118,30 @@ def resting_on_top(
     index = {(int(a), int(b)): q for q, (a, b) in enumerate(table.instance_pairs)}
     times = np.asarray(recording.times_s, dtype=np.float64)
     cache: dict[tuple[str, int], np.ndarray] = {}
+    shapes: dict[int, tuple[np.ndarray, ...]] = {}
+    columns = {i: np.asarray(recording.groups[names[i]], dtype=np.intp) for i in range(len(names))}
 
-    def positions(i: int) -> np.ndarray:
-        if ("p", i) not in cache:
-            cache[("p", i)] = recording.group_positions(names[i])
-        return cache[("p", i)]
+    def points(i: int, frames: np.ndarray | slice) -> np.ndarray:
+        """(R, k, 3) instance ``i``'s markers at ``frames``."""
+        if isinstance(frames, slice):
+            return recording.positions_m[frames, columns[i]]
+        return recording.positions_m[frames[:, None], columns[i]]
 
-    def heights(i: int) -> tuple[np.ndarray, np.ndarray]:
-        """(F,) lowest and highest marker height of instance ``i`` (NaN where none is seen)."""
-        if ("lo", i) not in cache:
-            z = positions(i)[..., 2]
-            seen = np.isfinite(z).any(axis=1)
-            lo, hi = np.full(n_frames, np.nan), np.full(n_frames, np.nan)
-            lo[seen], hi[seen] = np.nanmin(z[seen], axis=1), np.nanmax(z[seen], axis=1)
-            cache[("lo", i)], cache[("hi", i)] = lo, hi
-        return cache[("lo", i)], cache[("hi", i)]
+    grid = np.arange(0, n_frames, lag)  # the frames the cheap tests look at: one per lag_s
+
+    def shape(i: int) -> tuple[np.ndarray, ...]:
+        """Per frame of ``grid``, instance ``i``'s lowest and highest marker height, the centre of
+        its markers seen from above (G, 2) and the squared radius of the disk around it that holds
+        them (NaN where no marker is seen): the tests before :func:`_on_top`'s hull."""
+        if i not in shapes:
+            p = points(i, grid)
+            seen = np.isfinite(p[..., 0])
+            with np.errstate(invalid="ignore", divide="ignore"):
+                centre = np.where(seen[..., None], p[..., :2], 0.0).sum(axis=1) / seen.sum(axis=1)[:, None]
+                off = p[..., :2] - centre[:, None, :]
+                shapes[i] = (np.fmin.reduce(p[..., 2], axis=1), np.fmax.reduce(p[..., 2], axis=1), centre,
+                             np.fmax.reduce(off[..., 0] ** 2 + off[..., 1] ** 2, axis=1))
+        return shapes[i]
 
     def free(i: int) -> np.ndarray:
         """(F,) no agent holds instance ``i``."""
@@ -144,49 +153,66 @@ def resting_on_top(
             cache[("free", i)] = mask
         return cache[("free", i)]
 
-    def still(i: int) -> np.ndarray:
-        if ("still", i) not in cache:
-            with np.errstate(invalid="ignore"):
-                cache[("still", i)] = _speeds(positions(i), times, lag) < move_speed_m_s
-        return cache[("still", i)]
+    def still(i: int, s: int, e: int) -> np.ndarray:
+        """(e - s,) instance ``i`` still at frames ``s:e`` (its speeds as over the whole recording)."""
+        lo = max(0, s - lag)
+        with np.errstate(invalid="ignore"):
+            return _speeds(points(i, slice(lo, e)), times[lo:e], lag)[s - lo:] < move_speed_m_s
 
-    out: dict[int, tuple[Spans, float]] = {}
+    found: dict[int, tuple[Spans, list[float]]] = {}
     for q, dmin in closest.items():
         a, b = (int(i) for i in table.instance_pairs[q])
         if a in agent_set or b in agent_set:
             continue
-        spans: Spans = []
-        thresholds: list[float] = []
         for top, base in ((a, b), (b, a)):
-            if len(recording.groups[names[base]]) < 3:
+            if columns[base].size < 3:
                 continue  # no footprint to rest on
-            with np.errstate(invalid="ignore"):  # NaN: a gap, unknown, not above
-                above = (dmin <= reach_m) & (heights(top)[0] >= heights(base)[1]) & free(top)
-            if not any(e - s >= dwell for s, e in _runs(above)):
+            (low, _, centre, _), (_, high, middle, radius2) = shape(top), shape(base)
+            gap = centre - middle
+            with np.errstate(invalid="ignore"):  # NaN: unknown, not above; each grid frame for its lag_s
+                over = (low >= high) & (gap[:, 0] ** 2 + gap[:, 1] ** 2 <= radius2)
+            if over.sum() * lag < dwell:
                 continue
-            resting = above & still(top) & still(base)
-            for s, e in _runs(resting):
-                if e - s < dwell or not _on_top(positions(top)[s:e], positions(base)[s:e]):
+            with np.errstate(invalid="ignore"):  # NaN: a gap, unknown
+                above = (dmin <= reach_m) & free(top) & np.repeat(over, lag)[:n_frames]
+            for s, e in _runs(above):
+                if e - s < dwell:
                     continue
-                with np.errstate(invalid="ignore"):
-                    rest_m = float(np.nanmedian(dmin[s:e]))
-                if not np.isfinite(rest_m):
-                    continue
-                threshold = min(rest_m * (1 + margin), reach_m)
-                spans.append(_extend(dmin, s, e, threshold, bridge))
-                thresholds.append(threshold)
-        if spans:
-            out[q] = (_union(spans), float(np.median(thresholds)))
-    return out
+                resting = still(top, s, e) & still(base, s, e)
+                for s2, e2 in _runs(resting):
+                    r0, r1 = s + s2, s + e2
+                    rest = np.unique(np.linspace(r0, r1 - 1, min(r1 - r0, REST_SAMPLES)).astype(np.intp))
+                    if r1 - r0 < dwell or not _on_top(points(top, rest), points(base, rest)):
+                        continue
+                    with np.errstate(invalid="ignore"):
+                        rest_m = float(np.nanmedian(dmin[r0:r1]))
+                    if not np.isfinite(rest_m):
+                        continue
+                    threshold = min(rest_m * (1 + margin), reach_m)
+                    spans, thresholds = found.setdefault(q, ([], []))
+                    spans.append(_extend(dmin, r0, r1, threshold, bridge))
+                    thresholds.append(threshold)
+    return {q: (_union(spans), float(np.median(thresholds))) for q, (spans, thresholds) in found.items()}
+
+
+#: Frames of a rest, evenly spread, whose median positions decide :func:`_on_top` (the objects are
+#: still: more frames add nothing but time).
+REST_SAMPLES = 15
+
+
+def _median_pose(points_m: np.ndarray) -> np.ndarray:
+    """(k, 3) median over frames of (F, k, 3) marker positions, NaN ignored (NaN: never seen)."""
+    return _nanmedian0(points_m.reshape(points_m.shape[0], -1)).reshape(points_m.shape[1:])
 
 
 def _on_top(top_m: np.ndarray, base_m: np.ndarray) -> bool:
-    """Does an object at ``top_m`` ((F, k, 3) markers over a rest) lie on top of one at ``base_m``:
+    """Does an object at ``top_m`` ((F, k, 3) markers over a rest: at most :data:`REST_SAMPLES` of
+    its frames, evenly spread) lie on top of one at ``base_m``:
     its lowest marker at least as high as the other's highest, its centre over the other's
     markers' hull seen from above (median positions over the rest)?"""
     with np.errstate(invalid="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # a marker never seen in the rest: NaN
-        top, base = np.nanmedian(top_m, axis=0), np.nanmedian(base_m, axis=0)
+        top, base = _median_pose(top_m), _median_pose(base_m)
     top, base = top[np.isfinite(top).all(axis=1)], base[np.isfinite(base).all(axis=1)]
     if top.shape[0] == 0 or base.shape[0] < 3:
         return False
