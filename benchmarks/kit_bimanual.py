@@ -19,6 +19,15 @@ a separate block: nothing may be tuned on them.
     python benchmarks/kit_bimanual.py --distance 100mm --speed 50mm/s --frames 2 --merge 0.3s
     python benchmarks/kit_bimanual.py --evaluation         # adds the held-out block
     python benchmarks/kit_bimanual.py --mode adaptive --contacts geometry --library library/kit
+    python benchmarks/kit_bimanual.py --mode adaptive --take standard     # the seven standard takes
+    python benchmarks/kit_bimanual.py --mode adaptive --take sweep --take double_speed
+
+``--take NAME`` scores another take of each clip instead (a standard take of
+:data:`oacdsl.segmentation.takes.STANDARD_TAKES`, a variation of ``benchmarks/takesweep.py``,
+``standard``: all seven, ``sweep``: all its variations): the take's segmentation is put on the
+original's frames (the state each original frame's moment shows) and scored against the
+original's labels, the hands exchanged for the mirror (:mod:`segeval.takelabels`); a summary
+line per take follows the blocks.
 """
 
 from __future__ import annotations
@@ -41,6 +50,7 @@ from segeval.evaluate import (  # noqa: E402
     read_labels,
     score_clip,
 )
+from segeval.takelabels import labels_for_take, on_original_grid  # noqa: E402
 from segeval.toolscore import KIT_TOOL_TARGETS, ToolScore, cross_hand_frames, score_tools  # noqa: E402
 
 from oacdsl.library import Library  # noqa: E402
@@ -48,6 +58,7 @@ from oacdsl.segmentation import AasParams, segment  # noqa: E402
 from oacdsl.segmentation.grouping import recognise_preset  # noqa: E402
 from oacdsl.segmentation.readers import read_recording  # noqa: E402
 from oacdsl.segmentation.shapes import ShapeModel, scene_shapes  # noqa: E402
+from oacdsl.segmentation.takes import STANDARD_TAKES, Take  # noqa: E402
 from oacdsl.units import parse_quantity  # noqa: E402
 
 DEVELOPMENT = ("Pour", "Stir", "Mix", "Wipe", "Scoop", "Cut")
@@ -79,13 +90,34 @@ def clip_shapes(library: Library | None, action: str) -> dict[str, ShapeModel] |
     return scene_shapes(library, scene) if scene is not None else {}
 
 
+def takes() -> dict[str, Take]:
+    """The takes ``--take`` knows: the standard seven and ``benchmarks/takesweep.py``'s variations."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from takesweep import SWEEP
+
+    return {**STANDARD_TAKES, **SWEEP}
+
+
 def run_clip(folder: Path, action: str, params: AasParams, tolerance: int,
-             library: Library | None = None) -> tuple[ClipScore, dict[str, Any], ToolScore, dict[str, int]]:
+             library: Library | None = None,
+             take: Take | None = None) -> tuple[ClipScore, dict[str, Any], ToolScore, dict[str, int]]:
     xml, labels_path = clip_files(folder, action)
     recording, preset = recognise_preset(read_recording(xml))
     if preset != "kit":
         sys.exit(f"{xml}: the KIT marker set was not recognised")
     labels = read_labels(labels_path)
+    if take is not None:  # another take, on the original's frames, against its labels
+        objects = {g: recording.group_positions(g) for g in recording.instances if g not in labels}
+        nearest = {hand: nearest_object(recording.group_positions(hand), objects, contact_from_labels(lab))
+                   for hand, lab in labels.items()}
+        taken, hands = take(recording)
+        segmentation = on_original_grid(segment(taken, params, shapes=clip_shapes(library, action)),
+                                        recording.times_s, taken.times_s)
+        labels = labels_for_take(labels, hands)
+        reference = {hands.get(hand, hand): obj for hand, obj in nearest.items()}
+        result = score_clip(action, segmentation, labels, tolerance)
+        tools = score_tools(action, segmentation, labels, KIT_TOOL_TARGETS[action], tolerance)
+        return result, reference, tools, cross_hand_frames(segmentation, reference)
     segmentation = segment(recording, params, shapes=clip_shapes(library, action))
     if "geometry" in segmentation.parameters:
         measured = segmentation.parameters["geometry"].items()
@@ -105,7 +137,7 @@ def describe(params: AasParams) -> str:
 
 
 def block(title: str, folder: Path, actions: tuple[str, ...], params: AasParams, tolerance: int,
-          verbose: bool, library: Library | None = None) -> dict[str, Any]:
+          verbose: bool, library: Library | None = None, take: Take | None = None) -> dict[str, Any]:
     print(f"  {title}")
     print(f"  {'clip':<9} {'P':>5} {'R':>5} {'F1':>5}  {'match/pred/lab':>14}  frames  touching (L | R)")
     total = Score()
@@ -113,7 +145,7 @@ def block(title: str, folder: Path, actions: tuple[str, ...], params: AasParams,
     clips = []
     tool_lines = []
     for action in actions:
-        result, reference, tools, cross = run_clip(folder, action, params, tolerance, library)
+        result, reference, tools, cross = run_clip(folder, action, params, tolerance, library, take)
         total += result.score
         tool_total += tools.score
         tool_lines.append(tool_text(tools, cross))
@@ -186,7 +218,19 @@ def main(argv: list[str] | None = None) -> int:
                     help="also score the held-out evaluation clips (never tune on them)")
     ap.add_argument("--verbose", action="store_true", help="print the events of each clip")
     ap.add_argument("--json", metavar="OUT", help="also write the figures to this JSON file")
+    ap.add_argument("--take", action="append", metavar="NAME",
+                    help="score this take of each development clip instead (repeatable; a standard take,"
+                         " a takesweep.py variation, 'standard' for all seven, 'sweep' for all variations)")
     args = ap.parse_args(argv)
+    known = takes() if args.take else {}
+    chosen: list[str] = []
+    groups = {"standard": list(STANDARD_TAKES), "sweep": [n for n in known if n not in STANDARD_TAKES]}
+    for name in args.take or []:
+        if name not in groups and name not in known:
+            ap.error(f"--take {name}: not a take; one of standard, sweep, {', '.join(known)}")
+        chosen += groups.get(name, [name])
+    if chosen and args.evaluation:
+        ap.error("--take scores the development clips only; drop --evaluation")
     folder = data_folder(args.data)
     library = None
     if args.library:
@@ -205,6 +249,20 @@ def main(argv: list[str] | None = None) -> int:
         if args.merge:
             params = replace(params, merge_s=parse_quantity(args.merge, "s"))
         print(describe(params) + f", events matched within ±{args.tolerance} frames")
+        if chosen:
+            report[mode] = {"parameters": params.to_dict(), "takes": {}}
+            for name in chosen:
+                title = f"development clips, take {name}"
+                report[mode]["takes"][name] = block(title, folder, DEVELOPMENT, params, args.tolerance,
+                                                    args.verbose, library, known[name])
+            print(f"  {'take':<28} {'hand P':>6} {'R':>5} {'F1':>5}  {'tools F1':>8}  clips below 1.00")
+            for name, got in report[mode]["takes"].items():
+                hand, tool = got["overall"], got["tool_target"]
+                low = ", ".join(f"{c['clip']} {c['f1']:.2f}" for c in got["clips"] if c["f1"] < 1.0) or "-"
+                print(f"  {name:<28} {hand['precision']:6.2f} {hand['recall']:5.2f} {hand['f1']:5.2f}"
+                      f"  {tool['f1']:8.2f}  {low}")
+            print()
+            continue
         report[mode] = {"parameters": params.to_dict(),
                         "development": block("development clips", folder, DEVELOPMENT, params,
                                              args.tolerance, args.verbose, library)}

@@ -371,8 +371,9 @@ SIGNATURES: dict[str, SkillSignature] = {
                 SkillParamSpec("speed", "m/s", 0.25, 0.02, 1.0,
                                "fastest the held object moves; faster parts of the path are slowed down"),
                 SkillParamSpec("turn", "rad", _deg(30.0), 0.0, _deg(180.0),
-                               "most the held object turns from its start orientation; larger"
-                               " rotations are scaled down to it"),
+                               "most the held object turns at a time: a turn about its own axis"
+                               " beyond it, where the object can rest on the target, goes on in"
+                               " pieces with regrasps; other rotations are scaled down to it"),
                 SkillParamSpec("press", "m", 0.003, 0.0, 0.02,
                                "how far it is pressed on where the path must end touching the target"),
                 SkillParamSpec("force", "N", 10.0, 2.0, 40.0,

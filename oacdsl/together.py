@@ -18,7 +18,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from oacdsl.model import Atom
 from oacdsl.world import NOTHING
 
-__all__ = ["Cond", "bound", "conflict", "independent", "text"]
+__all__ = ["Cond", "bound", "conflict", "independent", "text", "StepConds"]
 
 #: An atom as (left, right, negated), with ``nothing`` for ``x <-> nothing``.
 Cond = tuple[str, str, bool]

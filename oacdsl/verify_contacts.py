@@ -34,7 +34,7 @@ from oacdsl.segmentation.result import Keyframe, Segmentation
 from oacdsl.verify_tolerances import DEFAULT_TOLERANCES, VerifyTolerances
 from oacdsl.world import Relation, WorldState, relation
 
-__all__ = ["FORMAT", "SimContacts", "contacts_path", "read_contacts", "write_contacts"]
+__all__ = ["FORMAT", "SimContacts", "contacts_path", "read_contacts", "write_contacts", "internal_windows"]
 
 #: The ``format`` field of a contacts file.
 FORMAT = "oacdsl-sim-contacts"

@@ -46,7 +46,7 @@ from oacdsl.verify_orientation import Orientation, axis_tilts, compare_orientati
 from oacdsl.verify_tolerances import VerifyTolerances
 from oacdsl.world import WorldState
 
-__all__ = ["EndState", "ObjectEnd", "end_state"]
+__all__ = ["EndState", "ObjectEnd", "end_state", "compare_object"]
 
 #: Frames averaged at each end (robust to one bad frame).
 _ENDS = 5

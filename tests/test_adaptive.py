@@ -155,11 +155,23 @@ def _extend_per_frame(dmin: np.ndarray, a: int, b: int, threshold: float, bridge
     end = b
     while end < n and not beyond(end):
         end += 1
+    while end < n:  # a let-go: the first leave followed by moving apart, not a brief return
+        r = end
+        while r > b and not dmin[r - 1] > threshold:
+            r -= 1  # [r, end): the return before the leave
+        if r <= b or end - r > bridge:
+            break
+        s = r
+        while s > 0 and dmin[s - 1] > threshold:
+            s -= 1  # [s, r): the bridged excursion before it
+        if s < b:
+            break
+        end = s
     return start, end
 
 
 def test_episode_extension_matches_a_per_frame_walk():
-    from oacdsl.segmentation.comotion import _extend
+    from oacdsl.segmentation.episodes import extend_episode
 
     rng = np.random.default_rng(7)
     for _ in range(3000):
@@ -169,13 +181,72 @@ def test_episode_extension_matches_a_per_frame_walk():
         a = int(rng.integers(0, n))
         b = int(rng.integers(a + 1, n + 1))
         threshold, bridge = float(rng.random()), int(rng.integers(0, 4))
-        assert _extend(dmin, a, b, threshold, bridge) == _extend_per_frame(dmin, a, b, threshold, bridge)
+        expected = _extend_per_frame(dmin, a, b, threshold, bridge)
+        assert extend_episode(dmin, a, b, threshold, bridge) == expected
+
+
+def test_a_let_go_with_a_brief_return_ends_at_the_first_leave():
+    """The hand opens, leaves the grip's distance for a frame, passes back within it for a frame and
+    leaves (KIT Stir's spoon at ×0.6 speed): the let-go is the first leave, which the bridge alone
+    would join to the return. A leave followed by a return that lasts is still bridged, and so is
+    the grasp's flicker before the episode (only the let-go is moved)."""
+    from oacdsl.segmentation import episodes as cm
+
+    held, out, thr = 0.037, 0.06, 0.043
+    let_go = np.array([out] * 5 + [held] * 10 + [out, held] + [out] * 5, dtype=np.float32)
+    assert cm._extend_in(let_go, 7, 10, thr, bridge=1) == (5, 15)
+    assert cm.extend_episode(let_go, 7, 10, thr, bridge=1) == (5, 15)
+    assert cm._extend_in(let_go, 7, 10, thr, bridge=0) == (5, 15)
+    lasting = np.array([out] * 5 + [held] * 10 + [out, held, held] + [out] * 5, dtype=np.float32)
+    assert cm._extend_in(lasting, 7, 10, thr, bridge=1) == (5, 18)
+    flicker = np.array([out] * 5 + [held, out] + [held] * 10 + [out] * 5, dtype=np.float32)
+    assert cm._extend_in(flicker, 9, 12, thr, bridge=1) == (5, 17)
+
+
+def _alike_scene(far_m: float, near_m: float) -> Recording:
+    """Two objects (no hands): b rests ``far_m`` from a (closest markers), the two move together
+    (frames 100-150), b comes to ``near_m`` of a (150-200), the two move together again (200-300),
+    b leaves (350-420)."""
+    off = 0.06  # the layouts' closest markers are 6 cm inside their centres' offset
+    a = path(F, [(0, (0, 0, 0)), (100, (0, 0, 0)), (150, (0.3, 0, 0)), (200, (0.3, 0, 0)),
+                 (300, (0.7, 0, 0))])
+    b = path(F, [(0, (0, far_m + off + 0.2, 0)), (60, (0, far_m + off, 0)), (100, (0, far_m + off, 0)),
+                 (150, (0.3, far_m + off, 0)), (200, (0.3, near_m + off, 0)), (300, (0.7, near_m + off, 0)),
+                 (350, (0.7, near_m + off, 0)), (420, (0.7, near_m + off + 0.3, 0))])
+    return recording({"a": cluster(a, CUP_MARKERS), "b": cluster(b, CUP_MARKERS)})
+
+
+def test_co_motion_far_beyond_the_pairs_closest_is_no_grip():
+    """Two things moving alike 130 mm apart (within d), and later 40 mm apart: the far co-motion,
+    more than FAR_RATIO times the pair's closest, is two hands moving alike (KIT Stir's spoon
+    brought towards the cup), not a grip; at 140 mm with a closest of 90 mm it is one (Scoop's cup
+    held up to the ladle)."""
+    from oacdsl.segmentation.episodes import FAR_RATIO
+
+    assert 0.13 > FAR_RATIO * 0.04 and 0.14 < FAR_RATIO * 0.09
+    kfs = summary(segment(_alike_scene(0.13, 0.04), AasParams(mode="adaptive", merge_s=0.0)))
+    assert [r for _, r in kfs] == [[], [("a", "b")], []] and 185 <= kfs[1][0] <= 200  # b arrives at 200
+    kfs = summary(segment(_alike_scene(0.14, 0.09), AasParams(mode="adaptive", merge_s=0.0)))
+    assert [r for _, r in kfs] == [[], [("a", "b")], []] and 55 <= kfs[1][0] <= 65  # b comes to rest at 60
+
+
+def test_co_motion_beyond_d_counts_within_twice_the_pairs_closest():
+    """The scan finds co-motion up to d × (1 + margin), and an episode beyond d counts when the pair
+    co-moves within d too and it lies within FAR_RATIO times the closest (a take 15 % larger of
+    KIT Scoop: the cup held up to the ladle 165-171 mm away, d 163.5 mm)."""
+    from oacdsl.segmentation.episodes import near_episodes
+
+    d = np.array([0.165] * 3 + [0.12] * 3 + [0.10] * 3 + [0.30] * 3, dtype=np.float32)
+    eps = [(0, 3), (6, 9), (9, 12)]
+    assert [(a, b) for a, b, _ in near_episodes(d, eps, 0.15)] == [(0, 3), (6, 9)]
+    assert near_episodes(d, [(0, 3)], 0.15) == []  # nothing within d: no grip at all
+    assert [(a, b) for a, b, _ in near_episodes(d, [(0, 3), (3, 6)], 0.15)] == [(0, 3), (3, 6)]
 
 
 def test_windowed_extend_equals_the_whole_recording_pass(monkeypatch: pytest.MonkeyPatch) -> None:
     """_extend looks at a window around the episode first; it must grow exactly as the pass over
     the whole recording does (short windows: runs cut at the window's edges, bridges, gaps)."""
-    from oacdsl.segmentation import comotion as cm
+    from oacdsl.segmentation import episodes as cm
 
     rng = np.random.default_rng(3)
     for _ in range(500):
@@ -186,7 +257,8 @@ def test_windowed_extend_equals_the_whole_recording_pass(monkeypatch: pytest.Mon
         a = int(rng.integers(0, n))
         b = int(rng.integers(a + 1, n + 1))
         threshold, bridge = float(rng.random() * 0.2), int(rng.integers(0, 12))
-        assert cm._extend(dmin, a, b, threshold, bridge) == cm._extend_in(dmin, a, b, threshold, bridge)
+        assert cm.extend_episode(dmin, a, b, threshold, bridge) == cm._extend_in(
+            dmin, a, b, threshold, bridge)
 
 
 def test_instance_speed_median_by_network_equals_the_sorted_median() -> None:
@@ -223,7 +295,7 @@ def test_sorted_median_equals_nanmedian_with_and_without_gaps() -> None:
 
 def test_episode_median_equals_nanmedian() -> None:
     """_nanmedian1d (an episode's closest distance) is float(np.nanmedian(x)) of float32 values."""
-    from oacdsl.segmentation.comotion import _nanmedian1d
+    from oacdsl.segmentation.episodes import _nanmedian1d
 
     rng = np.random.default_rng(9)
     for _ in range(2000):

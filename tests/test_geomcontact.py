@@ -236,3 +236,23 @@ def test_the_broad_phase_changes_no_decision():
             bounded = surface_gaps(other, peeler, within_m=tol)
             assert np.array_equal(exact <= tol, bounded <= tol)
             assert (bounded <= exact + 1e-12).all()  # a lower bound where not measured
+
+
+def test_mining_segments_with_the_scene_shapes_as_match_does(tmp_path):
+    """``oacc mine --contacts geometry`` (and ``oacc reproduce``'s segment stage) measured every
+    contact by markers: the shapes were never passed. The knife lying on the board is lifted off
+    it only when its shape is known."""
+    from oacdsl.mining.task import JobSpec, analyse
+
+    oac = tmp_path / "cutting.oac"
+    oac.write_text(LIBRARY, encoding="utf-8")
+    rec, _ = knife_on_board()
+    c3d = write_c3d(rec, tmp_path / "knife.c3d")
+    changes = {}
+    for contacts in ("markers", "geometry"):
+        row = analyse(str(c3d), "knife", JobSpec([str(oac)], None, {"contacts": contacts}, compose=False))
+        assert row["status"] == "ok", row["error"]
+        changes[contacts] = [s["change"] for s in row["subs"]]
+    assert changes["geometry"] == ["+ knife <-> right_hand", "- board <-> knife", "+ board <-> knife",
+                                   "- knife <-> right_hand"]
+    assert changes["markers"] != changes["geometry"]

@@ -109,3 +109,75 @@ def test_every_module_imports_on_its_own():
         except ModuleNotFoundError as error:
             if error.name not in {"mujoco", "placo", "imageio", "imageio_ffmpeg"}:
                 raise
+
+
+def _all_of(name: str) -> list[str] | None:
+    """The module's ``__all__``, None when it declares none (or needs a robot extra not installed)."""
+    try:
+        module = importlib.import_module(name)
+    except ModuleNotFoundError as error:
+        if error.name not in {"mujoco", "placo", "imageio", "imageio_ffmpeg"}:
+            raise
+        return None
+    listed = getattr(module, "__all__", None)
+    return None if listed is None else list(listed)
+
+
+def _from_imports() -> set[tuple[str, str, str]]:
+    """(importer, module, name) of every ``from oacdsl.… import name`` of a module's own name
+    (not a submodule), at any depth of the importer's syntax tree."""
+    modules = _modules()
+    found = set()
+    for importer, path in modules.items():
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom) and not node.level and node.module in modules:
+                found |= {(importer, node.module, a.name) for a in node.names
+                          if f"{node.module}.{a.name}" not in modules}
+    return found
+
+
+def test_every_name_in_all_exists_and_is_listed_once():
+    for name in _modules():
+        listed = None if name == "oacdsl.__main__" else _all_of(name)
+        if listed is None:
+            continue
+        assert len(listed) == len(set(listed)), f"{name}: __all__ lists a name twice"
+        missing = [n for n in listed if not hasattr(importlib.import_module(name), n)]
+        assert not missing, f"{name}: __all__ names what it lacks: {missing}"
+
+
+#: Private names imported from another module, in parts other work is changing: to be made public
+#: there (each entry must still be one, so that a fixed one leaves this list).
+PRIVATE_KNOWN = {
+    ("oacdsl.runtime.adaptive", "oacdsl.runtime.executor", n) for n in ("_check", "_judge_call", "_label",
+                                                                        "_pair", "_pairs")
+} | {("oacdsl.segmentation.holding", "oacdsl.segmentation.comotion", "_median_rows")}
+
+
+def test_no_module_imports_a_private_name_of_another():
+    """A name starting with ``_`` belongs to its module: another module (in its package or not)
+    that needs it gets it under a public name, listed in ``__all__``."""
+    private = {(i, m, n) for i, m, n in _from_imports() if n.startswith("_") and not n.startswith("__")}
+    assert not private - PRIVATE_KNOWN, f"private names imported: {sorted(private - PRIVATE_KNOWN)}"
+    assert not PRIVATE_KNOWN - private, f"no longer imported, leave PRIVATE_KNOWN: {PRIVATE_KNOWN - private}"
+
+
+#: Public names imported from a module whose ``__all__`` leaves them out, in parts other work is
+#: changing (as :data:`PRIVATE_KNOWN`).
+ALL_KNOWN = {
+    ("oacdsl.runtime.skills.base", "REACH_TOLERANCE_M"),
+    ("oacdsl.segmentation.grouping", "recognised_note"),
+    ("oacdsl.segmentation.readers.limits", "Label"),
+    ("oacdsl.segmentation.scales", "instance_size_m"),
+    *(("oacdsl.segmentation.synth.dough", n) for n in ("R_CUP_LEFT_HAND", "R_CUP_RIGHT_HAND", "YAW_PI",
+                                                        "mix_until_end", "pour_with")),
+}
+
+
+def test_what_other_modules_import_is_in_the_all_of_its_module():
+    """``__all__`` is true: a module that declares one lists every name other modules take from it."""
+    alls = {m: _all_of(m) for m in _modules() if m != "oacdsl.__main__"}
+    left_out = {(m, n) for i, m, n in _from_imports()
+                if not n.startswith("_") and alls.get(m) is not None and n not in alls[m]}
+    assert not left_out - ALL_KNOWN, f"imported but not in __all__: {sorted(left_out - ALL_KNOWN)}"
+    assert not ALL_KNOWN - left_out, f"now in __all__, leave ALL_KNOWN: {ALL_KNOWN - left_out}"

@@ -51,8 +51,11 @@ def test_each_follow_step_gets_the_path_of_its_own_two_objects(capsys: pytest.Ca
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("clip", sorted(CLIPS))
-def test_a_named_skill_replaced_by_follow_is_reproduced_and_verified(clip: str, tmp_path: Path) -> None:
+@pytest.mark.parametrize(("clip", "seed"), [("Cut", None), ("Cut", 1), ("Stir", None)])
+def test_a_named_skill_replaced_by_follow_is_reproduced_and_verified(clip: str, seed: int | None,
+                                                                      tmp_path: Path) -> None:
+    """Cut seed 1: the cucumber carried to its place from under the knife the other hand holds
+    up, round it (runtime/motion/detour.py; before, the hand carrying it touched the blade)."""
     pytest.importorskip("mujoco")
     from oacdsl.pipeline import load_inputs, reproduce
     from oacdsl.pipeline.inputs import default_name
@@ -64,7 +67,8 @@ def test_a_named_skill_replaced_by_follow_is_reproduced_and_verified(clip: str, 
     shutil.copytree(FOLLOW_KIT, library, ignore=shutil.ignore_patterns("learned", "drafts"))
     inputs = load_inputs(recording, library, None, AasParams())
     name = default_name(str(recording))
-    outcome = reproduce(inputs, name=name, out=tmp_path / "out", db=None, render=False, quiet=True)
+    outcome = reproduce(inputs, name=name, out=tmp_path / "out", db=None, render=False, quiet=True,
+                        seed=seed)
     result = outcome.result
     assert outcome.exit_code == 0, result["verdict"]
     assert [s["oac"] for s in result["compose"]["steps"]] == steps

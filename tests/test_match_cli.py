@@ -134,7 +134,7 @@ def test_compose_propose_writes_drafts_and_continues(capsys, lib_dir, tmp_path):
 
 @pytest.mark.parametrize(("argv", "code", "message"), [
     (["--library", "{tmp}/nope"], 2, "nope: no such library folder or file"),
-    (["--scene", "galley"], 1, "no scene 'galley' in the library (valid: kitchen, wiping)"),
+    (["--scene", "galley"], 2, "--scene: no scene 'galley' in the library (valid: kitchen, wiping)"),
     (["--distance", "150mm"], 2, "--distance: these read and segment a recording"),
 ])
 def test_bad_input_is_one_line(capsys, lib_dir, dough_json, tmp_path, argv, code, message):
@@ -204,3 +204,29 @@ def test_a_demonstration_no_scene_fits_is_named_in_the_error(capsys, lib_dir, do
     code, _, err = run(capsys, command, str(renamed), "--library", str(lib_dir), *extra)
     assert code == 1 and len(err.strip().splitlines()) == 1
     assert err.startswith(f"oacc: error: {renamed}: no scene of the library has exactly the recording's")
+
+
+@pytest.mark.parametrize("command", ["match", "compose", "verify", "reproduce"])
+def test_no_scene_fits_the_recording_is_exit_1_in_every_command(capsys, tmp_path, command):
+    """The recording is wrong for the library (input, exit 1), not the command line (usage, 2):
+    the same status and one line naming the recording in every command that reads one."""
+    dough = str(ROOT / "data" / "dough.c3d")
+    extra = {"compose": ["--name", "x", "--dry-run"], "verify": [dough],
+             "reproduce": ["--out", str(tmp_path / "out"), "--db", str(tmp_path / "runs.sqlite3")]}
+    kit = str(ROOT / "library" / "kit")
+    code, out, err = run(capsys, command, dough, *extra.get(command, []), "--library", kit)
+    assert code == 1 and out == "" and len(err.strip().splitlines()) == 1
+    assert err.startswith(f"oacc: error: {dough}: no scene of the library has exactly the recording's")
+    assert list(tmp_path.iterdir()) == []  # nothing written
+
+
+@pytest.mark.parametrize("command", ["match", "compose", "verify", "reproduce"])
+def test_a_scene_name_not_in_the_library_is_a_usage_error_in_every_command(capsys, tmp_path, command):
+    dough = str(ROOT / "data" / "dough.c3d")
+    extra = {"compose": ["--name", "x", "--dry-run"], "verify": [dough],
+             "reproduce": ["--out", str(tmp_path / "out"), "--db", str(tmp_path / "runs.sqlite3")]}
+    code, _, err = run(capsys, command, dough, *extra.get(command, []), "--library", str(ROOT / "library"),
+                       "--scene", "kitchn")
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert err.startswith("oacc: error: --scene: no scene 'kitchn' in the library (did you mean 'kitchen'?")
+    assert list(tmp_path.iterdir()) == []

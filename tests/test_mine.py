@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import socket
 import sqlite3
 import subprocess
@@ -115,6 +116,32 @@ def test_unexplained_sub_actions_get_a_drafted_oac(tmp_path):
     assert group["count"] == 1 and group["change"] == "+ Bowl <-> Mixer"
     assert "effect  mixer <-> bowl" in group["draft"] and "execute TODO" in group["draft"]
     assert {o["oac"]: o["sub_actions"] for o in doc["oacs"]} == {"grasp": 3, "pour": 2, "place": 2}
+
+
+def test_a_recording_mined_and_composed_gives_the_same_matches_and_oac(tmp_path, capsys):
+    """Mining matches as oacc compose does, with the demonstration's motion: the synthetic Peel
+    against the KIT library's generic OACs (no peel OAC) ties touch(left_hand, cucumber, peeler)
+    with touch(right_hand, peeler, cucumber); the world states cannot tell which hand moved, the
+    motion can (the right one). Without the motion mining chose the left hand."""
+    sys.path.insert(0, str(ROOT / "tests"))
+    import _task_demos as demos
+
+    text = (LIBRARY / "examples" / "peel.oac").read_text(encoding="utf-8")
+    scene = tmp_path / "peeling.oac"  # its classes and scene, without its peel OACs
+    scene.write_text(text[: text.index("# Peel the cucumber")], encoding="utf-8")
+    libraries = [str(LIBRARY / "kit"), str(scene)]
+    clip = demos.write("Peel", tmp_path)
+    row = analyse(str(clip), "peel", JobSpec(libraries, None, {}, compose=True))
+    assert row["status"] == "ok", row["error"]
+    mined = [(s["oac"], s["binding"]) for s in row["subs"]]
+    out = tmp_path / "composed.oac"
+    argv = ["compose", str(clip), "--name", "synthetic_peel", "-o", str(out), "--json"]
+    assert main([*argv, *(a for lib in libraries for a in ("--library", lib))]) == 0
+    composed = [(s["oac"], s["binding"]) for s in json.loads(capsys.readouterr().out)["steps"]]
+    assert mined == composed
+    assert mined[-1] == ("touch", {"h": "right_hand", "o": "peeler", "t": "cucumber"})
+    written = out.read_text(encoding="utf-8")
+    assert row["composed"] == written[written.index("oac synthetic_peel("):]  # the same OAC, its tilt too
 
 
 @pytest.mark.slow

@@ -193,7 +193,7 @@ def test_hold_and_change_window_on_the_command_line(capsys, tmp_path):
 def test_a_short_excursion_does_not_end_a_hold():
     # comotion._extend: a hand marker hidden for 3 frames makes the closest distance jump to the
     # next marker's; the hold goes on (bridged up to tool_bridge_s), a longer one ends it
-    from oacdsl.segmentation.comotion import _extend
+    from oacdsl.segmentation.episodes import _extend
 
     d = np.full(100, 0.06, dtype=np.float32)
     d[60:63] = 0.10

@@ -220,7 +220,8 @@ def test_oacc_run_usage_errors(tmp_path):
         (["--db", a_file / "runs.sqlite3"], "cannot record runs here"),
         (["--db", tmp_path], "is a directory"),
     ]:
-        out = oacc_run(tmp_path, "grasp", "--bind", "h=right_hand", "--bind", "o=green_cup", *map(str, args))
+        bound = ["--scene", "kitchen", "--bind", "h=right_hand", "--bind", "o=green_cup"]
+        out = oacc_run(tmp_path, "grasp", *bound, *map(str, args))
         assert out.returncode == 2 and "Traceback" not in out.stderr, (args, out.stderr)
         lines = out.stderr.strip().splitlines()
         assert message in lines[-1], (args, out.stderr)
@@ -228,7 +229,32 @@ def test_oacc_run_usage_errors(tmp_path):
         assert "step 1" not in out.stdout  # refused before the simulation
     assert sorted(p.name for p in tmp_path.iterdir()) == ["clip.mp4", "file"]
     out = oacc_run(tmp_path, "grsap", "--scene", "kitchen")
-    assert out.returncode == 1 and "did you mean 'grasp'" in out.stderr
+    assert out.returncode == 2 and "did you mean 'grasp'" in out.stderr
+
+
+@pytest.mark.parametrize(("bind", "message"), [
+    ("h=nobody", "--bind h=nobody: no instance 'nobody' in scene kitchen (valid: green_cup, left_hand,"),
+    ("h=red_cpu", "--bind h=red_cpu: no instance 'red_cpu' in scene kitchen (did you mean 'red_cup'?)"),
+    ("x=left_hand", "--bind x=left_hand: oac pour has no parameter 'x' (valid: b, c, h, l)"),
+    ("h=red_cup", "--bind h=red_cup: red_cup is not a Hand (it is Container, Cup, Graspable)"),
+])
+def test_a_wrong_binding_is_one_line_before_anything_heavy(tmp_path, capsys, monkeypatch, bind, message):
+    """Checked right after the library: before the demonstration is read (this one is not a
+    recording), the run store is opened or MuJoCo is started."""
+    import oacdsl.cli.run_cmd as run_cmd
+    from oacdsl.cli import main
+
+    def started(*_: object) -> None:
+        raise AssertionError("the simulation was being prepared")
+
+    monkeypatch.setattr(run_cmd, "prepare_backend", started)
+    demo = tmp_path / "demo.c3d"
+    demo.write_text("not a recording")
+    code = main(["run", "pour", "--scene", "kitchen", "--bind", bind, "--demonstration", str(demo),
+                 "--execution", str(tmp_path / "out" / "run.c3d"), "--db", str(tmp_path / "runs.sqlite3")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith(f"oacc: error: {message}") and len(err.strip().splitlines()) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["demo.c3d"]
 
 
 def test_a_composed_step_whose_effect_is_not_observed_fails_the_run_and_is_named(tmp_path):

@@ -257,11 +257,11 @@ def test_an_adaptive_runs_adaptations_are_stored_in_order(tmp_path):
 
 
 def test_a_version_1_store_gets_the_adaptations_table_and_keeps_its_runs(tmp_path):
-    from oacdsl.stats.schema import _SCHEMA_V1
+    from oacdsl.stats.schema import SCHEMA_V1
 
     path = tmp_path / "old.sqlite3"
     conn = sqlite3.connect(path)
-    conn.executescript(_SCHEMA_V1)
+    conn.executescript(SCHEMA_V1)
     conn.execute(f"PRAGMA application_id = {APPLICATION_ID}")
     conn.execute("PRAGMA user_version = 1")
     conn.execute(

@@ -30,15 +30,11 @@ from oacdsl.segmentation.takes import IDENTITY, STANDARD_TAKES
 ROOT = Path(__file__).resolve().parents[1]
 CLIPS = (*bench.DEVELOPMENT, "dough")
 
-_DISTANCE = ("lengths: d grows with the hands' size (×1.09 here: the subject's hands are 5 % smaller"
-             " than the reference's), not by the scene's 15 %: the ladle reaches the cup 0.3 s late")
 _COARSE = ("a 10 Hz take at double speed: one frame is 0.2 s of the demonstration, more than the"
            " margin of the coincidence window or of the tools' meeting")
 #: (clip, take) → why it composes to other steps today (docs/segmentation.md, "Measured").
 KNOWN = {
-    ("Mix", "double_speed"): _COARSE,
     ("Wipe", "double_speed"): _COARSE,
-    ("Scoop", "scaled"): _DISTANCE,
 }
 
 
@@ -91,8 +87,11 @@ def test_a_take_composes_to_the_original_steps(clip, take, tmp_path):
 
 #: Variations beyond the standard takes (``benchmarks/takesweep.py``) that each rule of issue 20's
 #: takes work keeps composing as the original: a grasp's flickering co-motion at 30 and 240 Hz
-#: (Stir), a let-go's last co-motion frame at 240 Hz (Pour), bridges in whole frames (Stir ×1.6).
-SWEPT = (("Stir", "rate_30hz"), ("Stir", "rate_240hz"), ("Pour", "rate_240hz"), ("Stir", "speed_x1.6"))
+#: (Stir), a let-go's last co-motion frame at 240 Hz (Pour), bridges in whole frames (Stir ×1.6), a
+#: let-go with a brief return is the first leave (Stir ×0.6), co-motion within twice the pair's closest
+#: rather than within a cap in the hands' size (Scoop ×1.1: the cup held up to the ladle).
+SWEPT = (("Stir", "rate_30hz"), ("Stir", "rate_240hz"), ("Pour", "rate_240hz"), ("Stir", "speed_x1.6"),
+         ("Stir", "speed_x0.6"), ("Scoop", "scale_1.1"))
 
 
 @pytest.mark.slow

@@ -78,3 +78,33 @@ def test_pour_and_stir_keep_their_keyframes():
     assert [f for f, _, _ in pour] == [14, 20, 54]  # the carton grasped, then reaching the cup: one group
     assert ("cup_small", "milk_small") in pour[-1][2]
     assert [f for f, _, _ in changes("Stir")] == [19, 21, 27, 48, 55, 56]
+
+
+def test_at_rest_is_within_rest_m_between_the_quartiles():
+    """A held object rests on another when their distance varies by at most REST_M between its
+    quartiles (Cut's cucumber held on the board: 0.7 mm). A spoon stirring in a bowl varies by
+    12 mm at 10 Hz, and by 9.5 mm when the same stirring is seen in a 10 Hz take at double speed
+    (every other moment): not at rest (with twice REST_M it was, and Mix's fork, not the spoon,
+    became the spoon's target)."""
+    import numpy as np
+
+    from oacdsl.segmentation.toolroles import REST_M, _rests
+
+    held = 0.12 + np.array([0.0, 0.0007, 0.0003, -0.0002, 0.0005, 0.0001])
+    assert _rests(held, REST_M)
+    stirring = 0.13 + np.array([-0.00475, 0.00475] * 4)
+    lo, hi = np.percentile(stirring, [25, 75])
+    assert hi - lo == pytest.approx(0.0095) and not _rests(stirring, REST_M)
+
+
+def test_mix_at_double_speed_keeps_the_servers_in_the_bowl():
+    """KIT Mix as a 10 Hz take at twice the speed: both servers touch the bowl, not each other."""
+    from oacdsl.segmentation.takes import stretched
+
+    xml = next(mocap_file("kit_bimanual").glob("Mix_*.mmm.xml"))
+    recording, _ = recognise_preset(read_recording(xml))
+    take = stretched(recording, 0.5)
+    result = segment(take, AasParams().resolved(take.rate_hz))
+    seen = {frozenset(r) for k in result.keyframes for r in k.state.relations}
+    assert frozenset((FORK, BOWL)) in seen and frozenset((SPOON, BOWL)) in seen
+    assert frozenset((FORK, SPOON)) not in seen

@@ -15,15 +15,8 @@ import statistics
 
 import numpy as np
 
-from oacdsl.segmentation.comotion import (
-    AdaptiveSettings,
-    CoMotion,
-    _episodes,
-    _extend,
-    _prune_indirect,
-    _union,
-    frames_within,
-)
+from oacdsl.segmentation.comotion import AdaptiveSettings, CoMotion, _prune_indirect, frames_within
+from oacdsl.segmentation.episodes import FAR_RATIO, extend_episode, find_episodes, union_spans
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
@@ -80,7 +73,7 @@ def comotion_reference(
             ia, ib = (int(i) for i in table.instance_pairs[q])
             known = [s for s in (speed[ia], speed[ib]) if not math.isnan(s)]  # as np.fmin: NaN ignored
             slower = min(known) if known else math.nan
-            moving = closest < params.distance_m and slower > settings.move_speed_m_s
+            moving = closest < reach and slower > settings.move_speed_m_s
             dmin[q][f] = closest
             carry[q][f] = moving and change < settings.rigid_ratio * slower
     signals = {
@@ -94,10 +87,14 @@ def comotion_reference(
     out: dict[int, tuple[list[tuple[int, int]], float]] = {}
     for q, (d_q, c_q) in signals.items():
         spans, thresholds = [], []
-        for a, b in _episodes(c_q, min_len, bridge):
-            threshold = min(float(np.nanmedian(d_q[a:b])) * (1 + settings.margin), params.distance_m)
-            spans.append(_extend(d_q, a, b, threshold, bridge))
+        found = [(a, b, float(np.nanmedian(d_q[a:b]))) for a, b in find_episodes(c_q, min_len, bridge)]
+        closest = min((m for _, _, m in found), default=math.inf)
+        for a, b, median in found:
+            if not (closest < params.distance_m and median <= FAR_RATIO * closest):
+                continue  # no co-motion within d, or two hands moving alike far beyond the closest
+            threshold = min(median * (1 + settings.margin), params.distance_m)
+            spans.append(extend_episode(d_q, a, b, threshold, bridge))
             thresholds.append(threshold)
         if spans:
-            out[q] = (_union(spans), float(np.median(thresholds)))
+            out[q] = (union_spans(spans), float(np.median(thresholds)))
     return CoMotion(out, {q: d_q for q, (d_q, _) in signals.items()})

@@ -14,15 +14,15 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from oacdsl.cli.aas_options import PRESET_HELP, add_aas_options
 from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
-from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
-from oacdsl.errors import MatchingError, UsageError
+from oacdsl.errors import MatchingError, OacError, UsageError
 from oacdsl.segmentation.params import DEFAULT_MODE
 
 if TYPE_CHECKING:
     from oacdsl.pipeline.inputs import Inputs
 
-__all__ = ["add_input_options", "load_inputs", "note", "transient_s"]
+__all__ = ["add_input_options", "load_inputs", "located", "note", "transient_s"]
 
 
 def add_input_options(p: argparse.ArgumentParser) -> None:
@@ -57,7 +57,7 @@ def add_input_options(p: argparse.ArgumentParser) -> None:
 
 def load_inputs(args: argparse.Namespace) -> Inputs:
     """Library, scene and demonstration for a ``match``/``compose`` command line."""
-    from oacdsl.cli.segment_cmd import params_from_args
+    from oacdsl.cli.aas_options import params_from_args
     from oacdsl.pipeline.inputs import load_inputs as load
 
     if Path(args.recording).suffix.lower() == ".json":
@@ -77,14 +77,28 @@ def load_inputs(args: argparse.Namespace) -> Inputs:
                           preset=args.preset, allow_truncated=allow_truncated(args), segmentations=True,
                           note=note)
     except MatchingError as error:  # no scene, or several, fit the demonstration: name it
-        if args.scene is not None or error.location is not None:
-            raise
-        raise MatchingError(error.message, location=args.recording) from None
+        raise located(error, args.recording, args.scene) from None
     for text in inputs.warnings:  # learned files left out of the library (they no longer compile)
         print(f"oacc: warning: {text}", file=sys.stderr)
     if inputs.recording is not None:
         check_windows(args, inputs.recording)
     return inputs
+
+
+def located(error: MatchingError, recording: str, scene: str | None) -> OacError:
+    """``error`` (no scene, or several, fit the demonstration) as every command that reads a
+    demonstration reports it (``match``, ``compose``, ``verify``, ``reproduce``).
+
+    Found by the recording's marker groups: an input error (exit 1) named by the recording, which
+    is wrong for the library. ``--scene NAME`` naming no scene of the library: a usage error
+    (exit 2), as in ``oacc plan`` and ``oacc segment``. An error already located (a scene file)
+    stays as it is.
+    """
+    if error.location is not None:
+        return error
+    if scene is not None:
+        return UsageError(f"--scene: {error.message}")
+    return MatchingError(error.message, location=recording)
 
 
 def transient_s(args: argparse.Namespace) -> float:

@@ -37,7 +37,7 @@ examples:
 
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
-    from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
+    from oacdsl.cli.aas_options import PRESET_HELP, add_aas_options
 
     p = sub.add_parser(
         "draft",
@@ -63,7 +63,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 
 
 def run(args: argparse.Namespace) -> int:
-    from oacdsl.cli.segment_cmd import load, params_from_args
+    from oacdsl.cli.aas_options import params_from_args
+    from oacdsl.cli.segment_cmd import load
     from oacdsl.draft.scene import draft_scene
     from oacdsl.errors import InputError, InvalidRecording, UsageError
     from oacdsl.pipeline.inputs import default_name

@@ -20,7 +20,7 @@ the recordings already in the table are skipped. Dask is the extra 'scale'.
 
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
-    from oacdsl.cli.segment_cmd import add_aas_options
+    from oacdsl.cli.aas_options import add_aas_options
     from oacdsl.mining.cluster import WORKER_WAIT_S
 
     p = sub.add_parser(
@@ -67,7 +67,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 
 
 def run(args: argparse.Namespace) -> int:
-    from oacdsl.cli.segment_cmd import params_from_args
+    from oacdsl.cli.aas_options import params_from_args
     from oacdsl.errors import UsageError
     from oacdsl.mining import MineTable, mine, summarise
     from oacdsl.mining.cluster import WORKER_WAIT_S

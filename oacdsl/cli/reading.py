@@ -15,7 +15,13 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
 
-__all__ = ["ALLOW_TRUNCATED_HELP", "add_reading_options", "check_windows", "printed_warnings"]
+__all__ = [
+    "ALLOW_TRUNCATED_HELP",
+    "add_reading_options",
+    "check_windows",
+    "printed_warnings",
+    "allow_truncated",
+]
 
 ALLOW_TRUNCATED_HELP = (
     "read a C3D file that ends before its declared frames (cut short, or a writer that stopped):"

@@ -9,9 +9,9 @@ import sys
 from pathlib import Path
 
 from oacdsl.cli import check_oac_name, seed_arg
+from oacdsl.cli.aas_options import PRESET_HELP, add_aas_options
 from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
 from oacdsl.cli.scene_options import add_scene_options, scene_overrides
-from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
 
 DESCRIPTION = """\
 Reproduce a demonstrated task on the simulated ARMAR-III, and check it (Wächter et al. 2013,
@@ -123,9 +123,10 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 
 
 def run(args: argparse.Namespace) -> int:
+    from oacdsl.cli.aas_options import params_from_args
     from oacdsl.cli.backend import prepare_backend
+    from oacdsl.cli.demo_input import located
     from oacdsl.cli.demo_input import note as print_note
-    from oacdsl.cli.segment_cmd import params_from_args
     from oacdsl.errors import InputError, MatchingError, UsageError
     from oacdsl.pipeline import default_name, load_inputs, reproduce
     from oacdsl.pipeline.inputs import BUNDLED_NAME
@@ -165,8 +166,8 @@ def run(args: argparse.Namespace) -> int:
                 allow_truncated=allow_truncated(args),
                 note=print_note,
             )
-    except MatchingError as error:  # no scene fits the recording: an input error, nothing is written
-        raise InputError(error.message, location=args.recording or BUNDLED_NAME) from None
+    except MatchingError as error:  # no scene fits the recording: input wrong (exit 1), nothing written
+        raise located(error, args.recording or BUNDLED_NAME, args.scene) from None
     if inputs.recording is not None:
         check_windows(args, inputs.recording)
     note = prepare_backend(not args.no_render)  # before MuJoCo is imported: it reads MUJOCO_GL once

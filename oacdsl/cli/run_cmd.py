@@ -16,12 +16,19 @@ from typing import Any
 
 from oacdsl.cli import seed_arg
 from oacdsl.cli.backend import NONE_FOUND, prepare_backend
-from oacdsl.cli.run_inputs import check_outputs, demonstrated, load_inputs, writable_folder
-from oacdsl.cli.run_many import add_many_options
+from oacdsl.cli.run_inputs import (
+    check_binding,
+    check_outputs,
+    demonstrated,
+    load_inputs,
+    run_scene,
+    writable_folder,
+)
+from oacdsl.cli.run_many import add_many_options, check_many_options
 from oacdsl.cli.scene_options import add_scene_options, pairs, scene_overrides
-from oacdsl.errors import RuntimeFailure, UsageError, did_you_mean
+from oacdsl.errors import RuntimeFailure, UsageError
 
-__all__ = ["register", "run", "load_inputs"]
+__all__ = ["register", "run", "load_inputs", "add_adaptive_options"]
 
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -121,32 +128,27 @@ def run(args: argparse.Namespace) -> int:
     bindings = pairs(args.bind, "--bind", "NAME=INSTANCE")
     if args.max_repairs < 0:
         raise UsageError("--max-repairs: a whole number ≥ 0")
+    check_many_options(args)
     overrides = scene_overrides(args)
     library, scene = load_inputs(args.library or ["library"], args.scene)
+    chosen = run_scene(library, args.name, scene, bindings)
     if args.state:
         import dataclasses
 
         from oacdsl.planning.state import state_as_setup
-        from oacdsl.runtime.binding import choose_scene
 
-        if args.name not in library.oacs:
-            raise UsageError(f"no oac {args.name!r} in the library{did_you_mean(args.name, library.oacs)}")
-        chosen = choose_scene(library, library.oacs[args.name], scene, bindings)
         stated_fills, held = state_as_setup(library, chosen, args.state)
         overrides = dataclasses.replace(overrides, fill={**stated_fills, **overrides.fill}, held=held)
-    if args.name in library.oacs and (overrides.places or overrides.fill):  # else prepare() names the problem
+    if overrides.places or overrides.fill:
         from oacdsl.cli.scene_check import check_overrides
-        from oacdsl.runtime.binding import choose_scene
 
-        check_overrides(library, choose_scene(library, library.oacs[args.name], scene, bindings), overrides)
+        check_overrides(library, chosen, overrides)
+    check_binding(library, args.name, chosen, bindings)  # a wrong --bind: one line, before any work
     if args.seeds is not None:  # many runs on Dask: the success measure
         from oacdsl.cli.run_many import run_many_cmd
 
         paths = [*(args.library or ["library"]), *([args.scene] if scene != args.scene else [])]
         return run_many_cmd(args, paths, scene, bindings, overrides)
-    many = (args.workers, args.scheduler, args.worker_wait)
-    if args.place_samples != 1 or any(x is not None for x in many):
-        raise UsageError("--workers, --scheduler, --worker-wait and --place-samples go with --seeds A:B")
     db = None
     if not args.no_record:  # an unusable store fails now, before the simulation
         from oacdsl.stats import ensure_writable, resolve_db_path

@@ -1,7 +1,8 @@
 """What ``oacc run`` checks before the simulation starts: the library and scene
 (:func:`load_inputs`, also ``oacc plan``'s), the first-frame positions of ``--demonstration``
-for a scene laid out as demonstrated, and that ``--frames``, ``--video`` and ``--execution``
-can be written (exit 2 if not)."""
+for a scene laid out as demonstrated, that ``--frames``, ``--video`` and ``--execution``
+can be written, and the OAC, its scene and ``--bind`` (:func:`run_scene`,
+:func:`check_binding`): exit 2 if not."""
 
 from __future__ import annotations
 
@@ -11,10 +12,10 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from oacdsl.errors import UsageError
+from oacdsl.errors import RuntimeFailure, UsageError, did_you_mean
 from oacdsl.model import Scene
 
-__all__ = ["check_outputs", "demonstrated", "load_inputs", "writable_folder"]
+__all__ = ["check_binding", "check_outputs", "demonstrated", "load_inputs", "run_scene", "writable_folder"]
 
 
 def demonstrated(
@@ -75,6 +76,32 @@ def load_inputs(paths: list[str], scene: str | None) -> tuple[Any, str | None]:
             raise UsageError(f"{scene}: expected one scene declaration, found {len(names)}")
         return load_library([*paths, scene]), names[0]
     return load_library(paths), scene
+
+
+def run_scene(library: Any, name: str, scene: str | None, bindings: dict[str, str]) -> Scene:
+    """The scene OAC ``name`` runs in (``--scene``, else the one that fits it and ``--bind``), as
+    the runtime chooses it; an OAC or scene that is not there is a usage error (exit 2)."""
+    from oacdsl.runtime.binding import choose_scene
+
+    if name not in library.oacs:
+        raise UsageError(f"no oac {name!r} in the library{did_you_mean(name, library.oacs)}")
+    try:
+        return choose_scene(library, library.oacs[name], scene, bindings)
+    except RuntimeFailure as error:
+        raise UsageError(error.message) from None
+
+
+def check_binding(library: Any, name: str, scene: Scene, bindings: dict[str, str]) -> None:
+    """Every parameter of OAC ``name`` bound in ``scene`` (``--bind`` first) as the runtime binds
+    them, but before anything heavy (the run store, a demonstration, MuJoCo, a cluster): an
+    instance that is not there, not of the parameter's class, or a parameter the OAC lacks is a
+    usage error (exit 2) on one line, naming the ``--bind`` it is about."""
+    from oacdsl.runtime.binding import bind
+
+    try:
+        bind(library, library.oacs[name], scene, bindings)
+    except RuntimeFailure as error:
+        raise UsageError(error.message) from None
 
 
 def writable_folder(folder: Path, flag: str) -> None:

@@ -9,7 +9,7 @@ from typing import Any
 
 from oacdsl.errors import UsageError
 
-__all__ = ["add_many_options", "parse_seeds", "run_many_cmd"]
+__all__ = ["add_many_options", "check_many_options", "parse_seeds", "run_many_cmd"]
 
 
 def add_many_options(p: argparse.ArgumentParser) -> None:
@@ -46,6 +46,23 @@ def parse_seeds(text: str) -> range:
     return range(first, stop)
 
 
+def check_many_options(args: argparse.Namespace) -> None:
+    """``--seeds`` and the options that go with it, checked before the library is read."""
+    if args.seeds is None:
+        many = (args.workers, args.scheduler, args.worker_wait)
+        if args.place_samples != 1 or any(x is not None for x in many):
+            raise UsageError("--workers, --scheduler, --worker-wait and --place-samples go with --seeds A:B")
+        return
+    if args.seed is not None:
+        raise UsageError("--seed and --seeds: give one")
+    if args.video or args.frames or args.view or args.demonstration:
+        raise UsageError("--seeds runs without --video, --frames, --view or --demonstration")
+    if args.worker_wait is not None and args.scheduler is None:
+        raise UsageError("--worker-wait goes with --scheduler (the embedded cluster's workers are its own)")
+    if args.place_samples < 1:
+        raise UsageError(f"--place-samples {args.place_samples}: at least 1")
+
+
 def run_many_cmd(
     args: argparse.Namespace,
     library_paths: list[str],
@@ -56,14 +73,6 @@ def run_many_cmd(
     from oacdsl.mining.runs import RunSpec, run_many
     from oacdsl.stats import RunStore, ensure_writable, resolve_db_path, wilson_interval
 
-    if args.seed is not None:
-        raise UsageError("--seed and --seeds: give one")
-    if args.video or args.frames or args.view or args.demonstration:
-        raise UsageError("--seeds runs without --video, --frames, --view or --demonstration")
-    if args.worker_wait is not None and args.scheduler is None:
-        raise UsageError("--worker-wait goes with --scheduler (the embedded cluster's workers are its own)")
-    if args.place_samples < 1:
-        raise UsageError(f"--place-samples {args.place_samples}: at least 1")
     kw = overrides.kwargs()
     if kw.get("layout") or kw.get("balls") or kw.get("held"):
         raise UsageError("--seeds takes --place and --fill, not --layout, balls or a held object (--state)")

@@ -7,8 +7,8 @@ import json
 from pathlib import Path
 from typing import Any
 
+from oacdsl.cli.aas_options import PRESET_HELP, add_aas_options
 from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
-from oacdsl.cli.segment_cmd import PRESET_HELP, add_aas_options
 
 DESCRIPTION = """\
 Compare a recording of an execution with the demonstration, judged on the physical outcome
@@ -84,9 +84,10 @@ def load_execution(path: str, inputs: Any, fmt: str | None, preset: str | None, 
 
 
 def run(args: argparse.Namespace) -> int:
+    from oacdsl.cli.aas_options import params_from_args
+    from oacdsl.cli.demo_input import located
     from oacdsl.cli.demo_input import note as print_note
-    from oacdsl.cli.segment_cmd import params_from_args
-    from oacdsl.errors import InputError, MatchingError
+    from oacdsl.errors import MatchingError
     from oacdsl.pipeline import load_inputs
     from oacdsl.verify_contacts import contacts_path, read_contacts
     from oacdsl.verify_execution import verify_execution
@@ -98,8 +99,8 @@ def run(args: argparse.Namespace) -> int:
                                  preset=args.preset, allow_truncated=allow_truncated(args), note=print_note)
             execution = load_execution(args.execution, inputs, args.format, args.preset,
                                        allow_truncated(args))
-    except MatchingError as error:  # no scene fits: an input error
-        raise InputError(error.message, location=args.demonstration) from None
+    except MatchingError as error:  # no scene fits: the input is wrong (exit 1)
+        raise located(error, args.demonstration, args.scene) from None
     check_windows(args, inputs.motion_capture())
     sidecar = contacts_path(args.execution)
     contacts = read_contacts(sidecar) if sidecar.is_file() else None

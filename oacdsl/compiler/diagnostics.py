@@ -34,6 +34,7 @@ __all__ = [
     "render",
     "render_one",
     "sort_diagnostics",
+    "summary",
 ]
 
 #: Every diagnostic code with its title. Errors start with E, warnings with W.

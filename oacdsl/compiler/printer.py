@@ -21,9 +21,9 @@ The words (names, numbers, quantities, atoms, comments) are in
 
 from __future__ import annotations
 
-from oacdsl.compiler.printer_oac import _oac
-from oacdsl.compiler.printer_scene import _class, _grasp, _scene
-from oacdsl.compiler.printer_words import _comment_lines, format_atom, format_quantity
+from oacdsl.compiler.printer_oac import oac_lines
+from oacdsl.compiler.printer_scene import class_lines, grasp_lines, scene_lines
+from oacdsl.compiler.printer_words import comment_lines, format_atom, format_quantity
 from oacdsl.errors import LanguageError
 from oacdsl.model import Decl, Grasp, Module, Oac, ObjectClass, Scene
 
@@ -32,16 +32,16 @@ __all__ = ["format_atom", "format_decl", "format_oac", "format_quantity", "print
 
 def _decl_lines(decl: Decl) -> list[str]:
     if isinstance(decl, ObjectClass):
-        body = _class(decl)
+        body = class_lines(decl)
     elif isinstance(decl, Scene):
-        body = _scene(decl)
+        body = scene_lines(decl)
     elif isinstance(decl, Grasp):
-        body = _grasp(decl)
+        body = grasp_lines(decl)
     elif isinstance(decl, Oac):
-        body = _oac(decl)
+        body = oac_lines(decl)
     else:
         raise LanguageError(f"cannot print {type(decl).__name__}: not a declaration")
-    return _comment_lines(decl.comments, "") + body
+    return comment_lines(decl.comments, "") + body
 
 
 def format_decl(decl: Decl) -> str:
@@ -63,9 +63,9 @@ def _tight(prev: Decl, decl: Decl) -> bool:
 def print_module(module: Module) -> str:
     """The whole file in canonical form ("" for a file with nothing in it)."""
     if not module.decls:
-        only = _comment_lines((*module.comments, *module.trailing), "")
+        only = comment_lines((*module.comments, *module.trailing), "")
         return "\n".join(only) + "\n" if only else ""
-    lines: list[str] = _comment_lines(module.comments, "")
+    lines: list[str] = comment_lines(module.comments, "")
     if lines:
         lines.append("")
     prev: Decl | None = None
@@ -76,5 +76,5 @@ def print_module(module: Module) -> str:
         prev = decl
     if module.trailing:
         lines.append("")
-        lines += _comment_lines(module.trailing, "")
+        lines += comment_lines(module.trailing, "")
     return "\n".join(lines) + "\n"

@@ -5,14 +5,13 @@ blocks (see :mod:`oacdsl.compiler.printer`)."""
 from __future__ import annotations
 
 from oacdsl.compiler.printer_words import (
-    _IND,
-    _WIDTH,
-    _comment_lines,
-    _name,
-    _point,
-    _quantity,
-    _with_note,
+    INDENT,
+    WIDTH,
+    comment_lines,
     format_quantity,
+    name_word,
+    point_word,
+    with_note,
 )
 from oacdsl.errors import LanguageError
 from oacdsl.model import (
@@ -30,26 +29,26 @@ from oacdsl.model import (
 )
 from oacdsl.world import NOTHING
 
-__all__: list[str] = []
+__all__ = ["oac_lines"]
 
 
 def _param(param: Param) -> str:
-    text = f"{_name(param.name)}: {_name(param.cls)}"
+    text = f"{name_word(param.name)}: {name_word(param.cls)}"
     if param.default is not None:
-        text += f" = {_name(param.default)}"
+        text += f" = {name_word(param.default)}"
     return text
 
 
 def _header(decl: Oac) -> list[str]:
-    head = f"oac {_name(decl.name)}("
+    head = f"oac {name_word(decl.name)}("
     params = [_param(p) for p in decl.params]
     one = f"{head}{', '.join(params)}) {{"
-    if len(one) <= _WIDTH and not any(p.comments or p.note is not None for p in decl.params):
+    if len(one) <= WIDTH and not any(p.comments or p.note is not None for p in decl.params):
         return [one]
     lines = [head]
     for param, text in zip(decl.params, params, strict=True):
-        lines += _comment_lines(param.comments, _IND)
-        lines.append(_IND + _with_note(text + ",", param))
+        lines += comment_lines(param.comments, INDENT)
+        lines.append(INDENT + with_note(text + ",", param))
     lines.append(") {")
     return lines
 
@@ -75,53 +74,56 @@ def _display(oac: Oac, atoms: tuple[Atom, ...]) -> list[tuple[Atom, str]]:
         a, b = atom.left, atom.right
         if b != NOTHING and key(b) < key(a):
             a, b = b, a
-        rows.append(((atom.negated, key(a), key(b)), atom, atom_text(atom, (_name(a), _name(b)))))
+        rows.append(((atom.negated, key(a), key(b)), atom, atom_text(atom, (name_word(a), name_word(b)))))
     rows.sort(key=lambda r: r[0])
     return [(atom, text) for _, atom, text in rows]
 
 
 def _section(keyword: str, oac: Oac, atoms: tuple[Atom, ...]) -> list[str]:
-    lead = f"{_IND}{keyword:<8}"
+    lead = f"{INDENT}{keyword:<8}"
     shown = _display(oac, atoms)
     one = lead + ", ".join(text for _, text in shown)
-    if len(one) <= _WIDTH and not any(a.comments or a.note is not None for a in atoms):
+    if len(one) <= WIDTH and not any(a.comments or a.note is not None for a in atoms):
         return [one]
     pad = " " * len(lead)
     lines: list[str] = []
     for i, (atom, text) in enumerate(shown):
-        comments = _comment_lines(atom.comments, pad)
+        comments = comment_lines(atom.comments, pad)
         if i == 0 and comments:
             lines.append(lead.rstrip())
         lines += comments
         first = lead if i == 0 and not comments else pad
         sep = "," if i < len(shown) - 1 else ""
-        lines.append(first + _with_note(text + sep, atom))
+        lines.append(first + with_note(text + sep, atom))
     return lines
 
 
-def _skill_params(params: tuple[SkillParam, ...], indent: str = _IND) -> str:
+def _skill_params(params: tuple[SkillParam, ...], indent: str = INDENT) -> str:
     """`` { tilt 110deg  duration 2s }`` ("" for none); a path last, one keyframe a line
     (``indent``: the line's own indentation)."""
     if not params:
         return ""
-    words = [f"{_name(s.name)} {format_quantity(s.value)}" for s in params if isinstance(s.value, Quantity)]
+    words = [
+        f"{name_word(s.name)} {format_quantity(s.value)}" for s in params if isinstance(s.value, Quantity)
+    ]
     for s in params:
         if isinstance(s.value, PathValue):
-            poses = [f"{indent}{_IND}{_keypose(k)}," for k in s.value.poses]
-            words.append(f"{_name(s.name)} [\n" + "\n".join(poses) + f"\n{indent}]")
+            poses = [f"{indent}{INDENT}{_keypose(k)}," for k in s.value.poses]
+            words.append(f"{name_word(s.name)} [\n" + "\n".join(poses) + f"\n{indent}]")
     return " { " + "  ".join(words) + " }"
 
 
 def _keypose(k: KeyPose) -> str:
-    return f"{_quantity(k.time)} {_point(k.position)} {_point(k.rotation)}"
+    return f"{format_quantity(k.time)} {point_word(k.position)} {point_word(k.rotation)}"
 
 
 def _call(call: Call) -> str:
-    head = f"{_name(call.oac)}(" + ", ".join(_name(a) for a in call.args) + ")"
-    return _with_note(head + _skill_params(call.skill_params, _IND * 2), call)
+    head = f"{name_word(call.oac)}(" + ", ".join(name_word(a) for a in call.args) + ")"
+    return with_note(head + _skill_params(call.skill_params, INDENT * 2), call)
 
 
-def _oac(decl: Oac) -> list[str]:
+def oac_lines(decl: Oac) -> list[str]:
+    """The lines of one OAC declaration (without its leading comments)."""
     lines = _header(decl)
     if decl.pre:
         lines += _section("pre", decl, decl.pre)
@@ -130,23 +132,23 @@ def _oac(decl: Oac) -> list[str]:
     if decl.steps is not None and decl.skill is not None:
         raise LanguageError(f"cannot print OAC '{decl.name}': it has both a skill and steps")
     if decl.steps is not None:
-        lines.append(f"{_IND}steps {{")
+        lines.append(f"{INDENT}steps {{")
         for group in step_groups(canonical_steps(decl.steps)):
-            indent = _IND * (2 if len(group) == 1 else 3)
+            indent = INDENT * (2 if len(group) == 1 else 3)
             if len(group) > 1:
-                lines.append(f"{_IND * 2}together {{")
+                lines.append(f"{INDENT * 2}together {{")
             for call in group:
-                lines += _comment_lines(call.comments, indent)
+                lines += comment_lines(call.comments, indent)
                 lines.append(indent + _call(call))
             if len(group) > 1:
-                lines.append(f"{_IND * 2}}}")
-        lines.append(f"{_IND}}}")
+                lines.append(f"{INDENT * 2}}}")
+        lines.append(f"{INDENT}}}")
     elif decl.skill is not None:
-        text = f"{_IND}{'execute':<8}{_name(decl.skill)}"
+        text = f"{INDENT}{'execute':<8}{name_word(decl.skill)}"
         if decl.skill_args is not None:
-            text += "(" + ", ".join(_name(a) for a in decl.skill_args) + ")"
-        lines.append(text + _skill_params(decl.skill_params, _IND))
+            text += "(" + ", ".join(name_word(a) for a in decl.skill_args) + ")"
+        lines.append(text + _skill_params(decl.skill_params, INDENT))
     else:
         raise LanguageError(f"cannot print OAC '{decl.name}': it has neither a skill nor steps")
-    lines.append(_with_note("}", decl))
+    lines.append(with_note("}", decl))
     return lines

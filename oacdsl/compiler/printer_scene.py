@@ -4,15 +4,14 @@ aligned, initial state) and grasps (see :mod:`oacdsl.compiler.printer`)."""
 from __future__ import annotations
 
 from oacdsl.compiler.printer_words import (
-    _IND,
-    _comment_lines,
-    _name,
-    _number,
-    _point,
-    _quantity,
-    _string,
-    _with_note,
+    INDENT,
+    comment_lines,
     format_quantity,
+    name_word,
+    number_word,
+    point_word,
+    string_word,
+    with_note,
 )
 from oacdsl.model import (
     Geometry,
@@ -24,18 +23,18 @@ from oacdsl.model import (
     Shape,
 )
 
-__all__: list[str] = []
+__all__ = ["class_lines", "grasp_lines", "scene_lines"]
 
 
 def _shape(shape: Shape) -> str:
-    args = ([_string(shape.file)] if shape.file is not None else []) + [
-        f"{_name(d.name)} {_quantity(d.value)}" for d in shape.dims
+    args = ([string_word(shape.file)] if shape.file is not None else []) + [
+        f"{name_word(d.name)} {format_quantity(d.value)}" for d in shape.dims
     ]
-    text = f"shape {_name(shape.primitive)}"
+    text = f"shape {name_word(shape.primitive)}"
     if args:
         text += "(" + ", ".join(args) + ")"
     if shape.at is not None:
-        text += " at " + _point(shape.at)
+        text += " at " + point_word(shape.at)
     return text
 
 
@@ -43,32 +42,34 @@ def _geometry(geometry: Geometry, indent: str) -> list[str]:
     """The lines inside a geometry block, each indented by ``indent``."""
     lines = [_shape(s) for s in geometry.shapes]
     if geometry.mass is not None:
-        lines.append(f"mass {_quantity(geometry.mass)}")
+        lines.append(f"mass {format_quantity(geometry.mass)}")
     if geometry.friction is not None:
-        lines.append(f"friction {_number(geometry.friction)}")
+        lines.append(f"friction {number_word(geometry.friction)}")
     if geometry.colour is not None:
-        lines.append(f"colour {_name(geometry.colour)}")
+        lines.append(f"colour {name_word(geometry.colour)}")
     if geometry.markers:
-        lines.append("markers " + ", ".join(_point(p) for p in geometry.markers))
+        lines.append("markers " + ", ".join(point_word(p) for p in geometry.markers))
     return [indent + line for line in lines]
 
 
-def _class(decl: ObjectClass) -> list[str]:
-    text = f"class {_name(decl.name)}"
+def class_lines(decl: ObjectClass) -> list[str]:
+    """The lines of one class declaration (with its geometry), without its leading comments."""
+    text = f"class {name_word(decl.name)}"
     if decl.parents:
-        text += " : " + ", ".join(_name(p) for p in decl.parents)
+        text += " : " + ", ".join(name_word(p) for p in decl.parents)
     if decl.geometry is None:
-        return [_with_note(text, decl)]
-    inside = _geometry(decl.geometry, _IND)
+        return [with_note(text, decl)]
+    inside = _geometry(decl.geometry, INDENT)
     if not inside:
-        return [_with_note(text + " { }", decl)]
-    return [text + " {", *inside, _with_note("}", decl)]
+        return [with_note(text + " { }", decl)]
+    return [text + " {", *inside, with_note("}", decl)]
 
 
 def _instance_line(names: list[str], inst: Instance, width: int) -> str:
-    text = f"{', '.join(_name(n) for n in names):<{width}} : " + ", ".join(_name(c) for c in inst.classes)
+    classes = ", ".join(name_word(c) for c in inst.classes)
+    text = f"{', '.join(name_word(n) for n in names):<{width}} : " + classes
     if inst.markers:
-        text += " markers (" + ", ".join(_string(m) for m in inst.markers) + ")"
+        text += " markers (" + ", ".join(string_word(m) for m in inst.markers) + ")"
     if inst.environment:
         text += " environment"
     if inst.ignored:
@@ -76,11 +77,11 @@ def _instance_line(names: list[str], inst: Instance, width: int) -> str:
     if inst.untracked:
         text += " untracked"
     if inst.geometry is not None:
-        inside = _geometry(inst.geometry, _IND * 2)
+        inside = _geometry(inst.geometry, INDENT * 2)
         if not inside:
-            return _with_note(text + " { }", inst)
-        return "\n".join([text + " {", *inside, _with_note(_IND + "}", inst)])
-    return _with_note(text, inst)
+            return with_note(text + " { }", inst)
+        return "\n".join([text + " {", *inside, with_note(INDENT + "}", inst)])
+    return with_note(text, inst)
 
 
 def _groups(instances: tuple[Instance, ...]) -> list[list[Instance]]:
@@ -103,15 +104,16 @@ def _groups(instances: tuple[Instance, ...]) -> list[list[Instance]]:
     return groups
 
 
-def _scene(decl: Scene) -> list[str]:
-    lines = [f"scene {_name(decl.name)} {{"]
+def scene_lines(decl: Scene) -> list[str]:
+    """The lines of one scene declaration (instances aligned, initial state), without its leading comments."""
+    lines = [f"scene {name_word(decl.name)} {{"]
     groups = _groups(decl.instances)
     width = max((len(", ".join(i.name for i in g)) for g in groups), default=0)
     for group in groups:
-        lines += _comment_lines(group[0].comments, _IND)
-        lines.append(_IND + _instance_line([i.name for i in group], group[0], width))
+        lines += comment_lines(group[0].comments, INDENT)
+        lines.append(INDENT + _instance_line([i.name for i in group], group[0], width))
     lines += _scene_state(decl)
-    lines.append(_with_note("}", decl))
+    lines.append(with_note("}", decl))
     return lines
 
 
@@ -121,24 +123,25 @@ def _scene_state(decl: Scene) -> list[str]:
     for place in decl.places:
         rows.append((place, place.instance, f"at ({format_quantity(place.x)}, {format_quantity(place.y)})"))
     for fill in decl.fills:
-        text = f"in {_name(fill.container)}" + (f" balls {fill.balls}" if fill.balls is not None else "")
+        text = f"in {name_word(fill.container)}" + (f" balls {fill.balls}" if fill.balls is not None else "")
         rows.append((fill, fill.liquid, text))
-    lines = [f"{_IND}layout {_name(decl.layout)}"] if decl.layout is not None else []
+    lines = [f"{INDENT}layout {name_word(decl.layout)}"] if decl.layout is not None else []
     if not rows and not lines:
         return lines
     if decl.instances:
         lines.insert(0, "")
     width = max((len(name) for _, name, _ in rows), default=0)
     for node, name, text in rows:
-        lines += _comment_lines(node.comments, _IND)
-        lines.append(_IND + _with_note(f"{_name(name):<{width}} {text}", node))
+        lines += comment_lines(node.comments, INDENT)
+        lines.append(INDENT + with_note(f"{name_word(name):<{width}} {text}", node))
     return lines
 
 
-def _grasp(decl: Grasp) -> list[str]:
-    offset = ", ".join(_number(x) for x in decl.offset)
+def grasp_lines(decl: Grasp) -> list[str]:
+    """The lines of one grasp declaration, without its leading comments."""
+    offset = ", ".join(number_word(x) for x in decl.offset)
     text = (
-        f"grasp {_name(decl.cls)} {{ type {_name(decl.type)} approach {_name(decl.approach)} "
+        f"grasp {name_word(decl.cls)} {{ type {name_word(decl.type)} approach {name_word(decl.approach)} "
         f"offset ({offset}) }}"
     )
-    return [_with_note(text, decl)]
+    return [with_note(text, decl)]

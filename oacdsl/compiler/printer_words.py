@@ -11,13 +11,27 @@ from oacdsl.compiler.grammar import name_pattern
 from oacdsl.errors import LanguageError
 from oacdsl.model import Atom, Node, Point, Quantity, atom_text
 
-__all__ = ["format_atom", "format_quantity"]
+__all__ = [
+    "INDENT",
+    "WIDTH",
+    "comment_lines",
+    "format_atom",
+    "format_quantity",
+    "name_word",
+    "number_word",
+    "point_word",
+    "string_word",
+    "with_note",
+]
 
-_WIDTH = 100
-_IND = "    "
+#: A header or section longer than this (columns) goes one parameter or atom per line.
+WIDTH = 100
+#: One level of indentation.
+INDENT = "    "
 
 
-def _name(name: str) -> str:
+def name_word(name: str) -> str:
+    """A name as written (:class:`LanguageError` for one the grammar does not take)."""
     if not name_pattern().fullmatch(name):
         raise LanguageError(
             f"cannot print {name!r}: not a name (letters, digits, '_', not starting with a digit)"
@@ -25,13 +39,15 @@ def _name(name: str) -> str:
     return name
 
 
-def _number(x: float) -> str:
+def number_word(x: float) -> str:
+    """A finite number as written (an offset, metres)."""
     if not math.isfinite(x):
         raise LanguageError(f"cannot print the number {x!r}: offsets must be finite (metres)")
     return repr(float(x))
 
 
-def _string(s: str) -> str:
+def string_word(s: str) -> str:
+    """A string literal, quoted and escaped."""
     escaped = s.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n").replace("\r", "\\r")
     escaped = escaped.replace("\t", "\\t")
     return f'"{escaped}"'
@@ -41,7 +57,8 @@ def _one_line(text: str) -> str:
     return " ".join(text.split("\n")).rstrip()
 
 
-def _comment_lines(comments: Iterable[str], indent: str) -> list[str]:
+def comment_lines(comments: Iterable[str], indent: str) -> list[str]:
+    """Leading comments, one ``#`` line each, at ``indent``."""
     out = []
     for comment in comments:
         for line in comment.split("\n"):
@@ -50,7 +67,8 @@ def _comment_lines(comments: Iterable[str], indent: str) -> list[str]:
     return out
 
 
-def _with_note(text: str, node: Node) -> str:
+def with_note(text: str, node: Node) -> str:
+    """``text`` with the node's note after it (``  # note``)."""
     if node.note is None:
         return text
     note = _one_line(node.note)
@@ -59,10 +77,11 @@ def _with_note(text: str, node: Node) -> str:
 
 def format_atom(atom: Atom) -> str:
     """``not a <-> b`` — one relation, without its note (:class:`LanguageError` for a name that is none)."""
-    return atom_text(atom, (_name(atom.left), _name(atom.right)))
+    return atom_text(atom, (name_word(atom.left), name_word(atom.right)))
 
 
-def _quantity(q: Quantity) -> str:
+def format_quantity(q: Quantity) -> str:
+    """A quantity as written: ``56cm``, ``110deg``, ``0.3``."""
     if not math.isfinite(q.value):
         raise LanguageError(f"cannot print the number {q.value!r}: sizes must be finite")
     number = str(int(q.value)) if q.value.is_integer() and abs(q.value) < 1e15 else repr(q.value)
@@ -70,14 +89,10 @@ def _quantity(q: Quantity) -> str:
         return number
     if "/" in q.unit:  # a speed: 5cm/s
         num, _, den = q.unit.partition("/")
-        return number + f"{_name(num)}/{_name(den)}"
-    return number + _name(q.unit)
+        return number + f"{name_word(num)}/{name_word(den)}"
+    return number + name_word(q.unit)
 
 
-def format_quantity(q: Quantity) -> str:
-    """A quantity as written: ``56cm``, ``110deg``, ``0.3``."""
-    return _quantity(q)
-
-
-def _point(p: Point) -> str:
-    return f"({_quantity(p.x)}, {_quantity(p.y)}, {_quantity(p.z)})"
+def point_word(p: Point) -> str:
+    """A point as written: ``(1cm, 2cm, 0)``."""
+    return f"({format_quantity(p.x)}, {format_quantity(p.y)}, {format_quantity(p.z)})"

@@ -10,7 +10,15 @@ from oacdsl.model import Atom, Oac, atom_text
 from oacdsl.world import Relation, WorldState
 
 __all__ = [
-    "Match", "MatchResult", "Mode", "NearMiss", "call_text", "callers_first", "change_text", "choice_reason",
+    "Match",
+    "MatchResult",
+    "Mode",
+    "NearMiss",
+    "call_text",
+    "callers_first",
+    "change_text",
+    "choice_reason",
+    "Binding",
 ]
 
 #: ``strict`` (default): the paper's rule plus "the effects account for every change";

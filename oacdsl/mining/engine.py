@@ -29,7 +29,7 @@ from oacdsl.mining.inputs import RecordingFile, expand_recordings
 from oacdsl.mining.table import TABLE_NAME, MineTable
 from oacdsl.mining.task import PRELOAD, JobSpec, analyse_batch
 
-__all__ = ["MAX_BATCH", "MineResult", "batches", "mine"]
+__all__ = ["MAX_BATCH", "MineResult", "batches", "mine", "Ticker"]
 
 #: Most recordings in one task (a killed job redoes at most this many per worker).
 MAX_BATCH = 8
@@ -75,7 +75,7 @@ def _params_dict(params: Any) -> dict[str, Any]:
     return asdict(params if params is not None else AasParams())
 
 
-class _Ticker:
+class Ticker:
     """done/total, rate and ETA on ``stream``: in place on a terminal, a line per 10 % elsewhere."""
 
     def __init__(
@@ -195,7 +195,7 @@ def mine(
         raise InputError("not a folder: the job's output folder", location=str(folder))
     _check_makeable(folder)  # before the cluster starts: a bad --out costs nothing
     todo = _not_done(files, folder / TABLE_NAME)
-    ticker = _Ticker(len(todo), progress)
+    ticker = Ticker(len(todo), progress)
     address = None
     rows: list[dict[str, Any]] = []
     # the cluster starts first: its workers come up while this process parses the library

@@ -118,10 +118,10 @@ def run_many(
     from dask.distributed import as_completed
 
     from oacdsl.mining.cluster import WORKER_WAIT_S, client_for, close, share
-    from oacdsl.mining.engine import _Ticker
+    from oacdsl.mining.engine import Ticker
 
     jobs = [(s, k) for s in seeds for k in range(samples)]
-    ticker = _Ticker(len(jobs), progress, "ran", "runs")
+    ticker = Ticker(len(jobs), progress, "ran", "runs")
     wait_s = WORKER_WAIT_S if worker_wait_s is None else worker_wait_s
     client, cluster = client_for(workers, scheduler, False, PRELOAD, worker_wait_s=wait_s, progress=progress)
     out = []

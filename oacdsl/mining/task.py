@@ -162,31 +162,38 @@ def analyse(path: str, rec_id: str, spec: JobSpec) -> dict[str, Any]:
 
     try:
         from oacdsl.pipeline.analyse import match_stage, segment_stage
+        from oacdsl.pipeline.inputs import Inputs, default_name
         from oacdsl.segmentation.params import AasParams
 
         library = spec.parsed if spec.parsed is not None else _library(spec.library)
         rec, library, scene = _read(path, library, spec.scene)
         params = AasParams(**spec.params)
+        # the inputs as oacc match and compose hold them: the same shapes (--contacts geometry),
+        # the unmerged segmentation (split keyframes) and the hands' travel (a tie of two hands)
+        inputs = Inputs(library, Path(path), scene, path, params, recording=rec)
+        name = default_name(path) if spec.compose else None  # never a step of its own composition
         row.update(
             rate_hz=rec.rate_hz, frames=rec.n_frames, duration_s=float(rec.times_s[-1]), scene=scene.name
         )
         lap("read")
         stage = "segment"
-        seg = segment_stage(rec, params).segmentation
+        seg = segment_stage(rec, params, inputs.shapes()).segmentation
         row["keyframes"] = len(seg.keyframes)
         lap("segment")
         stage = "match"
-        matched = match_stage(seg, library, scene).matches
+        matched = match_stage(seg, library, scene, name, inputs.unmerged(), inputs.travel()).matches
         row["subs"] = _sub_rows(matched, library, scene)
         lap("match")
-        if spec.compose and all(m.matched for m in matched):
+        if name is not None and all(m.matched for m in matched):
             stage = "compose"
+            from oacdsl.matching.composedparams import with_demo_params
             from oacdsl.matching.demonstration import compose_demonstration
+            from oacdsl.matching.demoparams import demonstrated_motions
             from oacdsl.matching.emit import render
-            from oacdsl.pipeline.inputs import default_name
 
-            name = default_name(path)
             comp = compose_demonstration(name, matched, library, scene).composition
+            motions = demonstrated_motions(rec, [m.sub_action for m in matched])
+            comp = with_demo_params(comp, motions, library, scene)  # as oacc compose's steps carry them
             row["composed"] = render([comp.oac], f"{name}.oac")
             lap("compose")
     except OacError as error:

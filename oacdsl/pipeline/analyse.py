@@ -9,7 +9,7 @@ the fields the report shows (bound constraints, ranking notes, provenance, the t
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -23,6 +23,7 @@ from oacdsl.model import Atom, Oac, Scene
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import Segmentation
+from oacdsl.segmentation.shapes import ShapeModel
 from oacdsl.world import NOTHING
 
 __all__ = [
@@ -33,6 +34,7 @@ __all__ = [
     "match_stage",
     "segment_stage",
     "steps_by_sub_action",
+    "match_doc",
 ]
 
 
@@ -43,11 +45,15 @@ class SegmentStage:
     doc: dict[str, Any]
 
 
-def segment_stage(recording: Recording, params: AasParams) -> SegmentStage:
-    """Segment the demonstration by the AAS."""
+def segment_stage(
+    recording: Recording, params: AasParams, shapes: Mapping[str, ShapeModel] | None = None
+) -> SegmentStage:
+    """Segment the demonstration by the AAS; ``shapes``: the scene's, for ``params.contacts ==
+    "geometry"`` (:meth:`oacdsl.pipeline.inputs.Inputs.shapes`; without them every instance is
+    measured by its markers)."""
     from oacdsl.segmentation import segment
 
-    seg = segment(recording, params)
+    seg = segment(recording, params, shapes=shapes)
     return SegmentStage(recording, seg, seg.to_json())
 
 

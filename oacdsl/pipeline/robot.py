@@ -27,7 +27,7 @@ from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import Segmentation
 from oacdsl.world import NOTHING
 
-__all__ = ["ExecuteStage", "VerifyStage", "execute_stage", "verify_stage"]
+__all__ = ["ExecuteStage", "VerifyStage", "execute_stage", "verify_stage", "sim_contacts", "write_execution"]
 
 
 @dataclass

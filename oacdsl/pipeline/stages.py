@@ -56,7 +56,7 @@ def run_stages(
             raise _Failed from None
 
     def segment() -> Any:
-        seg = analyse.segment_stage(inputs.motion_capture(), inputs.params)
+        seg = analyse.segment_stage(inputs.motion_capture(), inputs.params, inputs.shapes())
         seg.doc["plot"] = figures.distance_plot(seg.recording, seg.segmentation, figs, "aas.png")
         snaps = figures.keyframe_snapshots(seg.recording, seg.segmentation, figs)
         for kf, image in zip(seg.doc["keyframes"], snaps, strict=True):

@@ -10,7 +10,7 @@ from collections.abc import Callable, Iterable
 
 from oacdsl.errors import PlanningError
 from oacdsl.model import Atom
-from oacdsl.planning.task import Action, Task, _pddl_name
+from oacdsl.planning.task import Action, Task, pddl_name
 
 __all__ = ["domain_text", "problem_text", "DOMAIN"]
 
@@ -62,7 +62,7 @@ def _and(parts: Iterable[str], indent: str) -> str:
 
 def _action(task: Task, action: Action) -> str:
     fixed = dict(action.fixed)
-    variables = {name: "?" + _pddl_name(name) for name, _ in action.free()}
+    variables = {name: "?" + pddl_name(name) for name, _ in action.free()}
     if len(set(variables.values())) != len(variables):
         raise PlanningError(f"oac {action.oac.name}: two parameters are one name in PDDL (case is ignored)")
 
@@ -146,7 +146,7 @@ def problem_text(task: Task) -> str:
     facts += sorted(touching)
     if task.costs:
         facts.append("(= (total-cost) 0)")
-    name = _pddl_name(task.name)
+    name = pddl_name(task.name)
     lines = [
         f"(define (problem {name})",
         f"  (:domain {DOMAIN})",

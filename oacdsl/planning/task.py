@@ -29,7 +29,7 @@ from oacdsl.library import Library
 from oacdsl.model import Atom, Oac
 from oacdsl.world import WorldState
 
-__all__ = ["Action", "Task", "make_task", "primitive_actions"]
+__all__ = ["Action", "Task", "make_task", "pddl_name", "primitive_actions"]
 
 _NAME = re.compile(r"[a-z][a-z0-9_-]*")
 
@@ -73,7 +73,8 @@ class Task:
         return {v: k for k, v in self.pddl_names.items()}
 
 
-def _pddl_name(name: str) -> str:
+def pddl_name(name: str) -> str:
+    """``name`` as a PDDL name: lower case, prefixed ``n`` when it is not one already."""
     text = name.lower()
     return text if _NAME.fullmatch(text) else "n" + re.sub(r"[^a-z0-9_-]", "_", text)
 
@@ -82,7 +83,7 @@ def _names(all_names: Iterable[str]) -> dict[str, str]:
     out: dict[str, str] = {}
     seen: dict[str, str] = {}
     for name in sorted(set(all_names)):
-        pddl = _pddl_name(name)
+        pddl = pddl_name(name)
         if pddl in seen:
             raise PlanningError(f"names {seen[pddl]!r} and {name!r} are one name in PDDL (case is ignored)")
         seen[pddl] = name
@@ -92,7 +93,7 @@ def _names(all_names: Iterable[str]) -> dict[str, str]:
 
 def primitive_actions(library: Library) -> list[Action]:
     """Every OAC of ``library`` that executes a skill, as an action of cost 1, by name."""
-    return [Action(_pddl_name(o.name), o) for o in sorted(library.oacs.values(), key=lambda o: o.name)
+    return [Action(pddl_name(o.name), o) for o in sorted(library.oacs.values(), key=lambda o: o.name)
             if not o.composed]
 
 

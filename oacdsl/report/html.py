@@ -21,6 +21,7 @@ __all__ = [
     "rel_list",
     "safe_link",
     "seconds",
+    "holds",
 ]
 
 _MIME = {

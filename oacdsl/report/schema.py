@@ -48,7 +48,7 @@ from oacdsl.report.schema_robot import (
     StatesDoc,
     VerificationDoc,
 )
-from oacdsl.report.schema_types import Count, Fraction, Image, Pair, Seconds, _Doc, _index_ok
+from oacdsl.report.schema_types import Count, Doc, Fraction, Image, Pair, Seconds, index_ok
 
 __all__ = [
     "MAX_DEPTH",
@@ -90,7 +90,7 @@ SCHEMA_VERSION = 1
 MAX_DEPTH = 64
 
 
-class Result(_Doc):
+class Result(Doc):
     schema_version: Literal[1] = 1
     created_utc: str | None = None
     oacdsl_version: str | None = None
@@ -109,13 +109,13 @@ class Result(_Doc):
     def _indices_in_range(self) -> Result:
         if self.match is not None and self.run is not None:
             for i, sub in enumerate(self.match.sub_actions):
-                _index_ok(sub.step, len(self.run.steps), f"match.sub_actions.{i}.step")
+                index_ok(sub.step, len(self.run.steps), f"match.sub_actions.{i}.step")
         if self.compose is not None:
             keyframes = len(self.segment.keyframes) if self.segment is not None else None
             for i, p in enumerate(self.compose.provenance):
-                _index_ok(p.step, len(self.compose.steps), f"compose.provenance.{i}.step")
+                index_ok(p.step, len(self.compose.steps), f"compose.provenance.{i}.step")
                 if keyframes is not None:
-                    _index_ok(p.keyframe, keyframes, f"compose.provenance.{i}.keyframe")
+                    index_ok(p.keyframe, keyframes, f"compose.provenance.{i}.keyframe")
         if self.reliability is not None:
             for row in self.reliability.oacs:
                 if row.successes > row.runs:

@@ -7,7 +7,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field, model_validator
 
-from oacdsl.report.schema_types import Count, Image, Pair, Seconds, _Doc, _index_ok
+from oacdsl.report.schema_types import Count, Doc, Image, Pair, Seconds, index_ok
 
 __all__ = [
     "CallDoc",
@@ -24,7 +24,7 @@ __all__ = [
 ]
 
 
-class Demonstration(_Doc):
+class Demonstration(Doc):
     recording: str
     title: str | None = None
     scene: str | None = None
@@ -33,7 +33,7 @@ class Demonstration(_Doc):
     command: str | None = None
 
 
-class Verdict(_Doc):
+class Verdict(Doc):
     success: bool
     summary: str
     failed_stage: str | None = None
@@ -42,14 +42,14 @@ class Verdict(_Doc):
     failed_checks: list[str] = []  # the names of the checks that failed
 
 
-class Stage(_Doc):
+class Stage(Doc):
     name: str
     status: Literal["ok", "failed", "skipped"]
     duration_s: Seconds | None = None
     detail: str | None = None
 
 
-class KeyframeDoc(_Doc):
+class KeyframeDoc(Doc):
     frame: Count
     time_s: float
     relations: list[Pair]
@@ -57,7 +57,7 @@ class KeyframeDoc(_Doc):
     graph: Image = None  # a world-state graph; drawn from the relations when absent
 
 
-class SegmentDoc(_Doc):
+class SegmentDoc(Doc):
     recording: str
     rate_hz: Annotated[float, Field(gt=0.0)]
     frames: Count
@@ -67,7 +67,7 @@ class SegmentDoc(_Doc):
     plot: Image = None  # the Fig. 3-like distance plot
 
 
-class MatchDoc(_Doc):
+class MatchDoc(Doc):
     oac: str
     binding: dict[str, str]
     pre: list[Pair] | None = None  # bound preconditions (the OAC's constraints)
@@ -77,7 +77,7 @@ class MatchDoc(_Doc):
     note: str | None = None  # why it ranks where it does
 
 
-class SubActionDoc(_Doc):
+class SubActionDoc(Doc):
     from_frame: Count
     to_frame: Count
     before: list[Pair]
@@ -89,20 +89,20 @@ class SubActionDoc(_Doc):
 
     @model_validator(mode="after")
     def _chosen_in_range(self) -> SubActionDoc:
-        _index_ok(self.chosen, len(self.matches), "chosen")
+        index_ok(self.chosen, len(self.matches), "chosen")
         return self
 
 
-class MatchSection(_Doc):
+class MatchSection(Doc):
     sub_actions: list[SubActionDoc]
 
 
-class CallDoc(_Doc):
+class CallDoc(Doc):
     oac: str
     binding: dict[str, str]
 
 
-class ProvenanceDoc(_Doc):
+class ProvenanceDoc(Doc):
     kind: Literal["pre", "effect", "ended"]
     relation: Pair
     step: Count | None = None  # index into compose.steps
@@ -110,7 +110,7 @@ class ProvenanceDoc(_Doc):
     note: str | None = None
 
 
-class ComposeDoc(_Doc):
+class ComposeDoc(Doc):
     name: str
     pre: list[Pair]
     effect: list[Pair]

@@ -8,7 +8,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field, model_validator
 
-from oacdsl.report.schema_types import Count, Fraction, Image, Pair, Seconds, _Doc, _index_ok
+from oacdsl.report.schema_types import Count, Doc, Fraction, Image, Pair, Seconds, index_ok
 
 __all__ = [
     "AlignDoc",
@@ -25,7 +25,7 @@ __all__ = [
 ]
 
 
-class RunStepDoc(_Doc):
+class RunStepDoc(Doc):
     oac: str
     binding: dict[str, str]
     success: bool
@@ -38,7 +38,7 @@ class RunStepDoc(_Doc):
     moment: Image = None  # the robot when the step's predicted effects first held
 
 
-class RunDoc(_Doc):
+class RunDoc(Doc):
     oac: str
     success: bool
     steps: list[RunStepDoc]
@@ -50,7 +50,7 @@ class RunDoc(_Doc):
     error: str | None = None  # why the run failed
 
 
-class ChangeDoc(_Doc):
+class ChangeDoc(Doc):
     index: Count
     frame: Count | None = None
     time_s: float | None = None
@@ -58,7 +58,7 @@ class ChangeDoc(_Doc):
     removed: list[Pair]
 
 
-class AlignDoc(_Doc):
+class AlignDoc(Doc):
     op: Literal["match", "split", "merge", "substitute", "missing", "extra"]
     demonstration: Count | None
     robot: Count | None
@@ -66,13 +66,13 @@ class AlignDoc(_Doc):
     demonstration_last: Count | None = None  # a merge: demonstration … demonstration_last at once
 
 
-class StatesDoc(_Doc):
+class StatesDoc(Doc):
     equal: bool
     demonstration: list[Pair]
     robot: list[Pair]
 
 
-class VerificationDoc(_Doc):
+class VerificationDoc(Doc):
     demonstration: list[ChangeDoc]
     robot: list[ChangeDoc]
     alignment: list[AlignDoc]
@@ -89,12 +89,12 @@ class VerificationDoc(_Doc):
     @model_validator(mode="after")
     def _alignment_in_range(self) -> VerificationDoc:
         for i, a in enumerate(self.alignment):
-            _index_ok(a.demonstration, len(self.demonstration), f"alignment.{i}.demonstration")
-            _index_ok(a.robot, len(self.robot), f"alignment.{i}.robot")
+            index_ok(a.demonstration, len(self.demonstration), f"alignment.{i}.demonstration")
+            index_ok(a.robot, len(self.robot), f"alignment.{i}.robot")
         return self
 
 
-class ReliabilityRow(_Doc):
+class ReliabilityRow(Doc):
     oac: str
     runs: Count
     successes: Count
@@ -106,12 +106,12 @@ class ReliabilityRow(_Doc):
     last_failure_utc: str | None = None
 
 
-class ReliabilityDoc(_Doc):
+class ReliabilityDoc(Doc):
     db: str | None = None
     oacs: list[ReliabilityRow]
 
 
-class MotionFeaturesDoc(_Doc):
+class MotionFeaturesDoc(Doc):
     """A sub-action's motion features (``SubActionMotion.features``, SI units)."""
 
     duration_s: Seconds
@@ -126,7 +126,7 @@ class MotionFeaturesDoc(_Doc):
     twist_rad: float = 0.0
 
 
-class MotionRow(_Doc):
+class MotionRow(Doc):
     index: Count  # the demonstration's sub-action (as matched)
     oac: str | None = None
     params: dict[str, float] | None = None  # the skill parameters its step was given (SI)
@@ -139,6 +139,6 @@ class MotionRow(_Doc):
     executed: MotionFeaturesDoc | None = None
 
 
-class MotionSection(_Doc):
+class MotionSection(Doc):
     sub_actions: list[MotionRow] = []
     plot: Image = None  # one row per sub-action: demonstration (left), robot (right)

@@ -8,7 +8,7 @@ from typing import Annotated
 
 from pydantic import BaseModel, ConfigDict, Field
 
-__all__ = ["Count", "Fraction", "Image", "Pair", "Seconds"]
+__all__ = ["Count", "Doc", "Fraction", "Image", "Pair", "Seconds", "index_ok"]
 
 Pair = tuple[str, str]
 Image = str | None
@@ -20,11 +20,14 @@ Fraction = Annotated[float, Field(ge=0.0, le=1.0)]
 Seconds = Annotated[float, Field(ge=0.0)]
 
 
-class _Doc(BaseModel):
+class Doc(BaseModel):
+    """The base of every document model: extra fields allowed, numbers finite."""
+
     # numbers must be finite: JSON's NaN and Infinity (which Python reads) are refused
     model_config = ConfigDict(extra="allow", allow_inf_nan=False)
 
 
-def _index_ok(index: int | None, size: int, what: str) -> None:
+def index_ok(index: int | None, size: int, what: str) -> None:
+    """``index`` (None: none) is a position in a list of ``size`` (a ValueError naming ``what``)."""
     if index is not None and not 0 <= index < size:
         raise ValueError(f"{what} {index} is out of range (there are {size})")

@@ -107,7 +107,10 @@ def bind(library: Library, oac: Oac, scene: Scene, given: Mapping[str, str] | No
     names = [p.name for p in oac.params]
     for key in given:
         if key not in names:
-            raise RuntimeFailure(f"oac {oac.name} has no parameter {key!r}{did_you_mean(key, names)}")
+            raise RuntimeFailure(
+                f"--bind {key}={given[key]}: oac {oac.name} has no parameter {key!r}"
+                f"{did_you_mean(key, names)}"
+            )
     classes = library.instance_classes(scene)
     tracked = [i.name for i in scene.tracked()]
     binding: dict[str, str] = {}
@@ -123,14 +126,14 @@ def bind(library: Library, oac: Oac, scene: Scene, given: Mapping[str, str] | No
                     f" give one with --bind {p.name}=INSTANCE"
                 )
             value = candidates[0]
+        named = f"--bind {p.name}={value}" if p.name in given else f"parameter {p.name}"
         if value not in classes:
             raise RuntimeFailure(
-                f"parameter {p.name}: no instance {value!r} in scene {scene.name}"
-                f"{did_you_mean(value, tracked)}"
+                f"{named}: no instance {value!r} in scene {scene.name}{did_you_mean(value, tracked)}"
             )
         if p.cls not in classes[value]:
             raise RuntimeFailure(
-                f"parameter {p.name}: {value} is not a {p.cls} (it is {', '.join(sorted(classes[value]))})"
+                f"{named}: {value} is not a {p.cls} (it is {', '.join(sorted(classes[value]))})"
             )
         binding[p.name] = value
     return binding

@@ -37,6 +37,7 @@ __all__ = [
     "gains",
     "HOME",
     "home_posture",
+    "ROBOT_GROUP",
 ]
 
 #: Simulation time step, seconds.

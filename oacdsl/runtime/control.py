@@ -21,7 +21,15 @@ from oacdsl.runtime.ik import WholeBodyIK
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.transforms import interpolate, min_jerk
 
-__all__ = ["Controller", "Observer", "CONTROL_DT_S", "FORCE_LIMIT_N", "ORIENTATION_WEIGHT", "SIDE_NAME"]
+__all__ = [
+    "Controller",
+    "Observer",
+    "CONTROL_DT_S",
+    "FORCE_LIMIT_N",
+    "ORIENTATION_WEIGHT",
+    "SIDE_NAME",
+    "IDLE_HOLD_WEIGHT",
+]
 
 #: Control period (s): one IK solve per tick (50 Hz); observers still run at their own rate.
 CONTROL_DT_S = 0.02

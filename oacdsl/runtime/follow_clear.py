@@ -14,19 +14,20 @@ the core's turns scaled down that ``follow`` tries, in order, until one keeps
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
 
 from oacdsl.runtime.bodies import Body
 from oacdsl.runtime.handgap import box_distance, box_surface
 from oacdsl.runtime.hands import hand_boxes
-from oacdsl.runtime.retarget import Retargeted
+from oacdsl.runtime.retarget import FOLLOW, Retargeted
 from oacdsl.runtime.shapes import corners
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.transforms import make_T
 from oacdsl.segmentation.followpath import from_rotvec, rotvec
 
-__all__ = ["clearance", "turned_less"]
+__all__ = ["clear_of_hand", "clearance", "turned_less"]
 
 #: Keyframes of the core checked (spread evenly, the first and last included).
 _CHECKED = 9
@@ -63,7 +64,23 @@ def clearance(world: SimWorld, other: str, body: Body, plan: Retargeted,
 
 
 def turned_less(plan: Retargeted, factor: float) -> Retargeted:
-    """``plan`` with its turns scaled by ``factor`` (its positions kept)."""
+    """``plan`` with its turns scaled by ``factor`` (its positions kept; a twist split by
+    regrasps is kept whole: turned about its own axis, a round object sweeps no other room)."""
     rot = np.array([from_rotvec(factor * rotvec(m)) for m in plan.rotations])
-    return Retargeted(plan.times_s, plan.positions_m, rot, plan.core, plan.scale, plan.turn_scale * factor,
-                      plan.slowed_s)
+    return replace(plan, rotations=rot, turn_scale=plan.turn_scale * factor)
+
+
+def clear_of_hand(world: SimWorld, other: str, body_o: Body, plan: Retargeted,
+                   at: Callable[[Retargeted, int], np.ndarray]) -> Retargeted:
+    """``plan`` with its core's turns scaled down (:data:`FOLLOW`'s ``clear_turns``) until the
+    object, its core started where it meets the target's top (``at``), keeps ``hand_clearance_m``
+    from the other hand's boxes; the variant farthest from them when none does."""
+    best: tuple[float, Retargeted] | None = None
+    for factor in FOLLOW.clear_turns:
+        r = plan if factor == 1.0 else turned_less(plan, factor)
+        gap = clearance(world, other, body_o, r, at)
+        if gap >= FOLLOW.hand_clearance_m:
+            return r
+        if best is None or gap > best[0]:
+            best = (gap, r)
+    return best[1] if best is not None else plan

@@ -40,7 +40,15 @@ from oacdsl.errors import RuntimeFailure
 from oacdsl.model import Grasp
 from oacdsl.runtime.transforms import make_T, rot_axis
 
-__all__ = ["GraspPlan", "plan_grasps", "side_clearance", "APPROACHES", "hand_rotation_for", "RIM_GAP_H"]
+__all__ = [
+    "GraspPlan",
+    "plan_grasps",
+    "side_clearance",
+    "APPROACHES",
+    "hand_rotation_for",
+    "RIM_GAP_H",
+    "HAND_BELOW_CENTRE_M",
+]
 
 APPROACHES = ("side", "top", "front")
 #: Distance of the pre-grasp pose from the grasp point, along the approach, metres.

@@ -18,7 +18,8 @@ A liquid starts in the container given by the caller's ``contents`` (``--fill``,
 OAC's own preconditions), else by the scene's ``LIQUID in CONTAINER``; a liquid that has
 neither is an error. With a seed, every object is moved by up to :data:`MAX_SHIFT_M` in a
 random direction, keeping a gap between objects, so the same OAC is executed on a new
-arrangement.
+arrangement. The liquids' containers are found in :mod:`~oacdsl.runtime.layout_liquids`, the
+free slots and a seed's shifts in :mod:`~oacdsl.runtime.layout_slots`.
 """
 
 from __future__ import annotations
@@ -30,12 +31,21 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure, did_you_mean
-from oacdsl.geometry import ROLE_HAND, ROLE_LIQUID, ROLE_OBJECT, ROLE_TABLE
+from oacdsl.geometry import ROLE_HAND, ROLE_OBJECT, ROLE_TABLE
 from oacdsl.library import Library
 from oacdsl.model import Scene
 from oacdsl.runtime.bodies import Body, bodies_for_scene
 from oacdsl.runtime.demo_layout import map_into_reach
 from oacdsl.runtime.demo_places import set_downs_on_table
+from oacdsl.runtime.layout_liquids import starting_liquids
+from oacdsl.runtime.layout_slots import (
+    MAX_SHIFT_M,
+    MIN_GAP_M,
+    STAND_X_RANGE_M,
+    STAND_Y_LIMIT_M,
+    nominal_places,
+    shuffled,
+)
 from oacdsl.runtime.objects import TABLE_DEPTH, TABLE_FRONT
 from oacdsl.units import language_si
 
@@ -52,30 +62,11 @@ __all__ = [
     "STAND_Y_LIMIT_M",
 ]
 
-#: How far a seed may move an object from its planned place, metres.
-MAX_SHIFT_M = 0.10
-#: Free space kept between two objects' footprints, metres (room for the fingers).
-MIN_GAP_M = 0.05
 #: How far outside an object's footprint another's centre may be and still count as on top
 #: of it at the demonstration's first frame, metres (markers sit on stalks, off the axis).
 STACK_SLACK_M = 0.02
 #: Number of balls of one liquid when the scene does not say (``balls N``).
 BALLS_PER_LIQUID = 10
-
-#: Places tried, in order, for objects the scene does not place (x, y metres, robot at the
-#: origin facing +x): the middle, then left and right, then further out.
-_SLOTS: tuple[tuple[float, float], ...] = (
-    (0.64, 0.0),
-    (0.56, 0.28),
-    (0.56, -0.28),
-    (0.72, -0.40),
-    (0.72, 0.40),
-    (0.82, 0.18),
-    (0.82, -0.18),
-)
-#: Region of the table objects may stand in: footprint x range and |y| limit, metres.
-STAND_X_RANGE_M = (TABLE_FRONT + 0.04, TABLE_FRONT + 0.56)
-STAND_Y_LIMIT_M = 0.60
 
 
 @dataclass(frozen=True)
@@ -172,7 +163,7 @@ def plan_layout(
             table = inst.name
     kinds = {n: b.role for n, b in bodies.items() if n != table}
     hands = _hands(kinds)
-    liquids, counts = _liquids(scene, bodies, dict(contents or {}), dict(balls or {}))
+    liquids, counts = starting_liquids(scene, bodies, dict(contents or {}), dict(balls or {}))
     names = sorted(n for n, k in kinds.items() if k == ROLE_OBJECT)
     stacks: dict[str, str] = {}
     if (layout or scene.layout) == "demonstrated" and demonstrated:
@@ -181,8 +172,8 @@ def plan_layout(
         stacks = stacked_on(first, bodies)
     free = [n for n in names if n not in stacks]
     wanted, sources = _wanted(scene, free, bodies, hands, places or {}, layout, demonstrated)
-    nominal = _nominal(free, bodies, wanted)
-    placed = nominal if seed is None else _shuffle(nominal, bodies, np.random.default_rng(seed))
+    nominal = nominal_places(free, bodies, wanted)
+    placed = nominal if seed is None else shuffled(nominal, bodies, np.random.default_rng(seed))
     for name, source in sources.items():
         if source == "given":  # exactly where the caller said, even with a seed
             placed[name] = wanted[name]
@@ -314,97 +305,3 @@ def _hands(kinds: Mapping[str, str]) -> dict[str, str]:
             )
         hands[name] = side
     return hands
-
-
-def _liquids(
-    scene: Scene, bodies: Mapping[str, Body], given: dict[str, str], balls: dict[str, int]
-) -> tuple[dict[str, str], dict[str, int]]:
-    """Liquid → container (``given`` over the scene's ``in``) and the liquids' ball counts.
-
-    When ``given`` moves a liquid into a container the scene fills with another liquid,
-    that other liquid takes the moved one's place in the scene, if it is free (a swap).
-    """
-    liquid_names = sorted(n for n, b in bodies.items() if b.role == ROLE_LIQUID)
-    containers = sorted(n for n, b in bodies.items() if b.container)
-    for liquid, container in given.items():
-        if liquid not in liquid_names:
-            raise RuntimeFailure(
-                f"cannot fill {liquid!r}: not a liquid of the scene{did_you_mean(liquid, liquid_names)}"
-            )
-        if container not in containers:
-            raise RuntimeFailure(
-                f"cannot put {liquid!r} into {container!r}: not a container of the scene"
-                f"{did_you_mean(container, containers)}"
-            )
-    declared = {f.liquid: f.container for f in scene.fills if f.liquid in liquid_names}
-    counts = {f.liquid: f.balls for f in scene.fills if f.balls is not None}
-    counts.update(balls)
-    contents = dict(given)
-    for liquid, container in declared.items():
-        if liquid in contents:
-            continue
-        movers = [lq for lq, c in given.items() if c == container and declared.get(lq) != container]
-        mover = movers[0] if movers else None
-        if mover is not None and mover in declared and declared[mover] not in contents.values():
-            container = declared[mover]
-        contents[liquid] = container
-    for liquid in liquid_names:
-        if liquid not in contents:
-            raise RuntimeFailure(
-                f"liquid {liquid!r} has no container to start in: say '{liquid} in CONTAINER' in scene"
-                f" {scene.name!r} or give --fill {liquid}=CONTAINER"
-                f" (containers: {', '.join(containers) or 'none'})"
-            )
-    unknown = sorted(set(counts) - set(liquid_names))
-    if unknown:
-        raise RuntimeFailure(
-            f"cannot give balls to {unknown[0]!r}: not a liquid of the scene"
-            f"{did_you_mean(unknown[0], liquid_names)}"
-        )
-    return contents, counts
-
-
-def _fits(
-    name: str, xy: tuple[float, float], placed: Mapping[str, tuple[float, float]], bodies: Mapping[str, Body]
-) -> bool:
-    r = bodies[name].radius
-    (x0, x1), y1 = STAND_X_RANGE_M, STAND_Y_LIMIT_M
-    if not (x0 <= xy[0] - r and xy[0] + r <= x1) or abs(xy[1]) + r > y1:
-        return False
-    for other, oxy in placed.items():
-        if other != name and math.dist(xy, oxy) < r + bodies[other].radius + MIN_GAP_M:
-            return False
-    return True
-
-
-def _nominal(
-    names: list[str], bodies: Mapping[str, Body], wanted: Mapping[str, tuple[float, float]]
-) -> dict[str, tuple[float, float]]:
-    """Objects that ask for a place get it; the others take the first free slot."""
-    placed: dict[str, tuple[float, float]] = {n: wanted[n] for n in names if n in wanted}
-    for name in names:
-        if name in placed:
-            continue
-        slot = next((s for s in _SLOTS if _fits(name, s, placed, bodies)), None)
-        if slot is None:
-            raise RuntimeFailure(
-                f"no room on the table for {name!r} ({len(names)} objects);"
-                f" give it a place: '{name} at (x, y)'"
-            )
-        placed[name] = slot
-    return placed
-
-
-def _shuffle(
-    nominal: dict[str, tuple[float, float]], bodies: Mapping[str, Body], rng: np.random.Generator
-) -> dict[str, tuple[float, float]]:
-    placed = dict(nominal)
-    for name in sorted(nominal):
-        for _ in range(200):
-            r = MAX_SHIFT_M * math.sqrt(rng.uniform())
-            a = rng.uniform(0, 2 * math.pi)
-            xy = (nominal[name][0] + r * math.cos(a), nominal[name][1] + r * math.sin(a))
-            if _fits(name, xy, placed, bodies):
-                placed[name] = xy
-                break
-    return placed

@@ -28,6 +28,8 @@ __all__ = [
     "TABLE_FRONT",
     "TABLE_DEPTH",
     "TABLE_WIDTH",
+    "OBJECT_CONTYPE",
+    "OBJECT_CONAFFINITY",
 ]
 
 #: Height of the table top above the floor and its front edge (x), metres.

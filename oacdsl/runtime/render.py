@@ -29,6 +29,8 @@ __all__ = [
     "render_png",
     "Viewer",
     "FRAME_SIZE",
+    "backend_available",
+    "write_png",
 ]
 
 #: Default frame size (width, height), pixels.

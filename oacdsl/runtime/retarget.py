@@ -16,7 +16,8 @@ where the object started. :func:`retarget` changes it as little as the robot nee
 3. **rotations**: relative to the core's first keyframe, about the target frame's axes (the
    object keeps the orientation the robot's grasp gave it until then: the demonstrator's
    object frame need not be the robot's, a spoon lying on the table against one standing),
-   scaled down when they exceed ``turn_rad``;
+   scaled down when they exceed ``turn_rad`` (a turn about the object's own axis that it may be
+   let go of and taken again for is kept whole, :mod:`~oacdsl.runtime.follow_turns`);
 4. **speed**: a segment faster than ``speed_m_s`` (in the core ``core_speed_m_s``) or
    :data:`TURN_SPEED_RAD_S` is slowed to it; the rest keeps the demonstrated timing; every
    segment lasts at least :data:`MIN_SEGMENT_S` (two control ticks);
@@ -31,12 +32,12 @@ cannot reach the path. numpy only; metres, radians, seconds.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.segmentation.followpath import MIN_OFFSET_M, from_rotvec, rotvec
+from oacdsl.segmentation.followpath import MIN_OFFSET_M, from_rotvec, rotvec, twist_of
 from oacdsl.segmentation.motionfeatures import core_frames
 
 __all__ = [
@@ -97,6 +98,11 @@ class FollowTuning:
     #: core's turns are scaled by ``clear_turns`` in order until it is (the least-touching otherwise).
     hand_clearance_m: float = 0.01
     clear_turns: tuple[float, ...] = (1.0, 0.5, 0.0)
+    #: Most the object's axis may lean from the target's for it to be let go of on the target and
+    #: taken again between the pieces of a turn beyond ``turn`` (follow_turns), rad.
+    rest_tilt_rad: float = 0.35
+    #: Least share of the path's turn about its own axis the object must really make when split.
+    least_turned: float = 0.6
 
 
 #: The defaults ``follow`` uses.
@@ -115,6 +121,10 @@ class Retargeted:
         scale: the factor the core was scaled by across the target's axis (≤ 1).
         turn_scale: the factor rotations were scaled by (≤ 1).
         slowed_s: how much longer the path takes than demonstrated.
+        twist_axis: the object's own axis at the core's start (frame, unit) when its turns about
+            it are kept whole (:mod:`~oacdsl.runtime.follow_turns`), else None.
+        twists_rad: (n,) then the object's turn about ``twist_axis`` since the core's start,
+            any angle (``rotations`` is then the rest of each rotation, the swing).
     """
 
     times_s: np.ndarray
@@ -124,6 +134,15 @@ class Retargeted:
     scale: float
     turn_scale: float
     slowed_s: float
+    twist_axis: np.ndarray | None = None
+    twists_rad: np.ndarray | None = None
+
+    def rotation(self, k: int) -> np.ndarray:
+        """The object's whole rotation at keyframe ``k`` (3, 3): the swing, then the twist."""
+        if self.twist_axis is None or self.twists_rad is None:
+            return self.rotations[k]
+        turn: np.ndarray = self.rotations[k] @ from_rotvec(float(self.twists_rad[k]) * self.twist_axis)
+        return turn
 
 
 def _min_jerk(s: np.ndarray) -> np.ndarray:
@@ -133,11 +152,15 @@ def _min_jerk(s: np.ndarray) -> np.ndarray:
 
 
 def retarget(path: np.ndarray, *, room_m: float | None, speed_m_s: float, turn_rad: float,
-             stay: bool = False, core_speed_m_s: float | None = None) -> Retargeted:
+             stay: bool = False, core_speed_m_s: float | None = None,
+             twist_axis: np.ndarray | None = None) -> Retargeted:
     """The robot's path from ``path`` ((n, 7): t, x, y, z, rx, ry, rz; SI; turned target frame),
     see the module doc. ``stay``: the object is to end at the target (the step's effect keeps them
     touching): the path ends with its core, the way out of the demonstration's span left out;
-    ``core_speed_m_s``: a lower cap in the core (where the object works on the target)."""
+    ``core_speed_m_s``: a lower cap in the core (where the object works on the target);
+    ``twist_axis``: the object's own axis (frame, unit) when it may be let go of and taken again
+    on the target: a turn about it beyond ``turn_rad`` is then kept whole (to be split by
+    regrasps, :mod:`~oacdsl.runtime.follow_turns`), only the rest of the rotation capped."""
     path = np.asarray(path, dtype=np.float64)
     if path.ndim != 2 or path.shape[1] != 7 or len(path) < 2:
         raise RuntimeFailure(f"follow: a path needs two or more keyframes of 7 numbers, not {path.shape}")
@@ -165,19 +188,30 @@ def retarget(path: np.ndarray, *, room_m: float | None, speed_m_s: float, turn_r
     # keeps the orientation its grasp gave it, which need not be the demonstrator's)
     at_core = from_rotvec(rv[a]).T
     rv = np.array([rotvec(from_rotvec(r) @ at_core) if k >= a else np.zeros(3) for k, r in enumerate(rv)])
+    twists = None
+    if twist_axis is not None and turn_rad > 0:
+        twists, swings = twist_of(np.array([from_rotvec(r) for r in rv]), twist_axis)
+        if float(np.max(np.abs(twists))) > turn_rad:
+            rv = np.array([rotvec(m) for m in swings])
+        else:
+            twists = None
     angles = np.linalg.norm(rv, axis=1)
     turn_scale = 1.0 if angles.max() <= turn_rad else turn_rad / float(angles.max())
     rotations = np.array([from_rotvec(turn_scale * r) for r in rv])
+    whole = rotations
+    if twists is not None:
+        whole = np.array([m @ from_rotvec(t * twist_axis) for m, t in zip(rotations, twists, strict=True)])
     dt = np.diff(t)
     dist = np.linalg.norm(np.diff(pos, axis=0), axis=1)
-    dang = np.array([np.arccos(np.clip((np.trace(rotations[k].T @ rotations[k + 1]) - 1.0) / 2.0, -1.0, 1.0))
-                     for k in range(len(rotations) - 1)])
+    dang = np.array([np.arccos(np.clip((np.trace(whole[k].T @ whole[k + 1]) - 1.0) / 2.0, -1.0, 1.0))
+                     for k in range(len(whole) - 1)])
     cap = np.full_like(dt, speed_m_s)
     if core_speed_m_s is not None:
         cap[a:] = min(speed_m_s, core_speed_m_s)
     need = np.maximum.reduce([dt, dist / cap, dang / TURN_SPEED_RAD_S, np.full_like(dt, MIN_SEGMENT_S)])
     times = np.r_[0.0, np.cumsum(need)]
-    return Retargeted(times, pos, rotations, a, scale, turn_scale, float(times[-1] - t[-1]))
+    axis = None if twists is None else np.asarray(twist_axis, dtype=np.float64)
+    return Retargeted(times, pos, rotations, a, scale, turn_scale, float(times[-1] - t[-1]), axis, twists)
 
 
 def shrunk(r: Retargeted, factor: float) -> Retargeted:
@@ -189,7 +223,8 @@ def shrunk(r: Retargeted, factor: float) -> Retargeted:
     w[: r.core] = np.linspace(0.0, 1.0, r.core + 1)[:-1]
     pos = r.positions_m + w[:, None] * (factor - 1.0) * (r.positions_m - middle)
     rot = np.array([from_rotvec(factor * rotvec(m)) for m in r.rotations])
-    return Retargeted(r.times_s, pos, rot, r.core, r.scale * factor, r.turn_scale * factor, r.slowed_s)
+    return replace(r, positions_m=pos, rotations=rot, scale=r.scale * factor,
+                   turn_scale=r.turn_scale * factor)
 
 
 def shifted(r: Retargeted, offset_m: np.ndarray, room_m: float | None) -> Retargeted:
@@ -214,7 +249,7 @@ def shifted(r: Retargeted, offset_m: np.ndarray, room_m: float | None) -> Retarg
     w = np.ones(len(r.times_s))
     w[: r.core] = np.linspace(0.0, 1.0, r.core + 1)[:-1]
     pos[:, :2] = pos[:, :2] + w[:, None] * ((scale - 1.0) * (pos[:, :2] - middle) + off[:2])
-    return Retargeted(r.times_s, pos, r.rotations, r.core, r.scale * scale, r.turn_scale, r.slowed_s)
+    return replace(r, positions_m=pos, scale=r.scale * scale)
 
 
 def floored(r: Retargeted) -> Retargeted:
@@ -226,7 +261,7 @@ def floored(r: Retargeted) -> Retargeted:
     lifted off it by the depth it cannot go."""
     pos = r.positions_m.copy()
     pos[r.core :, 2] = np.maximum(pos[r.core :, 2], pos[r.core, 2])
-    return Retargeted(r.times_s, pos, r.rotations, r.core, r.scale, r.turn_scale, r.slowed_s)
+    return replace(r, positions_m=pos)
 
 
 
@@ -257,5 +292,4 @@ def boxed(r: Retargeted, to_box: np.ndarray, offset_m: np.ndarray, lo_m: np.ndar
     delta[r.core :] = core - pos[r.core :, :2]
     delta[: r.core] = np.linspace(0.0, 1.0, r.core + 1)[:-1, None] * delta[r.core]
     pos[:, :2] += delta
-    return Retargeted(r.times_s, pos, r.rotations, r.core, r.scale * float(scale.min()), r.turn_scale,
-                      r.slowed_s)
+    return replace(r, positions_m=pos, scale=r.scale * float(scale.min()))

@@ -8,9 +8,11 @@ cup "touch" it. This detector learns the distance from the recording itself:
 1. **Co-motion.** A held object moves with the hand: both instances move
    (``min(speed_A, speed_B) > move_speed``) while the distances between their
    markers hardly change (median ``|Δ dist| / Δt < rigid_ratio × min speed``) and
-   they are within ``d`` (``AasParams.distance_m``, now the largest contact
-   distance). Speeds are measured over ``lag_s``. Runs of such frames of at least
-   ``min_episode_s`` are *co-motion episodes*.
+   they are within ``d × (1 + margin)`` (``d``: ``AasParams.distance_m``, now the largest
+   contact distance). Speeds are measured over ``lag_s``. Runs of such frames of at least
+   ``min_episode_s`` are *co-motion episodes*; they count where the pair co-moves within
+   ``d`` somewhere and within twice its closest episode's distance
+   (:data:`~oacdsl.segmentation.episodes.FAR_RATIO`).
 2. **The pair's threshold.** For each episode, the pair's contact distance is the
    median of its closest marker distance during the episode, and its threshold that
    times ``1 + margin`` (at most ``d``).

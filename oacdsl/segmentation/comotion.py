@@ -16,6 +16,7 @@ from typing import NamedTuple
 import numpy as np
 
 from oacdsl.errors import SegmentationError
+from oacdsl.segmentation.episodes import extend_episode, find_episodes, near_episodes, union_spans
 from oacdsl.segmentation.geometry import BOUND_MARGIN_M, ChunkGeometry, chunk_frames_for
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
@@ -160,12 +161,12 @@ def comotion(
     out: dict[int, tuple[list[tuple[int, int]], float]] = {}
     for q, (dmin, carry) in signals.items():
         spans, thresholds = [], []
-        for a, b in _episodes(carry, min_len, bridge):
-            threshold = min(_nanmedian1d(dmin[a:b]) * (1 + settings.margin), params.distance_m)
-            spans.append(_extend(dmin, a, b, threshold, bridge))
+        for a, b, median in near_episodes(dmin, find_episodes(carry, min_len, bridge), params.distance_m):
+            threshold = min(median * (1 + settings.margin), params.distance_m)
+            spans.append(extend_episode(dmin, a, b, threshold, bridge))
             thresholds.append(threshold)
         if spans:
-            out[q] = (_union(spans), float(np.median(thresholds)))
+            out[q] = (union_spans(spans), float(np.median(thresholds)))
     return CoMotion(out, {q: dmin for q, (dmin, _) in signals.items()}, speeds)
 
 
@@ -233,7 +234,7 @@ def _scan_chunk(
         closest = np.sqrt(np.fmin.reduce(sq, axis=0))
         a, b = table.instance_pairs[q]
         slower = np.fmin(speeds[a], speeds[b])
-        moving = (closest < params.distance_m) & (slower > settings.move_speed_m_s)
+        moving = (closest < reach) & (slower > settings.move_speed_m_s)  # within d: near_episodes
         is_carry = moving.copy()
         cols = moving.nonzero()[0]  # the distance change matters only where both move
         if cols.size:
@@ -334,121 +335,3 @@ def _nanmedian0(x: np.ndarray) -> np.ndarray:
     hi = np.minimum(count // 2, k - 1)
     median = (ordered[lo, cols] + ordered[hi, cols]) / 2
     return np.where(count > 0, median, np.nan)
-
-
-def _nanmedian1d(x: np.ndarray) -> float:
-    """``float(np.nanmedian(x))`` of a 1-D float32 array (NaN if all are NaN), without its
-    wrappers: the middle value, or the float32 mean of the two middle values, of the
-    values present."""
-    values = x[~np.isnan(x)]
-    n = values.size
-    if n == 0:
-        return float("nan")
-    k = n // 2
-    if n % 2:
-        return float(np.partition(values, k)[k])
-    part = np.partition(values, [k - 1, k])
-    return float((part[k - 1] + part[k]) / np.float32(2))  # as np.mean of the two, in float32
-
-
-def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    """``[a, b)`` runs of True."""
-    padded = np.concatenate([[False], mask, [False]])
-    edges = np.flatnonzero(padded[1:] != padded[:-1])
-    return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))
-
-
-def _episodes(carry: np.ndarray, min_len: int, bridge: int) -> list[tuple[int, int]]:
-    """The co-motion runs ``[a, b)`` of ``carry`` that are episodes: the runs of at least
-    ``min_len`` frames, and the shorter runs that lead up to one — a run of ``min_len`` follows
-    them after interruptions of at most ``bridge`` frames each.
-
-    A grasp's first co-motion often flickers (the hand still closing its grip lifts the object in
-    short jerks before it carries it): how long each piece lasts depends on the frame rate and the
-    lag of the speeds (KIT Stir's cup: 2 frames at 10 Hz, 3 at 30 Hz, 9 + 1 at 100 Hz), and the
-    carry's own, tighter grip does not reach back to where the hand arrived. Each piece keeps its
-    own threshold (its median distance). Short pieces *after* a carry are not episodes: the object
-    set down, the hand opening, its distance already growing (KIT Pour at 240 Hz: one frame at
-    149 mm as the carton leaves the cup); the carry's extension covers the let-go."""
-    runs = _runs(carry)
-    out: list[tuple[int, int]] = []
-    leading: list[tuple[int, int]] = []  # short runs chained to the next run
-    for a, b in runs:
-        if leading and a - leading[-1][1] > bridge:
-            leading = []
-        if b - a >= min_len:
-            out += leading
-            out.append((a, b))
-            leading = []
-        else:
-            leading.append((a, b))
-    return out
-
-
-_EXTEND_WINDOW = 2048  # frames either side of an episode looked at first by _extend
-
-
-def _extend(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int = 0) -> tuple[int, int]:
-    """:func:`_extend_in` on ``_EXTEND_WINDOW`` frames either side of ``[a, b)`` when that decides
-    both ends (a run beyond ``threshold`` that stops the growth on each side, whose length is
-    known), else on the whole recording: the same result, without a pass over all of it."""
-    lo, hi = max(0, a - _EXTEND_WINDOW), min(dmin.size, b + _EXTEND_WINDOW)
-    if lo > 0 or hi < dmin.size:
-        found = _extend_window(dmin, a, b, threshold, bridge, lo, hi)
-        if found is not None:
-            return found
-    return _extend_in(dmin, a, b, threshold, bridge)
-
-
-def _extend_window(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int,
-                   lo: int, hi: int) -> tuple[int, int] | None:
-    """:func:`_extend_in` decided on frames ``lo:hi`` alone, or ``None`` when they do not decide it."""
-    size = dmin.size
-    padded = np.zeros(hi - lo + 2, dtype=bool)
-    np.greater(dmin[lo:hi], threshold, out=padded[1:-1])  # NaN: unknown, not beyond
-    edges = (padded[1:] != padded[:-1]).nonzero()[0] + lo
-    starts, ends = edges[::2], edges[1::2]  # runs [s, e) beyond, cut at the window
-    if starts.size == 0:
-        return None if lo > 0 or hi < size else (0, size)
-    keep = ends - starts > bridge
-    # a short run at a window edge (its true length unknown): bridged or not depends on the outside
-    if (not keep[0] and lo > 0 and starts[0] == lo) or (not keep[-1] and hi < size and ends[-1] == hi):
-        return None
-    keep[0] |= starts[0] == 0
-    keep[-1] |= ends[-1] == size
-    starts, ends = starts[keep], ends[keep]
-    i = int(starts.searchsorted(a, side="left")) - 1
-    j = int(ends.searchsorted(b, side="right"))
-    if (i < 0 and lo > 0) or (j >= ends.size and hi < size):  # an end not decided in the window
-        return None
-    return (min(int(ends[i]), a) if i >= 0 else 0, max(int(starts[j]), b) if j < ends.size else size)
-
-
-def _extend_in(dmin: np.ndarray, a: int, b: int, threshold: float, bridge: int = 0) -> tuple[int, int]:
-    """Grow ``[a, b)`` both ways while the closest distance is within ``threshold`` or unknown.
-
-    Excursions beyond ``threshold`` of at most ``bridge`` frames between two frames within
-    it do not stop the growth: a marker of the hand hidden for a few frames makes the closest
-    distance jump to the next marker's, the hand has not let go.
-    """
-    with np.errstate(invalid="ignore"):
-        beyond = dmin > threshold  # NaN: unknown, not beyond
-    padded = np.concatenate([[False], beyond, [False]])
-    edges = np.flatnonzero(padded[1:] != padded[:-1])
-    starts, ends = edges[::2], edges[1::2]  # runs [s, e) beyond the threshold
-    if bridge > 0:  # short excursions between two frames within the threshold do not count
-        keep = ~((ends - starts <= bridge) & (starts > 0) & (ends < beyond.size))
-        starts, ends = starts[keep], ends[keep]
-    i = int(np.searchsorted(starts, a, side="left")) - 1  # the last run that starts before a
-    j = int(np.searchsorted(ends, b, side="right"))  # the first run that ends after b
-    return (min(int(ends[i]), a) if i >= 0 else 0, max(int(starts[j]), b) if j < ends.size else dmin.size)
-
-
-def _union(spans: list[tuple[int, int]]) -> list[tuple[int, int]]:
-    merged: list[tuple[int, int]] = []
-    for a, b in sorted(spans):
-        if merged and a <= merged[-1][1]:
-            merged[-1] = (merged[-1][0], max(merged[-1][1], b))
-        else:
-            merged.append((a, b))
-    return merged

@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-__all__ = ["KEYFRAME_S", "MIN_OFFSET_M", "from_rotvec", "rotvec", "turn_z", "turned_path"]
+__all__ = ["KEYFRAME_S", "MIN_OFFSET_M", "from_rotvec", "rotvec", "turn_z", "turned_path", "twist_of"]
 
 #: Keyframes are recording frames at least this far apart, seconds (10 Hz: every KIT frame).
 KEYFRAME_S = 0.1
@@ -50,6 +50,24 @@ def from_rotvec(v: np.ndarray) -> np.ndarray:
     kx = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
     result: np.ndarray = np.eye(3) + math.sin(angle) * kx + (1.0 - math.cos(angle)) * (kx @ kx)
     return result
+
+
+def twist_of(rotations: np.ndarray, axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(twists_rad (n,), swings (n, 3, 3))`` of rotations (n, 3, 3) about the unit ``axis``
+    (the frame the rotations act in): rotation k = swing k @ (turn by twist k about ``axis``).
+    Twists are unwrapped from keyframe to keyframe (each step taken as the shorter way round:
+    keyframes 0.1 s apart turn far less than half a turn), so they go beyond ±π."""
+    a = np.asarray(axis, dtype=np.float64) / float(np.linalg.norm(axis))
+    wrapped = np.empty(len(rotations))
+    for k, rot in enumerate(rotations):
+        v = rotvec(rot)
+        angle = float(np.linalg.norm(v))
+        along = math.sin(angle / 2.0) * float(v @ a) / angle if angle > 1e-12 else 0.0
+        wrapped[k] = 2.0 * math.atan2(along, math.cos(angle / 2.0))
+    steps = (np.diff(wrapped) + math.pi) % (2.0 * math.pi) - math.pi
+    twists = np.r_[wrapped[:1], wrapped[0] + np.cumsum(steps)]
+    swings = np.array([rot @ from_rotvec(-t * a) for rot, t in zip(rotations, twists, strict=True)])
+    return twists, swings
 
 
 def turn_z(angle_rad: float) -> np.ndarray:

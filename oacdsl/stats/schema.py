@@ -12,7 +12,19 @@ from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from typing import Any
 
-__all__ = ["APPLICATION_ID", "BUSY_TIMEOUT_MS", "REQUIRED", "SCHEMA_VERSION", "Outcome"]
+__all__ = [
+    "APPLICATION_ID",
+    "BUSY_TIMEOUT_MS",
+    "REQUIRED",
+    "SCHEMA_VERSION",
+    "Outcome",
+    "Fetched",
+    "MIGRATIONS",
+    "SCHEMA_V1",
+    "SQLITE_MAGIC",
+    "execute_script",
+    "now_utc",
+]
 
 #: ``PRAGMA application_id`` of an oacdsl run store: the bytes "OACD".
 APPLICATION_ID = 0x4F414344
@@ -21,9 +33,11 @@ SCHEMA_VERSION = 2
 #: How long a writer waits for another one's lock before giving up, milliseconds.
 BUSY_TIMEOUT_MS = 30_000
 
-_SQLITE_MAGIC = b"SQLite format 3\x00"
+#: The first bytes of every SQLite file.
+SQLITE_MAGIC = b"SQLite format 3\x00"
 
-_SCHEMA_V1 = """
+#: The tables of a version-1 store (a new file is made so, then migrated).
+SCHEMA_V1 = """
 CREATE TABLE runs (
     run_id        TEXT PRIMARY KEY,
     time_utc      TEXT NOT NULL,
@@ -71,7 +85,7 @@ CREATE TABLE adaptations (
 REQUIRED = frozenset({"runs", "outcomes", "outcome_rows", "adaptations"})
 
 #: Migrations from version N to N+1 (a new file is made at version 1 and migrated).
-_MIGRATIONS: dict[int, str] = {1: _ADAPTATIONS_V2}
+MIGRATIONS: dict[int, str] = {1: _ADAPTATIONS_V2}
 
 
 @dataclass(frozen=True)
@@ -86,7 +100,7 @@ class Outcome:
 
 
 @dataclass(frozen=True)
-class _Fetched:
+class Fetched:
     """A query's column description and rows, fetched while errors could still be caught."""
 
     description: Any
@@ -96,12 +110,13 @@ class _Fetched:
         return self.rows
 
 
-def _execute_script(conn: sqlite3.Connection, script: str) -> None:
+def execute_script(conn: sqlite3.Connection, script: str) -> None:
     """Run ``;``-separated DDL inside the current transaction (``executescript`` would commit)."""
     for statement in script.split(";"):
         if statement.strip():
             conn.execute(statement)
 
 
-def _now_utc() -> str:
+def now_utc() -> str:
+    """The time now, UTC, ISO 8601 to the millisecond with a Z."""
     return datetime.now(timezone.utc).isoformat(timespec="milliseconds").replace("+00:00", "Z")

@@ -29,17 +29,17 @@ from oacdsl.errors import StoreError
 from oacdsl.stats.adapted import decoded, rows_of
 from oacdsl.stats.paths import ENV_VAR
 from oacdsl.stats.schema import (
-    _MIGRATIONS,
-    _SCHEMA_V1,
-    _SQLITE_MAGIC,
     APPLICATION_ID,
     BUSY_TIMEOUT_MS,
+    MIGRATIONS,
     REQUIRED,
+    SCHEMA_V1,
     SCHEMA_VERSION,
+    SQLITE_MAGIC,
+    Fetched,
     Outcome,
-    _execute_script,
-    _Fetched,
-    _now_utc,
+    execute_script,
+    now_utc,
 )
 
 __all__ = [
@@ -77,10 +77,10 @@ class RunStore:
         if self.path.exists():
             try:
                 with open(self.path, "rb") as f:
-                    head = f.read(len(_SQLITE_MAGIC))
+                    head = f.read(len(SQLITE_MAGIC))
             except OSError as e:
                 raise self._fail(f"cannot read: {e.strerror or e}") from None
-            if head and head != _SQLITE_MAGIC:
+            if head and head != SQLITE_MAGIC:
                 raise self._fail("is not an oacdsl run database (not an SQLite file)")
         elif not create:
             raise self._fail("no run database here yet")
@@ -117,11 +117,11 @@ class RunStore:
             app_id, version = self._header(conn)
             self._refuse_foreign(conn, app_id, version)
             if app_id == 0:
-                _execute_script(conn, _SCHEMA_V1)
+                execute_script(conn, SCHEMA_V1)
                 conn.execute(f"PRAGMA application_id = {APPLICATION_ID}")
                 version = 1
             while version < SCHEMA_VERSION:
-                _execute_script(conn, _MIGRATIONS[version])
+                execute_script(conn, MIGRATIONS[version])
                 version += 1
             conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
 
@@ -200,7 +200,7 @@ class RunStore:
                     " edit_distance, command) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
                     (
                         rid,
-                        time_utc or _now_utc(),
+                        time_utc or now_utc(),
                         run.oac,
                         int(bool(run.success)),
                         recording,
@@ -249,7 +249,7 @@ class RunStore:
         """``sql`` executed and fetched; a damaged file is a :class:`StoreError`, not a traceback."""
         try:
             cur = self._conn.execute(sql, args)
-            return _Fetched(cur.description, cur.fetchall())  # type: ignore[return-value]
+            return Fetched(cur.description, cur.fetchall())  # type: ignore[return-value]
         except sqlite3.DatabaseError as e:
             raise self._fail(f"damaged run database: {e}; move it aside") from None
 

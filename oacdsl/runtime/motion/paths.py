@@ -14,14 +14,15 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M
+from oacdsl.runtime.motion.detour import detour
 from oacdsl.runtime.motion.tuning import TUNING, Tuning
 from oacdsl.runtime.shapes import hand_corners, highest_z
 
 if TYPE_CHECKING:
     from oacdsl.runtime.simworld import SimWorld
 
-__all__ = ["Obstacle", "obstacles", "clearance", "via_height", "carry_path", "segment_distance",
-           "other_hand_obstacle", "held_by_other"]
+__all__ = ["Obstacle", "obstacles", "clearance", "via_height", "carry_path", "direct_path",
+           "segment_distance", "other_hand_obstacle", "held_by_other"]
 
 #: (xy, footprint radius, top height) of an object on the table, m
 Obstacle = tuple[np.ndarray, float, float]
@@ -100,6 +101,24 @@ def held_by_other(world: SimWorld, side: str, exclude: set[str]) -> list[Obstacl
 
 
 def carry_path(
+    world: SimWorld,
+    side: str,
+    now: np.ndarray,
+    goal: np.ndarray,
+    exclude: set[str],
+    duration_s: float,
+    tuning: Tuning = TUNING,
+    over_other_hand: bool = False,
+) -> list[tuple[np.ndarray, float]]:
+    """The way of :func:`direct_path`, first out from under what the other hand holds up when it
+    would pass under it (:func:`~oacdsl.runtime.motion.detour.detour`)."""
+    def way(start: np.ndarray) -> list[tuple[np.ndarray, float]]:
+        return direct_path(world, side, start, goal, exclude, duration_s, tuning, over_other_hand)
+
+    return detour(world, side, now, way(now), way, exclude, tuning)
+
+
+def direct_path(
     world: SimWorld,
     side: str,
     now: np.ndarray,

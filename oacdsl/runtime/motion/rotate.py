@@ -29,7 +29,7 @@ from oacdsl.runtime.transforms import make_T, rot_axis
 if TYPE_CHECKING:
     from oacdsl.runtime.motion.context import MotionContext
 
-__all__ = ["rotate_on", "close_on", "angle_about", "centre", "centre_over"]
+__all__ = ["rotate_on", "regrasp", "home_pose", "close_on", "angle_about", "centre", "centre_over"]
 
 
 def angle_about(axis: np.ndarray, r_from: np.ndarray, r_to: np.ndarray) -> float:
@@ -152,6 +152,55 @@ def close_on(ctx: MotionContext, m: Motion, obj: str, closed: dict[str, float], 
     ctl.set_fingers(side, {j: min(now[q] + SQUEEZE_RAD, closed[j]) for j, q in names.items()})
 
 
+def home_pose(ctx: MotionContext, m: Motion, obj: str, axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(T_world_grasp, origin)``: the hand's pose over the held ``obj`` now with its grasp
+    centre moved onto ``obj``'s axis (``axis``, world, unit), and where ``obj``'s origin is now
+    (m): what :func:`regrasp` takes the object again from."""
+    first = m.here()
+    origin = ctx.world.body_pose(obj)[:3, 3].copy()
+    aside = ctx.world.frame_pose(f"grasp_{m.side}")[:3, 3] - origin
+    aside -= float(aside @ axis) * axis
+    first[:3, 3] -= aside
+    return first, origin
+
+
+def regrasp(ctx: MotionContext, m: Motion, obj: str, target: str, axis: np.ndarray, home: np.ndarray,
+            origin: np.ndarray, step: float, closed: dict[str, float]) -> None:
+    """Let go of the held ``obj`` (resting on ``target``: slid onto its middle, set down when it
+    does not touch it) and take it again from ``home`` (T_world_grasp, :func:`home_pose`, taken
+    when ``obj``'s origin was at ``origin``), moved with the object and turned back about its
+    axis so that the next stroke of ``step`` (rad) stays in the arm's reach. Recorded on the
+    controller as internal to the step (module docstring)."""
+    world, ctl, t, side = ctx.world, ctx.ctl, m.tuning, m.side
+    ctl.activity = f"taking {obj} again"
+    centre(ctx, m, obj, target, axis)
+    ctl.activity = f"taking {obj} again"
+    if not world.touching(obj, target):  # set it down on the target before letting go
+        m.go(down(m.here(), t.turn_seat_m), t.settle_s, m.touching(obj, target))
+    world.release(side)
+    let_go_s = world.time_s
+    # the palm holds it down while only the fingers open; the thumb stays where it is
+    # (opened, or turned back to a folded thumb, it pushed a light object off the target;
+    # fingers opening without the palm pressing turned it back by up to 16°)
+    m.go(down(ctl.ik.target(side), t.turn_hold_down_m), t.press_s)
+    names = finger_joint_names(side)
+    now = world.joint_positions()
+    ctl.set_fingers(side, {j: OPEN[j] if j.startswith("fingers") else now[q] for j, q in names.items()})
+    ctl.wait(t.open_s)
+    rest = world.frame_pose(f"grasp_{side}")  # where the hand really is: it rests on the object
+    m.go(raised(rest, t.retreat_rise_m), t.open_s)
+    again = home.copy()
+    shift = world.body_pose(obj)[:3, 3] - origin
+    again[:3, 3] += shift - float(shift @ axis) * axis
+    again[:3, 3] += float((rest[:3, 3] - again[:3, 3]) @ axis) * axis
+    again = _wound(ctx, m, again, axis, world.body_pose(obj)[:3, 3], step)
+    m.go(raised(again, t.retreat_rise_m), t.turn_back_s)
+    m.go(again, t.open_s)
+    close_on(ctx, m, obj, closed, "rotate")
+    world.weld(side, obj)
+    ctl.regrasps.append((let_go_s, world.time_s, side, obj))
+
+
 def rotate_on(
     ctx: MotionContext,
     m: Motion,
@@ -172,42 +221,12 @@ def rotate_on(
     # every stroke starts from the hand's first pose over the object, moved with the object: a
     # hand that did not quite follow a stroke would otherwise turn back too far, stroke after
     # stroke; that pose has the hand's grasp centre on the object's axis
-    first = m.here()
-    origin = world.body_pose(obj)[:3, 3].copy()
+    first, origin = home_pose(ctx, m, obj, axis)
     aside = world.frame_pose(f"grasp_{side}")[:3, 3] - origin
     aside -= float(aside @ axis) * axis
-    first[:3, 3] -= aside
 
     def retake(step: float) -> None:
-        """Let go of the object (on the target), and take it again from the first pose, turned
-        back so that the next stroke (``step`` rad) stays in reach."""
-        ctl.activity = f"taking {obj} again"
-        centre(ctx, m, obj, target, axis)
-        ctl.activity = f"taking {obj} again"
-        if not world.touching(obj, target):  # set it down on the target before letting go
-            m.go(down(m.here(), t.turn_seat_m), t.settle_s, m.touching(obj, target))
-        world.release(side)
-        let_go_s = world.time_s
-        # the palm holds it down while only the fingers open; the thumb stays where it is
-        # (opened, or turned back to a folded thumb, it pushed a light object off the target;
-        # fingers opening without the palm pressing turned it back by up to 16°)
-        m.go(down(ctl.ik.target(side), t.turn_hold_down_m), t.press_s)
-        names = finger_joint_names(side)
-        now = world.joint_positions()
-        ctl.set_fingers(side, {j: OPEN[j] if j.startswith("fingers") else now[q] for j, q in names.items()})
-        ctl.wait(t.open_s)
-        rest = world.frame_pose(f"grasp_{side}")  # where the hand really is: it rests on the object
-        m.go(raised(rest, t.retreat_rise_m), t.open_s)
-        again = first.copy()
-        shift = world.body_pose(obj)[:3, 3] - origin
-        again[:3, 3] += shift - float(shift @ axis) * axis
-        again[:3, 3] += float((rest[:3, 3] - again[:3, 3]) @ axis) * axis
-        again = _wound(ctx, m, again, axis, world.body_pose(obj)[:3, 3], step)
-        m.go(raised(again, t.retreat_rise_m), t.turn_back_s)
-        m.go(again, t.open_s)
-        close_on(ctx, m, obj, closed, "rotate")
-        world.weld(side, obj)
-        ctl.regrasps.append((let_go_s, world.time_s, side, obj))
+        regrasp(ctx, m, obj, target, axis, first, origin, step, closed)
 
     if float(np.linalg.norm(aside)) > t.turn_off_axis_m:  # turning would swing the hand round the axis
         retake(angle / n)

@@ -28,6 +28,9 @@ class Tuning:
     near_path_m: float = 0.12
     #: room kept above what is flown over, m
     over_m: float = 0.03
+    #: how far from its start a carry may first move at its height to be out from under what
+    #: the other hand holds up (tried nearest first), m (motion/detour.py)
+    detour_steps_m: tuple[float, ...] = (0.06, 0.12, 0.18, 0.24)
     #: a still moment after a carry, before a guarded approach starts, s
     pause_s: float = 0.1
     #: a still moment after carrying something to where it is set down, s

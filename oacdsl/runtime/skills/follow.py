@@ -23,31 +23,35 @@ went into the cucumber), lowered while they do not touch (the slide's seek,
 says ``not o <-> t``, ``o`` must be off ``t`` at the end (raised straight up until it is).
 The other hand keeps an idle hand's hold, or, when it holds something other than a container
 ``t``, its goal fixed (as ``touch``). The core's demonstrated turns are scaled down until the
-object keeps clear of that hand (:mod:`oacdsl.runtime.follow_clear`).
+object keeps clear of that hand (:mod:`oacdsl.runtime.follow_clear`). A turn about the object's
+own axis beyond ``turn``, where it can rest on ``t``, is split into pieces with regrasps on
+``t`` in between (:mod:`oacdsl.runtime.follow_turns`,
+:mod:`~oacdsl.runtime.skills.follow_regrasp`); an object that starts on ``t`` and is to leave
+it follows the core from where it rests.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.bodies import Body
-from oacdsl.runtime.follow_clear import clearance, turned_less
+from oacdsl.runtime.follow_clear import clear_of_hand
+from oacdsl.runtime.follow_turns import split, wound
 from oacdsl.runtime.motion import TUNING
 from oacdsl.runtime.motion.both import mover
-from oacdsl.runtime.retarget import FOLLOW, MIN_OFFSET_M, Retargeted, floored, retarget, shifted, shrunk
+from oacdsl.runtime.retarget import FOLLOW, MIN_OFFSET_M, Retargeted, floored, retarget, shifted
 from oacdsl.runtime.shapes import lowest_z, world_corners
-from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.skills.base import SkillContext
+from oacdsl.runtime.skills.follow_reach import reachable
+from oacdsl.runtime.skills.follow_regrasp import Regrasps, rests_on
 from oacdsl.runtime.skills.follow_top import END_SPAN_M, lowest_end, on_top, onto_top
 from oacdsl.runtime.transforms import MIN_JERK_PEAK, make_T, rot_z
 
 __all__ = ["follow", "reference_point"]
-
-HandAt = Callable[[Retargeted, int, float], np.ndarray]
 
 
 def reference_point(body: Body) -> np.ndarray:
@@ -92,17 +96,26 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
     elif body_t.radius > 0:
         room = max(body_t.radius - FOLLOW.overhang * body_o.radius, 0.0)
     touch = ctx.expected is None or ctx.expected.touches(obj, target)
-    plan = retarget(np.asarray(path, dtype=np.float64), room_m=room, speed_m_s=speed, turn_rad=turn,
-                    stay=touch, core_speed_m_s=FOLLOW.contact_speed_m_s if touch else None)
+    # it starts on the target and is to leave it (a lid to unscrew): the core from where it rests
+    resting = not touch and world.touching(obj, target)
+    # a turn about its own axis beyond ``turn`` in pieces, regrasping on the target in between
+    # (follow_turns), where it can rest there: round, standing upright on a solid top as wide
+    axis_f = r0[:, 2] if turn > 0 and rests_on(body_o, body_t, t_obj, world.body_pose(target)) else None
+    plan, cuts = split(retarget(np.asarray(path, dtype=np.float64), room_m=room, speed_m_s=speed,
+                                turn_rad=turn, stay=touch, twist_axis=axis_f,
+                                core_speed_m_s=FOLLOW.contact_speed_m_s if touch else None),
+                       turn, TUNING.turn_min_stroke_s)
 
     def pose_at(r: Retargeted, k: int, lift_m: float = 0.0) -> np.ndarray:
         """T_world_obj at keyframe ``k``, raised ``lift_m`` along the target's axis."""
         o, rf = frame(phi)
-        rot = rf @ r.rotations[k] @ r0
+        rot = rf @ r.rotation(k) @ r0
         return make_T(rot, o + rf @ (r.positions_m[k] + np.array([0.0, 0.0, lift_m])) - rot @ ref_o)
 
     def hand_at(r: Retargeted, k: int, lift_m: float = 0.0) -> np.ndarray:
-        return pose_at(r, k, lift_m) @ grasp_in_obj
+        """The hand at keyframe ``k`` as planned: turned back about the object's axis by the
+        regrasps before it."""
+        return pose_at(r, k, lift_m) @ make_T(rot_z(-wound(r, cuts, k)), np.zeros(3)) @ grasp_in_obj
 
     # the object's reference point in the grasp frame (homogeneous)
     ref_in_grasp = np.append(obj_in_hand[:3, :3] @ ref_o + obj_in_hand[:3, 3], 1.0)
@@ -124,7 +137,7 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
     top = float(world_corners(body_t, world.body_pose(target))[:, 2].max())
     if away is not None:  # two hands close together collide: the core on the target's far half
         plan = shifted(plan, away, room)
-    if body_t.container and room is not None:
+    if body_t.container and room is not None and not resting:  # (resting: the core from where it is)
         # the object's lowest end (a spoon's bowl, not its markers' middle) goes into the container:
         # the core moved so that the end starts within the room of the axis
         end = lowest_end(body_o, pose_at(plan, c))
@@ -133,17 +146,31 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
         over = float(np.linalg.norm(tip))
         if over > room:
             plan = shifted(plan, np.append(-tip * (1 - room / over), 0.0), room)
-    elif room is not None:
+    elif room is not None and not resting:
         # a solid target: the object's lowest end (a knife's edge) starts over the target's top,
         # which the room about its middle does not see (a cucumber 15 cm long, 4.5 cm wide)
         holder = world.frame_pose(f"grasp_{other}")[:3, 3] if world.held.get(other) == target else None
         move = onto_top(body_o, pose_at(plan, c), body_t, world.body_pose(target), frame(phi)[1], holder)
         plan = shifted(plan, move, None if holder is not None else room)
         plan = on_top(plan, body_o, pose_at(plan, c), body_t, world.body_pose(target), frame(phi)[1], holder)
-    plan = _clear_of_hand(world, other, body_o, plan,
+    plan = clear_of_hand(world, other, body_o, plan,
                           lambda r, k: pose_at(r, k, top - lowest_z(body_o, pose_at(r, c))))
-    lift = top + FOLLOW.hover_m - lowest_z(body_o, pose_at(plan, c))
-    plan, weight = _reachable(ctx, side, keep, plan, lambda r, k, _: hand_at(r, k, lift),
+
+    def ref_height() -> float:
+        """The object's reference point above the target's, along its axis, now (m)."""
+        o, rf = frame(phi)
+        return float((rf.T @ (world.body_pose(obj)[:3, :3] @ ref_o + world.body_pose(obj)[:3, 3] - o))[2])
+
+    def start_lift(r: Retargeted) -> float:
+        """How far the core is raised: its lowest point ``hover_m`` over the target's top, or,
+        resting on it, from where it rests (pressed on, the hand's fingers round a lid let go
+        of for a regrasp reached the bottle)."""
+        if resting:
+            return ref_height() - float(r.positions_m[r.core, 2])
+        return top + FOLLOW.hover_m - lowest_z(body_o, pose_at(r, r.core))
+
+    lift = start_lift(plan)
+    plan, weight = reachable(ctx, side, keep, plan, lambda r, k, _: hand_at(r, k, lift),
                               f"the path of {obj} relative to {target}",
                               lambda v: frame(phi)[1].T @ v, room, ref_in_grasp)
     go = mover(ctl, side, keep, weight)
@@ -165,14 +192,11 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
         go(make_T(now[:3, :3], now[:3, 3] - depth * axis), MIN_JERK_PEAK * depth / FOLLOW.approach_speed_m_s,
            guard=lambda: met_now() or float(np.linalg.norm(ctl.force_change(side))) > force)
 
-    def ref_height() -> float:
-        """The object's reference point above the target's, along its axis, now (m)."""
-        o, rf = frame(phi)
-        return float((rf.T @ (world.body_pose(obj)[:3, :3] @ ref_o + world.body_pose(obj)[:3, 3] - o))[2])
-
-    lift = top + FOLLOW.hover_m - lowest_z(body_o, pose_at(plan, c))
+    lift = start_lift(plan)
     ctl.activity = f"bringing {obj} to {target}"
-    for pose, seconds in ctx.carry_path(side, hand_at(plan, c, lift), {obj, target}):
+    if resting:
+        go(hand_at(plan, c, lift), FOLLOW.settle_s)
+    for pose, seconds in [] if resting else ctx.carry_path(side, hand_at(plan, c, lift), {obj, target}):
         if seconds > 0:
             go(pose, seconds)
     if touch and not touching():
@@ -197,17 +221,25 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
     ctl.activity = f"following the demonstrated path of {obj} at {target}"
     seek = touch and not body_t.container  # on a solid target the core keeps the contact (module doc)
     sink = 0.0
+    turns = None
+    if cuts:  # a turn beyond the wrist: in pieces, regrasping in between (follow_regrasp)
+        turns = Regrasps(ctx, side, obj, target, keep, plan, cuts, lambda k: pose_at(plan, k, lift - sink))
+    grip = grasp_in_obj if turns is None else turns.start(grasp_in_obj)  # (a regrasp changes it)
     for k in range(c + 1, len(plan.times_s)):
         dt = float(plan.times_s[k] - plan.times_s[k - 1])
         if seek and not touching():
             sink = min(sink + TUNING.seek_speed_m_s * dt, TUNING.seek_max_m)
-        go(hand_at(plan, k, lift - sink), dt)
+        go(pose_at(plan, k, lift - sink) @ grip, dt)
+        if turns is not None:
+            grip = turns.after(k, grip)
+    if turns is not None:
+        turns.check()
     if touch:
         if not ctl.wait(FOLLOW.rest_s, until=touching) and not touching():
             # lost on the way: from above the core's middle, down again until they touch
             mid = np.median(plan.positions_m[c:], axis=0)
             k = c + int(np.argmin(np.linalg.norm(plan.positions_m[c:] - mid, axis=1)))
-            go(hand_at(plan, k, lift + FOLLOW.hover_m), FOLLOW.settle_s)
+            go(pose_at(plan, k, lift + FOLLOW.hover_m) @ grip, FOLLOW.settle_s)
             approach(2 * FOLLOW.hover_m + body_t.height)
         if not ctl.wait(FOLLOW.rest_s, until=touching) and not touching():
             raise RuntimeFailure(f"follow: {obj} does not touch {target} at the end of its path")
@@ -220,76 +252,3 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
             raise RuntimeFailure(f"follow: {obj} still touches {target} at the end of its path")
     if world.held[side] != obj:
         raise RuntimeFailure(f"follow: {hand} lost {obj}")
-
-
-def _clear_of_hand(world: SimWorld, other: str, body_o: Body, plan: Retargeted,
-                   at: Callable[[Retargeted, int], np.ndarray]) -> Retargeted:
-    """``plan`` with its core's turns scaled down (:data:`FOLLOW`'s ``clear_turns``) until the
-    object, its core started where it meets the target's top (``at``), keeps ``hand_clearance_m``
-    from the other hand's boxes; the variant farthest from them when none does (follow_clear)."""
-    best: tuple[float, Retargeted] | None = None
-    for factor in FOLLOW.clear_turns:
-        r = plan if factor == 1.0 else turned_less(plan, factor)
-        gap = clearance(world, other, body_o, r, at)
-        if gap >= FOLLOW.hand_clearance_m:
-            return r
-        if best is None or gap > best[0]:
-            best = (gap, r)
-    return best[1] if best is not None else plan
-
-
-def _reachable(ctx: SkillContext, side: str, keep: np.ndarray | None, plan: Retargeted, hand_at: HandAt,
-               what: str, to_frame: Callable[[np.ndarray], np.ndarray], room: float | None,
-               obj_point: np.ndarray) -> tuple[Retargeted, float]:
-    """``(plan, orientation weight)``: the first of ``plan``'s variants whose keyframes the
-    whole-body IK reaches with the other hand's goal at ``keep``: each orientation weight, then the
-    core moved across the target by where the IK left the hand, then shrunk (module doc)."""
-    ik = ctx.ctl.ik
-    other = "l" if side == "r" else "r"
-    n, c = len(plan.times_s), plan.core
-    checks = sorted({c, c + (n - c) // 3, c + 2 * (n - c) // 3, n - 1})
-
-    def miss(r: Retargeted, weight: float) -> tuple[float, float, np.ndarray]:
-        """The worst keyframe's (distance, angle) and the mean offset the IK left (world), m."""
-        limit = FOLLOW.reach_rad if weight == FOLLOW.orientation_weights[0] else math.pi
-        worst, offsets = (0.0, 0.0), []
-        with ik.trial():
-            if keep is not None:
-                ik.set_hand_target(other, keep)
-            for k in checks:
-                goal = hand_at(r, k, 0.0)
-                ik.set_hand_target(side, goal, orientation_weight=weight)
-                ik.converge(150, tolerance_m=5e-4)
-                res = ik.residual(side)
-                got = ik.frame(f"grasp_{side}")
-                offsets.append(got[:3, 3] - goal[:3, 3])
-                # a keyframe of the core counts as reached while the object stays over its target
-                at = r.positions_m[k] + to_frame((got @ obj_point)[:3] - (goal @ obj_point)[:3])
-                over = room is not None and k >= c and float(np.linalg.norm(at[:2])) <= room
-                if (res.position_m > FOLLOW.reach_m and not over) or res.angle_rad > limit:
-                    worst = max(worst, (res.position_m, res.angle_rad))
-        return worst[0], worst[1], np.mean(offsets, axis=0)
-
-    best: tuple[float, float, Retargeted, float] | None = None
-    for factor in FOLLOW.shrink:
-        r = plan if factor == 1.0 else shrunk(plan, factor)
-        for weight in FOLLOW.orientation_weights:
-            d, a, off = miss(r, weight)
-            variants = [(d, a, r)]
-            if d or a:  # the core moved where the IK left the hand
-                moved = shifted(r, to_frame(off), room)
-                variants.append((*miss(moved, weight)[:2], moved))
-            for dv, av, rv in variants:
-                if dv == 0.0 and av == 0.0:
-                    return rv, weight
-                if best is None or dv < best[0]:
-                    best = (dv, av, rv, weight)
-    if best is None or best[0] > FOLLOW.give_up_m:
-        far = best[0] if best is not None else math.inf
-        raise RuntimeFailure(
-            f"follow: {what} is out of reach, even shrunk to {FOLLOW.shrink[-1]:g}: the best whole-body IK"
-            f" solution leaves the hand {far * 100:.0f} cm from a keyframe"
-        )
-    # near enough: the soft IK gets as close as it can, the guarded approach and the step's
-    # effect judge the rest
-    return best[2], best[3]

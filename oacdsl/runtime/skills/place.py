@@ -158,7 +158,7 @@ def _set_down(ctx: SkillContext, m: Motion, obj: str, pick: Pick | None, force: 
     ctl, t = ctx.ctl, m.tuning
     hover, where, support = set_down_pose(ctx, m.side, obj, pick)
     if support is not None and ctx.world.touching(obj, support):  # no hover: that would break the contact
-        if centre_over(ctx, m, obj, support):  # a lid let go off a pot's middle tips in
+        if centre_over(ctx, m, obj, support):  # let go off a pot's middle, a lid stays 2-3 cm off it
             hover = ctl.ik.goal(m.side)
         ctl.activity = f"setting {obj} down on {support}"
         m.lower_onto_support(hover, t.support_search_m, f"placing {obj}", force)
