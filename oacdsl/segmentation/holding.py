@@ -32,12 +32,12 @@ from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.scales import instance_size_m
 
-__all__ = ["resting_holds"]
+__all__ = ["median_speeds", "resting_holds"]
 
 Spans = list[tuple[int, int]]
 
 
-def _speeds(points_m: np.ndarray, times_s: np.ndarray, lag: int) -> np.ndarray:
+def median_speeds(points_m: np.ndarray, times_s: np.ndarray, lag: int) -> np.ndarray:
     """(F,) median marker speed over ``lag`` frames of an instance's markers ``points_m`` (F, k, 3),
     m/s (NaN in gaps)."""
     n = points_m.shape[0]
@@ -96,7 +96,7 @@ def resting_holds(recording: Recording, table: PairTable, closest: Mapping[int, 
                 speed = given.copy()
                 speed[:lag] = given[lag]
             else:
-                speed = _speeds(positions(i), times, lag)
+                speed = median_speeds(positions(i), times, lag)
             with np.errstate(invalid="ignore"):
                 still[i] = speed < move_speed_m_s
         return still[i]

@@ -17,7 +17,7 @@ over that object's footprint, is carried by it. So, an option of the adaptive de
 for at least ``tool_dwell_s``, X *rests on* Y. The rest teaches the pair its distance as a
 co-motion episode does (the median closest marker distance of the rest × (1 + ``margin``), at
 most ``d``), and the contact grows from the rest both ways while the closest distance stays
-within it (:func:`~oacdsl.segmentation.comotion._extend`, excursions up to ``tool_bridge_s``
+within it (:func:`~oacdsl.segmentation.episodes.extend_episode`, excursions up to ``tool_bridge_s``
 bridged): back to where X was set down, forward while it is turned or held in place on Y, until
 it is lifted off. Nothing here depends on where the markers sit on either object, on the scene's
 scale, the frame rate, the pace (durations are the detector's rescaled ones), a rotation about
@@ -35,8 +35,9 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from oacdsl.segmentation.comotion import _extend, _nanmedian0, _union, frames_within
-from oacdsl.segmentation.holding import _speeds
+from oacdsl.segmentation.comotion import frames_within
+from oacdsl.segmentation.episodes import extend_episode, union_spans
+from oacdsl.segmentation.holding import median_speeds
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.recording import Recording
 
@@ -157,7 +158,7 @@ def resting_on_top(
         """(e - s,) instance ``i`` still at frames ``s:e`` (its speeds as over the whole recording)."""
         lo = max(0, s - lag)
         with np.errstate(invalid="ignore"):
-            return _speeds(points(i, slice(lo, e)), times[lo:e], lag)[s - lo:] < move_speed_m_s
+            return median_speeds(points(i, slice(lo, e)), times[lo:e], lag)[s - lo:] < move_speed_m_s
 
     found: dict[int, tuple[Spans, list[float]]] = {}
     for q, dmin in closest.items():
@@ -190,9 +191,9 @@ def resting_on_top(
                         continue
                     threshold = min(rest_m * (1 + margin), reach_m)
                     spans, thresholds = found.setdefault(q, ([], []))
-                    spans.append(_extend(dmin, r0, r1, threshold, bridge))
+                    spans.append(extend_episode(dmin, r0, r1, threshold, bridge))
                     thresholds.append(threshold)
-    return {q: (_union(spans), float(np.median(thresholds))) for q, (spans, thresholds) in found.items()}
+    return {q: (union_spans(spans), float(np.median(thresholds))) for q, (spans, thresholds) in found.items()}
 
 
 #: Frames of a rest, evenly spread, whose median positions decide :func:`_on_top` (the objects are
@@ -202,7 +203,12 @@ REST_SAMPLES = 15
 
 def _median_pose(points_m: np.ndarray) -> np.ndarray:
     """(k, 3) median over frames of (F, k, 3) marker positions, NaN ignored (NaN: never seen)."""
-    return _nanmedian0(points_m.reshape(points_m.shape[0], -1)).reshape(points_m.shape[1:])
+    flat = np.sort(points_m.reshape(points_m.shape[0], -1), axis=0)  # NaN sort last
+    count = np.isfinite(flat).sum(axis=0)
+    cols = np.arange(flat.shape[1])
+    low, high = np.maximum(count - 1, 0) // 2, np.minimum(count // 2, flat.shape[0] - 1)
+    median = np.where(count > 0, (flat[low, cols] + flat[high, cols]) / 2, np.nan)
+    return median.reshape(points_m.shape[1:])
 
 
 def _on_top(top_m: np.ndarray, base_m: np.ndarray) -> bool:
@@ -227,7 +233,7 @@ def with_rests(learned: Mapping[int, tuple[Spans, float]],
     for q, (spans, threshold) in rests.items():
         if q in out:
             own, distance = out[q]
-            out[q] = (_union([*own, *spans]), distance)
+            out[q] = (union_spans([*own, *spans]), distance)
         else:
             out[q] = (spans, threshold)
     return out
