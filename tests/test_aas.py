@@ -57,9 +57,18 @@ def test_pass_by_is_no_touch():
     # the rest at frame 200 too.
     stop = recording({"hand": path(F, [(0, (-2.0, 0.05, 0)), (200, (0.0, 0.05, 0))]), "cup": still(F, CUP)})
     assert summary(segment(stop, AasParams(mode="paper"))) == [(0, []), (200, [("cup", "hand")])]
-    fixed = AdaptiveDetector(AasParams().resolved(stop.rate_hz), AdaptiveSettings(rescale=False))
+    # (the default detector puts a hand and an object that never move together at the static
+    # distance only with static_agents: by default a hand touches by moving, holding or a tool)
+    fixed = AdaptiveDetector(AasParams().resolved(stop.rate_hz),
+                             AdaptiveSettings(rescale=False, static_agents=True))
     assert summary(segment(stop, detector=fixed)) == [(0, []), (202, [("cup", "hand")])]
-    assert summary(segment(stop)) == [(0, []), (200, [("cup", "hand")])]
+    assert summary(segment(stop, detector=_static_hands(stop))) == [(0, []), (200, [("cup", "hand")])]
+    assert summary(segment(stop)) == [(0, [])]
+
+
+def _static_hands(rec: Recording) -> AdaptiveDetector:
+    """The default detector, but with the static distance for pairs with a hand too."""
+    return AdaptiveDetector(AasParams().resolved(rec.rate_hz), AdaptiveSettings(static_agents=True))
 
 
 def test_slow_pass_by_touches_when_n_is_too_small():
@@ -160,7 +169,7 @@ def test_gap_keeps_a_touch():
     hand = still(F, (0.05, 0, 0))
     hand[100:180] = np.nan  # occluded while holding
     rec = recording({"hand": hand, "cup": still(F, CUP)})
-    assert summary(segment(rec)) == [(0, [("cup", "hand")])]
+    assert summary(segment(rec, detector=_static_hands(rec))) == [(0, [("cup", "hand")])]
 
 
 def test_gap_does_not_make_a_touch():

@@ -414,7 +414,7 @@ def test_the_scan_measures_the_hands_speeds_as_holding_still_does(monkeypatch, s
     from frame ``lag`` on they are its own, gaps and chunk borders included."""
     from oacdsl.segmentation import comotion as scan
     from oacdsl.segmentation.comotion import AdaptiveSettings, comotion
-    from oacdsl.segmentation.holding import _speeds
+    from oacdsl.segmentation.holding import median_speeds as _speeds
     from oacdsl.segmentation.pairs import PairTable
     from oacdsl.segmentation.poses import RigidFill
 

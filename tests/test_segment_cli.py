@@ -43,13 +43,10 @@ def test_json_document(demo, capsys):
     assert params == {"distance_m": 0.15, "speed_m_s": 0.1, "frames": 3, "merge_s": 0.3,
                       "mode": "adaptive", "hold_s": 0.1, "change_window_s": 0.1}  # the default
     assert scale == pytest.approx({"length": 1.0, "speed": 0.9, "time": 1 / 0.9})
-    # the default detector's slope over ±5 frames (±6 at this pace) sees the rest two frames
-    # after the paper's one-frame difference (101), and the departure three frames before it (201)
-    assert doc["keyframes"] == [
-        {"frame": 0, "time_s": 0.0, "relations": [["cup", "liquid"]]},
-        {"frame": 103, "time_s": 1.03, "relations": [["cup", "hand"], ["cup", "liquid"], ["hand", "liquid"]]},
-        {"frame": 198, "time_s": 1.98, "relations": [["cup", "liquid"]]},
-    ]
+    # the default detector: a hand touches an object by moving it, holding it (co-motion, holding
+    # still) or through a tool, not by resting near it at a distance, so only the liquid in the cup
+    # (two objects: the static distance); the paper's mode sees the hand at the cup (test_table)
+    assert doc["keyframes"] == [{"frame": 0, "time_s": 0.0, "relations": [["cup", "liquid"]]}]
 
 
 def test_parameters_with_units(demo, capsys):

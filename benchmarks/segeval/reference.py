@@ -8,10 +8,11 @@ run counters: slow (pure Python, float64) but easy to check by eye. The fast
 Modes: ``paper`` (Eq. 1 / Eq. 2 as printed), ``robust`` (the distance change as the
 least-squares slope over the frames within ``±half`` of each frame, summed frame by
 frame), and ``adaptive``: the robust rule per marker pair at each instance pair's own
-distance, OR the co-motion, tool and holding-still intervals, AND NOT the cross-hand vetoes; co-motion
-frame by frame in :func:`~segeval.reference_comotion.comotion_reference`, the
-tool rule (:func:`~oacdsl.segmentation.tooluse.tool_contacts`, interval logic over those
-per-frame signals) shared with the detector.
+distance (zero for a pair with an agent: ``static_agents``), OR the co-motion, rest-on-top, tool
+and holding-still intervals, AND NOT the cross-hand vetoes; co-motion frame by frame in
+:func:`~segeval.reference_comotion.comotion_reference`, the tool rule
+(:func:`~oacdsl.segmentation.tooluse.tool_contacts`, interval logic over those per-frame signals)
+and the rest-on-top rule (:func:`~oacdsl.segmentation.stacking.resting_on_top`) shared with the detector.
 """
 
 from __future__ import annotations
@@ -124,6 +125,7 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
     from oacdsl.segmentation.comotion import AdaptiveSettings
     from oacdsl.segmentation.holding import resting_holds
     from oacdsl.segmentation.pairs import PairTable
+    from oacdsl.segmentation.stacking import resting_on_top, with_rests
     from oacdsl.segmentation.tooluse import agents_of, tool_contacts
     from segeval.reference_comotion import comotion_reference
 
@@ -136,11 +138,20 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
     vetoes: dict[int, list[tuple[int, int]]] = {}
     if params.mode == "adaptive":
         settings = settings or AdaptiveSettings()
-        distance = [settings.static_distance_m] * table.n_instance_pairs
+        agents = agents_of(table.instances, settings.agent_pattern)
+        distance = [0.0 if not settings.static_agents and (int(a) in agents or int(b) in agents)
+                    else settings.static_distance_m for a, b in table.instance_pairs]
         delay = n - 1 + half
         found = comotion_reference(recording, table, params, settings)
+        learned = found.learned
+        if settings.stacked:  # an object at rest on top of another (the detector's rule)
+            learned = with_rests(learned, resting_on_top(
+                recording, table, found.closest, {q: i for q, (i, _) in learned.items()},
+                agents_of(table.instances, settings.agent_pattern), params.distance_m,
+                settings.move_speed_m_s, settings.lag_s, settings.tool_dwell_s, settings.tool_bridge_s,
+                settings.margin))
         reach = params.distance_m if tool_reach_m is None else tool_reach_m
-        held = {q: intervals for q, (intervals, _) in found.learned.items()}
+        held = {q: intervals for q, (intervals, _) in learned.items()}
         tools = tool_contacts(
             table,
             n_frames,
@@ -156,13 +167,14 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
             recording.positions_m,
             settings.frames(settings.lag_s, recording.rate_hz),
         )
-        for q, (_, threshold) in found.learned.items():
+        for q, (_, threshold) in learned.items():
             distance[q] = round(threshold, 4)
         holds: dict[int, list[tuple[int, int]]] = {}
         if settings.hold_still:  # a hand at rest on or around a still object (the detector's rule)
             agents = agents_of(table.instances, settings.agent_pattern)
             holds = resting_holds(recording, table, found.closest, agents, params.distance_m,
-                                  settings.move_speed_m_s, settings.lag_s, settings.tool_dwell_s)
+                                  settings.move_speed_m_s, settings.lag_s, settings.tool_dwell_s,
+                                  held=held)
         sources = ((spans, held), (spans, tools.added), (spans, holds), (vetoes, tools.removed))
         for target, per_pair in sources:
             for q, intervals in per_pair.items():

@@ -20,6 +20,9 @@ cup "touch" it. This detector learns the distance from the recording itself:
    long as its closest marker distance stays within that threshold (a gap —
    NaN — neither ends nor starts it): the grasp before the object starts to move,
    the hold after it is set down, until the hand leaves.
+3a. **Resting on top** (:mod:`oacdsl.segmentation.stacking`, ``stacked``): an object that
+   nobody holds, at rest on top of another (its markers above the other's, its centre over
+   them), is an episode of that pair too, extended as in 3 until it is lifted off.
 4. **The paper's rule per pair.** Eq. 1 / Eq. 2 (the paper's ``v`` and ``n``, marker
    pair by marker pair, gaps as in the paper's mode), with the distance change estimated
    over a window in seconds (:class:`~oacdsl.segmentation.robust.RobustDetector`), run at each pair's own
@@ -60,6 +63,7 @@ from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.robust import RobustDetector
 from oacdsl.segmentation.scales import DemoScale, measure, scale_params, scale_settings, tool_reach_m
 from oacdsl.segmentation.shapes import ShapeModel
+from oacdsl.segmentation.stacking import resting_on_top, with_rests
 from oacdsl.segmentation.tooluse import agents_of, tool_contacts
 
 __all__ = ["AdaptiveDetector", "AdaptiveSettings", "comotion"]
@@ -151,6 +155,12 @@ class AdaptiveDetector:
         found = comotion(recording, table, self.params, self._run, self.filler,
                          keep_speeds=agents if self._run.hold_still else ())
         learned = found.learned
+        if self._run.stacked:  # an object at rest on top of another (stacking.py)
+            learned = with_rests(learned, resting_on_top(
+                recording, table, found.closest, {q: s for q, (s, _) in learned.items()}, agents,
+                self.params.distance_m,
+                self._run.move_speed_m_s, self._run.lag_s, self._run.tool_dwell_s,
+                self._run.tool_bridge_s, self._run.margin))
         # the paper's rule per pair: at the pair's learned distance, else at the static distance
         by_distance: dict[float, np.ndarray] = {}
         default = np.ones(n_q, dtype=bool)
@@ -158,6 +168,8 @@ class AdaptiveDetector:
             key = round(threshold, 4)  # 0.1 mm: pairs with the same distance share a detector
             by_distance.setdefault(key, np.zeros(n_q, dtype=bool))[q] = True
             default[q] = False
+        if not self._run.static_agents:  # a hand touches by moving, holding or a tool, not by nearness
+            default &= ~np.isin(table.instance_pairs, agents).any(axis=1)
         by_distance.setdefault(self._run.static_distance_m, np.zeros(n_q, dtype=bool))
         by_distance[self._run.static_distance_m] |= default
         # one detector, each marker pair at its instance pair's distance (float32, as a detector's own d)
@@ -189,7 +201,8 @@ class AdaptiveDetector:
         if self._run.hold_still:  # a hand at rest on or around a still object (holding.py)
             holds = resting_holds(recording, table, found.closest, agents, self.params.distance_m,
                                   self._run.move_speed_m_s, self._run.lag_s, self._run.tool_dwell_s,
-                                  speeds=found.speeds)  # the hands' speeds: measured by the scan
+                                  speeds=found.speeds,  # the hands' speeds: measured by the scan
+                                  held={q: spans for q, (spans, _) in learned.items()})
             for q, spans in holds.items():
                 added[q] = union_spans([*added.get(q, []), *spans])  # one flag per kind and pair
         removed = dict(tools.removed)

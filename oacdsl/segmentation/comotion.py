@@ -33,13 +33,13 @@ class AdaptiveSettings:
     """Constants of the adaptive detector (SI units); ``AasParams`` gives d, v, n.
 
     Attributes:
-        static_distance_m: metres, ``d`` of the paper's rule for pairs that never
-            co-move, whose own distance is unknown. 80 mm: a hand resting beside an
-            object (60–140 mm on the KIT clips, 80–93 mm from the rack in Wipe) stays
-            out; a mixer stirring in a bowl (70–85 mm in the synthetic dough scene) is a
-            tool contact (:mod:`oacdsl.segmentation.tooluse`). Pinned from both sides: 75 mm
-            loses a contact of the synthetic Open demonstration (``tests/test_task_demos.py``),
-            and Wipe's resting hand touches the rack in a take 10 % smaller (72–84 mm).
+        static_distance_m: metres, ``d`` of the paper's rule for two objects that never co-move,
+            whose own distance is unknown, in the reference demonstration's length (rescaled by the
+            scene's, :func:`~oacdsl.segmentation.scales.scale_settings`). 80 mm: liquid poured into
+            a bowl (34 mm in the synthetic dough scene) touches it, a fork lying 84 mm beside a bowl
+            (KIT Mix) does not, also in a take 15 % smaller; an object resting on top of another
+            touches it at any distance (``stacked``), and a hand touches by moving, holding or a
+            tool, not by nearness (``static_agents``, off).
         move_speed_m_s: metres per second, both instances must move faster than this
             for co-motion (40 mm/s: four times the marker jitter of a 100 Hz Vicon
             recording, far below a carried object's 0.2–1 m/s).
@@ -76,11 +76,13 @@ class AdaptiveSettings:
             (:mod:`oacdsl.segmentation.holding`; on by default: on the KIT development clips it
             changes no keyframe, hand F1, tool contact or composed take, and it finds a hand
             holding a bottle still while the other hand turns its lid).
-        merge: how keyframes are merged: ``"connected"`` (the default: only changes sharing an
-            instance, a group at its first change of an agent's contact, else its last frame;
-            :func:`~oacdsl.segmentation.keyframes.merge_keyframes`) or ``"paper"`` (the paper's
-            chains, at the last frame). Independent changes of the two hands stay apart; matching
-            joins them where one OAC matches both (:mod:`oacdsl.matching.coincident`).
+        stacked: an object at rest on top of another touches it, from where it was set down until
+            it is lifted off (:mod:`oacdsl.segmentation.stacking`; on: a lid on its bottle, whose
+            markers are farther apart than the static distance).
+        static_agents: the static distance applies to pairs with an agent too (off: a hand touches
+            an object by moving it, holding it still or through a tool, not by being near it; a hand
+            resting 81-93 mm beside KIT Wipe's rack from the first frame is 72-84 mm from it in a
+            take 10 % smaller).
 
     The defaults sit inside the range that scores best on the KIT development
     clips (``docs/segmentation-adaptive.md`` lists the sensitivity).
@@ -100,6 +102,8 @@ class AdaptiveSettings:
     fill_gaps: bool = True
     merge: str = "connected"
     hold_still: bool = True
+    stacked: bool = True
+    static_agents: bool = False
 
     def __post_init__(self) -> None:
         for name in ("static_distance_m", "move_speed_m_s", "rigid_ratio", "lag_s", "tool_dwell_s"):

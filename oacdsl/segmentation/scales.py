@@ -20,15 +20,17 @@ must give the same keyframes, so :func:`measure` finds the recording's scales an
 - **time** factor: length / speed (durations).
 
 Speeds are multiplied by the speed factor, durations by the time factor; ratios (``margin``,
-``rigid_ratio``) stay. Of the distances only ``d`` (``AasParams.distance_m``, the *largest*
+``rigid_ratio``) stay. Of the distances ``d`` (``AasParams.distance_m``, the *largest*
 contact distance, a cap) follows the length factor, and only upwards: a larger demonstrator in a
 larger scene holds a tool farther from its target's markers (a take 15 % larger put Pour's carton
 and Mix's spoon beyond 150 mm of the cup's and the bowl's markers), while a smaller one needs no
 tighter cap (the hands' size measures the demonstrator, not the objects: on the KIT Scoop clip,
 whose subject's hands are 5 % smaller, a 5 % shorter reach found the ladle in the cup 0.3 s late
-and changed the composed OAC). The per-pair distances are learned, the static one
-(``static_distance_m``) stays. The tool rule's reach between two objects (:func:`tool_reach_m`)
-is a contact distance and also shrinks, for a length factor below :data:`SUBJECT_BAND` (the
+and changed the composed OAC). The per-pair distances are learned; the static one
+(``static_distance_m``, between two objects that never move together) follows the length factor
+both ways (a fork lying 84 mm beside KIT Mix's bowl is 71 mm from it in a take 15 % smaller).
+The tool rule's reach between two objects (:func:`tool_reach_m`) is a contact distance and also
+shrinks, for a length factor below :data:`SUBJECT_BAND` (the
 development clips' subjects differ by 0.95-1.06, and a 5 % shorter reach already moves Cut's
 keyframes): ``d`` × factor / band, at least :data:`MIN_REACH_FACTOR` × ``d``. So a scene 15 %
 smaller has its tools reach 10 % less far (at 150 mm Pour's carton "reached" the cup 0.5 s before
@@ -214,9 +216,11 @@ def tool_reach_m(params: AasParams, scale: DemoScale) -> float:
 
 
 def scale_settings(settings: AdaptiveSettings, scale: DemoScale) -> AdaptiveSettings:
-    """``settings`` for a recording of ``scale`` (speeds and durations rescaled, not lengths)."""
+    """``settings`` for a recording of ``scale``: speeds and durations rescaled, and the static
+    distance (between two objects that never move together) in the scene's length."""
     return replace(
         settings,
+        static_distance_m=settings.static_distance_m * scale.length,
         move_speed_m_s=settings.move_speed_m_s * scale.speed,
         lag_s=settings.lag_s * scale.time,
         min_episode_s=settings.min_episode_s * scale.time,
