@@ -244,7 +244,7 @@ def test_co_motion_beyond_d_counts_within_twice_the_pairs_closest():
 
 
 def test_windowed_extend_equals_the_whole_recording_pass(monkeypatch: pytest.MonkeyPatch) -> None:
-    """_extend looks at a window around the episode first; it must grow exactly as the pass over
+    """extend_episode looks at a window around the episode first; it must grow exactly as the pass over
     the whole recording does (short windows: runs cut at the window's edges, bridges, gaps)."""
     from oacdsl.segmentation import episodes as cm
 

@@ -191,13 +191,13 @@ def test_hold_and_change_window_on_the_command_line(capsys, tmp_path):
 
 
 def test_a_short_excursion_does_not_end_a_hold():
-    # comotion._extend: a hand marker hidden for 3 frames makes the closest distance jump to the
+    # episodes.extend_episode: a hand marker hidden for 3 frames makes the closest distance jump to the
     # next marker's; the hold goes on (bridged up to tool_bridge_s), a longer one ends it
-    from oacdsl.segmentation.episodes import _extend
+    from oacdsl.segmentation.episodes import extend_episode
 
     d = np.full(100, 0.06, dtype=np.float32)
     d[60:63] = 0.10
-    assert _extend(d, 10, 20, 0.07) == (0, 60)
-    assert _extend(d, 10, 20, 0.07, bridge=3) == (0, 100)
+    assert extend_episode(d, 10, 20, 0.07) == (0, 60)
+    assert extend_episode(d, 10, 20, 0.07, bridge=3) == (0, 100)
     d[60:70] = 0.10
-    assert _extend(d, 10, 20, 0.07, bridge=3) == (0, 60)
+    assert extend_episode(d, 10, 20, 0.07, bridge=3) == (0, 60)
