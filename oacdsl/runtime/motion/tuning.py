@@ -123,8 +123,8 @@ class Tuning:
     turn_centre_tries: int = 4
     turn_centre_s: float = 0.25
     #: how much of the next stroke a hand taking the object again may be turned back first
-    #: (shares of the stroke, tried in this order), and by how much (m of IK error, the angle
-    #: counted 0.1 m/rad) a turned-back pose must be reached better to be chosen over the first
+    #: (shares of the stroke), and by how much (m of IK error, the angle counted 0.1 m/rad) a
+    #: pose turned back further may be reached worse than the best one and still be chosen
     turn_wind_back_share: tuple[float, ...] = (0.0, 0.25, 0.5, 0.75, 1.0)
     turn_wind_back_gain_m: float = 0.002
 
