@@ -17,7 +17,8 @@ from _geom_scenes import (
 from oacdsl.cli import main
 from oacdsl.errors import SegmentationError
 from oacdsl.segmentation import AasParams, segment
-from oacdsl.segmentation.geomcontact import _contact_spans, complement_spans, union_spans
+from oacdsl.segmentation.episodes import union_spans
+from oacdsl.segmentation.geomcontact import _contact_spans, complement_spans
 from oacdsl.segmentation.readers import write_c3d
 from oacdsl.segmentation.shapefit import hand_volume, pose_shape, surface_gaps
 from oacdsl.segmentation.shapes import MAX_SURFACE_POINTS, Primitive

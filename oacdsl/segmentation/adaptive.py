@@ -53,7 +53,8 @@ import numpy as np
 from oacdsl.errors import SegmentationError
 from oacdsl.segmentation.comotion import AdaptiveSettings, comotion
 from oacdsl.segmentation.detectors import DistanceChunk, PairChanges
-from oacdsl.segmentation.geomcontact import decided_by_geometry, geometric_contacts, union_spans
+from oacdsl.segmentation.episodes import union_spans
+from oacdsl.segmentation.geomcontact import decided_by_geometry, geometric_contacts
 from oacdsl.segmentation.geometry import BOUND_MARGIN_M
 from oacdsl.segmentation.holding import resting_holds
 from oacdsl.segmentation.pairs import PairTable

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["FAR_RATIO", "extend_episode", "find_episodes", "near_episodes", "union_spans"]
+__all__ = ["FAR_RATIO", "extend_episode", "find_episodes", "near_episodes", "true_runs", "union_spans"]
 
 
 def _nanmedian1d(x: np.ndarray) -> float:
@@ -29,8 +29,8 @@ def _nanmedian1d(x: np.ndarray) -> float:
     return float((part[k - 1] + part[k]) / np.float32(2))  # as np.mean of the two, in float32
 
 
-def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    """``[a, b)`` runs of True."""
+def true_runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """``[a, b)`` frame intervals where ``mask`` is True."""
     padded = np.concatenate([[False], mask, [False]])
     edges = np.flatnonzero(padded[1:] != padded[:-1])
     return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))
@@ -48,7 +48,7 @@ def find_episodes(carry: np.ndarray, min_len: int, bridge: int) -> list[tuple[in
     own threshold (its median distance). Short pieces *after* a carry are not episodes: the object
     set down, the hand opening, its distance already growing (KIT Pour at 240 Hz: one frame at
     149 mm as the carton leaves the cup); the carry's extension covers the let-go."""
-    runs = _runs(carry)
+    runs = true_runs(carry)
     out: list[tuple[int, int]] = []
     leading: list[tuple[int, int]] = []  # short runs chained to the next run
     for a, b in runs:
@@ -171,6 +171,7 @@ def _ends(starts: np.ndarray, ends: np.ndarray, keep: np.ndarray, i: int, j: int
 
 
 def union_spans(spans: list[tuple[int, int]]) -> list[tuple[int, int]]:
+    """Sorted, disjoint frame intervals covering ``spans``."""
     merged: list[tuple[int, int]] = []
     for a, b in sorted(spans):
         if merged and a <= merged[-1][1]:

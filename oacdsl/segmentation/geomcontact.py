@@ -37,6 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from oacdsl.segmentation.episodes import true_runs, union_spans
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.shapefit import HandVolume, PosedShape, hand_volume, pose_shape, surface_gaps
@@ -50,7 +51,6 @@ __all__ = [
     "decided_by_geometry",
     "geometric_contacts",
     "tolerance_m",
-    "union_spans",
 ]
 
 #: Fraction of the smaller instance's size across that two surfaces may stay apart and touch
@@ -83,11 +83,6 @@ def tolerance_m(a: PosedShape | HandVolume, b: PosedShape | HandVolume) -> float
     return CONTACT_FRACTION * min(a.extent_m, b.extent_m) + errors
 
 
-def _runs(mask: np.ndarray) -> Spans:
-    padded = np.concatenate([[False], mask, [False]])
-    edges = np.flatnonzero(padded[1:] != padded[:-1])
-    return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))
-
 
 def _contact_spans(gap: np.ndarray, tol: float, hold: int, bridge: int, hand: bool) -> tuple[Spans, Spans]:
     """Runs of ``gap ≤ tol`` (NaN: the state before), bridged and at least ``hold`` frames long,
@@ -99,7 +94,7 @@ def _contact_spans(gap: np.ndarray, tol: float, hold: int, bridge: int, hand: bo
         last = np.maximum.accumulate(np.where(known, np.arange(gap.size), -1))
         within = np.where(last >= 0, within[np.maximum(last, 0)], False)
     spans: Spans = []
-    for a, b in _runs(within):
+    for a, b in true_runs(within):
         if spans and a - spans[-1][1] <= bridge:
             spans[-1] = (spans[-1][0], b)
         else:
@@ -150,16 +145,6 @@ def geometric_contacts(
         tolerances[q] = tol
     return GeometryContacts(spans, undecided, report, tolerances)
 
-
-def union_spans(spans: Spans) -> Spans:
-    """Sorted, disjoint frame intervals covering ``spans``."""
-    out: Spans = []
-    for a, b in sorted(spans):
-        if out and a <= out[-1][1]:
-            out[-1] = (out[-1][0], max(out[-1][1], b))
-        else:
-            out.append((a, b))
-    return out
 
 
 def complement_spans(spans: Spans, n_frames: int) -> Spans:

@@ -28,6 +28,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from oacdsl.segmentation.comotion import _median_rows
+from oacdsl.segmentation.episodes import true_runs
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.scales import instance_size_m
@@ -52,11 +53,6 @@ def median_speeds(points_m: np.ndarray, times_s: np.ndarray, lag: int) -> np.nda
         out[:lag] = speed[0]
     return out
 
-
-def _runs(mask: np.ndarray) -> Spans:
-    padded = np.concatenate([[False], mask, [False]])
-    edges = np.flatnonzero(padded[1:] != padded[:-1])
-    return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))
 
 
 def resting_holds(recording: Recording, table: PairTable, closest: Mapping[int, np.ndarray],
@@ -120,7 +116,7 @@ def resting_holds(recording: Recording, table: PairTable, closest: Mapping[int, 
             d = closest[q]
             with np.errstate(invalid="ignore"):  # a hold needs dwell frames within d of a still hand
                 candidate = (d <= reach_m) & is_still(h)
-            if not any(b - a >= dwell for a, b in _runs(candidate)):
+            if not any(b - a >= dwell for a, b in true_runs(candidate)):
                 continue
             if x not in sizes:
                 sizes[x] = instance_size_m(positions(x))
@@ -133,7 +129,7 @@ def resting_holds(recording: Recording, table: PairTable, closest: Mapping[int, 
             resting = near & is_still(h) & is_still(x) & ~other
             moved = ~is_still(h)
             spans = []
-            for a, b in _runs(resting):
+            for a, b in true_runs(resting):
                 start = max(0, a - dwell)  # the approach: the last dwell, and the motion it ends
                 if start > 0 and moved[start - 1]:  # since the hand last rested or held something else
                     rested = np.flatnonzero(~moved[:start] | other[:start])

@@ -36,7 +36,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from oacdsl.segmentation.comotion import frames_within
-from oacdsl.segmentation.episodes import extend_episode, union_spans
+from oacdsl.segmentation.episodes import extend_episode, true_runs, union_spans
 from oacdsl.segmentation.holding import median_speeds
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.recording import Recording
@@ -45,11 +45,6 @@ __all__ = ["inside_hull", "resting_on_top", "with_rests"]
 
 Spans = list[tuple[int, int]]
 
-
-def _runs(mask: np.ndarray) -> Spans:
-    padded = np.concatenate([[False], mask, [False]])
-    edges = np.flatnonzero(padded[1:] != padded[:-1])
-    return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))
 
 
 def _hull(points: np.ndarray) -> np.ndarray:
@@ -181,11 +176,11 @@ def resting_on_top(
                 continue
             with np.errstate(invalid="ignore"):  # NaN: a gap, unknown
                 above = (dmin <= reach_m) & free(top) & np.repeat(over, lag)[:n_frames]
-            for s, e in _runs(above):
+            for s, e in true_runs(above):
                 if e - s < dwell:
                     continue
                 resting = still(top, s, e) & still(base, s, e)
-                for s2, e2 in _runs(resting):
+                for s2, e2 in true_runs(resting):
                     r0, r1 = s + s2, s + e2
                     rest = np.unique(np.linspace(r0, r1 - 1, min(r1 - r0, REST_SAMPLES)).astype(np.intp))
                     if r1 - r0 < dwell or not _on_top(points(top, rest), points(base, rest)):

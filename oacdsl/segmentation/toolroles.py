@@ -45,6 +45,8 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
+from oacdsl.segmentation.episodes import true_runs
+
 __all__ = ["REST_M", "refine"]
 
 #: How much a distance may vary and still be "at rest", metres (marker jitter and a hand's tremor).
@@ -122,11 +124,11 @@ def refine(added: dict[int, Spans], removed: dict[int, Spans], n_frames: int,
                     continue
                 through = holds[(h, x)] & masks[qa]
                 near = _near(dist(h, a), reach_m)
-                for s, e in _runs(through):
+                for s, e in true_runs(through):
                     while e < n_frames and near[e]:
                         e += 1
                     vetoes.setdefault(qh, []).append((s, e))
-    return out, {q: _runs(_mask(s, n_frames)) for q, s in vetoes.items()}
+    return out, {q: true_runs(_mask(s, n_frames)) for q, s in vetoes.items()}
 
 
 def _trim_rest(d: np.ndarray, a: int, b: int, reach_m: float, rest_m: float) -> int:
@@ -159,7 +161,3 @@ def _mask(spans: Spans, n: int) -> np.ndarray:
     return m
 
 
-def _runs(mask: np.ndarray) -> Spans:
-    padded = np.concatenate([[False], mask, [False]])
-    edges = np.flatnonzero(padded[1:] != padded[:-1])
-    return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))

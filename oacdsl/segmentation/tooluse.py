@@ -43,6 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from oacdsl.segmentation.comotion import frames_within
+from oacdsl.segmentation.episodes import true_runs
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.toolroles import refine
 
@@ -151,7 +152,7 @@ def tool_contacts(
                     near[at] |= close
                     unknown[at] |= gap & ~close
             near = _bridge(near, bridge, (unknown | kept) & ~near)
-            spans = [(s, e) for s, e in _runs(near) if e - s >= dwell
+            spans = [(s, e) for s, e in true_runs(near) if e - s >= dwell
                      and not (positions_m is not None
                               and passes_through(_centre(positions_m, table, x, s, e),
                                                  _centre(positions_m, table, a, s, e), step, reach_m))]
@@ -171,7 +172,7 @@ def tool_contacts(
                 by_other |= holds[(other, x)]
             veto = busy & by_other & ~holds[(h, x)]
             if veto.any():
-                removed[q] = _runs(veto)
+                removed[q] = true_runs(veto)
     added, removed = refine(added, removed, n_frames, holds, objects, agent_set, pair, dist, reach_m, dwell,
                             rest_m)
     return ToolContacts(added, removed)
@@ -223,14 +224,9 @@ def _bridge(mask: np.ndarray, frames: int, unknown: np.ndarray) -> np.ndarray:
     ``frames`` long or ``unknown`` throughout (a gap, or within the hold distance: neither ends
     nor starts a contact)."""
     out = mask.copy()
-    for a, b in _runs(~mask):
+    for a, b in true_runs(~mask):
         if a > 0 and b < mask.size and (b - a <= frames or unknown[a:b].all()):
             out[a:b] = True
     return out
 
 
-def _runs(mask: np.ndarray) -> Spans:
-    """``[a, b)`` runs of True."""
-    padded = np.concatenate([[False], mask, [False]])
-    edges = np.flatnonzero(padded[1:] != padded[:-1])
-    return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))
