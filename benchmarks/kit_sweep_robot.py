@@ -3,7 +3,7 @@ combined takes of the development clips, each reproduced and verified.
 
     python benchmarks/kit_sweep_robot.py --takes sweep [--clips Stir,dough] [--seeds 0]
     python benchmarks/kit_sweep_robot.py --variation speed_x0.6 --variation rate_30hz --clips Cut
-    python benchmarks/kit_sweep_robot.py --random 12 --random-seed 0 [--clips …] [--seeds 0]
+    python benchmarks/kit_sweep_robot.py --random 12 --random-seed 0 [--random-first 4] [--clips …]
     python benchmarks/kit_sweep_robot.py --clips Mix --variation 'mirror=1 speed=1.2 rate_hz=31.5
         scale=0.93 rotation_deg=211.4 gap_at=0.42 jitter_seed=77'
 
@@ -13,7 +13,8 @@ combinations). ``--variation NAME`` (repeatable): one of those, a standard take
 (``oacc take --standard NAME``) or a random take's parameter line. ``--random N``: N random
 combined takes per clip (``benchmarks/random_takes.py``: mirror, speed ×0.6–×1.8, 10–120 Hz
 with 0.2 mm jitter, scale ×0.85–×1.15, rotation, a 0.3 s gap), the i-th of a clip drawn from
-(``--random-seed``, the clip's name, i), so each clip gets takes of its own and a run repeats.
+(``--random-seed``, the clip's name, i), so each clip gets takes of its own and a run repeats
+(``--random-first K``: only the i ≥ K of them).
 
 Each take is written to a file and reproduced as ``benchmarks/kit_takes_robot.py`` does
 (``oacc reproduce TAKE --library library/kit --no-render --seed N``; a take with the hands
@@ -98,6 +99,8 @@ def main(argv: list[str] | None = None) -> int:
                         help="a sweep variation, standard take or random take's line (repeatable)")
     parser.add_argument("--random", type=int, default=0, metavar="N", help="N random takes per clip")
     parser.add_argument("--random-seed", type=int, default=0, metavar="S")
+    parser.add_argument("--random-first", type=int, default=0, metavar="K",
+                        help="skip the first K random takes of each clip (run K to N-1)")
     parser.add_argument("--seeds", default="0", help="robot seeds (0 = the scene's own places)")
     parser.add_argument("--keep", metavar="DIR", help="keep each run's folder in DIR/CLIP-NAME-SEED")
     args = parser.parse_args(argv)
@@ -124,6 +127,8 @@ def main(argv: list[str] | None = None) -> int:
         for clip in clips:
             jobs: list[tuple[str, Variation, str]] = [(n, v, "") for n, v in fixed]
             for i, take in enumerate(random_for(clip, args.random_seed, args.random)):
+                if i < args.random_first:
+                    continue
                 jobs.append((f"random{args.random_seed}.{i}", take.apply, take.spec()))
             for k, (name, variation, spec) in enumerate(jobs):
                 work = Path(tmp) / f"{clip}-{k}"
