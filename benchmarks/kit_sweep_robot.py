@@ -67,6 +67,11 @@ def random_for(clip: str, seed: int, count: int) -> list[random_takes.RandomTake
     return [random_takes.draw(seed, i, key) for i in range(count)]
 
 
+def file_name(name: str) -> str:
+    """``name`` (a variation, or a random take's parameter line) as a short file name."""
+    return "".join(c if c.isalnum() or c in "._-" else "_" for c in name)[:60]
+
+
 def write_variation(clip: str, name: str, variation: Variation, folder: Path) -> tuple[Path, bool]:
     """(the variation of ``clip`` written into ``folder``, whether it exchanges the hands)."""
     from oacdsl.segmentation.readers import read_recording, write_recording
@@ -74,8 +79,7 @@ def write_variation(clip: str, name: str, variation: Variation, folder: Path) ->
     recording, _ = source_of(clip)
     rec, hands = variation(read_recording(recording))
     suffix = ".c3d" if recording.suffix == ".c3d" else ".mmm.xml"
-    safe = "".join(c if c.isalnum() or c in "._-" else "_" for c in name)[:60]
-    path = Path(write_recording(rec, folder / f"{clip}_{safe}{suffix}"))
+    path = Path(write_recording(rec, folder / f"{clip}_{file_name(name)}{suffix}"))
     return path, any(k != v for k, v in hands.items())
 
 
@@ -140,7 +144,7 @@ def main(argv: list[str] | None = None) -> int:
                     print(f"{clip} {name}: take not made: {err} {spec}", flush=True)
                     continue
                 for seed in seeds:
-                    out = (keep if keep is not None else work) / f"{clip}-{name}-{seed}"
+                    out = (keep if keep is not None else work) / f"{clip}-{file_name(name)}-{seed}"
                     started = time.process_time()
                     try:
                         mark, why = run_variation(clip, path, exchanged, seed, work, out)
