@@ -21,8 +21,8 @@ from oacdsl.segmentation.geometry import BOUND_MARGIN_M, ChunkGeometry, chunk_fr
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.poses import RigidFill
-from oacdsl.segmentation.subframe import EdgeTimes, span_edges
 from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.subframe import EdgeTimes, span_edges
 
 __all__ = ["AdaptiveSettings", "CoMotion", "comotion", "frames_within"]
 
