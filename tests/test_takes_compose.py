@@ -88,10 +88,10 @@ def test_a_take_composes_to_the_original_steps(clip, take, tmp_path):
 #: (Stir), a let-go's last co-motion frame at 240 Hz (Pour), bridges in whole frames (Stir ×1.6), a
 #: let-go with a brief return is the first leave (Stir ×0.6), co-motion within twice the pair's closest
 #: rather than within a cap in the hands' size (Scoop ×1.1: the cup held up to the ladle), a change
-#: without a threshold crossing timed halfway between its frames (Wipe ×1.25: the left hand's let-go
+#: without a threshold crossing timed halfway between its frames (Wipe ×0.8: the left hand's let-go
 #: where co-motion stops, at its frame's time, came within the coincidence window of the right hand's).
 SWEPT = (("Stir", "rate_30hz"), ("Stir", "rate_240hz"), ("Pour", "rate_240hz"), ("Stir", "speed_x1.6"),
-         ("Stir", "speed_x0.6"), ("Scoop", "scale_1.1"), ("Wipe", "speed_x1.25"))
+         ("Stir", "speed_x0.6"), ("Scoop", "scale_1.1"), ("Wipe", "speed_x0.8"))
 
 
 @pytest.mark.slow

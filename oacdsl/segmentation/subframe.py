@@ -14,7 +14,7 @@ estimated by linear interpolation of the pair's closest marker distance between 
 around it (:func:`crossing`). Other boundaries (co-motion that stops, a tool's dwell, a hand at
 rest, the paper's rule) have no such signal: they happened somewhere between the two frames, and
 are put halfway (the frame's own time would make them half a frame later, on average, than an
-interpolated one: KIT Wipe ×1.25 has its left hand leave the plate where co-motion stops, its right
+interpolated one: KIT Wipe ×0.8 has its left hand leave the plate where co-motion stops, its right
 hand leave the sponge by the distance). Keyframes stay on frames; only comparisons of times use
 these (:attr:`oacdsl.segmentation.result.Keyframe.change_s`).
 """
