@@ -38,7 +38,7 @@ sys.path[:0] = [str(ROOT), str(ROOT / "tests"), str(ROOT / "benchmarks")]
 
 import random_takes  # noqa: E402
 from kit_reproduce import DEV, reproduce_once  # noqa: E402
-from kit_takes_robot import any_hands_verdict, source_of  # noqa: E402
+from kit_takes_robot import rejudged_with_any_hands, source_of  # noqa: E402
 
 from oacdsl.segmentation.recording import Recording  # noqa: E402
 
@@ -89,8 +89,7 @@ def run_variation(clip: str, path: Path, exchanged: bool, seed: int, work: Path,
     _, library = source_of(clip)
     mark, summary, *_shares = reproduce_once(path, seed, work, out, library)
     if exchanged and mark != "V" and (out / "execution.c3d").is_file():
-        mark, failed = any_hands_verdict(path, work / "kit" if clip != "dough" else work / "dough", out)
-        summary = f"{failed} | any hands" if failed else "any hands"
+        mark, summary = rejudged_with_any_hands(path, work / ("dough" if clip == "dough" else "kit"), out)
     return mark, summary
 
 
