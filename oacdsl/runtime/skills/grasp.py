@@ -9,6 +9,7 @@ object; see docs/runtime.md for why friction alone was not used.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -18,6 +19,8 @@ from oacdsl.model import Grasp
 from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M, GraspPlan, plan_grasps
 from oacdsl.runtime.handgap import hands_gap
 from oacdsl.runtime.hands import CLOSED, OPEN, PINCH_CLOSED, SQUEEZE_RAD, TOP_PRESHAPE, finger_joint_names
+from oacdsl.runtime.motion.approach import approach_gap, arm_room_to, other_side_boxes, over_other_side
+from oacdsl.runtime.motion.detour import boxes
 from oacdsl.runtime.motion.tuning import TUNING
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.skills.base import Pick, SkillContext, cm, fmt_xyz
@@ -113,37 +116,69 @@ def grasp_candidates(ctx: SkillContext, hand: str, obj: str, shared: bool = Fals
         left = ctx.world.frame_pose("grasp_l")[:3, 3] - ctx.world.frame_pose("grasp_r")[:3, 3]
         own = left if side == "l" else -left
         plans = [p for p in plans if float((p.grasp[:3, 3] - t_obj[:3, 3]) @ own) > 0] or plans
+    # free: past the objects on the table, and past the other hand and what it holds: the hand
+    # coming in keeps room from them, and the arm does not lie on what that hand holds
+    # (motion/approach.py: a left hand taking a peeler came in through the cucumber the right
+    # hand held up beside it, 66 N; taken from behind instead, its forearm lay on it, 61 N)
+    still, fingers = other_side_boxes(ctx.world, side, {obj}), preshape(ctx, obj)
+    held = ctx.world.held.get("l" if side == "r" else "r")
+    arm: dict[int, bool] = {}
+
+    def room(p: GraspPlan) -> float:
+        return approach_gap(side, p, fingers, still)
+
+    def arm_clear(p: GraspPlan) -> bool:
+        if held is None or held == obj:
+            return True
+        if id(p) not in arm:
+            arm[id(p)] = arm_room_to(ctx.world, ctx.ctl.ik, side, p, held) >= 0.0
+        return arm[id(p)]
+
     def free(p: GraspPlan) -> bool:
-        return ctx.clearance(p.pre_grasp[:3, 3], p.grasp[:3, 3], {obj}) >= HAND_HALF_WIDTH_M
+        return (ctx.clearance(p.pre_grasp[:3, 3], p.grasp[:3, 3], {obj}) >= HAND_HALF_WIDTH_M
+                and room(p) >= HANDS_APART_M and arm_clear(p))
 
     # the planned approaches whose corridor is free first; then those made free by a shorter
     # approach (clear_pre_grasp: a left hand pouring a cup across its body, taken so, reached
-    # it past the bowl, 111 N, where a planned free approach was there); then the others
+    # it past the bowl, 111 N, where a planned free approach was there); then the others, those
+    # whose arm keeps off what the other hand holds first, then the roomiest
     clear = [p for p in plans if free(p)]
-    moved = [clear_pre_grasp(ctx, p, obj) for p in plans if not free(p)]
-    return clear + [p for p in moved if free(p)] + [p for p in moved if not free(p)]
+    moved = [clear_pre_grasp(ctx, p, obj, room) for p in plans if not free(p)]
+    rest = sorted((p for p in moved if not free(p)),
+                  key=lambda p: (not arm_clear(p), -min(room(p), HANDS_APART_M)))
+    return clear + [p for p in moved if free(p)] + rest
 
 
-def clear_pre_grasp(ctx: SkillContext, plan: GraspPlan, obj: str) -> GraspPlan:
+def clear_pre_grasp(
+    ctx: SkillContext, plan: GraspPlan, obj: str, room: Callable[[GraspPlan], float] | None = None
+) -> GraspPlan:
     """``plan`` with its pre-grasp moved in along the approach, by ``TUNING.pre_grasp_step_m`` at a
     time down to ``TUNING.pre_grasp_min_m`` from the grasp, until the hand there keeps
-    :data:`HAND_HALF_WIDTH_M` from every other object's footprint: the hand comes down to its
-    pre-grasp from above, and one that starts a side approach over a neighbour came down on it
-    (a left hand taking a block past a crate: 83 N). Unchanged when it is clear already, when
-    the approach is from above, or when no shorter approach is clear."""
+    :data:`HAND_HALF_WIDTH_M` from every other object's footprint and, with ``room`` (the gap
+    an approach keeps from the other hand and what it holds, m), the shortened approach keeps
+    :data:`HANDS_APART_M` from them: the hand comes down to its pre-grasp from above, and one
+    that starts a side approach over a neighbour came down on it (a left hand taking a block
+    past a crate: 83 N; a left hand taking a peeler, onto the cucumber the right hand held up
+    beside it: 66 N). When no shorter approach keeps that room, the roomiest of those clear of
+    the objects, if roomier than ``plan``. Unchanged when it is clear already, when the
+    approach is from above, or when nothing shorter is better."""
     d = plan.approach
     if abs(float(d[2])) > float(np.hypot(d[0], d[1])):  # from above: the pre-grasp is over the grasp
         return plan
     point = plan.grasp[:3, 3]
     length = float(np.linalg.norm(plan.pre_grasp[:3, 3] - point))
+    best, most = plan, (-np.inf if room is None else room(plan))
     while length >= TUNING.pre_grasp_min_m:
         pre = point - length * d
+        shorter = GraspPlan(plan.grasp, make_T(plan.grasp[:3, :3], pre), d, plan.end)
         if ctx.clearance(pre, pre, {obj}) >= HAND_HALF_WIDTH_M:
-            if np.allclose(pre, plan.pre_grasp[:3, 3]):
-                return plan
-            return GraspPlan(plan.grasp, make_T(plan.grasp[:3, :3], pre), d, plan.end)
+            gap = np.inf if room is None else room(shorter)
+            if gap >= HANDS_APART_M:
+                return plan if np.allclose(pre, plan.pre_grasp[:3, 3]) else shorter
+            if gap > most:
+                best, most = shorter, gap
         length -= TUNING.pre_grasp_step_m
-    return plan
+    return best
 
 
 def handover_candidates(ctx: SkillContext, hand: str, obj: str) -> list[GraspPlan]:
@@ -185,6 +220,12 @@ def plan_grasp(ctx: SkillContext, hand: str, obj: str, plan: GraspPlan | None = 
     if current[2, 3] > via[2, 3]:
         via[2, 3] = 0.5 * (via[2, 3] + current[2, 3])
     via[2, 3] = max(via[2, 3], over)
+    # over the other hand and what it holds too, when the way would meet them (motion/approach.py)
+    high = over_other_side(boxes(world, side), other_side_boxes(world, side, {obj}), current[:3, 3],
+                           [via[:3, 3], plan.pre_grasp[:3, 3]])
+    if high is not None:
+        over = max(over, high)
+        via[2, 3] = max(via[2, 3], high)
     up = current.copy()
     up[2, 3] = max(over, current[2, 3])  # climb first, then cross over the obstacles
     travel = float(np.linalg.norm(plan.end[:3, 3] - plan.pre_grasp[:3, 3]))
