@@ -25,7 +25,7 @@ from oacdsl.runtime.transforms import make_T
 
 pytest.importorskip("mujoco", reason="the skills' modules import mujoco")
 
-from oacdsl.runtime.skills.grasp import HANDS_APART_M, clear_pre_grasp  # noqa: E402
+from oacdsl.runtime.skills.grasp_choice import HANDS_APART_M, clear_pre_grasp  # noqa: E402
 
 
 def _box(lo: tuple[float, float, float], hi: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray]:
@@ -207,7 +207,7 @@ def test_on_the_robot_the_left_hands_first_approach_keeps_off_the_cucumber_the_r
     from oacdsl.compiler import load_library
     from oacdsl.runtime.executor import prepare
     from oacdsl.runtime.motion.approach import arm_room_to, other_side_boxes
-    from oacdsl.runtime.skills.grasp import grasp_candidates, preshape
+    from oacdsl.runtime.skills.grasp_choice import grasp_candidates, preshape
 
     root = Path(__file__).resolve().parents[1]
     lib = load_library([root / "library" / "kit", root / "library" / "examples"])

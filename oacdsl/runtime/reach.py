@@ -57,7 +57,7 @@ class FarHand:
 
 def arm_miss_m(ctx: Any, hand: str, obj: str) -> float:
     """How far (m) ``hand``'s arm alone stays from the nearest of ``obj``'s grasps."""
-    from oacdsl.runtime.skills.grasp import grasp_candidates
+    from oacdsl.runtime.skills.grasp_choice import grasp_candidates
 
     side = ctx.side(hand)
     plans = grasp_candidates(ctx, hand, obj)
