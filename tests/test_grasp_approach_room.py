@@ -172,6 +172,20 @@ def test_a_left_handed_task_in_a_scene_laid_out_for_the_right_hand_is_done_with_
     assert reach.exchanged_hands(_ctx(mug), left_first[::-1]) is None
 
 
+def _grasp_both(h1: str, h2: str, obj: str) -> SimpleNamespace:
+    oac = SimpleNamespace(effect=(Atom(left="h1", right="o"), Atom(left="h2", right="o")))
+    return SimpleNamespace(oac=oac, binding={"h1": h1, "h2": h2, "o": obj})
+
+
+@pytest.mark.usefixtures("equal_arms")
+def test_an_object_both_hands_take_at_once_is_on_neither_hands_side():
+    # a rolling pin left of the middle, taken by both hands in one step: whichever hand the
+    # step names first, nothing to exchange
+    pin = {"rolling_pin": (0.55, 0.30)}
+    for first, second in (("right_hand", "left_hand"), ("left_hand", "right_hand")):
+        assert reach.exchanged_hands(_ctx(pin), [_grasp_both(first, second, "rolling_pin")]) is None
+
+
 @pytest.mark.usefixtures("equal_arms")
 def test_what_either_assignment_reaches_as_far_across_keeps_its_hands():
     # a lid on a bottle right of the middle: the left hand reaches across for the lid, or,

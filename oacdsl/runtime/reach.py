@@ -114,7 +114,8 @@ def exchanged_hands(ctx: Any, steps: Sequence[Step]) -> tuple[dict[str, str], st
     are exchanged when the demonstrated ones miss by more than :data:`ARM_MISS_M` in all and
     the exchanged ones by less than half as much (the rule :func:`out_of_reach` applies to one
     object); and when the demonstrated hands reach more than :data:`CROSS_M` in all across the
-    robot's middle (:func:`crossed`), the exchanged ones less than half as far, and the
+    robot's middle (:func:`crossed`; not counting an object both hands take at once), the
+    exchanged ones less than half as far, and the
     exchanged arms miss no more: objects within reach of both arms but on the other hand's
     side (a left-handed Peel: the right hand held the cucumber up on the left, and the left
     hand, sent for the peeler on the right, reached past it and met it, 66 N, or, kept off
@@ -126,13 +127,19 @@ def exchanged_hands(ctx: Any, steps: Sequence[Step]) -> tuple[dict[str, str], st
         return None
     objects = ctx.objects()
     taken: dict[str, str] = {}
+    together: set[str] = set()  # taken first by both hands in one step (a rolling pin)
     for step in steps:
+        now: dict[str, list[str]] = {}
         for atom in bind_atoms(step.oac.effect, step.binding):
             if atom.negated or atom.about_nothing:
                 continue
             for hand, obj in ((atom.left, atom.right), (atom.right, atom.left)):
-                if hand in hands and obj in objects:
-                    taken.setdefault(obj, hand)
+                if hand in hands and obj in objects and obj not in taken and hand not in now.get(obj, []):
+                    now.setdefault(obj, []).append(hand)
+        for obj, by in now.items():
+            taken[obj] = by[0]
+            if len(by) > 1:
+                together.add(obj)
     if not taken:
         return None
     swap = dict(zip(hands, reversed(list(hands)), strict=True))
@@ -141,8 +148,9 @@ def exchanged_hands(ctx: Any, steps: Sequence[Step]) -> tuple[dict[str, str], st
         exchanged = sum(arm_miss_m(ctx, swap[hand], obj) for obj, hand in taken.items())
     except RuntimeFailure:  # an object without a grasp: the skill itself will say so
         return None
-    across, why = crossed(ctx, taken)
-    if across > CROSS_M and crossed(ctx, {o: swap[h] for o, h in taken.items()})[0] < across / 2 \
+    alone = {o: h for o, h in taken.items() if o not in together}  # either hand's side for the others
+    across, why = crossed(ctx, alone)
+    if across > CROSS_M and crossed(ctx, {o: swap[h] for o, h in alone.items()})[0] < across / 2 \
             and exchanged <= demonstrated:
         return swap, (f"the hands are exchanged: as demonstrated they reach {100 * across:.0f} cm across"
                       f" the robot's middle in all ({why})")
