@@ -105,7 +105,7 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
     plan, cuts = split(retarget(np.asarray(path, dtype=np.float64), room_m=room, speed_m_s=speed,
                                 turn_rad=turn, stay=touch, twist_axis=axis_f,
                                 core_speed_m_s=FOLLOW.contact_speed_m_s if touch else None,
-                                inside=touch and body_t.container),
+                                inside=touch and body_t.container, resting=resting),
                        turn, TUNING.turn_min_stroke_s)
 
     def pose_at(r: Retargeted, k: int, lift_m: float = 0.0) -> np.ndarray:
