@@ -242,7 +242,7 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
         if wall is not None:
             wall.grow(dt)
             obj_at = pose_at(plan, k, lift)
-            go(clear(make_T(np.eye(3), wall.offset(obj_at)) @ obj_at @ grip), dt)
+            go(clear(wall.pushed(obj_at) @ grip), dt)
             continue
         go(pose_at(plan, k, lift - sink) @ grip, dt)
         if turns is not None:

@@ -26,6 +26,7 @@ import numpy as np
 
 from oacdsl.runtime.bodies import Body
 from oacdsl.runtime.motion import TUNING
+from oacdsl.runtime.retarget import MIN_OFFSET_M
 from oacdsl.runtime.shapes import hand_reach_below, world_corners
 from oacdsl.runtime.skills.base import SkillContext
 from oacdsl.runtime.skills.follow_top import lowest_end
@@ -71,7 +72,7 @@ class WallSeek:
 
     def __init__(self, ctx: SkillContext, side: str, obj: str, target: str,
                  core: Sequence[np.ndarray]) -> None:
-        """``core``: the object's poses (T_world_obj) along the core, as planned."""
+        """``core``: the object's poses (T_world_obj) along the core, as planned (one or more)."""
         self.ctx, self.obj, self.target = ctx, obj, target
         self.body_o: Body = ctx.body(obj)
         body_t = ctx.body(target)
@@ -80,12 +81,12 @@ class WallSeek:
         centre, axis = _axis(ctx, target)
         hand = _across(ctx.world.frame_pose(f"grasp_{side}")[:3, 3] - centre, axis)
         #: where to push a keyframe at the core's middle: the wall away from the hand (as ``stir``)
-        self.away = -hand / max(float(np.linalg.norm(hand)), 1e-9)
+        self.away = -hand / max(float(np.linalg.norm(hand)), MIN_OFFSET_M)
         #: the middle of the core's lowest ends, across the axis, in the target's frame (m): the
         #: keyframes are pushed out from it (a circle grows about its own centre)
         r_t = ctx.world.body_pose(target)[:3, :3]
-        ends = np.array([_across(lowest_end(self.body_o, p) - centre, axis) for p in core]).reshape(-1, 3)
-        self.middle = r_t.T @ (np.median(ends, axis=0) if len(ends) else np.zeros(3))
+        ends = [_across(lowest_end(self.body_o, p) - centre, axis) for p in core]
+        self.middle = r_t.T @ np.median(np.array(ends), axis=0)
         #: how far the core is pushed out now, m
         self.out_m = 0.0
 
@@ -105,9 +106,15 @@ class WallSeek:
         middle = self.ctx.world.body_pose(self.target)[:3, :3] @ self.middle
         out = end - middle
         size = float(np.linalg.norm(out))
-        to = end + self.out_m * (out / size if size > 1e-3 else self.away)
+        to = end + self.out_m * (out / size if size > 0 else self.away)
         far = float(np.linalg.norm(to))
         limit = max(self.reach_m, float(np.linalg.norm(end)))  # (never pulled in past the plan)
         if far > limit:
             to = to * (limit / far)
         return to - end
+
+    def pushed(self, t_world_obj: np.ndarray) -> np.ndarray:
+        """``t_world_obj`` (or any pose moving with the object) moved by :meth:`offset`."""
+        out = t_world_obj.copy()
+        out[:3, 3] += self.offset(t_world_obj)
+        return out
