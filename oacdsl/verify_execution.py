@@ -291,7 +291,7 @@ def _judge(demo_rec: Recording, demo_seg: Segmentation, demo_posed: Any, rec: Re
     demo_subs = list(demo_seg.sub_actions())
     spans = aligned_spans(v, dk, rk, rec)
     mchecks, notes = motion_checks(demo_rec, demo_subs, demo_posed, rec, spans, LazyPoses(rec), {}, tol,
-                                   any_hands, frozenset(liquids), (unmerged, run_unmerged))
+                                   any_hands, frozenset(liquids), (unmerged, run_unmerged), agents)
     for m in mchecks:
         checks.append(Check(f"motion.{m.sub_action}.{m.feature}", "motion", m.passed, m.demonstration,
                             m.execution, m.tolerance, m.detail or f"sub-action {m.sub_action} ({m.label})"))

@@ -140,6 +140,7 @@ def motion_checks(
     any_hands: bool,
     liquids: frozenset[str] = frozenset(),
     unmerged: tuple[Unmerged, Unmerged] | None = None,
+    agents: frozenset[str] = frozenset(),
 ) -> tuple[list[MotionCheck], list[str]]:
     """The checks, and a note per demonstrated sub-action whose features are not judged.
 
@@ -148,7 +149,7 @@ def motion_checks(
     :mod:`oacdsl.verify_spans` gives, in both recordings, with ``unmerged`` (the
     demonstration's and the execution's keyframes without merging, ``(frame, relations)``,
     asked for only where a keyframe merges the pair's change with another; default: none
-    found); ``name_map``: demonstration instance → the execution's."""
+    found; ``agents``: the hands); ``name_map``: demonstration instance → the execution's."""
     checks: list[MotionCheck] = []
     notes: list[str] = []
     times = np.asarray(run_rec.times_s, dtype=np.float64)
@@ -158,7 +159,7 @@ def motion_checks(
         if d.moved is not None and d.moved != d.hand and d.target is not None \
                 and d.relation in ("kept", "broken"):
             previous = demo_subs[k - 1].start if k else None
-            a, b = demonstration_frames(sub, previous, d.moved, d.target, d.relation, demo_unmerged)
+            a, b = demonstration_frames(sub, previous, d.moved, d.target, d.relation, demo_unmerged, agents)
             if (a, b) != (sub.start.frame, sub.end.frame):
                 part = SubAction(sub.index, replace(sub.start, frame=a), replace(sub.end, frame=b))
                 d = sub_action_motion(demo_rec, part, demo_posed, pair=(d.moved, d.target))
@@ -189,7 +190,7 @@ def motion_checks(
         moved = name_map.get(d.moved, d.moved)
         target = None if d.target is None else name_map.get(d.target, d.target)
         span = None if aligned is None else (aligned.start, aligned.end) if target is None else \
-            execution_frames(aligned, moved, target, d.relation, run_unmerged)
+            execution_frames(aligned, moved, target, d.relation, run_unmerged, agents)
         T = None if span is None else _reexpressed(run_rec, span[0], span[1], moved, target, run_posed)
         for feature in wanted:
             checks.append(_judge(k, feature, d, feats, gain, span, T, times, label, tolerances, any_hands))

@@ -110,36 +110,59 @@ def _own_change(keyframes: Sequence[tuple[int, frozenset[Relation]]], pair: Rela
 Unmerged = Callable[[], Sequence[tuple[int, frozenset[Relation]]]]
 
 
-def pair_frames(a: int, b: int, since: int, pair: Relation, relation_: str | None, merged: tuple[bool, bool],
-                unmerged: Unmerged) -> tuple[int, int]:
-    """The frames ``(a, b)`` of a recording on which ``pair`` is read over a sub-action that
-    spans ``a``…``b`` and follows a keyframe at ``since`` (module doc): where the keyframe at
-    ``a`` (``merged[0]``) or at ``b`` (``merged[1]``) holds several changes, from the pair's own
-    making or to its own breaking in ``unmerged()`` (the recording's keyframes without merging,
-    ``(frame, relations)``); a span that breaks the pair (``relation_``) up to the last frame in
-    which it holds."""
+def _moves_on(keyframes: Sequence[tuple[int, frozenset[Relation]]], moved: str, target: str, after: int,
+              upto: int, agents: frozenset[str]) -> bool:
+    """Whether, in ``(after, upto]``, the target makes or breaks a relation with a third object
+    (neither the moved object nor a hand): it has gone on to other work (a plate into the rack)."""
+    for (_, before), (f, now) in zip(keyframes, keyframes[1:], strict=False):
+        if after < f <= upto and any(target in r and not set(r) & ({moved} | agents) for r in before ^ now):
+            return True
+    return False
+
+
+def pair_frames(a: int, b: int, since: int, moved: str, target: str, relation_: str | None,
+                merged: tuple[bool, bool], unmerged: Unmerged,
+                agents: frozenset[str] = frozenset()) -> tuple[int, int]:
+    """The frames ``(a, b)`` of a recording on which ``moved`` → ``target`` is read over a
+    sub-action that spans ``a``…``b`` and follows a keyframe at ``since`` (module doc), with
+    ``unmerged()`` the recording's keyframes without merging (``(frame, relations)``):
+
+    - where the keyframe at ``a`` holds the pair's making and other changes (``merged[0]``),
+      from the pair's own making;
+    - where the sub-action breaks the pair (``relation_``) and the keyframe at ``b`` holds other
+      changes too (``merged[1]``), to the pair's own breaking when that is the last of them or
+      the target goes on to other work after it (:func:`_moves_on`); else to ``b``: a robot may
+      lose touch first and still work over its target (a carton lifted off the cup's rim pours
+      into it; a ladle lifted out of a cup tips out over it), as the demonstration's AAS, which
+      sees touch at some centimetres, reads it;
+    - a span that ends at the pair's breaking, up to the last frame in which it holds."""
+    pair = relation(moved, target)
     if merged[0]:
         own = _own_change(unmerged(), pair, since, a, made=True)
         a = a if own is None else own
     if relation_ == "broken":
+        end: int | None = b
         if merged[1]:
-            own = _own_change(unmerged(), pair, a, b, made=False)
-            b = b if own is None else own
-        b = max(a + 1, b - 1)
+            found = _own_change(unmerged(), pair, a, b, made=False)
+            end = found if found is not None and (
+                found == b or _moves_on(unmerged(), moved, target, found, b, agents)) else None
+        if end is not None:
+            b = max(a + 1, end - 1)
     return a, b
 
 
 def execution_frames(span: AlignedSpan, moved: str, target: str, relation_: str | None,
-                     unmerged: Unmerged) -> tuple[int, int]:
+                     unmerged: Unmerged, agents: frozenset[str] = frozenset()) -> tuple[int, int]:
     """The execution's frames on which the pair ``moved`` → ``target`` is read (module doc);
     ``unmerged()``: the execution's keyframes without merging, in its recording's frames."""
     pair = relation(moved, target)
     merged = (_several(span.opening, pair), _several(span.closing, pair))
-    return pair_frames(span.start, span.end, span.since, pair, relation_, merged, unmerged)
+    return pair_frames(span.start, span.end, span.since, moved, target, relation_, merged, unmerged, agents)
 
 
 def demonstration_frames(sub: SubAction, previous: Keyframe | None, moved: str, target: str,
-                         relation_: str | None, unmerged: Unmerged) -> tuple[int, int]:
+                         relation_: str | None, unmerged: Unmerged,
+                         agents: frozenset[str] = frozenset()) -> tuple[int, int]:
     """The demonstration's frames on which the sub-action's pair is read (module doc), after
     the keyframe ``previous``; ``unmerged()``: the demonstration's keyframes without merging."""
     pair = relation(moved, target)
@@ -147,4 +170,5 @@ def demonstration_frames(sub: SubAction, previous: Keyframe | None, moved: str, 
     closing = sub.before.relations ^ sub.after.relations
     merged = (pair in opening and len(opening) > 1, pair in closing and len(closing) > 1)
     since = previous.frame if previous is not None else sub.start.frame
-    return pair_frames(sub.start.frame, sub.end.frame, since, pair, relation_, merged, unmerged)
+    return pair_frames(sub.start.frame, sub.end.frame, since, moved, target, relation_, merged, unmerged,
+                       agents)

@@ -157,13 +157,24 @@ def test_no_wiping_but_the_plate_shaken_under_the_lifted_sponge_fails(merged: bo
 
 
 def test_pair_frames() -> None:
-    """The pair's own change in the keyframes without merging, and a span that breaks the
-    relation read up to the last frame in which it holds."""
-    pair = relation("a", "b")
-    on, off = frozenset({pair}), frozenset()
-    unmerged = [(0, off), (5, on), (20, off), (22, frozenset({relation("b", "c")}))]
-    assert pair_frames(5, 22, 0, pair, "broken", (False, True), lambda: unmerged) == (5, 19)
-    assert pair_frames(5, 22, 0, pair, "broken", (False, False), lambda: unmerged) == (5, 21)
-    assert pair_frames(5, 22, 0, pair, "kept", (False, True), lambda: unmerged) == (5, 22)
-    assert pair_frames(7, 22, 0, pair, "broken", (True, True), lambda: unmerged) == (5, 19)
-    assert pair_frames(5, 22, 0, pair, "broken", (False, True), list) == (5, 21)  # none found
+    """The pair's own change in the keyframes without merging; a span that breaks the relation
+    read up to the last frame in which it holds; to the merged keyframe when the pair's break
+    came first and the target did not go on to other work (a robot that lost touch first may
+    still work over its target)."""
+    on, off, rack = frozenset({("a", "b")}), frozenset(), frozenset({("b", "c")})
+    unmerged = [(0, off), (5, on), (20, off), (22, rack)]  # a leaves b, then b goes onto c
+
+    def frames(a: int, b: int, relation_: str, merged: tuple[bool, bool], found: Any = lambda: unmerged,
+               agents: frozenset[str] = frozenset()) -> tuple[int, int]:
+        return pair_frames(a, b, 0, "a", "b", relation_, merged, found, agents)
+
+    assert frames(5, 22, "broken", (False, True)) == (5, 19)
+    assert frames(5, 22, "broken", (False, False)) == (5, 21)
+    assert frames(5, 22, "kept", (False, True)) == (5, 22)
+    assert frames(7, 22, "broken", (True, True)) == (5, 19)
+    assert frames(5, 22, "broken", (False, True), list) == (5, 22)  # none found: as merged
+    assert frames(5, 22, "broken", (False, True), agents=frozenset({"c"})) == (5, 22)  # c: a hand
+    tool = [(0, off), (5, on), (20, off), (22, frozenset({("a", "c")}))]  # a leaves b for c
+    assert frames(5, 22, "broken", (False, True), lambda: tool) == (5, 22)
+    last = [(0, on | {("b", "h")}), (20, on), (22, off)]  # a hand lets go of b, then a leaves it
+    assert frames(5, 22, "broken", (False, True), lambda: last) == (5, 21)
