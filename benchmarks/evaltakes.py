@@ -19,12 +19,18 @@ first differing step) or the stage that stopped (``scene``, ``segment``, ``match
     python benchmarks/evaltakes.py --task Close --take mirrored --capture clean
     python benchmarks/evaltakes.py --markdown                # the table for docs/kit.md
     python benchmarks/evaltakes.py --robot --task Close --take mirrored --seeds 0,1
+    python benchmarks/evaltakes.py --robot --task Open --take capture --turn 535 --follow
 
 ``--robot``: instead, each chosen take (default: ``mirrored`` and ``scaled``) of each chosen task
 is reproduced on ARMAR-III (``oacc reproduce TAKE --library library/kit --library
 library/examples --seed N``, the task's layout of ``_task_demos.LAYOUT``), one run at a time;
 V (verified and faithful), v (verified), x (not) per seed, the failed checks on stderr. A
 mirrored take is judged with the hands free to be exchanged (``oacc verify --any-hands``).
+``--layout scene`` or ``--layout demonstrated``: every task laid out so instead.
+``--turn DEG``: Close, Open and OpenPutDown turn the lid that far (default 240°; issue 19's KIT
+Open turned it 535°); ``--follow``: with ``tests/data/open_follow`` as the only library (the
+unscrewing done by the generic ``follow``, Open only) instead of ``library/kit`` and
+``library/examples``.
 """
 
 from __future__ import annotations
@@ -48,6 +54,8 @@ from oacdsl.segmentation.takes import IDENTITY, STANDARD_TAKES  # noqa: E402
 CAPTURES = {"clean": demos.CLEAN, "kit": demos.KIT_LIKE, "kit10": demos.KIT_10HZ}
 #: The takes ``--robot`` runs unless told: the other hand, and a larger scene.
 ROBOT_TAKES = ("mirrored", "scaled")
+#: The synthetic Open with ``follow`` for the unscrewing, a library of its own.
+OPEN_FOLLOW = ROOT / "tests" / "data" / "open_follow"
 
 
 def libraries(folder: Path) -> list[Path]:
@@ -64,14 +72,18 @@ def libraries(folder: Path) -> list[Path]:
 
 
 def compose_takes(task: str, take_names: list[str], capture: demos.Capture, folder: Path,
-                  contacts: str = "markers") -> tuple[bench.Outcome, bench.Outcome, list[bench.Outcome]]:
+                  contacts: str = "markers", turn_deg: float | None = None,
+                  ) -> tuple[bench.Outcome, bench.Outcome, list[bench.Outcome]]:
     """(the clean original, the captured original, each take of the captured one), the last two
-    compared with the first (``contacts``: ``oacc compose --contacts``)."""
+    compared with the first (``contacts``: ``oacc compose --contacts``; ``turn_deg``: the lid
+    turned that far, default as written)."""
     libs = libraries(folder)
     work = folder / task
     (work / "clean").mkdir(parents=True, exist_ok=True)
-    clean = bench.compose_file(demos.write(task, work / "clean"), libs, contacts)
-    rec = demos.TASKS[task][0](capture)
+    writer = demos.turned(task, turn_deg)
+    clean = bench.compose_file(write_recording(writer(demos.CLEAN), work / "clean" / f"synthetic_{task}.c3d"),
+                               libs, contacts)
+    rec = writer(capture)
     captured = bench.compose_file(write_recording(rec, work / "captured.c3d"), libs, contacts)
     if clean.steps is not None and captured.steps is not None:
         captured.status, captured.detail = bench.compare(clean, captured, dict(IDENTITY))
@@ -87,8 +99,13 @@ def compose_takes(task: str, take_names: list[str], capture: demos.Capture, fold
     return clean, captured, cells
 
 
-def robot_run(task: str, take: str, capture: demos.Capture, seed: int, folder: Path) -> tuple[str, str]:
-    """(V/v/x, why not V) of one ``oacc reproduce`` of a take of ``task``'s demonstration."""
+def robot_run(task: str, take: str, capture: demos.Capture, seed: int, folder: Path,
+              layout: str = "task", turn_deg: float | None = None,
+              follow: bool = False) -> tuple[str, str]:
+    """(V/v/x, why not V) of one ``oacc reproduce`` of a take of ``task``'s demonstration (its
+    lid turned ``turn_deg``, default as written; ``follow``: the library ``tests/data/open_follow``);
+    ``layout``: the task's (:data:`_task_demos.LAYOUT`), ``scene`` (the example scene's
+    places) or ``demonstrated`` (the take's first frame, ``--layout demonstrated``)."""
     from kit_takes_robot import any_hands_verdict
 
     from oacdsl.pipeline import load_inputs, reproduce
@@ -97,8 +114,13 @@ def robot_run(task: str, take: str, capture: demos.Capture, seed: int, folder: P
 
     # a library of its own: a run writes its composed OAC into the first library (learned/), and
     # a whole-task OAC there would be a candidate for the next run's sub-actions
-    libs = libraries(folder / f"lib-{task}-{take}-{seed}")
-    rec = demos.TASKS[task][0](capture)
+    if follow:
+        libs = [folder / f"lib-{task}-{take}-{seed}" / "open_follow"]
+        if not libs[0].exists():  # its links to library/kit copied as files
+            shutil.copytree(OPEN_FOLLOW, libs[0], ignore=shutil.ignore_patterns("learned", "drafts"))
+    else:
+        libs = libraries(folder / f"lib-{task}-{take}-{seed}")
+    rec = demos.turned(task, turn_deg)(capture)
     if take != "capture":
         rec, _hands = STANDARD_TAKES[take](rec)
     path = write_recording(rec, folder / f"{task}_{take}.c3d")
@@ -106,7 +128,7 @@ def robot_run(task: str, take: str, capture: demos.Capture, seed: int, folder: P
     inputs = load_inputs(path, libs, None, AasParams())
     outcome = reproduce(inputs, name=f"{task.lower()}_{take}", out=out, db=None, seed=seed or None,
                         render=False, quiet=True, force=True,
-                        overrides=SceneOverrides(layout=demos.LAYOUT[task]))
+                        overrides=SceneOverrides(layout=_layout(task, layout)))
     verdict = outcome.result["verdict"]
     mark = "x" if not verdict.get("success") else "V" if verdict.get("faithful", True) else "v"
     why = f"{', '.join(verdict.get('failed_checks', []))} | {verdict.get('summary', '')}"
@@ -114,6 +136,11 @@ def robot_run(task: str, take: str, capture: demos.Capture, seed: int, folder: P
         mark, failed = any_hands_verdict(path, libs, out)
         why = f"{failed} | any hands" if failed else "any hands"
     return mark, why
+
+
+def _layout(task: str, layout: str) -> str | None:
+    """The ``--layout`` a run uses: None for the scene's own places."""
+    return demos.LAYOUT[task] if layout == "task" else "demonstrated" if layout == "demonstrated" else None
 
 
 def _cell(c: bench.Outcome) -> str:
@@ -131,7 +158,8 @@ def compose_main(args: argparse.Namespace, tasks: list[str], take_names: list[st
     rows = []
     with tempfile.TemporaryDirectory(prefix="oac-evaltakes-") as tmp:
         for task in tasks:
-            clean, captured, cells = compose_takes(task, take_names, capture, Path(tmp), args.contacts)
+            clean, captured, cells = compose_takes(task, take_names, capture, Path(tmp), args.contacts,
+                                                   args.turn)
             for name, c in [("capture", captured), *zip(take_names, cells, strict=True)]:
                 print(f"{task:8} {name:18} {c.status:8} kf {c.keyframes} {c.seconds:5.1f}s {c.detail}",
                       file=sys.stderr, flush=True)
@@ -173,7 +201,8 @@ def robot_main(args: argparse.Namespace, tasks: list[str], take_names: list[str]
             for take in take_names:
                 marks = []
                 for seed in seeds:
-                    mark, why = robot_run(task, take, capture, seed, folder)
+                    mark, why = robot_run(task, take, capture, seed, folder, args.layout,
+                                          args.turn, args.follow)
                     marks.append(mark)
                     if mark != "V":
                         print(f"  {task} {take} seed {seed}: {why[:400]}", file=sys.stderr, flush=True)
@@ -206,8 +235,19 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--robot", action="store_true", help="reproduce the takes on the robot instead")
     parser.add_argument("--seeds", default="0,1", help="with --robot: seeds (0 = the scene's own places)")
     parser.add_argument("--keep", metavar="DIR", help="with --robot: keep each run's folder in DIR")
+    parser.add_argument("--layout", choices=("task", "scene", "demonstrated"), default="task",
+                        help="with --robot: the task's layout (default: _task_demos.LAYOUT), the example"
+                             " scene's places, or the take's first frame (--layout demonstrated)")
+    parser.add_argument("--turn", type=float, metavar="DEG",
+                        help="Close, Open, OpenPutDown: turn the lid DEG degrees (default 240)")
+    parser.add_argument("--follow", action="store_true",
+                        help="with --robot: unscrew with follow (tests/data/open_follow; Open only)")
     args = parser.parse_args(argv)
     tasks = args.task or list(demos.TASKS)
+    if args.turn is not None and not set(tasks) <= {"Close", "Open", "OpenPutDown"}:
+        parser.error("--turn: only with --task Close, Open or OpenPutDown")
+    if args.follow and (not args.robot or set(tasks) != {"Open"}):
+        parser.error("--follow: only with --robot --task Open")
     if args.robot:
         return robot_main(args, tasks, args.take or list(ROBOT_TAKES))
     if args.take and "capture" in args.take:

@@ -11,6 +11,7 @@ has unit ``""``.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from oacdsl.units import unit_kind
@@ -148,6 +149,15 @@ class SkillSignature:
     doc: str
     args: tuple[SkillArg, ...]
     params: tuple[SkillParamSpec, ...] = ()
+    #: The parameters taken from the demonstration (:class:`MotionSource`) are measured on the
+    #: motion of the held object (the second argument) relative to this argument (its index;
+    #: default the last, the skill's target): ``tip_out(h, o, c, b)`` tips ``o`` over ``c``.
+    measured_in: int = -1
+
+    def measured_pair(self, args: Sequence[str]) -> tuple[str, str] | None:
+        """(moved, frame) of a call's ``args`` the demonstrated parameters are measured on
+        (None with fewer than three arguments: no held object and target)."""
+        return (args[1], args[self.measured_in]) if len(args) >= 3 else None
 
     def param(self, name: str) -> SkillParamSpec | None:
         return next((p for p in self.params if p.name == name), None)

@@ -304,6 +304,7 @@ SIGNATURES: dict[str, SkillSignature] = {
                 _guard(),
                 _press_on(),
             ),
+            measured_in=2,  # the tilt over the container it tips into, not the next one
         ),
         SkillSignature(
             "twist",

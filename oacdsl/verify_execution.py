@@ -24,7 +24,7 @@ verify`` all call :func:`verify_execution`.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -34,11 +34,13 @@ from oacdsl.library import Library
 from oacdsl.model import Scene
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
-from oacdsl.segmentation.result import Segmentation
+from oacdsl.segmentation.result import Keyframe, Segmentation
 from oacdsl.verify import Verification, verify
 from oacdsl.verify_contacts import SimContacts
 from oacdsl.verify_relations import Check
+from oacdsl.verify_spans import Unmerged, aligned_spans, frame_of
 from oacdsl.verify_tolerances import DEFAULT_TOLERANCES, VerifyTolerances
+from oacdsl.world import Relation
 
 __all__ = ["Check", "LazyPoses", "VerifyOutcome", "normalised", "verify_execution"]
 
@@ -178,6 +180,8 @@ def verify_execution(
     demo_seg = demo_segmentation if demo_segmentation is not None else segment(demonstration, params)
     demo_seg = stable_segmentation(demo_seg, agents.__contains__)[0]
     demo_posed = LazyPoses(demonstration)
+    unmerged = _lazy(lambda: segment(demonstration, replace(params, merge_s=0.0)).keyframes,
+                     frame_of(demonstration))
     best: VerifyOutcome | None = None
     if contacts is None:  # a recorded take: to the demonstration's pace and frame rate
         span = float(demonstration.times_s[-1] - demonstration.times_s[0])
@@ -188,13 +192,28 @@ def verify_execution(
         sim = _renamed_contacts(contacts, swap) if contacts is not None else None
         aas = execution_aas if not swap else None
         outcome = _judge(demonstration, demo_seg, demo_posed, rec, sim, aas, params, agents,
-                         (containers, liquids), tolerances, any_hands, swap, segment, stable_segmentation)
+                         (containers, liquids), tolerances, any_hands, swap, segment, stable_segmentation,
+                         unmerged)
         rank = (outcome.verified, outcome.faithful, -len(outcome.failed()))
         if best is None or rank > (best.verified, best.faithful, -len(best.failed())):
             best = outcome
     if best is None:  # pragma: no cover  (the loop runs at least once)
         raise ValueError("no hand assignment was tried")
     return best
+
+
+def _lazy(make: Callable[[], Sequence[Keyframe]], frame: Callable[[float], int]) -> Unmerged:
+    """``make()``'s keyframes as ``(frame, relations)``, computed when first asked for: a
+    recording's keyframes without merging, where a keyframe merges a judged pair's change with
+    others (:mod:`oacdsl.verify_spans`)."""
+    found: list[list[tuple[int, frozenset[Relation]]]] = []
+
+    def get() -> list[tuple[int, frozenset[Relation]]]:
+        if not found:
+            found.append([(frame(k.time_s), k.state.relations) for k in make()])
+        return found[0]
+
+    return get
 
 
 def normalised(rec: Recording, tempo: float, rate_hz: float) -> Recording:
@@ -218,10 +237,10 @@ def _judge(demo_rec: Recording, demo_seg: Segmentation, demo_posed: Any, rec: Re
            sim: SimContacts | None, aas_seg: Segmentation | None, params: AasParams, agents: frozenset[str],
            kinds: tuple[set[str], set[str]],
            tol: VerifyTolerances, any_hands: bool, swap: Mapping[str, str], segment: Any,
-           stable: Any) -> VerifyOutcome:
+           stable: Any, unmerged: Unmerged) -> VerifyOutcome:
     from oacdsl.verify_endstate import compare_object, end_state
     from oacdsl.verify_motion import motion_checks
-    from oacdsl.verify_relations import aligned_spans, disagreements, relations_check
+    from oacdsl.verify_relations import disagreements, relations_check
 
     instances = tuple(demo_seg.instances)
     missing = sorted(set(instances) - set(rec.instances))
@@ -236,6 +255,9 @@ def _judge(demo_rec: Recording, demo_seg: Segmentation, demo_posed: Any, rec: Re
         rec_instances = list(instances)
     if sim is not None:
         run_seg = sim.segmentation(tuple(rec_instances), tol)
+        unmerged_tol, contacts = replace(tol, contact_merge_s=0.0), sim
+        run_unmerged = _lazy(lambda: contacts.segmentation(tuple(rec_instances), unmerged_tol).keyframes,
+                             frame_of(rec))
         source = "simulation contacts"
         known = AasParams.__dataclass_fields__
         aas = AasParams(**{k: v for k, v in sim.aas.items() if k in known}) if sim.aas else params
@@ -244,6 +266,7 @@ def _judge(demo_rec: Recording, demo_seg: Segmentation, demo_posed: Any, rec: Re
     else:
         source = "aas"
         run_seg = segment(rec, params)
+        run_unmerged = _lazy(lambda: segment(rec, replace(params, merge_s=0.0)).keyframes, frame_of(rec))
     run_seg = stable(run_seg, agents.__contains__)[0]
     dk, rk = demo_seg.keyframes, run_seg.keyframes
     v = verify([k.state for k in dk], [k.state for k in rk],
@@ -268,7 +291,7 @@ def _judge(demo_rec: Recording, demo_seg: Segmentation, demo_posed: Any, rec: Re
     demo_subs = list(demo_seg.sub_actions())
     spans = aligned_spans(v, dk, rk, rec)
     mchecks, notes = motion_checks(demo_rec, demo_subs, demo_posed, rec, spans, LazyPoses(rec), {}, tol,
-                                   any_hands, frozenset(liquids))
+                                   any_hands, frozenset(liquids), (unmerged, run_unmerged), agents)
     for m in mchecks:
         checks.append(Check(f"motion.{m.sub_action}.{m.feature}", "motion", m.passed, m.demonstration,
                             m.execution, m.tolerance, m.detail or f"sub-action {m.sub_action} ({m.label})"))

@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -45,6 +45,7 @@ from oacdsl.segmentation.motionfeatures import MotionFeatures, motion_features
 from oacdsl.segmentation.poses import ObjectPoses, relative
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import SubAction
+from oacdsl.verify_spans import AlignedSpan, Unmerged, demonstration_frames, execution_frames
 from oacdsl.verify_tolerances import VerifyTolerances
 
 __all__ = ["MotionCheck", "motion_checks", "moving_stretches", "oscillation", "tilt_gain"]
@@ -132,22 +133,36 @@ def motion_checks(
     demo_subs: Sequence[SubAction],
     demo_posed: Mapping[str, ObjectPoses],
     run_rec: Recording,
-    run_spans: Mapping[int, tuple[int, int]],
+    run_spans: Mapping[int, AlignedSpan],
     run_posed: Mapping[str, ObjectPoses],
     name_map: Mapping[str, str],
     tolerances: VerifyTolerances,
     any_hands: bool,
     liquids: frozenset[str] = frozenset(),
+    unmerged: tuple[Unmerged, Unmerged] | None = None,
+    agents: frozenset[str] = frozenset(),
 ) -> tuple[list[MotionCheck], list[str]]:
     """The checks, and a note per demonstrated sub-action whose features are not judged.
 
-    ``run_spans``: demonstration sub-action index → the execution's frames ``(a, b)``
-    aligned with it; ``name_map``: demonstration instance → the execution's."""
+    ``run_spans``: demonstration sub-action index → the execution's frames aligned with it
+    (:func:`~oacdsl.verify_spans.aligned_spans`); a pair is read on the frames
+    :mod:`oacdsl.verify_spans` gives, in both recordings, with ``unmerged`` (the
+    demonstration's and the execution's keyframes without merging, ``(frame, relations)``,
+    asked for only where a keyframe merges the pair's change with another; default: none
+    found; ``agents``: the hands); ``name_map``: demonstration instance → the execution's."""
     checks: list[MotionCheck] = []
     notes: list[str] = []
     times = np.asarray(run_rec.times_s, dtype=np.float64)
+    demo_unmerged, run_unmerged = unmerged or (list, list)
     for k, sub in enumerate(demo_subs):
         d: SubActionMotion = sub_action_motion(demo_rec, sub, demo_posed)
+        if d.moved is not None and d.moved != d.hand and d.target is not None \
+                and d.relation in ("kept", "broken"):
+            previous = demo_subs[k - 1].start if k else None
+            a, b = demonstration_frames(sub, previous, d.moved, d.target, d.relation, demo_unmerged, agents)
+            if (a, b) != (sub.start.frame, sub.end.frame):
+                part = SubAction(sub.index, replace(sub.start, frame=a), replace(sub.end, frame=b))
+                d = sub_action_motion(demo_rec, part, demo_posed, pair=(d.moved, d.target))
         if d.moved is None or d.features is None:
             continue
         label = f"{d.moved} → {d.target or 'world'}"
@@ -171,9 +186,11 @@ def motion_checks(
             wanted.append("tilt")
         if not wanted:
             continue
-        span = run_spans.get(k)
+        aligned = run_spans.get(k)
         moved = name_map.get(d.moved, d.moved)
         target = None if d.target is None else name_map.get(d.target, d.target)
+        span = None if aligned is None else (aligned.start, aligned.end) if target is None else \
+            execution_frames(aligned, moved, target, d.relation, run_unmerged, agents)
         T = None if span is None else _reexpressed(run_rec, span[0], span[1], moved, target, run_posed)
         for feature in wanted:
             checks.append(_judge(k, feature, d, feats, gain, span, T, times, label, tolerances, any_hands))

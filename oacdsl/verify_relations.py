@@ -1,19 +1,16 @@
 """The relations check of ``oacc verify`` (docs/verify.md), on top of :mod:`oacdsl.verify`:
-its check record, where a simulated run's AAS and its contacts disagree (findings), and the
-execution's frames aligned with each demonstrated sub-action (for the motion check)."""
+its check record, and where a simulated run's AAS and its contacts disagree (findings). The
+execution's frames aligned with each demonstrated sub-action: :mod:`oacdsl.verify_spans`."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
-
-from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import Segmentation
 from oacdsl.verify import Verification, verify
 
-__all__ = ["Check", "aligned_spans", "disagreements", "relations_check"]
+__all__ = ["Check", "disagreements", "relations_check"]
 
 
 @dataclass(frozen=True)
@@ -74,24 +71,4 @@ def disagreements(aas: Segmentation, sim: Segmentation, instances: list[str]) ->
             ch, cs = v.robot[st.robot], v.demonstration[st.demonstration]
             out.append(f"the AAS sees {ch.label()} where the contacts have {cs.label()}"
                        f" ({cs.time_s or 0:.1f} s)")
-    return out
-
-
-def aligned_spans(v: Verification, dk: Any, rk: Any, rec: Recording) -> dict[int, tuple[int, int]]:
-    """Demonstration sub-action → the execution's recording frames aligned with it."""
-    times = np.asarray(rec.times_s, dtype=np.float64) - float(rec.times_s[0])
-    last = rec.n_frames - 1
-
-    def frame(k: Any) -> int:
-        return int(min(last, np.searchsorted(times, k.time_s - 1e-9)))
-
-    out: dict[int, tuple[int, int]] = {}
-    for s in v.alignment:
-        if s.demonstration is None or s.robot is None:
-            continue
-        first = v.robot[s.robot].index
-        end = v.robot[s.robot_last if s.robot_last is not None else s.robot].index
-        dl = s.demonstration_last if s.demonstration_last is not None else s.demonstration
-        for k in range(s.demonstration, dl + 1):
-            out.setdefault(v.demonstration[k].index - 1, (frame(rk[first - 1]), frame(rk[end])))
     return out

@@ -31,11 +31,14 @@ from oacdsl.segmentation.synth.kinematics import Track, min_jerk, rot_y, rot_z
 from oacdsl.segmentation.synth.scene import hand_markers
 from oacdsl.segmentation.takes import resampled
 
-__all__ = ["CLEAN", "KIT_10HZ", "KIT_LIKE", "LAYOUT", "TASKS", "Capture", "write"]
+__all__ = ["CLEAN", "KIT_10HZ", "KIT_LIKE", "LAYOUT", "TASKS", "TURN_DEG", "Capture", "turned", "write"]
 
 RATE_HZ = 100.0
 TABLE_Z_M = 0.75
 _HAND_LABELS = ("HTS", "HPS", "IFD", "WTS", "WPS")
+#: How far the synthetic Open and Close turn the lid unless told, degrees (KIT's Open clip, by
+#: issue 19's account, turned it 535°: ``turn_deg`` of the writers).
+TURN_DEG = 240.0
 #: A hand taking something from above: the back of the hand (its x) up.
 FROM_ABOVE = rot_y(-np.pi / 2)
 
@@ -184,10 +187,19 @@ def strokes(track: Track, t1_s: float, direction: np.ndarray, amplitude_m: float
                                             )[:, None] * d)
 
 
-def close_demo(capture: Capture = CLEAN) -> Recording:
+def _spin_s(turn_deg: float) -> float:
+    """How long the demonstrator turns a lid by ``turn_deg``, s: 4 s for 240° (60°/s), longer
+    turns at the same pace (never under 1 s)."""
+    return max(1.0, 4.0 * abs(turn_deg) / TURN_DEG)
+
+
+def close_demo(capture: Capture = CLEAN, turn_deg: float = TURN_DEG) -> Recording:
     """Close: the right hand holds the bottle on the table, the left hand takes the lid, sets it
-    on the bottle and screws it on (240° clockwise seen from above); both hands keep holding."""
-    s = Story(12.0)
+    on the bottle and screws it on (``turn_deg``, default 240°, clockwise seen from above, at
+    60°/s); both hands keep holding."""
+    extra = _spin_s(turn_deg) - 4.0
+    end = 12.0 + extra
+    s = Story(end)
     bottle_at, lid_at = np.array([0.12, 0.42, TABLE_Z_M]), np.array([-0.22, 0.40, TABLE_Z_M])
     bottle = s.body("bottle", tuple(bottle_at))
     lid = s.body("lid", tuple(lid_at))
@@ -196,18 +208,21 @@ def close_demo(capture: Capture = CLEAN) -> Recording:
     left.hold(2.6).move(3.6, lid_at + [0.0, 0.0, 0.045], FROM_ABOVE, end_tau=0.95).hold(4.0)
     on_top = bottle_at + [0.0, 0.0, 0.18 + 0.045]
     left.move(6.0, on_top, via_m=[lid_at + [0, 0, 0.15], on_top + [0, 0, 0.1]], end_tau=0.97).hold(6.5)
-    spin(left, 10.5, np.radians(-240.0), bottle_at).hold(12.0)
-    bottle.hold(12.0)
-    lid.hold(3.6).follow(left, 12.0)
-    right.hold(12.0)
+    spin(left, 10.5 + extra, np.radians(-abs(turn_deg)), bottle_at).hold(end)
+    bottle.hold(end)
+    lid.hold(3.6).follow(left, end)
+    right.hold(end)
     return s.recording("synthetic Close", capture)
 
 
-def _unscrewed(end_s: float) -> tuple[Story, Track, Track, Track, Track, np.ndarray]:
-    """The start of Open in a story of ``end_s`` seconds: the lid on the bottle; the right hand
-    takes the bottle, the left the lid, unscrews it (240° counterclockwise) and lifts it off
-    (by 9.6 s). (story, bottle, lid, right hand, left hand, the lid's grip on the bottle, m)."""
-    s = Story(end_s)
+def _unscrewed(end_s: float, turn_deg: float = TURN_DEG) -> tuple[Story, Track, Track, Track, Track, float]:
+    """The start of Open in a story of ``end_s`` seconds (plus the time a turn longer than 240°
+    takes): the lid on the bottle; the right hand takes the bottle, the left the lid, unscrews it
+    (``turn_deg`` counterclockwise, at 60°/s) and lifts it off (by 9.6 s, or that much later).
+    (story, bottle, lid, right hand, left hand, how much later than for 240° everything after
+    the turn is, s)."""
+    extra = _spin_s(turn_deg) - 4.0
+    s = Story(end_s + extra)
     bottle_at = np.array([0.12, 0.42, TABLE_Z_M])
     bottle = s.body("bottle", tuple(bottle_at))
     lid = s.body("lid", tuple(bottle_at + [0.0, 0.0, 0.181]))
@@ -215,35 +230,39 @@ def _unscrewed(end_s: float) -> tuple[Story, Track, Track, Track, Track, np.ndar
     right.hold(0.8).move(2.0, bottle_at + [0.055, 0.0, 0.08], end_tau=0.95)
     top = bottle_at + [0.0, 0.0, 0.181 + 0.045]
     left.hold(2.6).move(3.8, top, FROM_ABOVE, via_m=[top + [-0.05, 0, 0.15]], end_tau=0.95).hold(4.2)
-    spin(left, 8.2, np.radians(240.0), bottle_at).hold(8.6)
-    left.move(9.6, top + [0.0, 0.0, 0.08])
-    return s, bottle, lid, right, left, top
+    spin(left, 8.2 + extra, np.radians(abs(turn_deg)), bottle_at).hold(8.6 + extra)
+    left.move(9.6 + extra, top + [0.0, 0.0, 0.08])
+    return s, bottle, lid, right, left, extra
 
 
-def open_demo(capture: Capture = CLEAN) -> Recording:
+def open_demo(capture: Capture = CLEAN, turn_deg: float = TURN_DEG) -> Recording:
     """Open: the lid on the bottle; the right hand holds the bottle, the left hand takes the
-    lid, unscrews it (240° counterclockwise) and lifts it off; both hands keep holding."""
-    s, bottle, lid, right, left, _ = _unscrewed(11.0)
-    left.hold(11.0)
-    bottle.hold(11.0)
-    lid.hold(3.8).follow(left, 11.0)
-    right.hold(11.0)
+    lid, unscrews it (``turn_deg``, default 240°, counterclockwise) and lifts it off; both hands
+    keep holding."""
+    s, bottle, lid, right, left, extra = _unscrewed(11.0, turn_deg)
+    end = 11.0 + extra
+    left.hold(end)
+    bottle.hold(end)
+    lid.hold(3.8).follow(left, end)
+    right.hold(end)
     return s.recording("synthetic Open", capture)
 
 
-def open_put_down_demo(capture: Capture = CLEAN) -> Recording:
+def open_put_down_demo(capture: Capture = CLEAN, turn_deg: float = TURN_DEG) -> Recording:
     """Open as :func:`open_demo`, then the left hand sets the lid down on the table on its own
     side and withdraws (where the KIT Open clips' lid ends is not known here: the evaluation
     recordings are not opened); the right hand keeps holding the bottle."""
-    s, bottle, lid, right, left, _ = _unscrewed(14.0)
+    s, bottle, lid, right, left, extra = _unscrewed(14.0, turn_deg)
     down_at = np.array([-0.30, 0.34, TABLE_Z_M])
-    left.hold(9.8)
+    end = 14.0 + extra
+    left.hold(9.8 + extra)
     grip = np.array([0.0, 0.0, 0.045])
-    left.move(11.2, down_at + grip, via_m=[down_at + grip + [0, 0, 0.10]], end_tau=0.97).hold(11.8)
-    left.move(13.0, down_at + [-0.15, -0.15, 0.20], start_tau=0.3).hold(14.0)
-    bottle.hold(14.0)
-    lid.hold(3.8).follow(left, 11.8).hold(14.0)
-    right.hold(14.0)
+    left.move(11.2 + extra, down_at + grip, via_m=[down_at + grip + [0, 0, 0.10]], end_tau=0.97)
+    left.hold(11.8 + extra)
+    left.move(13.0 + extra, down_at + [-0.15, -0.15, 0.20], start_tau=0.3).hold(end)
+    bottle.hold(end)
+    lid.hold(3.8).follow(left, 11.8 + extra).hold(end)
+    right.hold(end)
     return s.recording("synthetic Open, the lid set down", capture)
 
 
@@ -397,3 +416,14 @@ def write(task: str, folder: Path, capture: Capture = CLEAN) -> Path:
     from oacdsl.segmentation.readers import write_recording
 
     return Path(write_recording(TASKS[task][0](capture), folder / f"synthetic_{task}.c3d"))
+
+
+def turned(task: str, turn_deg: float | None = None) -> Callable[[Capture], Recording]:
+    """The writer of ``task``'s demonstration, its lid turned ``turn_deg`` (Close, Open,
+    OpenPutDown; ``None``: as written). A one-line error for another task."""
+    writer = TASKS[task][0]
+    if turn_deg is None:
+        return writer
+    if task not in ("Close", "Open", "OpenPutDown"):
+        raise ValueError(f"{task}: no turn to set (Close, Open and OpenPutDown turn a lid)")
+    return lambda capture: writer(capture, turn_deg)  # type: ignore[call-arg]

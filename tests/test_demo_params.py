@@ -312,3 +312,45 @@ oac three(PARAMS) {
     with pytest.raises(RuntimeFailure, match="2 steps take 'tilt'"):
         bad_library = Library(compile_sources({**sources, "t.oac": bad}).modules)
         expand(bad_library, bad_library.oacs["three"], binding)
+
+
+@pytest.mark.mocap
+def test_a_parameter_is_measured_on_the_steps_own_pair_of_objects(tmp_path):
+    """KIT Wipe at twice the speed (10 Hz): the sponge leaving the plate and the plate reaching
+    the rack are one keyframe, so ``lift_sponge`` and ``set_into_rack`` share a sub-action whose
+    motion (the object that travels farthest) is the sponge's against the plate. The tilt of
+    ``set_into_rack(h, plate, rack)`` is the plate's in the rack, by the skill's roles (held
+    object relative to target), as in the original: 97°, not the sponge's 68° against the plate."""
+    from _mocap import mocap_file
+
+    from oacdsl import api
+    from oacdsl.segmentation import AasParams
+    from oacdsl.segmentation.readers import read_recording, write_recording
+    from oacdsl.segmentation.takes import STANDARD_TAKES
+
+    path = mocap_file("kit_bimanual/Wipe_files_motions_3091_Wipe1_pl_sp_front_angle_03.mmm.xml")
+    fast = write_recording(STANDARD_TAKES["double_speed"](read_recording(path))[0], tmp_path / "w.mmm.xml")
+    tilts = {}
+    # the original as recorded; at twice the speed; with a merge window longer than the 0.3 s
+    # between the sponge's leaving and the plate's arrival (one keyframe, whatever the take)
+    for name, source, params in (("original", path, None), ("fast", fast, None),
+                                 ("merged", path, AasParams(merge_s=0.5))):
+        demo = api.load_demonstration(source, ROOT / "library" / "kit", params=params)
+        composed = api.compose(demo, "w")
+        names = [s.oac.name for s in composed.composition.steps]
+        k = names.index("set_into_rack")
+        shared = composed.composition.steps[k].start_frame == composed.composition.steps[k - 1].start_frame
+        assert names[k - 1] == "lift_sponge" and shared == (name != "original"), name
+        call = (composed.oac.steps or ())[k]
+        assert "plate_dish relative to draining_rack" in call.comments[-1], call.comments
+        tilts[name] = {p.name: p.value.value for p in call.skill_params}["tilt"]
+    assert tilts["fast"] == tilts["original"] == 97.0 and 80.0 <= tilts["merged"] <= 110.0, tilts
+
+
+def test_a_skill_names_the_pair_its_parameters_are_measured_on():
+    from oacdsl.skills import SIGNATURES
+
+    assert SIGNATURES["touch"].measured_pair(("h", "plate", "rack")) == ("plate", "rack")
+    # a ladle tipped out over the cup, then brought into the bowl: its tilt is over the cup
+    assert SIGNATURES["tip_out"].measured_pair(("h", "ladle", "cup", "bowl")) == ("ladle", "cup")
+    assert SIGNATURES["touch"].measured_pair(("h", "plate")) is None

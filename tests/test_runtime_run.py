@@ -136,7 +136,8 @@ def test_oacc_run_json_document_and_clean_failure(tmp_path):
     doc = json.loads(out.stdout)
     assert set(doc) == {"oac", "success", "failed_step", "steps", "composed", "metrics"}
     assert doc["success"] is False and doc["failed_step"] == "step 1 place(left_hand, red_cup)"
-    assert set(doc["metrics"]) == {"balls_total", "balls_in_bowl", "sim_time_s", "wall_time_s", "regrasps"}
+    assert set(doc["metrics"]) == {"balls_total", "balls_in_bowl", "sim_time_s", "wall_time_s", "regrasps",
+                                   "reseats"}
     step = doc["steps"][0]
     assert set(step) == {"oac", "binding", "success", "duration_s", "predicted", "observed", "error"}
     assert step["binding"] == {"h": "left_hand", "o": "red_cup"} and step["predicted"] == [

@@ -260,6 +260,7 @@ def run(args: argparse.Namespace) -> int:
             store.record_run_json(result.to_json(), seed=args.seed, command="run")
     if not result.success:
         raise RuntimeFailure(result.error or f"{result.oac} failed")
-    if judge is not None:
-        return judge.verdict(args, library, run_.scene, sys.stderr if args.json else sys.stdout)
+    if judge is not None:  # judged as oacc reproduce judges: hands the run exchanged may be exchanged
+        exchanged = any(a.get("kind") == "exchanged" for a in getattr(result, "adaptations", ()))
+        return judge.verdict(args, library, run_.scene, sys.stderr if args.json else sys.stdout, exchanged)
     return 0

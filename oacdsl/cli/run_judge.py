@@ -23,7 +23,12 @@ class RunJudge:
         run.controller.add_observer(self.markers)
         run.controller.add_observer(self.contacts)
 
-    def verdict(self, args: argparse.Namespace, library: Any, scene: Any, out: Any) -> int:
+    def verdict(self, args: argparse.Namespace, library: Any, scene: Any, out: Any,
+                any_hands: bool = False) -> int:
+        """Write the recording and print the verdict; ``any_hands``: the run exchanged the two
+        hands for the whole task (a left-handed demonstration), so the judge may exchange them
+        too, as `oacc reproduce` does (else such a run fails the relations where reproduce
+        verifies it)."""
         from oacdsl.cli.verify_cmd import format_outcome
         from oacdsl.pipeline.robot import sim_contacts, write_execution
         from oacdsl.segmentation.grouping import apply_scene_groups, group_recording
@@ -39,7 +44,7 @@ class RunJudge:
         contacts = sim_contacts(self.contacts, params)
         written = write_execution(recording, contacts, Path(args.execution))
         outcome = verify_execution(demo, recording, scene=scene, library=library, params=params,
-                                   contacts=contacts)
+                                   contacts=contacts, any_hands=any_hands)
         print(format_outcome(outcome), file=out)
         print(f"execution: {written[0]} (contacts: {written[-1]})", file=out)
         return 0 if outcome.verified else 1

@@ -50,10 +50,11 @@ def composed_params(oac: Oac, mapping: Mapping[str, str], motion: SubActionMotio
 
     def does_it(s: Any) -> bool:  # moves the motion's object relative to the motion's frame
         sig = SIGNATURES.get(str(s.oac.skill))
-        if sig is None or not any(p.source is not None for p in sig.params) or len(s.args) < 3:
+        pair = sig.measured_pair(s.args) if sig is not None else None
+        if sig is None or not any(p.source is not None for p in sig.params) or pair is None:
             return False
-        target = s.args[-1] if s.args[-1] not in untracked else None
-        return bool(s.args[1] == motion.moved and target == motion.target)
+        target = pair[1] if pair[1] not in untracked else None
+        return bool(pair[0] == motion.moved and target == motion.target)
 
     chosen = [k for k, s in enumerate(steps) if does_it(s)]
     if len(chosen) != 1 or len(inner) != len(steps):
@@ -93,12 +94,17 @@ def with_demo_params(comp: Composition, motions: Mapping[int, SubActionMotion],
             found = composed_params(step.oac, step.mapping, motion, library, scene)
         else:
             args = tuple(step.mapping.get(a, a) for a in step.oac.skill_arguments())
-            if (follows(step.oac.skill) and motion is not None and len(args) >= 3
-                    and isinstance(motions, DemonstratedMotions) and step.start_frame is not None
-                    and {motion.moved, motion.target} != {args[1], args[-1]}):
-                # a path is of the step's own objects: the sub-action's motion of that pair when
-                # the demonstration moved it (a ladle leaving the cup for the bowl: to the bowl)
-                motion = motions.of_pair(step.start_frame, args[1], args[-1]) or motion
+            pair = _measured_pair(step.oac.skill, args)
+            if (motion is not None and pair is not None and isinstance(motions, DemonstratedMotions)
+                    and step.start_frame is not None and _another_pair(step.oac.skill, motion, pair)):
+                # a parameter is measured on the step's own objects, by the skill's roles (the
+                # held object, second, relative to its target, the last argument unless the skill
+                # names another: SkillSignature.measured_in): the sub-action's motion of
+                # that pair when the demonstration moved it (a ladle leaving the cup for the bowl:
+                # to the bowl; KIT Wipe at twice the speed, where the sponge leaves the plate and
+                # the plate reaches the rack in one keyframe: the plate's tilt in the rack, not
+                # the sponge's against the plate). A path is also the pair's seen from the other.
+                motion = motions.of_pair(step.start_frame, *pair) or motion
             found = step_params(step.oac.skill, motion, args, library, scene)
         if found.comment is None:
             calls.append(call)
@@ -125,6 +131,24 @@ def with_demo_params(comp: Composition, motions: Mapping[int, SubActionMotion],
         )
     oac = comp.oac.model_copy(update={"steps": tuple(calls)})
     return dataclasses.replace(comp, oac=oac, demo_params=tuple(doc))
+
+
+def _measured_pair(skill: str | None, args: tuple[str, ...]) -> tuple[str, str] | None:
+    """(moved, frame) the skill's demonstrated parameters are measured on, by its roles
+    (:attr:`~oacdsl.skills.SkillSignature.measured_in`); None for a skill that takes nothing
+    from the demonstrated motion."""
+    sig = SIGNATURES.get(skill or "")
+    if sig is None or not (follows(skill) or any(p.source is not None for p in sig.params)):
+        return None
+    return sig.measured_pair(args)
+
+
+def _another_pair(skill: str | None, motion: SubActionMotion, pair: tuple[str, str]) -> bool:
+    """Whether ``motion`` is of another pair than ``pair`` (a path may be the pair seen from
+    either side)."""
+    if follows(skill):
+        return {motion.moved, motion.target} != set(pair)
+    return (motion.moved, motion.target) != pair
 
 
 def _json_row(row: Mapping[str, Any]) -> dict[str, Any]:

@@ -79,6 +79,9 @@ class Controller:
         #: to a step (a hand that lets go and takes the object again to turn it further): not a
         #: change of the task (the contacts recorder keeps the hand on the object through it)
         self.regrasps: list[tuple[float, float, str, str]] = []
+        #: (s, hand side, object), simulated time, of every time a turned object that had left
+        #: its seat on the target was set back on (``motion.rotate.reseat``)
+        self.reseats: list[tuple[float, str, str]] = []
         self._observe()
 
     def add_observer(self, observer: Observer) -> None:

@@ -310,6 +310,7 @@ def run_metrics(run: Run, wall0: float) -> dict[str, float | int]:
         "sim_time_s": round(world.time_s - run.start_s, 4),
         "wall_time_s": round(time.perf_counter() - wall0, 4),
         "regrasps": len(run.controller.regrasps),
+        "reseats": len(run.controller.reseats),
     }
 
 

@@ -153,20 +153,30 @@ def _min_jerk(s: np.ndarray) -> np.ndarray:
 
 def retarget(path: np.ndarray, *, room_m: float | None, speed_m_s: float, turn_rad: float,
              stay: bool = False, core_speed_m_s: float | None = None,
-             twist_axis: np.ndarray | None = None) -> Retargeted:
+             twist_axis: np.ndarray | None = None, inside: bool = False,
+             resting: bool = False) -> Retargeted:
     """The robot's path from ``path`` ((n, 7): t, x, y, z, rx, ry, rz; SI; turned target frame),
     see the module doc. ``stay``: the object is to end at the target (the step's effect keeps them
     touching): the path ends with its core, the way out of the demonstration's span left out;
     ``core_speed_m_s``: a lower cap in the core (where the object works on the target);
     ``twist_axis``: the object's own axis (frame, unit) when it may be let go of and taken again
     on the target: a turn about it beyond ``turn_rad`` is then kept whole (to be split by
-    regrasps, :mod:`~oacdsl.runtime.follow_turns`), only the rest of the rotation capped."""
+    regrasps, :mod:`~oacdsl.runtime.follow_turns`), only the rest of the rotation capped;
+    ``inside``: the whole object is to stay within ``room_m`` (in a container): the core's
+    rotations are scaled with its positions (a spoon rocked ±8° about its handle's middle moves
+    its bowl ±1.4 cm, more than the 1 cm a cup leaves it: scaled alone, the positions' circles
+    were lost in the rocking); ``resting``: the object rests on the target at the start (a lid
+    to unscrew): the core starts with the path (the dwell found from the reference point's
+    distances alone cut a turn in place: a lid's markers off its axis circle as it turns, and
+    of a 720° unscrew the core kept the last 139°)."""
     path = np.asarray(path, dtype=np.float64)
     if path.ndim != 2 or path.shape[1] != 7 or len(path) < 2:
         raise RuntimeFailure(f"follow: a path needs two or more keyframes of 7 numbers, not {path.shape}")
     if np.any(np.diff(path[:, 0]) <= 0):
         raise RuntimeFailure("follow: the path's keyframe times do not increase")
     a, b = core_frames(path[:, 1:4])
+    if resting:  # no way in: at the target from the first keyframe
+        a = 0
     if stay and b > max(a, 1):
         path = path[:b]
     t, pos, rv = path[:, 0] - path[0, 0], path[:, 1:4].copy(), path[:, 4:7].copy()
@@ -197,6 +207,8 @@ def retarget(path: np.ndarray, *, room_m: float | None, speed_m_s: float, turn_r
             twists = None
     angles = np.linalg.norm(rv, axis=1)
     turn_scale = 1.0 if angles.max() <= turn_rad else turn_rad / float(angles.max())
+    if inside:  # the whole object kept in the room: its turns shrunk with its positions
+        turn_scale = min(turn_scale, scale)
     rotations = np.array([from_rotvec(turn_scale * r) for r in rv])
     whole = rotations
     if twists is not None:

@@ -7,7 +7,11 @@ axis back onto the target's and keeps it pressed lightly on the target's top; be
 go, the hand slides the object back onto the middle of the target's top (the arm lags a
 turning hand by centimetres, and an object let go off the middle tipped over the edge).
 The turn actually made is measured on the object (a stroke turns it some 10 % less than the
-hand; a regrasp turns it back a few degrees) and made up for with more strokes.
+hand; a regrasp turns it back a few degrees) and made up for with more strokes. A stroke
+stops as soon as the object leaves its seat (its shape more than the tuning's
+``turn_unseated_m`` from the target's, measured in the simulation), and the object is set back
+on the target's middle before anything else (:func:`reseat`): the turn it still needs is made
+up by the strokes that follow.
 
 The regrasps are internal to the step: each is recorded on the controller
 (:attr:`~oacdsl.runtime.control.Controller.regrasps`), so that a judge of the task need not
@@ -17,6 +21,7 @@ count them as changes of the world state.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -29,7 +34,8 @@ from oacdsl.runtime.transforms import make_T, rot_axis
 if TYPE_CHECKING:
     from oacdsl.runtime.motion.context import MotionContext
 
-__all__ = ["rotate_on", "regrasp", "home_pose", "close_on", "angle_about", "centre", "centre_over"]
+__all__ = ["rotate_on", "regrasp", "home_pose", "close_on", "angle_about", "centre", "centre_over",
+           "unseated", "reseat"]
 
 
 def angle_about(axis: np.ndarray, r_from: np.ndarray, r_to: np.ndarray) -> float:
@@ -107,6 +113,25 @@ def _above(ctx: MotionContext, obj: str, target: str, near_m: float) -> float:
     stroke to 5 mm into the bottle, which the arm holding the bottle could not bear)."""
     gap = ctx.world.gap_m(obj, target, most_m=near_m)
     return gap if 0.0 < gap < near_m else _low(ctx, obj) - _top(ctx, target)
+
+
+def unseated(ctx: MotionContext, obj: str, target: str, apart_m: float) -> Callable[[], bool]:
+    """A guard: true while ``obj`` does not touch ``target`` and the simulation's distance
+    between their shapes is more than ``apart_m`` (a contact lost for a tick, or a hair's
+    breadth, is not leaving the seat)."""
+    world = ctx.world
+    return lambda: not world.touching(obj, target) and world.gap_m(obj, target, most_m=2 * apart_m) > apart_m
+
+
+def reseat(ctx: MotionContext, m: Motion, obj: str, target: str, axis: np.ndarray) -> bool:
+    """When the held ``obj`` has left its seat on ``target`` (:func:`unseated`), set it back
+    on the middle of ``target``'s top, pressed on (:func:`centre`); recorded on the controller
+    (``reseats``). True when it had to."""
+    if not unseated(ctx, obj, target, m.tuning.turn_unseated_m)():
+        return False
+    ctx.ctl.reseats.append((ctx.world.time_s, m.side, obj))
+    centre(ctx, m, obj, target, axis)
+    return True
 
 
 def centre(ctx: MotionContext, m: Motion, obj: str, target: str, axis: np.ndarray,
@@ -248,8 +273,10 @@ def rotate_on(
     turned = 0.0
     last = world.body_pose(obj)[:3, :3].copy()
     most = t.turn_strokes_factor * n
+    off_seat = unseated(ctx, obj, target, t.turn_unseated_m)
     for k in range(most):
         ctl.activity = f"turning {obj} on {target} (stroke {k + 1})"
+        reseat(ctx, m, obj, target, axis)  # a regrasp that left it off the target: back on first
         here = m.here()
         t_now = world.body_pose(obj)
         turned += angle_about(axis, last, t_now[:3, :3])  # what the regrasp turned it (back)
@@ -261,7 +288,9 @@ def rotate_on(
         goal = _turned(here, axis, t_now[:3, 3], step)
         goal[:3, 3] -= _off_axis(ctx, obj, target, axis)
         goal[2, 3] -= _above(ctx, obj, target, t.gap_measured_within_m) + t.press_m
-        m.go(goal, turn_s)
+        if m.go(goal, turn_s, off_seat):  # it rose off the target: back on, not turned in the air
+            ctl.activity = f"setting {obj} back on {target}"
+            reseat(ctx, m, obj, target, axis)
         m.hold_still(t.pause_s)
         last = world.body_pose(obj)[:3, :3].copy()
         turned += angle_about(axis, t_now[:3, :3], last)

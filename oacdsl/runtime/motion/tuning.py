@@ -112,6 +112,10 @@ class Tuning:
     turn_seat_m: float = 0.01
     #: how far the object's axis may be off the target's when the hand lets go of it, m
     turn_centred_m: float = 0.005
+    #: a turned object whose shape is farther than this from the target's has left its seat:
+    #: the stroke stops and it is set back on (a stroke the arm could not follow lifted a lid
+    #: 6–17 mm off its bottle and went on turning it in the air), m
+    turn_unseated_m: float = 0.003
     #: two objects nearer than this are judged by the simulation's distance between their
     #: shapes, not their bounding boxes (the box of a lid held 6° tilted reaches 2 mm below its
     #: rim: "pressed" by its box, it hung 0.2 mm over the bottle), m

@@ -49,6 +49,7 @@ from oacdsl.runtime.skills.base import SkillContext
 from oacdsl.runtime.skills.follow_reach import reachable
 from oacdsl.runtime.skills.follow_regrasp import Regrasps, rests_on
 from oacdsl.runtime.skills.follow_top import END_SPAN_M, lowest_end, on_top, onto_top
+from oacdsl.runtime.skills.follow_wall import WallSeek, clear_of_rim
 from oacdsl.runtime.transforms import MIN_JERK_PEAK, make_T, rot_z
 
 __all__ = ["follow", "reference_point"]
@@ -103,7 +104,8 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
     axis_f = r0[:, 2] if turn > 0 and rests_on(body_o, body_t, t_obj, world.body_pose(target)) else None
     plan, cuts = split(retarget(np.asarray(path, dtype=np.float64), room_m=room, speed_m_s=speed,
                                 turn_rad=turn, stay=touch, twist_axis=axis_f,
-                                core_speed_m_s=FOLLOW.contact_speed_m_s if touch else None),
+                                core_speed_m_s=FOLLOW.contact_speed_m_s if touch else None,
+                                inside=touch and body_t.container, resting=resting),
                        turn, TUNING.turn_min_stroke_s)
 
     def pose_at(r: Retargeted, k: int, lift_m: float = 0.0) -> np.ndarray:
@@ -176,6 +178,10 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
     go = mover(ctl, side, keep, weight)
 
     met = [False]  # the two touched during an approach (a tool that bounced off still found it)
+    # in a container it is to touch: the hand kept clear of the rim, the contact from the wall
+    # where the floor is out of reach (follow_wall)
+    in_container = touch and body_t.container
+    clear = clear_of_rim(ctx, side, target) if in_container else (lambda pose: pose)
 
     def touching() -> bool:
         return world.touching(obj, target)
@@ -189,7 +195,8 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
         """Down along the target's axis by up to ``depth`` (m) until touching or felt."""
         axis = frame(phi)[1][:, 2]
         now = ctl.ik.goal(side)
-        go(make_T(now[:3, :3], now[:3, 3] - depth * axis), MIN_JERK_PEAK * depth / FOLLOW.approach_speed_m_s,
+        go(clear(make_T(now[:3, :3], now[:3, 3] - depth * axis)),
+           MIN_JERK_PEAK * depth / FOLLOW.approach_speed_m_s,
            guard=lambda: met_now() or float(np.linalg.norm(ctl.force_change(side))) > force)
 
     lift = start_lift(plan)
@@ -213,8 +220,9 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
             go(make_T(now[:3, :3], now[:3, 3] - off + FOLLOW.hover_m / 2 * rf[:, 2]), FOLLOW.settle_s)
             approach(FOLLOW.hover_m + body_t.height)
         if body_t.container:
-            if touching():  # the rest of the core from where they touch, its lowest keyframe there
-                lift = ref_height() - press - float(plan.positions_m[c:, 2].min())
+            # the rest of the core from where they touch, its lowest keyframe there; not touching
+            # (the hand kept clear of the rim above the floor), from where it is
+            lift = ref_height() - (press if touching() else 0.0) - float(plan.positions_m[c:, 2].min())
         elif met[0] or touching():  # a solid target: from where they touched, pressed on, never deeper
             plan = floored(plan)
             lift = ref_height() - press - float(plan.positions_m[c, 2])
@@ -225,10 +233,17 @@ def follow(ctx: SkillContext, hand: str, obj: str, target: str, *, path: Sequenc
     if cuts:  # a turn beyond the wrist: in pieces, regrasping in between (follow_regrasp)
         turns = Regrasps(ctx, side, obj, target, keep, plan, cuts, lambda k: pose_at(plan, k, lift - sink))
     grip = grasp_in_obj if turns is None else turns.start(grasp_in_obj)  # (a regrasp changes it)
+    wall = WallSeek(ctx, side, obj, target, [pose_at(plan, k, lift) for k in range(c, len(plan.times_s))]
+                    ) if in_container else None
     for k in range(c + 1, len(plan.times_s)):
         dt = float(plan.times_s[k] - plan.times_s[k - 1])
         if seek and not touching():
             sink = min(sink + TUNING.seek_speed_m_s * dt, TUNING.seek_max_m)
+        if wall is not None:
+            wall.grow(dt)
+            obj_at = pose_at(plan, k, lift)
+            go(clear(wall.pushed(obj_at) @ grip), dt)
+            continue
         go(pose_at(plan, k, lift - sink) @ grip, dt)
         if turns is not None:
             grip = turns.after(k, grip)

@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.motion import TUNING, Motion, raised
+from oacdsl.runtime.motion import TUNING, Motion, raised, waypoints_per_cycle
 from oacdsl.runtime.skills.base import SkillContext
 from oacdsl.runtime.transforms import make_T
 from oacdsl.skills import SIGNATURES
@@ -24,7 +24,8 @@ __all__ = ["mix", "SIGNATURE"]
 SIGNATURE = SIGNATURES["mix"]
 D = SIGNATURE.defaults()
 
-#: Points per circle of the stirring path.
+#: Points per circle of the stirring path (fewer for a fast one:
+#: :func:`~oacdsl.runtime.motion.waypoints_per_cycle`, each at least two control ticks).
 CIRCLE_POINTS = 24
 #: Time back to the middle after the circles, s.
 CENTRE_S = 0.4
@@ -77,7 +78,7 @@ def mix(
     level = min(float(world.body_pose(tool)[2, 3]), floor)
     press.depth_m = t.press_m
     ctl.activity = f"stirring {container} with {tool}"
-    n = CIRCLE_POINTS
+    n = waypoints_per_cycle(period, CIRCLE_POINTS)  # fewer for fast circles: none a jump
     for k in range(1, int(round(turns)) * n + 1):
         a = 2 * math.pi * k / n
         r = radius * min(1.0, k / n)

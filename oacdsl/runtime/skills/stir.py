@@ -21,7 +21,7 @@ import math
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
-from oacdsl.runtime.motion import TUNING, Motion
+from oacdsl.runtime.motion import TUNING, Motion, waypoints_per_cycle
 from oacdsl.runtime.shapes import hand_reach_below
 from oacdsl.runtime.skills.base import SkillContext, cm
 from oacdsl.runtime.skills.tooltip import HeldTool, held_tool, pointing
@@ -31,7 +31,8 @@ __all__ = ["stir", "dip_poses", "SIGNATURE"]
 
 SIGNATURE = SIGNATURES["stir"]
 D = SIGNATURE.defaults()
-#: Points per circle.
+#: Points per circle (fewer for a fast one: :func:`~oacdsl.runtime.motion.waypoints_per_cycle`,
+#: each at least two control ticks).
 CIRCLE_POINTS = 16
 #: Time of the move sideways to the wall (a contact stops it), s.
 TO_WALL_S = 0.8
@@ -145,7 +146,7 @@ def stir(
     rr = out + t.aim_beyond_m if on_wall else max(min(radius, room), out)
     m.go(at(start_angle, rr, height), t.press_s)  # pressed on where it touches
     ctl.activity = f"stirring {container} with {tool}"
-    n = CIRCLE_POINTS
+    n = waypoints_per_cycle(period, CIRCLE_POINTS)  # fewer for fast circles: none a jump
     for k in range(1, max(1, round(turns)) * n + 1):
         m.go(at(start_angle + 2 * math.pi * k / n, rr, height), period / n)
     if not m.hold_still(t.contact_wait_s, m.touching(tool, container)) and not world.touching(
