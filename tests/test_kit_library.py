@@ -175,3 +175,33 @@ def test_the_hand_holding_the_cucumber_stays_out_of_the_closed_loops_reach_of_th
                 for t, half in hand_box_poses(side, plan.grasp, OPEN)
             )
             assert lowest - 0.8 > ROBOT_DISTANCE_M + 0.003
+
+
+def test_an_untracked_liquid_whose_last_step_failed_is_not_verified() -> None:
+    """KIT Pour left-handed: 5 of 8 balls ended in the cup (the pour's own check failed), a
+    repair set the cup and the carton down, and every tracked check passed. The recording cannot
+    show the milk; the step that judged it failed, so the run is not verified, and says why."""
+    from types import SimpleNamespace
+
+    from oacdsl.pipeline.verdict import untracked_judged, verdict
+
+    lib = load_library([KIT])
+    error = "pour: only 5 of 8 balls of milk ended in cup_small (0 still in milk_small; needed 8)"
+    steps = [
+        {"oac": "pour", "predicted": [["cup_small", "milk"]], "success": False, "error": error},
+        {"oac": "place_both", "predicted": [["left_hand", "nothing"]], "success": True},
+    ]
+    untracked = untracked_judged(lib.scenes["kit_pour"], {"steps": steps})
+    assert untracked[0]["judged_by"][0]["error"] == error
+    checks = [{"name": "relations", "kind": "relations", "passed": True, "detail": ""}]
+    verification = SimpleNamespace(verified=True, verdict="verified", demonstration=[1, 2, 3], distance=0,
+                                   model_extra={"faithful": True, "checks": checks, "untracked": untracked})
+    run = SimpleNamespace(success=True, metrics={"balls_total": 8, "balls_in_bowl": 5}, steps=steps)
+    out = verdict(SimpleNamespace(run=run, verification=verification), None, "pour_mirrored")  # type: ignore[arg-type]
+    assert out["success"] is False and out["verified"] is False and out["failed_stage"] == "verify"
+    assert out["failed_checks"] == ["untracked.milk"]
+    assert "the untracked milk: step 1 pour failed (pour: only 5 of 8 balls" in out["summary"]
+    steps[0].update(success=True, error=None)  # the same run with the pour's check passed: verified
+    verification.model_extra["untracked"] = untracked_judged(lib.scenes["kit_pour"], {"steps": steps})
+    out = verdict(SimpleNamespace(run=run, verification=verification), None, "pour_mirrored")  # type: ignore[arg-type]
+    assert out["success"] is True and out["faithful"] is True

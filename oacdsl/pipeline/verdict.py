@@ -27,13 +27,27 @@ def verdict(result: ResultRecord, failure: tuple[str, OacError] | None, name: st
     flags = {"verified": bool(v.verified), "faithful": bool(extra.get("faithful", v.verified))} \
         if v is not None else {}
     failed = [c for c in extra.get("checks", []) if not c["passed"]]
+    spilt = _untracked_failed(extra.get("untracked", []))
+    if v is not None and v.verified and spilt:
+        # the recording cannot show an untracked liquid: the step that last moved it judged it
+        # by the simulation (the balls that ended in the target), and it failed
+        return {
+            "success": False,
+            "failed_stage": "verify",
+            "verified": False,
+            "faithful": False,
+            "failed_checks": [c["name"] for c in failed] + [f"untracked.{u['instance']}" for u, _ in spilt],
+            "summary": f"The robot executed {name}, but the outcome differs from the demonstration: "
+            + "; ".join(f"the untracked {u['instance']}: step {j['step']} {j['oac']} failed"
+                        f" ({j.get('error') or 'its effects were not observed'})" for u, j in spilt) + ".",
+        }
     if v is not None and not v.verified:
         named = "; ".join(f"{c['name']}: {c['detail']}" for c in failed if c["kind"] != "motion")
         return {
             "success": False,
             "failed_stage": "verify",
             **flags,
-            "failed_checks": [c["name"] for c in failed],
+            "failed_checks": [c["name"] for c in failed] + [f"untracked.{u['instance']}" for u, _ in spilt],
             "summary": f"The robot executed {name}, but the outcome differs from the demonstration:"
             f" {v.verdict}." + (f" Failed: {named}." if named else ""),
         }
@@ -65,15 +79,23 @@ def verdict(result: ResultRecord, failure: tuple[str, OacError] | None, name: st
     }
 
 
+def _untracked_failed(untracked: list[dict[str, Any]]) -> list[tuple[dict[str, Any], dict[str, Any]]]:
+    """(instance, the step that judged it last) for each untracked instance whose last judging
+    step failed (a pour that left too few balls in the target, a repair then went on)."""
+    return [(u, u["judged_by"][-1]) for u in untracked
+            if u["judged_by"] and not u["judged_by"][-1]["success"]]
+
+
 def untracked_judged(scene: Any, run_doc: dict[str, Any]) -> list[dict[str, Any]]:
     """How each untracked instance (a liquid the recording does not track) was judged: the
     executed steps whose predicted effects name it (their effect judge observed them in the
-    simulation, else the run failed there). The closed loop leaves these instances out."""
+    simulation; a step that failed carries its error: when it is the last, the verdict is not
+    verified). The closed loop leaves these instances out."""
     out = []
     for inst in scene.untracked():
         judged = [
             {"step": k, "oac": s["oac"], "relations": [p for p in s["predicted"] if inst.name in p],
-             "success": s["success"]}
+             "success": s["success"], **({} if s["success"] else {"error": s.get("error")})}
             for k, s in enumerate(run_doc.get("steps", []), 1)
             if any(inst.name in p for p in s["predicted"])
         ]
