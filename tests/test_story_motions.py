@@ -16,6 +16,7 @@ from runtime_lib import task_library  # noqa: E402
 from oacdsl.runtime.control import FORCE_LIMIT_N  # noqa: E402
 from oacdsl.runtime.executor import prepare, run_prepared  # noqa: E402
 from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M  # noqa: E402
+from oacdsl.runtime.layout import BALLS_PER_LIQUID  # noqa: E402
 from oacdsl.runtime.objects import TABLE_TOP  # noqa: E402
 
 
@@ -62,4 +63,15 @@ def test_a_cup_taken_from_the_other_hand_is_held_high_enough_to_be_set_down():
     assert abs(t[2, 3] - TABLE_TOP) < 0.005 and t[2, 2] > 0.99  # on the table, upright
     assert world.held == {"l": None, "r": None}
     assert max(log.peak.values()) < 0.5 * FORCE_LIMIT_N
+
+
+@pytest.mark.slow
+def test_a_pouring_hand_passes_over_a_cup_standing_beside_the_bowl():
+    log = Log("green_cup", other="red_cup")
+    run, result = run_task("pour_beside", "pouring_beside", log)
+    assert result.success, result.error
+    assert log.touches == 0
+    world = run.world
+    assert world.body_pose("red_cup")[2, 2] > 0.99  # still standing
+    assert world.balls_inside("orange_bowl", "liquid_two") >= 0.9 * BALLS_PER_LIQUID
 
