@@ -16,8 +16,12 @@ from runtime_lib import task_library  # noqa: E402
 from oacdsl.runtime.control import FORCE_LIMIT_N  # noqa: E402
 from oacdsl.runtime.executor import prepare, run_prepared  # noqa: E402
 from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M  # noqa: E402
+from oacdsl.runtime.hands import OPEN, finger_joint_names  # noqa: E402
 from oacdsl.runtime.layout import BALLS_PER_LIQUID  # noqa: E402
+from oacdsl.runtime.motion import TUNING  # noqa: E402
+from oacdsl.runtime.motion.opening import clear_opening, hand_room  # noqa: E402
 from oacdsl.runtime.objects import TABLE_TOP  # noqa: E402
+from oacdsl.runtime.skills import IMPLEMENTATIONS  # noqa: E402
 
 
 class Log:
@@ -75,3 +79,31 @@ def test_a_pouring_hand_passes_over_a_cup_standing_beside_the_bowl():
     assert world.body_pose("red_cup")[2, 2] > 0.99  # still standing
     assert world.balls_inside("orange_bowl", "liquid_two") >= 0.9 * BALLS_PER_LIQUID
 
+
+@pytest.mark.slow
+def test_a_hand_letting_go_beside_a_neighbour_opens_only_as_far_as_keeps_it_clear():
+    run = prepare(task_library(), "pick_and_place", scene="pouring")
+    ctx, world = run.context, run.world
+    IMPLEMENTATIONS["reach_and_grasp"](ctx, "right_hand", "green_cup", lift=0.0)
+    ignore = {"green_cup", world.layout.table}
+    assert clear_opening(world, "r", "green_cup", OPEN) is None  # nothing near: it opens fully
+    # the bowl moved along the fingers, to where the finger plate opened straight would reach it
+    grasp = world.frame_pose("grasp_r")
+    m, d = world.model, world.data
+    adr = int(m.jnt_qposadr[int(m.body_jntadr[m.body("orange_bowl").id])])
+    found = []
+    for ahead in np.arange(0.10, 0.22, 0.01):
+        d.qpos[adr:adr + 2] = (grasp[:3, 3] + ahead * grasp[:3, 2])[:2]
+        if hand_room(world, "r", OPEN, ignore) >= TUNING.arm_room_m:
+            continue
+        part = clear_opening(world, "r", "green_cup", OPEN)
+        if part is not None:
+            found.append(part)
+            q = world.joint_positions()
+            now = {j: float(q[name]) for j, name in finger_joint_names("r").items()}
+            # as much room as the hand has now (or the tuning's), opened between now and open
+            keep = min(TUNING.arm_room_m, hand_room(world, "r", now, ignore))
+            assert hand_room(world, "r", part, ignore) >= keep
+            for j, v in part.items():
+                assert min(now[j], OPEN[j]) - 1e-9 <= v <= max(now[j], OPEN[j]) + 1e-9
+    assert found  # some place of the bowl called for a partial opening
