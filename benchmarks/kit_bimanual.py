@@ -50,7 +50,7 @@ from segeval.evaluate import (  # noqa: E402
     read_labels,
     score_clip,
 )
-from segeval.takelabels import labels_for_take, on_original_grid  # noqa: E402
+from segeval.takelabels import labels_for_take, on_original_grid, stated_factor  # noqa: E402
 from segeval.toolscore import KIT_TOOL_TARGETS, ToolScore, cross_hand_frames, score_tools  # noqa: E402
 
 from oacdsl.library import Library  # noqa: E402
@@ -112,7 +112,7 @@ def run_clip(folder: Path, action: str, params: AasParams, tolerance: int,
                    for hand, lab in labels.items()}
         taken, hands = take(recording)
         segmentation = on_original_grid(segment(taken, params, shapes=clip_shapes(library, action)),
-                                        recording.times_s, taken.times_s)
+                                        recording.times_s, taken.times_s, stated_factor(taken.source))
         labels = labels_for_take(labels, hands)
         reference = {hands.get(hand, hand): obj for hand, obj in nearest.items()}
         result = score_clip(action, segmentation, labels, tolerance)

@@ -3,6 +3,8 @@ has one (oacdsl/matching/coincident.py), whatever the segmentation merged and in
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import pytest
 
 from oacdsl.library import Library
@@ -115,3 +117,23 @@ def test_connected_groups_stand_at_the_hands_change_else_at_their_last_frame():
     bc, ab = ("b", "c"), ("a", "b")
     got = merge_keyframes([kf(0, bc), kf(10), kf(12, ab)], 0.3, connected=True, agents=hands)
     assert [k.frame for k in got] == [0, 12]
+
+
+def test_the_window_compares_when_the_changes_happened_not_their_frames():
+    """A 10 Hz take at twice the speed (time factor 0.55: window 0.22 s): two grasps two frames
+    apart (0.2 s) happened 0.26 s apart (KIT Wipe's, 0.52 s in the original) and stay two steps;
+    two grasps three frames apart (0.3 s) happened 0.21 s apart and are one grasp_both."""
+    lib = library(GRASP_BOTH)
+    states = [state(), state(LEFT), state(LEFT, RIGHT)]
+    apart = segmentation([0.0, 0.6, 0.8], states, time_factor=0.55)
+    assert steps(apart, lib) == ["grasp_both(left_hand, red_cup, right_hand, green_cup)"]  # by frames
+    kfs = apart.keyframes
+    timed = replace(apart, keyframes=(kfs[0], replace(kfs[1], change_s=0.52),
+                                      replace(kfs[2], change_s=0.78)))
+    assert steps(timed, lib) == ["grasp(left_hand, red_cup)", "grasp(right_hand, green_cup)"]
+    together = segmentation([0.0, 0.6, 0.9], states, time_factor=0.55)
+    assert steps(together, lib) == ["grasp(left_hand, red_cup)", "grasp(right_hand, green_cup)"]
+    kfs = together.keyframes
+    timed = replace(together, keyframes=(kfs[0], replace(kfs[1], change_s=0.59),
+                                         replace(kfs[2], change_s=0.80)))
+    assert steps(timed, lib) == ["grasp_both(left_hand, red_cup, right_hand, green_cup)"]

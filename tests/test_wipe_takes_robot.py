@@ -55,12 +55,13 @@ def test_the_left_handed_wipe_sets_the_plate_into_the_rack_at_the_edge_of_the_ri
 def test_the_wipe_at_twice_the_speed_takes_the_plate_and_the_sponge_one_after_the_other(
     tmp_path: Path,
 ) -> None:
-    """At x2 the two grasps are one keyframe, so grasp_both: reaching together the torso bent to
-    its limits and the left hand sagged onto the rack (92 N). The IK keeps neither way with the
-    other reaching too, so the plate is taken first and held up in front, then the sponge."""
+    """At x2 (10 Hz) the two grasps are two frames apart, but 0.49 s of the demonstration by when
+    they happened (below the frame): the take composes as the original, take_plate then grasp, not
+    grasp_both (whose reaching together on this layout tests/test_grasp_both_pace.py checks)."""
     result, code = _reproduced("double_speed", tmp_path)
     steps = result["run"]["steps"]
-    assert steps[0]["oac"] == "grasp_both" and steps[0]["success"], steps
+    assert [s["oac"] for s in steps] == ["take_plate", "grasp", "wipe_held", "lift_sponge", "set_into_rack",
+                                         "leave_in_rack", "place"], steps
     assert all(s["success"] for s in steps), steps
     assert code == 0, result["verdict"]
     assert result["verdict"]["verified"] and result["verdict"]["faithful"], result["verdict"]

@@ -98,7 +98,7 @@ def join_coincident(
         cur = kfs[k]
         if k + 1 < len(kfs):
             prev, nxt = kept[-1], kfs[k + 1]
-            gap = nxt.time_s - cur.time_s
+            gap = nxt.event_s - cur.event_s  # when the changes happened, below the frame
             if (gap < window_s - TIME_EPS_S
                     and not _names(prev.state, cur.state) & _names(cur.state, nxt.state)
                     and matches_whole(prev, nxt)):

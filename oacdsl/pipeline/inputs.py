@@ -156,6 +156,7 @@ def read_segmentation_json(path: Path) -> Segmentation:
                 int(k["frame"]),
                 float(k["time_s"]),
                 WorldState.of(instances, [(str(a), str(b)) for a, b in k["relations"]]),
+                float(k["change_s"]) if k.get("change_s") is not None else None,
             )
             for k in doc["keyframes"]
         )

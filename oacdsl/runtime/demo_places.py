@@ -31,6 +31,7 @@ import numpy as np
 from oacdsl.library import Library
 from oacdsl.model import Scene
 from oacdsl.runtime.demo_layout import TableMap, table_map
+from oacdsl.segmentation.episodes import true_runs
 from oacdsl.segmentation.recording import Recording
 
 __all__ = [
@@ -82,7 +83,7 @@ def set_down_places(
         start = pos[0]
         before = start
         places: list[np.ndarray] = []
-        for a, b in _runs(still):
+        for a, b in true_runs(still.astype(bool)):
             if b - a < least:
                 continue
             here = np.median(pos[a:b], axis=0)
@@ -160,9 +161,3 @@ def _mean_path(recording: Recording, name: str) -> np.ndarray:
     total = np.where(seen[..., None], pos, 0.0).sum(axis=1)
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(count[:, None] > 0, total / count[:, None], np.nan)
-
-
-def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    """[start, end) of each run of True in ``mask``."""
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], mask.astype(np.int8), [0]])))
-    return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2], strict=True)]

@@ -116,7 +116,10 @@ def segment(
     table = PairTable.of(recording)
     frames, which, values = _changes(recording, table, det, chunk_frames, progress)
     relations = [table.relation(q) for q in range(table.n_instance_pairs)]
-    raw = keyframes_from_changes(table.instances, relations, frames - det.delay_frames, which, values, times)
+    true_frames = frames - det.delay_frames
+    timing = getattr(det, "change_times_s", None)  # optional: when each change happened, below the frame
+    when = timing(which, true_frames, times) if timing is not None else None
+    raw = keyframes_from_changes(table.instances, relations, true_frames, which, values, times, when)
     if getattr(det, "merges_connected", False):  # connected changes only, anchored by the hands
         find = getattr(det, "agents", None)  # optional: the detector's agents
         agents = frozenset(table.instances[i] for i in find(table.instances)) if find else None

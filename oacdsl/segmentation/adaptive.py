@@ -65,6 +65,7 @@ from oacdsl.segmentation.robust import RobustDetector
 from oacdsl.segmentation.scales import DemoScale, measure, scale_params, scale_settings, tool_reach_m
 from oacdsl.segmentation.shapes import ShapeModel
 from oacdsl.segmentation.stacking import resting_on_top, with_rests
+from oacdsl.segmentation.subframe import change_times_s
 from oacdsl.segmentation.tooluse import agents_of, tool_contacts
 
 __all__ = ["AdaptiveDetector", "AdaptiveSettings", "comotion"]
@@ -99,6 +100,7 @@ class AdaptiveDetector:
         self._combined = np.zeros(0, dtype=bool)
         self._managed = np.zeros(0, dtype=bool)
         self._near_bins: np.ndarray | None = None  # (Q, bins) bool: some frame of the bin within reach
+        self._edges: dict[int, dict[int, float]] = {}  # pair → {frame: threshold crossing, frames}
         self._shapes: dict[str, ShapeModel] | None = None  # contacts from geometry (use_shapes)
         #: instance → how contacts were measured (``shape``, ``hand``, ``markers: why``), after begin()
         self.geometry_report: dict[str, str] | None = None
@@ -156,6 +158,7 @@ class AdaptiveDetector:
         found = comotion(recording, table, self.params, self._run, self.filler,
                          keep_speeds=agents if self._run.hold_still else ())
         learned = found.learned
+        self._edges = {q: dict(e) for q, e in found.edges.items()}
         if self._run.stacked:  # an object at rest on top of another (stacking.py)
             learned = with_rests(learned, resting_on_top(
                 recording, table, found.closest, {q: s for q, (s, _) in learned.items()}, agents,
@@ -233,6 +236,12 @@ class AdaptiveDetector:
         self._event_rows = merged[np.argsort(merged[:, 0], kind="stable")]
         self._managed = np.zeros(n_q, dtype=bool)  # blocks with events: the detector combines their state
         self._managed[list(self._events)] = True
+
+    def change_times_s(self, pairs: np.ndarray, frames: np.ndarray, times_s: np.ndarray) -> np.ndarray:
+        """When each change (instance pair ``pairs[i]`` at true frame ``frames[i]``) happened,
+        seconds: where a co-motion extension's distance crossed its threshold, else the frame's
+        time (:mod:`oacdsl.segmentation.subframe`; after :meth:`begin`)."""
+        return change_times_s(self._edges, pairs, frames, times_s)
 
     def _index_near(self, closest: dict[int, np.ndarray], block_d: np.ndarray,
                     n_frames: int) -> np.ndarray | None:

@@ -22,6 +22,7 @@ from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.poses import RigidFill
 from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.subframe import EdgeTimes, span_edges
 
 __all__ = ["AdaptiveSettings", "CoMotion", "comotion", "frames_within"]
 
@@ -139,11 +140,15 @@ class CoMotion(NamedTuple):
         speeds: instance (table order) → (F,) float64 median marker speed over ``lag_s``, m/s
             (NaN in gaps; frame ``i`` against frame ``i - lag``, the first frames against frame
             0, frame 0 against frame ``lag``; rigid gaps filled), of the instances asked for.
+        edges: instance pair → {frame that begins or ends one of its episodes' extensions: where
+            the closest distance crossed the episode's threshold, in frames}
+            (:mod:`oacdsl.segmentation.subframe`).
     """
 
     learned: dict[int, tuple[list[tuple[int, int]], float]]
     closest: dict[int, np.ndarray]
     speeds: Mapping[int, np.ndarray] = MappingProxyType({})
+    edges: Mapping[int, Mapping[int, float]] = MappingProxyType({})
 
 
 def comotion(
@@ -159,6 +164,7 @@ def comotion(
     min_len = settings.frames(settings.min_episode_s, recording.rate_hz)
     bridge = frames_within(settings.tool_bridge_s, recording.rate_hz)  # a short excursion is no release
     out: dict[int, tuple[list[tuple[int, int]], float]] = {}
+    edges: EdgeTimes = {}
     for q, (dmin, carry) in signals.items():
         spans, thresholds = [], []
         for a, b, median in near_episodes(dmin, find_episodes(carry, min_len, bridge), params.distance_m):
@@ -167,7 +173,9 @@ def comotion(
             thresholds.append(threshold)
         if spans:
             out[q] = (union_spans(spans), float(np.median(thresholds)))
-    return CoMotion(out, {q: dmin for q, (dmin, _) in signals.items()}, speeds)
+            span_edges(dmin, [(a, b, t) for (a, b), t in zip(spans, thresholds, strict=True)],
+                       edges.setdefault(q, {}))
+    return CoMotion(out, {q: dmin for q, (dmin, _) in signals.items()}, speeds, edges)
 
 
 def _scan(

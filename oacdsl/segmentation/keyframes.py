@@ -29,14 +29,18 @@ def keyframes_from_changes(
     which: np.ndarray,
     values: np.ndarray,
     times_s: np.ndarray,
+    change_times_s: np.ndarray | None = None,
 ) -> list[Keyframe]:
     """Keyframes from a list of relation changes.
 
     ``frames`` (K,) are the frames the changes belong to (≤ 0 folds into the initial
     state), ``which`` (K,) indices into ``relations``, ``values`` (K,) the new state
     (True = touching from that frame on). Changes of one relation must be in time order.
+    ``change_times_s`` (K,): when each change happened, seconds (below the frame,
+    :mod:`oacdsl.segmentation.subframe`); a keyframe's ``change_s`` is the earliest of its own.
     """
     order = np.argsort(frames, kind="stable")
+    when = None if change_times_s is None else np.asarray(change_times_s, dtype=np.float64)[order].tolist()
     # Python lists: the loop below reads every change, numpy scalars would cost more than the work
     frame_of = np.asarray(frames)[order].tolist()
     rel_of = [relations[i] for i in np.asarray(which)[order].tolist()]
@@ -53,12 +57,14 @@ def keyframes_from_changes(
     keyframes.append(Keyframe(0, float(times_s[0]), WorldState(inst, last)))
     while k < n_changes:
         frame = frame_of[k]
+        first = k
         while k < n_changes and frame_of[k] == frame:
             _apply(touching, rel_of[k], value_of[k])
             k += 1
         now = frozenset(touching)
         if now != last:  # the state changed (the instances are the same throughout)
-            keyframes.append(Keyframe(frame, float(times_s[frame]), WorldState(inst, now)))
+            change = None if when is None else min(when[first:k])
+            keyframes.append(Keyframe(frame, float(times_s[frame]), WorldState(inst, now), change))
             last = now
     return keyframes
 
@@ -113,7 +119,8 @@ def merge_keyframes(keyframes: Sequence[Keyframe], window_s: float, at_onset: bo
     for group in groups[1:]:
         last = group[-1]
         if last.state != kept[-1].state:
-            kept.append(Keyframe(group[0].frame, group[0].time_s, last.state) if at_onset else last)
+            kept.append(Keyframe(group[0].frame, group[0].time_s, last.state, group[0].change_s)
+                        if at_onset else last)
     return kept
 
 
@@ -160,7 +167,7 @@ def _merge_connected(keyframes: Sequence[Keyframe], window_s: float, at_onset: b
         group.names |= names
         group.last_s = t
     start = keyframes[0]
-    anchored: list[tuple[int, float, dict[Relation, bool]]] = []
+    anchored: list[tuple[int, float, dict[Relation, bool], float | None]] = []
     for g in groups:
         if not g.members:
             continue
@@ -175,18 +182,19 @@ def _merge_connected(keyframes: Sequence[Keyframe], window_s: float, at_onset: b
             anchor = keyframes[by_agent[0]] if by_agent else keyframes[members[-1]]
         if keyframes[members[0]].time_s - start.time_s < window_s - TIME_EPS_S:
             anchor = start  # early flicker folds into the initial state
-        anchored.append((anchor.frame, anchor.time_s, final))
+        anchored.append((anchor.frame, anchor.time_s, final, anchor.change_s))
     anchored.sort(key=lambda c: c[0])
     touching = set(states[0].relations)
     out: list[Keyframe] = []
-    for frame, time_s, final in [(start.frame, start.time_s, {})] + anchored:
+    for frame, time_s, final, change in [(start.frame, start.time_s, {}, start.change_s), *anchored]:
         for rel, value in final.items():
             _apply(touching, rel, value)
         state = WorldState(states[0].instances, frozenset(touching))
         if out and out[-1].frame == frame:
-            out[-1] = Keyframe(frame, time_s, state)
+            both = [c for c in (out[-1].change_s, change) if c is not None]
+            out[-1] = Keyframe(frame, time_s, state, min(both) if both else None)
             if len(out) > 1 and out[-2].state == state:
                 out.pop()
         elif not out or state != out[-1].state:
-            out.append(Keyframe(frame, time_s, state))
+            out.append(Keyframe(frame, time_s, state, change))
     return out

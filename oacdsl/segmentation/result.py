@@ -12,12 +12,22 @@ from oacdsl.world import WorldState
 class Keyframe:
     """A frame where the world state changed (frame 0: the initial state).
 
-    ``frame`` counts from 0 at the file's first frame; ``time_s`` is seconds.
+    ``frame`` counts from 0 at the file's first frame; ``time_s`` is seconds. ``change_s``: when
+    the change it stands for happened, seconds, between the frame before and this one, where the
+    detector can tell (a contact's distance crossing its threshold,
+    :mod:`oacdsl.segmentation.subframe`); ``None``: at ``time_s``. Not part of the keyframe's
+    identity (equality): the keyframe is the frame's world state.
     """
 
     frame: int
     time_s: float
     state: WorldState
+    change_s: float | None = field(default=None, compare=False)
+
+    @property
+    def event_s(self) -> float:
+        """When the change happened, seconds: ``change_s``, else the frame's time."""
+        return self.time_s if self.change_s is None else self.change_s
 
 
 @dataclass(frozen=True)
@@ -65,6 +75,7 @@ class Segmentation:
                 {
                     "frame": int(k.frame),
                     "time_s": float(k.time_s),
+                    **({} if k.change_s is None else {"change_s": round(float(k.change_s), 6)}),
                     "relations": [list(r) for r in k.state.sorted_relations()],
                 }
                 for k in self.keyframes
