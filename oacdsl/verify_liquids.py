@@ -55,5 +55,5 @@ def without_shared_container(
         state = WorldState(s.instances, s.relations - drop) if drop else s
         if kept and kept[-1].state == state:
             continue
-        kept.append(Keyframe(k.frame, k.time_s, state))
+        kept.append(replace(k, state=state))
     return replace(seg, keyframes=tuple(kept))

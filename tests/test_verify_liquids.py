@@ -65,3 +65,12 @@ def test_a_tool_touching_the_liquid_outside_its_container_is_a_change():
 def test_no_liquids_nothing_changes():
     s = seg(state(*MIXING), state(*MIXING, ("liquid_two", "mixer")))
     assert without_shared_container(s, set(), CONTAINERS, is_agent) is s
+
+
+def test_a_kept_keyframe_keeps_when_its_change_happened():
+    before = state(("liquid_two", "orange_bowl"), ("mixer", "right_hand"))
+    s = seg(before, state(*MIXING, ("liquid_two", "mixer")))
+    timed = Segmentation(s.recording, s.rate_hz, s.frames, s.instances,
+                         (s.keyframes[0], Keyframe(100, 1.0, s.keyframes[1].state, change_s=0.996)))
+    out = without_shared_container(timed, LIQUIDS, CONTAINERS, is_agent)
+    assert out.keyframes[1].change_s == 0.996 and out.keyframes[1].state == state(*MIXING)
