@@ -301,7 +301,7 @@ class Motion:
         top_power = grasp is not None and grasp.approach == "top" and grasp.type == "power"
         pinch = grasp is not None and grasp.type == "pinch"
         shape = TOP_PRESHAPE if top_power else self._open_shape(pinch)
-        part = clear_opening(ctx.world, self.side, obj, shape, self.tuning)  # beside a neighbour
+        part = clear_opening(ctx.world, self.side, obj, shape, self.tuning, ctx.ctl.fingers[self.side])
         ctx.ctl.set_fingers(self.side, shape if part is None else part)
         self._reopen = None if part is None else shape
         ctx.ctl.wait(self.tuning.open_s)

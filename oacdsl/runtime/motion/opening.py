@@ -34,20 +34,26 @@ def hand_room(world: SimWorld, side: str, fingers: Mapping[str, float], ignore: 
 
 
 def clear_opening(
-    world: SimWorld, side: str, obj: str, shape: Mapping[str, float], tuning: Tuning = TUNING
+    world: SimWorld, side: str, obj: str, shape: Mapping[str, float], tuning: Tuning = TUNING,
+    commanded: Mapping[str, float] | None = None,
 ) -> dict[str, float] | None:
     """The fingers of hand ``side`` letting go of ``obj``, opened towards ``shape`` only by the
-    largest of the tuning's ``open_shares`` that keeps ``arm_room_m`` from the objects other
+    largest of the tuning's ``release_open_share`` that keeps ``arm_room_m`` from the objects other
     than ``obj`` and the table, or as much room as the hand has now if that is less (share 0:
     the fingers only stop squeezing; a side grasp of a cup, barely curled round it, withdraws
-    off it as it is); None when opening fully keeps ``arm_room_m`` or no share keeps enough."""
-    ignore = {obj, world.layout.table}
+    off it as it is); None when opening fully keeps ``arm_room_m`` or no share keeps enough.
+    What ``obj`` stands on is no neighbour (the hand set it down there). The shares are taken
+    from the fingers' ``commanded`` targets where given (measured, a thumb pressed on the
+    object may be past its limit, and the IK, given that, finds no solution), else from
+    where they are."""
+    ignore = {obj, world.layout.table} | set(world.relations().partners(obj))
     if hand_room(world, side, shape, ignore) >= tuning.arm_room_m:
         return None
     q = world.joint_positions()
     now = {j: float(q[name]) for j, name in finger_joint_names(side).items()}
+    now.update(commanded or {})
     keep = min(tuning.arm_room_m, hand_room(world, side, now, ignore))
-    for share in tuning.open_shares:
+    for share in tuning.release_open_share:
         part = {j: now.get(j, v) + share * (v - now.get(j, v)) for j, v in shape.items()}
         if hand_room(world, side, part, ignore) >= keep:
             return part

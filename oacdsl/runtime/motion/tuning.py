@@ -238,7 +238,7 @@ class Tuning:
     open_drop_m: float = 0.02
     #: shares of the way to the open hand a hand letting go opens when opening fully would bring
     #: it nearer than ``arm_room_m`` to a neighbour (largest first; it opens fully once withdrawn)
-    open_shares: tuple[float, ...] = (0.75, 0.5, 0.25, 0.0)
+    release_open_share: tuple[float, ...] = (0.75, 0.5, 0.25, 0.0)
     #: how far an open hand backs off along its grasp's approach, m, and rises meanwhile, m
     withdraw_back_m: float = 0.12
     withdraw_rise_m: float = 0.03
