@@ -25,6 +25,7 @@ is reproduced on ARMAR-III (``oacc reproduce TAKE --library library/kit --librar
 library/examples --seed N``, the task's layout of ``_task_demos.LAYOUT``), one run at a time;
 V (verified and faithful), v (verified), x (not) per seed, the failed checks on stderr. A
 mirrored take is judged with the hands free to be exchanged (``oacc verify --any-hands``).
+``--layout scene`` or ``--layout demonstrated``: every task laid out so instead.
 """
 
 from __future__ import annotations
@@ -87,8 +88,11 @@ def compose_takes(task: str, take_names: list[str], capture: demos.Capture, fold
     return clean, captured, cells
 
 
-def robot_run(task: str, take: str, capture: demos.Capture, seed: int, folder: Path) -> tuple[str, str]:
-    """(V/v/x, why not V) of one ``oacc reproduce`` of a take of ``task``'s demonstration."""
+def robot_run(task: str, take: str, capture: demos.Capture, seed: int, folder: Path,
+              layout: str = "task") -> tuple[str, str]:
+    """(V/v/x, why not V) of one ``oacc reproduce`` of a take of ``task``'s demonstration;
+    ``layout``: the task's (:data:`_task_demos.LAYOUT`), ``scene`` (the example scene's
+    places) or ``demonstrated`` (the take's first frame, ``--layout demonstrated``)."""
     from kit_takes_robot import any_hands_verdict
 
     from oacdsl.pipeline import load_inputs, reproduce
@@ -106,7 +110,7 @@ def robot_run(task: str, take: str, capture: demos.Capture, seed: int, folder: P
     inputs = load_inputs(path, libs, None, AasParams())
     outcome = reproduce(inputs, name=f"{task.lower()}_{take}", out=out, db=None, seed=seed or None,
                         render=False, quiet=True, force=True,
-                        overrides=SceneOverrides(layout=demos.LAYOUT[task]))
+                        overrides=SceneOverrides(layout=_layout(task, layout)))
     verdict = outcome.result["verdict"]
     mark = "x" if not verdict.get("success") else "V" if verdict.get("faithful", True) else "v"
     why = f"{', '.join(verdict.get('failed_checks', []))} | {verdict.get('summary', '')}"
@@ -114,6 +118,11 @@ def robot_run(task: str, take: str, capture: demos.Capture, seed: int, folder: P
         mark, failed = any_hands_verdict(path, libs, out)
         why = f"{failed} | any hands" if failed else "any hands"
     return mark, why
+
+
+def _layout(task: str, layout: str) -> str | None:
+    """The ``--layout`` a run uses: None for the scene's own places."""
+    return demos.LAYOUT[task] if layout == "task" else "demonstrated" if layout == "demonstrated" else None
 
 
 def _cell(c: bench.Outcome) -> str:
@@ -173,7 +182,7 @@ def robot_main(args: argparse.Namespace, tasks: list[str], take_names: list[str]
             for take in take_names:
                 marks = []
                 for seed in seeds:
-                    mark, why = robot_run(task, take, capture, seed, folder)
+                    mark, why = robot_run(task, take, capture, seed, folder, args.layout)
                     marks.append(mark)
                     if mark != "V":
                         print(f"  {task} {take} seed {seed}: {why[:400]}", file=sys.stderr, flush=True)
@@ -206,6 +215,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--robot", action="store_true", help="reproduce the takes on the robot instead")
     parser.add_argument("--seeds", default="0,1", help="with --robot: seeds (0 = the scene's own places)")
     parser.add_argument("--keep", metavar="DIR", help="with --robot: keep each run's folder in DIR")
+    parser.add_argument("--layout", choices=("task", "scene", "demonstrated"), default="task",
+                        help="with --robot: the task's layout (default: _task_demos.LAYOUT), the example"
+                             " scene's places, or the take's first frame (--layout demonstrated)")
     args = parser.parse_args(argv)
     tasks = args.task or list(demos.TASKS)
     if args.robot:

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
+from asp_matcher import AspTimes, asp_matches
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from oacdsl.matching import Matcher
-from oacdsl.matching.asp import AspTimes, asp_matches
 from tests.kitchen import DOUGH_STATES, KITCHEN, kitchen_library
 from tests.random_cases import cases, states
 

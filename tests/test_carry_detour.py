@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from oacdsl.runtime.motion import TUNING
-from oacdsl.runtime.motion.detour import _way_gap, gap, out_from_under
+from oacdsl.runtime.motion.detour import gap, out_from_under, way_gap
 
 
 def _box(lo: tuple[float, float, float], hi: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray]:
@@ -45,7 +45,7 @@ def test_a_carry_that_would_pass_under_what_the_other_hand_holds_goes_round_it_f
     straight = [(goal, 1.0)]
     start_gap = gap(MOVING, KNIFE, np.zeros(3))
     assert 0 < start_gap < TUNING.over_m
-    assert _way_gap(MOVING, KNIFE, now[:3, 3], [now[:3, 3], goal[:3, 3]]) < 0  # under the knife
+    assert way_gap(MOVING, KNIFE, now[:3, 3], [now[:3, 3], goal[:3, 3]]) < 0  # under the knife
     way = out_from_under(MOVING, KNIFE, now, straight, _straight(goal))
     assert len(way) == 2 and np.allclose(way[-1][0], goal)
     out = way[0][0][:3, 3]
@@ -53,7 +53,7 @@ def test_a_carry_that_would_pass_under_what_the_other_hand_holds_goes_round_it_f
     assert min(abs(float(np.linalg.norm(out[:2])) - d) for d in TUNING.detour_steps_m) < 1e-9
     assert out[1] > 0  # round the knife's side towards the goal, not back under the other hand
     points = [now[:3, 3], out, goal[:3, 3]]
-    assert _way_gap(MOVING, KNIFE, now[:3, 3], points) >= start_gap - 1e-9
+    assert way_gap(MOVING, KNIFE, now[:3, 3], points) >= start_gap - 1e-9
     assert way[0][1] >= TUNING.settle_s
 
 

@@ -46,3 +46,54 @@ def test_a_lid_on_its_bottle_stands_on_it_by_the_shapes_not_by_the_marker_means(
     assert plan_layout(library, scene, demonstrated=by_markers).placement("lid").on is None
     stacked = plan_layout(library, scene, demonstrated=by_shapes)
     assert stacked.placement("lid").on == "bottle"
+
+
+KNIFE_LIBRARY = """
+class Hand { shape hand }
+class Table { shape table }
+class Board {
+    shape box(length 40cm, width 20cm, height 1.5cm)
+    markers (19cm, 9cm, 4cm), (-19cm, -9cm, 3.5cm), (-19cm, 9cm, 4.5cm), (5cm, -10cm, 3cm)
+}
+class Knife {
+    shape box(length 25cm, width 2.5cm, height 1.5cm)
+    markers (-10cm, 0, 1cm), (-6cm, 0, 1.2cm), (-8cm, 1.2cm, 8mm), (4cm, -1cm, 1cm)
+}
+scene cutting {
+    board : Board
+    knife : Knife
+    left_hand, right_hand : Hand
+    table : Table environment
+    layout demonstrated
+}
+"""
+
+
+def test_a_knife_lying_on_a_board_stands_on_it_by_the_shapes_not_by_the_marker_means(tmp_path):
+    """The board's markers on 2-3 cm stalks stand higher than a flat knife's, whose markers sit
+    on its blade: by marker means the knife is below the board's middle (beside it), by the
+    posed bases it lies on the board's top."""
+    from _geom_scenes import TABLE_Z, finish, hand, rigid
+
+    from oacdsl.segmentation.shapes import scene_shapes
+
+    oac = tmp_path / "cutting.oac"
+    oac.write_text(KNIFE_LIBRARY, encoding="utf-8")
+    library = load_library([oac])
+    scene = library.scenes["cutting"]
+    shapes = scene_shapes(library, scene)
+    frames = 40
+    board0 = np.tile([0.5, 0.0, TABLE_Z], (frames, 1))
+    knife0 = np.tile([0.52, 0.03, TABLE_Z + 0.015], (frames, 1))
+    rec = finish({
+        "board": rigid(shapes["board"], board0),
+        "knife": rigid(shapes["knife"], knife0, np.full(frames, 0.4)),
+        "right_hand": hand(np.tile([0.5, -0.4, 1.05], (frames, 1)), (0, 0, 1), (1, 0, 0)),
+        "left_hand": hand(np.tile([0.5, 0.4, 1.05], (frames, 1)), (0, 0, 1), (1, 0, 0)),
+    })
+    by_markers = demonstrated_positions(rec, scene)
+    by_shapes = demonstrated_positions(rec, scene, library)
+    assert by_markers["knife"][2] < by_markers["board"][2]  # its markers lower than the board's
+    assert by_shapes["knife"][2] - by_shapes["board"][2] == pytest.approx(0.015, abs=0.002)
+    assert plan_layout(library, scene, demonstrated=by_markers).placement("knife").on is None
+    assert plan_layout(library, scene, demonstrated=by_shapes).placement("knife").on == "board"

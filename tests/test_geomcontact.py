@@ -4,9 +4,12 @@ import json
 
 import numpy as np
 import pytest
-from _aas_helpers import recording
+from _aas_helpers import path, recording
 from _geom_scenes import (
+    TABLE_Z,
     bottle_and_lid,
+    finish,
+    hand,
     knife_on_board,
     model,
     peeler_and_cucumber,
@@ -257,3 +260,34 @@ def test_mining_segments_with_the_scene_shapes_as_match_does(tmp_path):
     assert changes["geometry"] == ["+ knife <-> right_hand", "- board <-> knife", "+ board <-> knife",
                                    "- knife <-> right_hand"]
     assert changes["markers"] != changes["geometry"]
+
+
+def test_a_hand_carrying_an_object_beyond_its_volume_holds_it():
+    """A hand whose markers ride 4.5 cm above a block it carries (fingers around the block, not
+    modelled): the hand's volume stays beyond the pair's tolerance, yet the two move together, so
+    geometry keeps the carry as a contact; before the hand arrives and after it leaves, none."""
+    f = 500
+    block = model([("box", (0.06, 0.06, 0.06), (0, 0, 0))],
+                  [(0.03, 0, 0.05), (-0.03, 0, 0.04), (0, 0.03, 0.055), (0, -0.03, 0.02)])
+    start, end = (0.5, 0.0, TABLE_Z), (0.5, 0.25, TABLE_Z)
+    b = path(f, [(150, start), (200, (0.5, 0.05, TABLE_Z + 0.1)), (300, (0.5, 0.2, TABLE_Z + 0.1)),
+                 (350, end)])
+    above = np.array([0.0, 0.0, 0.085])  # the palm 2.5 cm above the block's top, its markers 2 cm higher
+    away = (0.5, -0.35, 1.1)
+    right = path(f, [(50, away), (140, tuple(start + above)), (360, tuple(end + above)), (450, away)])
+    right = np.where((np.arange(f)[:, None] >= 140) & (np.arange(f)[:, None] < 360), b + above, right)
+    rec = finish({
+        "block": rigid(block, b),
+        "right_hand": hand(right, (0, 0, 1), (1, 0, 0)),
+        "left_hand": hand(np.tile([0.5, 0.5, 1.0], (f, 1)), (0, 0, 1), (1, 0, 0)),
+    })
+    shapes = {"block": block}
+    posed, _ = pose_shape(rec, "block", shapes["block"])
+    gaps = surface_gaps(hand_volume(rec, "right_hand"), posed, within_m=1.0)
+    assert np.nanmin(gaps) > 0.015  # never within a hand's tolerance (a few mm)
+    markers, geometry = both(rec, shapes)
+    pair = ("block", "right_hand")
+    assert ever(markers, pair) and ever(geometry, pair)
+    held = [k.frame for k in geometry.keyframes if pair in set(k.state.sorted_relations())]
+    assert 120 <= held[0] <= 200
+    assert relations(geometry)[0] == set() and relations(geometry)[-1] == set()

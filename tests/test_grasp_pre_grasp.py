@@ -13,7 +13,7 @@ pytest.importorskip("mujoco", reason="the runtime's modules import mujoco")
 from oacdsl.runtime.grasping import PRE_GRASP_M, GraspPlan  # noqa: E402
 from oacdsl.runtime.motion.paths import segment_distance  # noqa: E402
 from oacdsl.runtime.motion.tuning import TUNING  # noqa: E402
-from oacdsl.runtime.skills.grasp import HAND_HALF_WIDTH_M, clear_pre_grasp  # noqa: E402
+from oacdsl.runtime.skills.grasp_choice import HAND_HALF_WIDTH_M, clear_pre_grasp  # noqa: E402
 from oacdsl.runtime.transforms import make_T  # noqa: E402
 
 

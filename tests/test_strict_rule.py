@@ -63,7 +63,7 @@ def test_an_effect_that_held_before_is_accepted_when_its_instances_change(librar
 
 def test_the_clingo_reference_agrees(library):
     pytest.importorskip("clingo")
-    from oacdsl.matching.asp import asp_matches
+    from asp_matcher import asp_matches
 
     matcher = Matcher.from_library(library, library.scenes["stacking"])
     pairs = [ONTO_CRATE]

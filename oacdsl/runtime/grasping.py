@@ -24,7 +24,8 @@ front of the palm) on that point, and orients the hand:
 Rotationally symmetric objects (every solid round and on the z axis, e.g. a cup, a bowl,
 a stick mixer: :attr:`~oacdsl.runtime.bodies.Body.round`) have no preferred azimuth:
 the offset is turned about the object's vertical axis to face the hand's approach,
-keeping its radius and height. A few variants (the side approach turned by ±30°/±60°,
+keeping its radius and height; a side grasp of any object at a point on its vertical axis
+(a standing tool's handle) likewise. A few variants (the side approach turned by ±30°/±60°,
 top grasps along other headings or tilted by 25°) are offered in order of preference;
 the skill takes the first the whole-body IK reaches. The approach stops early when
 the hand touches the object (guarded move), so an offset a few centimetres off still works.
@@ -48,6 +49,7 @@ __all__ = [
     "hand_rotation_for",
     "RIM_GAP_H",
     "HAND_BELOW_CENTRE_M",
+    "ON_AXIS_M",
 ]
 
 APPROACHES = ("side", "top", "front")
@@ -57,6 +59,8 @@ PRE_GRASP_M = 0.20
 OVERSHOOT_M = 0.06
 #: How far the sideways hand reaches below its grasp centre (the little finger's edge), metres.
 HAND_BELOW_CENTRE_M = 0.064
+#: A grasp point this near the object's vertical axis is on it (any side approach reaches it), m.
+ON_AXIS_M = 0.005
 #: Free space kept between a sideways hand and its object's support, m: more than the closed
 #: loop's 15 mm (``pipeline.markers.ROBOT_DISTANCE_M``): a hand holding an object on a board
 #: is not seen touching the board (issue 11, KIT Cut).
@@ -163,7 +167,9 @@ def plan_grasps(
         plans = _handle_plans(offset, r_obj, p_obj, fwd, side)
     elif grasp.approach == "side":
         base = np.cross(up, fwd) if side == "r" else -np.cross(up, fwd)  # the right hand comes from the right
-        turns = (0.0, -30.0, 30.0, -60.0, 60.0) if symmetric else (0.0,)
+        # a grasp point on the object's vertical axis (a standing tool's handle) is the same
+        # point from any side: like a round object's, it may be taken turned
+        turns = (0.0, -30.0, 30.0, -60.0, 60.0) if symmetric or radius < ON_AXIS_M else (0.0,)
         for deg in turns:
             d = rot_axis(up, np.radians(deg if side == "r" else -deg)) @ base
             point = p_obj + (np.array([0.0, 0.0, offset[2]]) - radius * d if symmetric else r_obj @ offset)

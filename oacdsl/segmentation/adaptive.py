@@ -215,7 +215,9 @@ class AdaptiveDetector:
             geo = geometric_contacts(recording, table, self._shapes, agents, self.params.n,
                                      self._run.tool_bridge_s)
             self.geometry_report = geo.report
-            added, removed = decided_by_geometry(geo, added, removed, recording.n_frames)
+            with_hand = np.isin(table.instance_pairs, agents).sum(axis=1) == 1
+            carried = {q: spans for q, (spans, _) in learned.items() if with_hand[q]}
+            added, removed = decided_by_geometry(geo, added, removed, recording.n_frames, carried)
         sources = [(1, {q: spans for q, (spans, _) in learned.items()}), (2, added), (3, removed)]
         for kind, per_pair in sources:
             for q, spans in per_pair.items():

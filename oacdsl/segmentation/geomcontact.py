@@ -20,7 +20,10 @@ keeps the state before it. A hand that comes to an object and stays there holds 
 still. A hand already within the tolerance of an object at the first frame may only rest beside
 it (a demonstrator's hands rest by the objects before the task starts, and a modelled shape is
 not the object): geometry cannot tell that from a hold, so that first run is left to the markers
-(``GeometryContacts.undecided``).
+(``GeometryContacts.undecided``). A hand that carries an object (the adaptive detector's
+co-motion episodes of the pair: they move together) holds it whatever the gap: a hand's volume
+is a model of the hand under the markers on its back, not of the fingers around the object,
+which may close 1-2 cm beyond it (``carried`` of :func:`decided_by_geometry`).
 
 Pairs measured this way are decided by geometry alone (:class:`AdaptiveDetector
 <oacdsl.segmentation.adaptive.AdaptiveDetector>` overrides its marker rules for them; its
@@ -161,14 +164,18 @@ def complement_spans(spans: Spans, n_frames: int) -> Spans:
 
 
 def decided_by_geometry(geo: GeometryContacts, added: Mapping[int, Spans], removed: Mapping[int, Spans],
-                        n_frames: int) -> tuple[dict[int, Spans], dict[int, Spans]]:
+                        n_frames: int, carried: Mapping[int, Spans] | None = None
+                        ) -> tuple[dict[int, Spans], dict[int, Spans]]:
     """The adaptive detector's contacts ``added`` and ``removed`` (instance pair → intervals) with
     every pair of ``geo`` decided by geometry: added where it touches, removed elsewhere but where
-    it leaves the pair to the markers (a removal the detector had, the cross-hand rule's, stays)."""
+    it leaves the pair to the markers (a removal the detector had, the cross-hand rule's, stays)
+    and where a hand carries the object (``carried``: hand–object pair → its co-motion episodes,
+    which the detector's episodes keep as contacts; module doc)."""
     new_added, new_removed = dict(added), dict(removed)
     for q, spans in geo.spans.items():
         undecided = geo.undecided.get(q, [])
         new_added[q] = union_spans([*added.get(q, []), *spans]) if undecided else list(spans)
-        outside = complement_spans(union_spans([*spans, *undecided]), n_frames)
+        kept = (carried or {}).get(q, [])
+        outside = complement_spans(union_spans([*spans, *undecided, *kept]), n_frames)
         new_removed[q] = union_spans([*removed.get(q, []), *outside])
     return new_added, new_removed

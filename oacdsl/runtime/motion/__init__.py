@@ -3,6 +3,8 @@ the other, defaults in one tuning record, and the controller's one control loop.
 
 - :mod:`~oacdsl.runtime.motion.tuning`: :class:`Tuning`, the defaults (SI units).
 - :mod:`~oacdsl.runtime.motion.paths`: collision-free ways over the objects on the table.
+- :mod:`~oacdsl.runtime.motion.approach`: a grasp's approach keeps clear of the other hand and
+  of what it holds.
 - :mod:`~oacdsl.runtime.motion.timing`: how many waypoints a repeated path (circles) is cut into.
 - :mod:`~oacdsl.runtime.motion.hand`: :class:`Motion` (carry, guarded approach, press, slide,
   rise, hold still, release, withdraw) and :class:`OtherHand` (idle, steady, follow).

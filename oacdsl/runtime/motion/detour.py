@@ -26,7 +26,7 @@ from oacdsl.runtime.shapes import hand_corners, world_corners
 if TYPE_CHECKING:
     from oacdsl.runtime.simworld import SimWorld
 
-__all__ = ["Box", "Way", "boxes", "gap", "detour", "out_from_under"]
+__all__ = ["Box", "Way", "boxes", "gap", "way_gap", "detour", "out_from_under"]
 
 #: (lowest corner, highest corner) of an axis-aligned box in the world, m
 Box = tuple[np.ndarray, np.ndarray]
@@ -61,7 +61,7 @@ def gap(moving: Sequence[Box], still: Sequence[Box], offset_m: np.ndarray) -> fl
     return best
 
 
-def _way_gap(moving: Sequence[Box], still: Sequence[Box], start: np.ndarray,
+def way_gap(moving: Sequence[Box], still: Sequence[Box], start: np.ndarray,
              points: Sequence[np.ndarray]) -> float:
     """The smallest gap along the straight pieces through ``points`` (hand positions, world),
     the boxes ``moving`` being where they are with the hand at ``start``."""
@@ -98,7 +98,7 @@ def out_from_under(moving: Sequence[Box], still: Sequence[Box], now: np.ndarray,
     (the way from there on) keeps that, the shortest in all; ``way`` when none does."""
     start = now[:3, 3]
     need = min(tuning.over_m, gap(moving, still, np.zeros(3)))
-    if _way_gap(moving, still, start, [start] + [p[:3, 3] for p, _ in way]) >= need:
+    if way_gap(moving, still, start, [start] + [p[:3, 3] for p, _ in way]) >= need:
         return way
     best: tuple[float, Way] | None = None
     for k in range(_DIRECTIONS):
@@ -108,7 +108,7 @@ def out_from_under(moving: Sequence[Box], still: Sequence[Box], now: np.ndarray,
             out[:2, 3] += d * np.array([math.cos(a), math.sin(a)])
             then = rest(out)
             points = [start, out[:3, 3]] + [p[:3, 3] for p, _ in then]
-            if _way_gap(moving, still, start, points) < need:
+            if way_gap(moving, still, start, points) < need:
                 continue
             length = sum(float(np.linalg.norm(q - p)) for p, q in zip(points, points[1:], strict=False))
             if best is None or length < best[0]:

@@ -15,12 +15,19 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.model import Grasp
-from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M, GraspPlan, plan_grasps
-from oacdsl.runtime.handgap import hands_gap
-from oacdsl.runtime.hands import CLOSED, OPEN, PINCH_CLOSED, SQUEEZE_RAD, TOP_PRESHAPE, finger_joint_names
-from oacdsl.runtime.motion.tuning import TUNING
+from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M, GraspPlan
+from oacdsl.runtime.hands import CLOSED, PINCH_CLOSED, SQUEEZE_RAD, TOP_PRESHAPE, finger_joint_names
+from oacdsl.runtime.motion.approach import other_side_boxes, over_other_side
+from oacdsl.runtime.motion.detour import boxes
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.skills.base import Pick, SkillContext, cm, fmt_xyz
+from oacdsl.runtime.skills.grasp_choice import (
+    HANDS_APART_M,
+    clear_pre_grasp,
+    grasp_candidates,
+    handover_candidates,
+    preshape,
+)
 from oacdsl.runtime.transforms import make_T
 
 __all__ = [
@@ -44,12 +51,6 @@ GRASP_POSE_TOLERANCE_M = 0.07
 #: Height an object is lifted after grasping, m.
 LIFT_M = 0.10
 APPROACH_SPEED_M_S = 0.15
-#: Half the hand's width across the fingers, plus a margin: the free corridor an approach needs, m.
-HAND_HALF_WIDTH_M = 0.07
-#: Room kept between two hands that grasp at once, m: the smallest distance between their
-#: collision boxes (palm, fingers, the thumb held out) at the two grasp poses
-#: (:func:`~oacdsl.runtime.handgap.hands_gap`), for the IK's tracking error and the approach.
-HANDS_APART_M = 0.03
 #: How far a hand that came down onto an object is raised again before it closes, m.
 EASE_OFF_M = 0.004
 
@@ -93,81 +94,6 @@ class GraspMotion:
         )
 
 
-def grasp_candidates(ctx: SkillContext, hand: str, obj: str, shared: bool = False) -> list[GraspPlan]:
-    """The grasps of ``obj`` by ``hand`` its declaration allows, most natural first, those
-    whose approach corridor is free of other objects before the others.
-
-    ``shared``: both hands take the object (a rolling pin). One that is not round is then
-    taken at its declared grasp point or at that point mirrored through its axis (offset
-    ``(-x, -y, z)``), whichever lies on the hand's own side of the object."""
-    side = ctx.side(hand)
-    t_obj = ctx.world.body_pose(obj)
-    support = ctx.support_height(t_obj[:2, 3], exclude=obj, below=float(t_obj[2, 3]) + 0.01)
-    if ctx.other_holder(side, obj) is not None:
-        # held up by the other hand (a hand-over): taken as high above its base as if it stood
-        # there, so that this hand sets it down later before its own lower edge meets the
-        # support (a cup taken 6 cm above its base: the palm met the table first, 60 N)
-        support = max(support, float(t_obj[2, 3]))
-    top = float(t_obj[2, 3] + t_obj[2, 2] * ctx.body(obj).height)  # upright: its base + height, m
-    grasp = ctx.grasp_for(obj)
-    plans = plan_grasps(grasp, ctx.body(obj).round, t_obj, side, support_z=support, top_z=top)
-    if shared and not ctx.body(obj).round:
-        x, y, z = grasp.offset
-        mirrored = grasp.model_copy(update={"offset": (-x, -y, z)})
-        plans += plan_grasps(mirrored, False, t_obj, side, support_z=support, top_z=top)
-        left = ctx.world.frame_pose("grasp_l")[:3, 3] - ctx.world.frame_pose("grasp_r")[:3, 3]
-        own = left if side == "l" else -left
-        plans = [p for p in plans if float((p.grasp[:3, 3] - t_obj[:3, 3]) @ own) > 0] or plans
-    def free(p: GraspPlan) -> bool:
-        return ctx.clearance(p.pre_grasp[:3, 3], p.grasp[:3, 3], {obj}) >= HAND_HALF_WIDTH_M
-
-    # the planned approaches whose corridor is free first; then those made free by a shorter
-    # approach (clear_pre_grasp: a left hand pouring a cup across its body, taken so, reached
-    # it past the bowl, 111 N, where a planned free approach was there); then the others
-    clear = [p for p in plans if free(p)]
-    moved = [clear_pre_grasp(ctx, p, obj) for p in plans if not free(p)]
-    return clear + [p for p in moved if free(p)] + [p for p in moved if not free(p)]
-
-
-def clear_pre_grasp(ctx: SkillContext, plan: GraspPlan, obj: str) -> GraspPlan:
-    """``plan`` with its pre-grasp moved in along the approach, by ``TUNING.pre_grasp_step_m`` at a
-    time down to ``TUNING.pre_grasp_min_m`` from the grasp, until the hand there keeps
-    :data:`HAND_HALF_WIDTH_M` from every other object's footprint: the hand comes down to its
-    pre-grasp from above, and one that starts a side approach over a neighbour came down on it
-    (a left hand taking a block past a crate: 83 N). Unchanged when it is clear already, when
-    the approach is from above, or when no shorter approach is clear."""
-    d = plan.approach
-    if abs(float(d[2])) > float(np.hypot(d[0], d[1])):  # from above: the pre-grasp is over the grasp
-        return plan
-    point = plan.grasp[:3, 3]
-    length = float(np.linalg.norm(plan.pre_grasp[:3, 3] - point))
-    while length >= TUNING.pre_grasp_min_m:
-        pre = point - length * d
-        if ctx.clearance(pre, pre, {obj}) >= HAND_HALF_WIDTH_M:
-            if np.allclose(pre, plan.pre_grasp[:3, 3]):
-                return plan
-            return GraspPlan(plan.grasp, make_T(plan.grasp[:3, :3], pre), d, plan.end)
-        length -= TUNING.pre_grasp_step_m
-    return plan
-
-
-def handover_candidates(ctx: SkillContext, hand: str, obj: str) -> list[GraspPlan]:
-    """The grasps of ``obj`` by ``hand`` while the other hand holds it: its declared grasps and,
-    for an object that is not round, the declared point mirrored through its axis; those that
-    leave room for the other hand where it holds the object (its hand boxes, as they are,
-    :data:`~oacdsl.runtime.skills.bimanual.HANDS_APART_M` apart) come first, the grasp point
-    the other hand occupies last (taking it there pressed both hands together: 69 N)."""
-
-    side = ctx.side(hand)
-    other = "l" if side == "r" else "r"
-    plans = grasp_candidates(ctx, hand, obj, shared=True)
-    held = (other, ctx.world.frame_pose(f"grasp_{other}"), ctx.ctl.fingers[other])
-    room = [hands_gap((side, p.grasp, preshape(ctx, obj)), held) >= HANDS_APART_M for p in plans]
-    return [p for p, ok in zip(plans, room, strict=True) if ok] + [
-        p for p, ok in zip(plans, room, strict=True) if not ok
-    ]
-
-
 def plan_grasp(ctx: SkillContext, hand: str, obj: str, plan: GraspPlan | None = None) -> GraspMotion:
     """Plan how ``hand`` grasps ``obj``: by ``plan``, else by the first of
     :func:`grasp_candidates` the whole-body IK reaches (raises when the hand holds
@@ -190,6 +116,12 @@ def plan_grasp(ctx: SkillContext, hand: str, obj: str, plan: GraspPlan | None = 
     if current[2, 3] > via[2, 3]:
         via[2, 3] = 0.5 * (via[2, 3] + current[2, 3])
     via[2, 3] = max(via[2, 3], over)
+    # over the other hand and what it holds too, when the way would meet them (motion/approach.py)
+    high = over_other_side(boxes(world, side), other_side_boxes(world, side, {obj}), current[:3, 3],
+                           [via[:3, 3], plan.pre_grasp[:3, 3]])
+    if high is not None:
+        over = max(over, high)
+        via[2, 3] = max(via[2, 3], high)
     up = current.copy()
     up[2, 3] = max(over, current[2, 3])  # climb first, then cross over the obstacles
     travel = float(np.linalg.norm(plan.end[:3, 3] - plan.pre_grasp[:3, 3]))
@@ -284,8 +216,3 @@ def reach_and_grasp(ctx: SkillContext, hand: str, obj: str, *, lift: float = LIF
         return
     ctl.activity = f"lifting {obj}"
     ctl.move(side, lifted(ctx, side, lift), 1.0)
-
-
-def preshape(ctx: SkillContext, obj: str) -> dict[str, float]:
-    """The fingers of a hand coming to grasp ``obj`` (the thumb folded for a grasp from above)."""
-    return TOP_PRESHAPE if ctx.grasp_for(obj).approach == "top" else OPEN

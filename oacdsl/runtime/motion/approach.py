@@ -1,0 +1,94 @@
+"""A grasp's approach keeps clear of the other hand and of what that hand holds.
+
+The free-corridor check of a grasp (:func:`~oacdsl.runtime.motion.paths.clearance`) sees only
+the objects standing on the table. What the other hand holds up, and that hand itself, are
+not standing there, yet a hand coming in along its approach meets them just as well: in a
+left-handed (mirrored) Peel, the right hand held the cucumber up beside the peeler, and the
+left hand, taking the peeler from its own side, came in through the cucumber (66 N on the
+right wrist). Here the approaching hand is its collision boxes
+(:func:`~oacdsl.runtime.handgap.hand_box_poses`, in the shape it comes in with) moved along
+the approach from the pre-grasp to the grasp, and the other side is the boxes of the other
+hand and of what it holds, as they are now (:func:`~oacdsl.runtime.motion.detour.boxes`);
+the gap is the smallest distance between the two along the way (metres).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from oacdsl.runtime.armroom import room_to_object
+from oacdsl.runtime.handgap import hand_box_poses
+from oacdsl.runtime.motion.detour import Box, boxes, gap, way_gap
+from oacdsl.runtime.motion.tuning import TUNING, Tuning
+
+if TYPE_CHECKING:
+    from oacdsl.runtime.grasping import GraspPlan
+    from oacdsl.runtime.ik import WholeBodyIK
+    from oacdsl.runtime.simworld import SimWorld
+
+__all__ = ["approach_gap", "arm_room_to", "hand_boxes_at", "other_side_boxes", "over_other_side"]
+
+#: The corners of a unit box about the origin, one per row.
+_SIGNS = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
+
+
+def hand_boxes_at(side: str, t_world_grasp: np.ndarray, fingers: Mapping[str, float]) -> list[Box]:
+    """The axis-aligned world boxes around each collision box of hand ``side`` when its grasp
+    centre is at ``t_world_grasp`` and its fingers at ``fingers`` (m)."""
+    out = []
+    for t, half in hand_box_poses(side, t_world_grasp, fingers):
+        pts = (_SIGNS * half) @ t[:3, :3].T + t[:3, 3]
+        out.append((pts.min(axis=0), pts.max(axis=0)))
+    return out
+
+
+def approach_gap(side: str, plan: GraspPlan, fingers: Mapping[str, float], still: Sequence[Box]) -> float:
+    """The smallest gap (m) between hand ``side`` coming in along ``plan`` (pre-grasp to grasp,
+    turned as at the grasp, fingers at ``fingers``) and the ``still`` boxes; ``inf`` when there
+    are none, negative where they overlap."""
+    if not still:
+        return float("inf")
+    start = plan.pre_grasp[:3, 3]
+    return way_gap(hand_boxes_at(side, plan.pre_grasp, fingers), still, start, [start, plan.grasp[:3, 3]])
+
+
+def other_side_boxes(world: SimWorld, side: str, exclude: set[str]) -> list[Box]:
+    """The boxes of the other hand than ``side`` and of what it holds, now; none while it holds
+    something in ``exclude`` (a hand-over: that hand is at the object by necessity, and the
+    grasps leaving room for it are chosen by :func:`~oacdsl.runtime.handgap.hands_gap`)."""
+    other = "l" if side == "r" else "r"
+    if world.held.get(other) in exclude:
+        return []
+    return boxes(world, other)
+
+
+def over_other_side(
+    moving: Sequence[Box], still: Sequence[Box], start: np.ndarray, points: Sequence[np.ndarray],
+    tuning: Tuning = TUNING,
+) -> float | None:
+    """The height (m) a hand frame now at ``start`` (its boxes ``moving``) must cross at so that
+    it passes ``tuning.over_m`` over the ``still`` boxes (the other hand and what it holds),
+    when its way through ``points`` (hand positions, world) would come nearer to them than that
+    (and nearer than it is now); None when the way keeps clear. A hand going to take a peeler
+    crossed over the cucumber the other hand held up, low enough to meet it (66 N)."""
+    if not still:
+        return None
+    need = min(tuning.over_m, gap(moving, still, np.zeros(3)))
+    if way_gap(moving, still, start, [start, *points]) >= need:
+        return None
+    below = float(start[2] - min(lo[2] for lo, _ in moving))  # how far the hand reaches below its frame
+    return max(float(hi[2]) for _, hi in still) + below + tuning.over_m
+
+
+def arm_room_to(world: SimWorld, ik: WholeBodyIK, side: str, plan: GraspPlan, obj: str) -> float:
+    """The smallest room (m, at most 0.1; negative: overlapping) between arm ``side`` with its
+    hand, in the IK's postures at ``plan``'s pre-grasp and grasp (reached one after the other
+    from now), and ``obj`` where it is now: whether the arm coming in along the approach lies
+    on what the other hand holds (a left hand taking a peeler from behind laid its forearm on
+    the cucumber the right hand held up: 61 N)."""
+    postures = ik.reach_postures(side, [plan.pre_grasp, plan.grasp])
+    pose = world.body_pose(obj)
+    return min(room_to_object(world, side, q, obj, pose) for _, q in postures)
