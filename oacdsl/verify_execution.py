@@ -37,6 +37,7 @@ from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import Keyframe, Segmentation
 from oacdsl.verify import Verification, verify
 from oacdsl.verify_contacts import SimContacts
+from oacdsl.verify_liquids import without_shared_container
 from oacdsl.verify_relations import Check
 from oacdsl.verify_spans import Unmerged, aligned_spans, frame_of
 from oacdsl.verify_tolerances import DEFAULT_TOLERANCES, VerifyTolerances
@@ -178,6 +179,7 @@ def verify_execution(
     containers = {n for n, g in shapes.items() if g is not None and g.container}
     liquids = {n for n, g in shapes.items() if g is not None and g.role == "liquid"}
     demo_seg = demo_segmentation if demo_segmentation is not None else segment(demonstration, params)
+    demo_seg = without_shared_container(demo_seg, liquids, containers, agents.__contains__)
     demo_seg = stable_segmentation(demo_seg, agents.__contains__)[0]
     demo_posed = LazyPoses(demonstration)
     unmerged = _lazy(lambda: segment(demonstration, replace(params, merge_s=0.0)).keyframes,
@@ -267,6 +269,8 @@ def _judge(demo_rec: Recording, demo_seg: Segmentation, demo_posed: Any, rec: Re
         source = "aas"
         run_seg = segment(rec, params)
         run_unmerged = _lazy(lambda: segment(rec, replace(params, merge_s=0.0)).keyframes, frame_of(rec))
+    containers, liquids = kinds
+    run_seg = without_shared_container(run_seg, liquids, containers, agents.__contains__)
     run_seg = stable(run_seg, agents.__contains__)[0]
     dk, rk = demo_seg.keyframes, run_seg.keyframes
     v = verify([k.state for k in dk], [k.state for k in rk],
@@ -276,7 +280,6 @@ def _judge(demo_rec: Recording, demo_seg: Segmentation, demo_posed: Any, rec: Re
     checks.append(relations_check(v, source))
     # end state, per object
     is_agent = agents.__contains__
-    containers, liquids = kinds
     demo_end = end_state(demo_rec, dk[-1].state, is_agent, containers.__contains__, tol, liquids.__contains__)
     run_end = end_state(rec, rk[-1].state, is_agent, containers.__contains__, tol, liquids.__contains__)
     for name, d in sorted(demo_end.objects.items()):

@@ -21,6 +21,7 @@ import numpy as np
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.control import CONTROL_DT_S, IDLE_HOLD_WEIGHT
 from oacdsl.runtime.hands import OPEN, TOP_PRESHAPE
+from oacdsl.runtime.motion.opening import clear_opening
 from oacdsl.runtime.motion.paths import carry_path
 from oacdsl.runtime.motion.press import ForcePress
 from oacdsl.runtime.motion.tuning import TUNING, Tuning
@@ -87,6 +88,8 @@ class Motion:
         #: how far a slide on a surface has been lowered to keep its contact, m (kept from one
         #: slide to the next of the same skill)
         self._seek = 0.0
+        #: the open shape a hand that let go opened only part of the way to (:meth:`release`)
+        self._reopen: dict[str, float] | None = None
 
     # --- the loop -----------------------------------------------------------------------------
     def along(
@@ -286,7 +289,8 @@ class Motion:
         """Let go of ``obj``: weld off, the fingers open (a power grasp from above keeps its thumb
         folded: opened, it reaches 12 cm below the palm, into the support; a pinch opens its thumb
         only as far as the top preshape's: opened wide, it swings across the edge it pinched and
-        pushed a lid let go on a pot 9 cm off it), the pick forgotten."""
+        pushed a lid let go on a pot 9 cm off it; beside a neighbour they open only part of the way,
+        :mod:`~oacdsl.runtime.motion.opening`, and fully once withdrawn), the pick forgotten."""
         ctx = self.ctx
         ctx.ctl.activity = f"releasing {obj}"
         if ctx.world.supported(obj):
@@ -296,7 +300,10 @@ class Motion:
         grasp = ctx.library.grasp_for(ctx.classes[obj])
         top_power = grasp is not None and grasp.approach == "top" and grasp.type == "power"
         pinch = grasp is not None and grasp.type == "pinch"
-        ctx.ctl.set_fingers(self.side, TOP_PRESHAPE if top_power else self._open_shape(pinch))
+        shape = TOP_PRESHAPE if top_power else self._open_shape(pinch)
+        part = clear_opening(ctx.world, self.side, obj, shape, self.tuning, ctx.ctl.fingers[self.side])
+        ctx.ctl.set_fingers(self.side, shape if part is None else part)
+        self._reopen = None if part is None else shape
         ctx.ctl.wait(self.tuning.open_s)
         ctx.picked.pop(self.side, None)
 
@@ -353,6 +360,9 @@ class Motion:
         self.ctx.ctl.activity = "withdrawing"
         for pose, seconds in withdrawal(self.ctx.ctl.ik.frame(f"grasp_{self.side}"), approach, self.tuning):
             self.go(pose, seconds)
+        if self._reopen is not None:  # opened only part of the way beside a neighbour: now fully
+            self.ctx.ctl.set_fingers(self.side, self._reopen)
+            self._reopen = None
 
 
 def felt_nothing(what: str, depth_m: float) -> RuntimeFailure:

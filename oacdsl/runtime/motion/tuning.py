@@ -240,6 +240,9 @@ class Tuning:
     #: a hand whose boxes would reach this much lower, opened, than they do now opens only its
     #: fingers and keeps its thumb, m (the thumb of a pinch on a plate's rim swung down into a rack)
     open_drop_m: float = 0.02
+    #: shares of the way to the open hand a hand letting go opens when opening fully would bring
+    #: it nearer than ``arm_room_m`` to a neighbour (largest first; it opens fully once withdrawn)
+    release_open_share: tuple[float, ...] = (0.75, 0.5, 0.25, 0.0)
     #: how far an open hand backs off along its grasp's approach, m, and rises meanwhile, m
     withdraw_back_m: float = 0.12
     withdraw_rise_m: float = 0.03

@@ -48,6 +48,11 @@ def grasp_candidates(ctx: SkillContext, hand: str, obj: str, shared: bool = Fals
     side = ctx.side(hand)
     t_obj = ctx.world.body_pose(obj)
     support = ctx.support_height(t_obj[:2, 3], exclude=obj, below=float(t_obj[2, 3]) + 0.01)
+    if ctx.other_holder(side, obj) is not None:
+        # held up by the other hand (a hand-over): taken as high above its base as if it stood
+        # there, so that this hand sets it down later before its own lower edge meets the
+        # support (a cup taken 6 cm above its base: the palm met the table first, 60 N)
+        support = max(support, float(t_obj[2, 3]))
     top = float(t_obj[2, 3] + t_obj[2, 2] * ctx.body(obj).height)  # upright: its base + height, m
     grasp = ctx.grasp_for(obj)
     plans = plan_grasps(grasp, ctx.body(obj).round, t_obj, side, support_z=support, top_z=top)

@@ -164,6 +164,7 @@ def pour(
         return _cup_pose(base_r, lip_local, lip, axis, angle) @ np.linalg.inv(cup_in_hand)
 
     floor_z = t_bowl[2, 3] + bowl.floor
+    neighbours = ctx.obstacles({source, target})  # the other objects standing on the table
     hand_pts = hand_corners(world, side)
     holder = ctx.other_holder(side, target)
     keep = world.frame_pose(f"grasp_{holder}") if holder is not None else None
@@ -188,6 +189,9 @@ def pour(
         target's rim where it is over the wall or beyond it and above its floor inside it, and
         the pouring hand (its palm and fingers reach around and past the cup) stays
         :data:`TUNING.rim_clearance_m` above the rim wherever it is over the target or its rim;
+        the cup and the hand as far above the top of any other object standing on the table
+        wherever they are over it (a cup set down 10 cm beside the bowl met the palm of the hand
+        that brought the other cup over the bowl);
         both keep :data:`TUNING.hands_clearance_m` from the boxes of a hand that holds the
         target (:func:`~oacdsl.runtime.boxlift.lift_to_clear`)."""
         pts = world_corners(cup, t_hand @ cup_in_hand)
@@ -200,7 +204,12 @@ def pour(
         near = over < bowl.rim_radius + TUNING.rim_clearance_m
         if near.any():
             out = max(out, float((rim_z + TUNING.rim_clearance_m - hand[:, 2])[near].max()))
-        return over_holder(np.vstack([pts, hand]), max(out, 0))
+        both = np.vstack([pts, hand])
+        for xy, radius, top in neighbours:  # over another object, as over the target's rim
+            near = np.hypot(both[:, 0] - xy[0], both[:, 1] - xy[1]) < radius + TUNING.rim_clearance_m
+            if near.any():
+                out = max(out, float((top + TUNING.rim_clearance_m - both[:, 2])[near].max()))
+        return over_holder(both, max(out, 0))
 
     def lifted(u: np.ndarray, s: float, base: float) -> np.ndarray:
         """The hand's pose at ``s`` of the tilt, the lip ``base`` higher than its place and as
