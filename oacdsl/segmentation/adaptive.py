@@ -57,6 +57,7 @@ from oacdsl.segmentation.episodes import union_spans
 from oacdsl.segmentation.geomcontact import decided_by_geometry, geometric_contacts
 from oacdsl.segmentation.geometry import BOUND_MARGIN_M
 from oacdsl.segmentation.holding import resting_holds
+from oacdsl.segmentation.liftoff import LiftOff, lift_offs
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.poses import RigidFill, fill_rigid_gaps
@@ -159,12 +160,16 @@ class AdaptiveDetector:
                          keep_speeds=agents if self._run.hold_still else ())
         learned = found.learned
         self._edges = {q: dict(e) for q, e in found.edges.items()}
-        if self._run.stacked:  # an object at rest on top of another (stacking.py)
-            learned = with_rests(learned, resting_on_top(
+        lifts: dict[int, list[LiftOff]] = {}
+        if self._run.stacked:  # an object at rest on top of another (stacking.py), until lifted off
+            rests = resting_on_top(
                 recording, table, found.closest, {q: s for q, (s, _) in learned.items()}, agents,
                 self.params.distance_m,
                 self._run.move_speed_m_s, self._run.lag_s, self._run.tool_dwell_s,
-                self._run.tool_bridge_s, self._run.margin))
+                self._run.tool_bridge_s, self._run.margin)
+            learned = with_rests(learned, rests)
+            dwell = self._run.frames(self._run.tool_dwell_s, recording.rate_hz)
+            lifts = lift_offs(recording, table, rests, dwell, self._run.margin)
         # the paper's rule per pair: at the pair's learned distance, else at the static distance
         by_distance: dict[float, np.ndarray] = {}
         default = np.ones(n_q, dtype=bool)
@@ -198,6 +203,7 @@ class AdaptiveDetector:
             self.tool_reach_m * (1 + self._run.margin),
             recording.positions_m,
             self._run.frames(self._run.lag_s, recording.rate_hz),
+            lifts,
         )
         last = recording.n_frames - 1
         collected: dict[int, list[tuple[int, int, int]]] = {}
