@@ -124,7 +124,8 @@ def test_the_synthetic_open_turned_535_degrees_lets_go_of_the_bottle(capture):
     rec = turned("Open", 535)(capture)
     seg = segment(rec, AasParams(mode="adaptive"))
     on = [("bottle", "lid") in k.state.sorted_relations() for k in seg.keyframes]
-    off = [k.time_s for k, was, now in zip(seg.keyframes[1:], on[:-1], on[1:], strict=True) if was and not now]
+    kfs = seg.keyframes
+    off = [k.time_s for k, was, now in zip(kfs[1:], on[:-1], on[1:], strict=True) if was and not now]
     lift_s = 8.6 + _spin_s(535) - 4.0  # the lift lasts 1 s from here
     assert len(off) == 1 and lift_s <= off[0] <= lift_s + 0.6, off
 
