@@ -22,7 +22,8 @@ cup "touch" it. This detector learns the distance from the recording itself:
    the hold after it is set down, until the hand leaves.
 3a. **Resting on top** (:mod:`oacdsl.segmentation.stacking`, ``stacked``): an object that
    nobody holds, at rest on top of another (its markers above the other's, its centre over
-   them), is an episode of that pair too, extended as in 3 until it is lifted off.
+   them), is an episode of that pair too, extended as in 3 until it is lifted off; a tool
+   contact of the pair (5) does not carry it on from there (:mod:`oacdsl.segmentation.liftoff`).
 4. **The paper's rule per pair.** Eq. 1 / Eq. 2 (the paper's ``v`` and ``n``, marker
    pair by marker pair, gaps as in the paper's mode), with the distance change estimated
    over a window in seconds (:class:`~oacdsl.segmentation.robust.RobustDetector`), run at each pair's own
@@ -37,7 +38,8 @@ cup "touch" it. This detector learns the distance from the recording itself:
    an object the other hand holds.
 
 Two instances touch when (1–3), (4) or the tool rule says so, and the cross-hand
-rule does not forbid it. The episodes need the whole
+rule does not forbid it (:mod:`oacdsl.segmentation.ruleintervals` runs the interval rules,
+:mod:`oacdsl.segmentation.combine` combines them with (4) chunk by chunk). The episodes need the whole
 recording, so :meth:`AdaptiveDetector.begin` scans it once (chunked, memory
 O(frames) per instance pair that ever comes within reach, float32); step 4 runs
 chunk by chunk, one robust detector with each marker pair at its own distance. Results do not
