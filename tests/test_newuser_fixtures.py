@@ -67,7 +67,7 @@ def test_the_fixtures_compile_together_with_no_warning() -> None:
 
 
 @pytest.mark.parametrize("task", sorted(TASKS))
-def test_the_synthetic_demonstration_matches_and_composes_with_the_fixtures(task: str, tmp_path: Path) -> None:
+def test_the_synthetic_demonstration_matches_and_composes_with_them(task: str, tmp_path: Path) -> None:
     from oacdsl.matching.demonstration import compose_demonstration, match_segmentation
     from oacdsl.matching.matcher import Matcher
     from oacdsl.pipeline import load_inputs
@@ -76,10 +76,12 @@ def test_the_synthetic_demonstration_matches_and_composes_with_the_fixtures(task
     demo = demos.write(task, tmp_path, demos.KIT_LIKE)
     inputs = load_inputs(demo, libraries(tmp_path), scene, AasParams())
     matcher = Matcher.from_library(inputs.library, inputs.scene, mode="strict")
-    matches = match_segmentation(inputs.segmented(), matcher, unmerged=inputs.unmerged(), travel=inputs.travel())
+    matches = match_segmentation(inputs.segmented(), matcher, unmerged=inputs.unmerged(),
+                                 travel=inputs.travel())
     assert all(m.matched for m in matches)
     composed = compose_demonstration(f"{task.lower()}_task", matches, inputs.library, inputs.scene)
-    assert [f"{s.oac.name}({', '.join(dict(s.binding).values())})" for s in composed.composition.steps] == steps
+    got = [f"{s.oac.name}({', '.join(dict(s.binding).values())})" for s in composed.composition.steps]
+    assert got == steps
 
 
 @pytest.mark.slow
@@ -95,3 +97,54 @@ def test_rollout_written_from_the_docs_is_reproduced_and_verified(tmp_path: Path
                         quiet=True, force=True)
     verdict = outcome.result["verdict"]
     assert verdict["success"] and verdict.get("verified") and verdict.get("faithful"), verdict["summary"]
+
+
+def _unwrapped(text: str) -> str:
+    import re
+
+    return re.sub(r"\n#   ", " ", text)
+
+
+def test_the_draft_says_what_stands_on_an_object_and_which_class_may_be_it(tmp_path: Path, capsys) -> None:
+    """What the new user had to work out: the bottle's top is above its own markers (the lid on
+    it tells how far), and the Transfer's ``board`` may be the library's ``CuttingBoard``; a
+    rolling pin held across the body is drafted lying across (x forward, its length along y)."""
+    from oacdsl.cli import main
+
+    kit = str(ROOT / "library" / "kit")
+    assert main(["draft", str(demos.write("Open", tmp_path, demos.KIT_LIKE)), "--library", kit]) == 0
+    text = _unwrapped(capsys.readouterr().out)
+    assert "# lid stands on it at frame 0: its top may reach up to lid's lowest marker" in text
+    assert main(["draft", str(demos.write("Transfer", tmp_path, demos.KIT_LIKE)), "--library", kit]) == 0
+    text = _unwrapped(capsys.readouterr().out)
+    assert "the library's CuttingBoard shares a word with 'board': 'board : CuttingBoard'" in text
+    assert main(["draft", str(demos.write("RollOut", tmp_path, demos.KIT_LIKE)), "--library", kit]) == 0
+    pin = next(line for line in capsys.readouterr().out.splitlines() if "shape box" in line)
+    length_mm, width_mm = (int(v) for v in __import__("re").findall(r"(?:length|width) (\d+)mm", pin))
+    assert length_mm < 100 < 300 < width_mm  # the pin across the demonstrator: along y
+
+
+def test_a_verdict_not_verified_names_the_steps_that_failed_before_a_repair() -> None:
+    """Open with the bottle held low: the twist found no IK solution, the adaptive run put the lid
+    down and took it again, and the verdict said only which changes were extra; now it names the
+    step that failed and why."""
+    from types import SimpleNamespace
+
+    from oacdsl.pipeline.verdict import verdict
+
+    error = "screw_off: whole-body IK failed: no motion within the joint limits moves the left hand on"
+    steps = [SimpleNamespace(oac="take_lid", binding={"h": "left_hand", "l": "lid", "b": "bottle"},
+                             success=True, error=None),
+             SimpleNamespace(oac="screw_off", binding={"h": "left_hand", "l": "lid", "b": "bottle"},
+                             success=False, error=error)]
+    checks = [{"name": "relations", "kind": "relations", "passed": False, "detail": "6 extra"}]
+    verification = SimpleNamespace(verified=False, verdict="not verified: relations", demonstration=[1, 2, 3],
+                                   distance=6, model_extra={"faithful": False, "checks": checks})
+    run = SimpleNamespace(success=True, metrics={}, steps=steps)
+    out = verdict(SimpleNamespace(run=run, verification=verification), None, "open_task")  # type: ignore[arg-type]
+    assert out["failed_stage"] == "verify"
+    assert out["summary"].endswith(
+        f"The run completed only by repairs after step 2 screw_off(left_hand, lid, bottle) failed ({error}).")
+    steps[1].success = True
+    out = verdict(SimpleNamespace(run=run, verification=verification), None, "open_task")  # type: ignore[arg-type]
+    assert "repairs" not in out["summary"]

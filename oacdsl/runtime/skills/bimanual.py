@@ -98,10 +98,18 @@ def _pair(ctx: SkillContext, a: tuple[str, str], b: tuple[str, str]) -> tuple[Gr
             f"the best whole-body IK solution for both leaves a hand off by {cm(best[0])}"
             if best is not None
             else f"no pair of their grasps leaves {cm(HANDS_APART_M)} between the hands"
-            f" (at most {widest * 100:.1f} cm)"
+            f" (at most {widest * 100:.1f} cm)" + (_shared_hint(ctx, a[1]) if a[1] == b[1] else "")
         )
         raise RuntimeFailure(f"{a[0]} cannot grasp {a[1]} while {b[0]} grasps {b[1]}: {why}")
     return best[1], best[2]
+
+
+def _shared_hint(ctx: SkillContext, obj: str) -> str:
+    """How one object in both hands is taken, for the failure above."""
+    x, y, z = ctx.grasp_for(obj).offset
+    return (f"; one object in both hands is taken at its grasp offset ({x:g}, {y:g}, {z:g}) and at"
+            f" ({-x:g}, {-y:g}, {z:g}), each hand on its own side, and it stands with its x axis away"
+            " from the robot: an offset along y, to the robot's left, puts the hands apart")
 
 
 def _sides(ctx: SkillContext, h1: str, h2: str, what: str) -> tuple[str, str]:
