@@ -148,3 +148,26 @@ def test_a_verdict_not_verified_names_the_steps_that_failed_before_a_repair() ->
     steps[1].success = True
     out = verdict(SimpleNamespace(run=run, verification=verification), None, "open_task")  # type: ignore[arg-type]
     assert "repairs" not in out["summary"]
+
+
+@pytest.mark.slow
+def test_a_pin_both_hands_take_one_behind_the_other_is_told_to_lie_across(tmp_path: Path, capsys) -> None:
+    """The new user's first rolling pin lay along x, its handle offset along x: the two grasp
+    points were one behind the other and the failure did not say why."""
+    pytest.importorskip("mujoco", reason="the robot runtime needs the 'robot' extra (mujoco)")
+    from oacdsl.cli import main
+
+    lib, kit = libraries(tmp_path)
+    text = (lib / "rollout.oac").read_text(encoding="utf-8")
+    for across, along in (("length 5cm, width 26cm", "length 26cm, width 5cm"),
+                          ("at (0, -15.5cm, 0)", "at (-15.5cm, 0, 0)"),
+                          ("at (0, 15.5cm, 0)", "at (15.5cm, 0, 0)"),
+                          ("offset (0.0, 0.155, 0.05)", "offset (0.155, 0.0, 0.05)")):
+        assert across in text
+        text = text.replace(across, along)
+    (lib / "rollout.oac").write_text(text, encoding="utf-8")
+    code = main(["run", "take_with_both", "--library", str(lib), "--library", str(kit),
+                 "--scene", "synthetic_rollout", "--bind", "h1=left_hand", "--bind", "p=rolling_pin",
+                 "--bind", "h2=right_hand", "--no-record"])
+    assert code == 1
+    assert "taken at its grasp offset (0.155, 0, 0.05) and at (-0.155, 0, 0.05)" in capsys.readouterr().err
