@@ -171,3 +171,18 @@ def test_a_pin_both_hands_take_one_behind_the_other_is_told_to_lie_across(tmp_pa
                  "--bind", "h2=right_hand", "--no-record"])
     assert code == 1
     assert "taken at its grasp offset (0.155, 0, 0.05) and at (-0.155, 0, 0.05)" in capsys.readouterr().err
+
+
+def test_a_run_with_two_fitting_scenes_names_those_two() -> None:
+    """Open and Close have the same marker groups: ``oacc run`` listed every scene of the library
+    (eleven) instead of the two that hold the OAC's instances."""
+    from oacdsl.compiler import load_library
+    from oacdsl.errors import RuntimeFailure
+    from oacdsl.runtime.binding import choose_scene
+
+    library = load_library([FIXTURES / "open.oac", FIXTURES / "close.oac", ROOT / "library" / "kit"])
+    given = {"h": "left_hand", "l": "lid", "b": "bottle"}
+    with pytest.raises(RuntimeFailure, match=r"^choose a scene with --scene: synthetic_close, synthetic_open"
+                                             r" each hold the instances screw_off names$"):
+        choose_scene(library, library.oacs["screw_off"], None, given)
+    assert choose_scene(library, library.oacs["screw_off"], "synthetic_open", given).name == "synthetic_open"
