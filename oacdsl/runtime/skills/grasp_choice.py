@@ -87,8 +87,14 @@ def grasp_candidates(ctx: SkillContext, hand: str, obj: str, shared: bool = Fals
             postures[id(p)] = approach_postures(ctx.ctl.ik, side, p)
         return postures[id(p)]
 
+    arm: dict[int, bool] = {}
+
     def arm_clear(p: GraspPlan) -> bool:
-        return held is None or held == obj or arm_room_in(ctx.world, side, posture(p), held) >= 0.0
+        if held is None or held == obj:
+            return True
+        if id(p) not in arm:
+            arm[id(p)] = arm_room_in(ctx.world, side, posture(p), held) >= 0.0
+        return arm[id(p)]
 
     def free(p: GraspPlan) -> bool:
         return (ctx.clearance(p.pre_grasp[:3, 3], p.grasp[:3, 3], {obj}) >= HAND_HALF_WIDTH_M
