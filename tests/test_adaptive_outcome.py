@@ -51,7 +51,8 @@ def test_a_step_failed_with_the_effects_holding_already_is_left_unmade():
     assert plan.repair(3, "screw_on(…): precondition not met") and plan.unmade == []
 
 
-def _result(success: bool, effects_hold: bool | None, failed_step: str | None, failure: str | None) -> RunResult:
+def _result(success: bool, effects_hold: bool | None, failed_step: str | None,
+            failure: str | None) -> RunResult:
     steps = [StepResult("grasp", {"h": "right_hand", "o": "bottle"}, False, 4.0, [], [], "grasp: slipped"),
              StepResult("screw_on", {"h": "left_hand", "l": "lid", "b": "bottle"}, False, 4.6, [], [], WHY)]
     out = RunResult("close_and_open", success, steps, {"sim_time_s": 14.4}, failed_step=failed_step)
