@@ -19,7 +19,7 @@ from oacdsl.segmentation.comotion import AdaptiveSettings, CoMotion
 from oacdsl.segmentation.episodes import union_spans
 from oacdsl.segmentation.geomcontact import decided_by_geometry, geometric_contacts
 from oacdsl.segmentation.holding import resting_holds
-from oacdsl.segmentation.liftoff import LiftOff, lift_offs
+from oacdsl.segmentation.liftoff import LiftOff, lift_offs, set_down_beside
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
@@ -90,6 +90,10 @@ def rule_intervals(
         for q, spans in holds.items():
             added[q] = union_spans([*added.get(q, []), *spans])  # one flag per kind and pair
     removed = dict(tools.removed)
+    if lifts:  # after a lift-off, the rest's distance does not make two objects side by side touch
+        kept = {q: union_spans([*held.get(q, []), *added.get(q, [])]) for q in lifts}
+        for q, spans in set_down_beside(lifts, found.closest, kept, recording.positions_m, table).items():
+            removed[q] = union_spans([*removed.get(q, []), *spans])
     report = None
     if shapes is not None:  # pairs measured by geometry: decided by it alone
         geo = geometric_contacts(recording, table, dict(shapes), agents, params.n, run.tool_bridge_s)
