@@ -191,3 +191,11 @@ def test_a_cut_tool_contact_resumes_only_back_on_top():
     aside = rec.positions_m.copy()
     aside[:, list(rec.groups["lid"])] += (0.2, 0.0, 0.0)  # back down, but beside the bottle
     assert cut_at_lift_offs([(50, 300)], [lift], near, 20, aside, table) == [(50, 120)]
+
+
+def test_the_per_frame_reference_agrees_beside():
+    from oacdsl.segmentation.takes import resampled
+
+    rec = resampled(recording(scene("beside", CLOSE_BESIDE)), 30.0)
+    params = AasParams(mode="adaptive")
+    assert segment(rec, params).keyframes == segment_reference(rec, params).keyframes

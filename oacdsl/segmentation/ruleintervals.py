@@ -25,7 +25,7 @@ from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.shapes import ShapeModel
 from oacdsl.segmentation.stacking import resting_on_top, with_rests
-from oacdsl.segmentation.tooluse import tool_contacts
+from oacdsl.segmentation.tooluse import LiftOut, tool_contacts
 
 __all__ = ["EPISODE", "TOOL", "VETO", "RuleIntervals", "causal_events", "event_rows", "rule_intervals"]
 
@@ -79,7 +79,7 @@ def rule_intervals(
     tools = tool_contacts(
         table, n_frames, rate, held, found.closest, agents, tool_reach_m, run.tool_dwell_s,
         run.tool_bridge_s, run.rest_m, tool_reach_m * (1 + run.margin), recording.positions_m,
-        run.frames(run.lag_s, rate), lifts,
+        run.frames(run.lag_s, rate), lifts, LiftOut(run.frames(run.lag_s, rate), run.move_speed_m_s),
     )
     added = dict(tools.added)
     if run.hold_still:  # a hand at rest on or around a still object (holding.py)
