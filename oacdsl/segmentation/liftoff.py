@@ -37,8 +37,8 @@ near that object is a new contact only if it arrives again. So, for each rest of
   the rest's distance are left to the other rules.
 
 A knife lying on a board, picked up and used on the cucumber on it, leaves the board as it is
-lifted; a spoon lifted out of a cup and held above it is not covered (a tool contact without a
-rest: the tool rule still holds it within ``d``). Everything here is in frames and the
+lifted; a spoon lifted out of a cup and held above it (a tool contact without a rest) is
+:mod:`oacdsl.segmentation.liftout`'s. Everything here is in frames and the
 recording's own lengths: scale, rotation about the vertical, mirror and pace (the dwell and the
 margin are the detector's rescaled ones) do not change it; it needs z up.
 """
