@@ -94,3 +94,36 @@ def test_the_10hz_demonstration_and_its_left_handed_take_compose_with_them(task:
         assert got == steps
     else:
         assert got == [_exchanged(s) for s in steps]
+
+
+def test_a_verdict_with_extra_changes_names_the_step_each_happened_in() -> None:
+    """Open with the bottle held 10 cm up, seed 1: the left hand taking the lid brought it against
+    the right hand, and the verdict named only the extra changes, not when; the user had to read
+    result.json to find the step. Now each extra change is placed in the step that made it."""
+    from types import SimpleNamespace as NS
+
+    from oacdsl.pipeline.verdict import verdict
+
+    steps = [NS(oac="grasp", binding={"h": "right_hand", "o": "bottle"}, success=True, duration_s=4.2),
+             NS(oac="take_lid", binding={"h": "left_hand", "l": "lid", "b": "bottle"}, success=True,
+                duration_s=4.5),
+             NS(oac="screw_off", binding={"h": "left_hand", "l": "lid", "b": "bottle"}, success=True,
+                duration_s=36.8)]
+    robot = [NS(time_s=2.9, added=[["bottle", "right_hand"]], removed=[]),
+             NS(time_s=5.1, added=[["lid", "right_hand"]], removed=[]),
+             NS(time_s=7.4, added=[["left_hand", "lid"]], removed=[]),
+             NS(time_s=8.8, added=[], removed=[["lid", "right_hand"]]),
+             NS(time_s=44.7, added=[], removed=[["bottle", "lid"]])]
+    alignment = [NS(op="match", robot=0), NS(op="extra", robot=1), NS(op="match", robot=2),
+                 NS(op="extra", robot=3), NS(op="match", robot=4)]
+    checks = [{"name": "relations", "kind": "relations", "passed": False, "detail": "2 extra"}]
+    verification = NS(verified=False, verdict="not verified: relations", demonstration=[1, 2, 3], distance=2,
+                      robot=robot, alignment=alignment, model_extra={"faithful": False, "checks": checks})
+    run = NS(success=True, metrics={}, steps=steps)
+    out = verdict(NS(run=run, verification=verification), None, "open_task")  # type: ignore[arg-type]
+    assert out["summary"].endswith(
+        " The extra changes happened: + lid <-> right_hand at 5.1 s, in step 2 take_lid(left_hand, lid, bottle);"
+        " \u2212 lid <-> right_hand at 8.8 s, in step 3 screw_off(left_hand, lid, bottle).")
+    alignment[1].op = alignment[3].op = "match"
+    out = verdict(NS(run=run, verification=verification), None, "open_task")  # type: ignore[arg-type]
+    assert "extra changes happened" not in out["summary"]
