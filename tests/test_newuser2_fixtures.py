@@ -127,3 +127,25 @@ def test_a_verdict_with_extra_changes_names_the_step_each_happened_in() -> None:
     alignment[1].op = alignment[3].op = "match"
     out = verdict(NS(run=run, verification=verification), None, "open_task")  # type: ignore[arg-type]
     assert "extra changes happened" not in out["summary"]
+
+
+def test_the_draft_says_a_stacked_object_may_be_lower_a_rim_may_be_stalks_and_how_to_subclass(
+        tmp_path: Path, capsys) -> None:
+    """What the second new user worked out by hand at 10 Hz: the lid drafted 83 mm high from the
+    bottle's highest marker is 21 mm of markers once the bottle reaches its lowest one; the
+    bottle's 65 mm circle of markers includes their stalks; the board kept ``CuttingBoard``'s
+    grasp and OACs with its own size as a subclass."""
+    import re
+
+    from oacdsl.cli import main
+
+    kit = str(ROOT / "library" / "kit")
+    assert main(["draft", str(demos.write("Open", tmp_path, demos.KIT_10HZ)), "--library", kit]) == 0
+    text = re.sub(r"\n#   ", " ", capsys.readouterr().out)
+    assert re.search(r"# bottle's top may be higher, up to this object's lowest marker \(\d+ mm, \d+ mm above"
+                     r" that base\): then this object is only (\d+) mm high", text)
+    assert "markers on a rim; on stalks off the surface (KIT's: 1-2.5 cm) the object's radius is that much" \
+           " smaller." in text
+    assert main(["draft", str(demos.write("Transfer", tmp_path, demos.KIT_10HZ)), "--library", kit]) == 0
+    text = re.sub(r"\n#   ", " ", capsys.readouterr().out)
+    assert "'class Board : CuttingBoard' below instead of ': Graspable' keeps its grasp and OACs" in text
