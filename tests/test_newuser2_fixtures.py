@@ -149,3 +149,17 @@ def test_the_draft_says_a_stacked_object_may_be_lower_a_rim_may_be_stalks_and_ho
     assert main(["draft", str(demos.write("Transfer", tmp_path, demos.KIT_10HZ)), "--library", kit]) == 0
     text = re.sub(r"\n#   ", " ", capsys.readouterr().out)
     assert "'class Board : CuttingBoard' below instead of ': Graspable' keeps its grasp and OACs" in text
+
+
+def test_a_choice_over_a_symmetric_twin_also_says_why_over_the_next_other_oac(tmp_path: Path, capsys) -> None:
+    """RollOut's second sub-action: ``roll_out`` and ``put_down_with_both`` both match, each twice
+    (the hands exchanged); the explanation named only the twin, not why ``roll_out`` beat
+    ``put_down_with_both``."""
+    from oacdsl.cli import main
+
+    demo = demos.write("RollOut", tmp_path, demos.KIT_10HZ)
+    libraries = _libraries(tmp_path)
+    assert main(["match", str(demo), *[a for lib in libraries for a in ("--library", str(lib))]]) == 0
+    out = capsys.readouterr().out
+    assert ("(the OAC is symmetric in these parameters); over put_down_with_both(h1=left_hand, p=rolling_pin,"
+            " h2=right_hand): it states more conditions (5 preconditions and effects") in out
