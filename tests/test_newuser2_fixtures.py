@@ -163,3 +163,20 @@ def test_a_choice_over_a_symmetric_twin_also_says_why_over_the_next_other_oac(tm
     out = capsys.readouterr().out
     assert ("(the OAC is symmetric in these parameters); over put_down_with_both(h1=left_hand, p=rolling_pin,"
             " h2=right_hand): it states more conditions (5 preconditions and effects") in out
+
+
+def test_segment_motion_shows_the_demonstrated_turn(tmp_path: Path, capsys) -> None:
+    """The lid's 240° unscrewing (``twist``'s ``angle``) was in no column of ``segment --motion``;
+    the mirrored take turns it the other way."""
+    from oacdsl.cli import main
+
+    demo = demos.write("Open", tmp_path, demos.KIT_10HZ)
+    assert main(["segment", str(demo), "--motion"]) == 0
+    rows = [line.split() for line in capsys.readouterr().out.splitlines() if line.strip().startswith("2 ")]
+    assert rows[-1][2:4] == ["lid", "left_hand"] and rows[-1][-1] in ("+239deg", "+240deg", "+241deg")
+    take = tmp_path / "mirrored.c3d"
+    assert main(["take", str(demo), "-o", str(take), "--standard", "mirrored"]) == 0
+    capsys.readouterr()
+    assert main(["segment", str(take), "--motion"]) == 0
+    rows = [line.split() for line in capsys.readouterr().out.splitlines() if line.strip().startswith("2 ")]
+    assert rows[-1][-1] in ("-239deg", "-240deg", "-241deg")
