@@ -18,10 +18,11 @@ def verdict(result: ResultRecord, failure: tuple[str, OacError] | None, name: st
         return {"success": False, "summary": f"The {stage} stage failed: {error}", "failed_stage": stage}
     run, v = result.run, result.verification
     if run is not None and not run.success:
+        held = "the composed OAC's effects hold, but " if run.effects_hold else ""
         return {
             "success": False,
             "failed_stage": "execute",
-            "summary": f"The robot did not complete {name}: {run.error or 'a step failed'}.",
+            "summary": f"The robot did not complete {name}: {held}{run.error or 'a step failed'}.",
         }
     extra = (v.model_extra or {}) if v is not None else {}
     flags = {"verified": bool(v.verified), "faithful": bool(extra.get("faithful", v.verified))} \
