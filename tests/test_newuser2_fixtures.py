@@ -122,7 +122,8 @@ def test_a_verdict_with_extra_changes_names_the_step_each_happened_in() -> None:
     run = NS(success=True, metrics={}, steps=steps)
     out = verdict(NS(run=run, verification=verification), None, "open_task")  # type: ignore[arg-type]
     assert out["summary"].endswith(
-        " The extra changes happened: + lid <-> right_hand at 5.1 s, in step 2 take_lid(left_hand, lid, bottle);"
+        " The extra changes happened: + lid <-> right_hand at 5.1 s,"
+        " in step 2 take_lid(left_hand, lid, bottle);"
         " \u2212 lid <-> right_hand at 8.8 s, in step 3 screw_off(left_hand, lid, bottle).")
     alignment[1].op = alignment[3].op = "match"
     out = verdict(NS(run=run, verification=verification), None, "open_task")  # type: ignore[arg-type]

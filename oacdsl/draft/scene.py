@@ -92,8 +92,8 @@ def _class_lines(cls: str, est: ShapeEstimate, table_z_m: float, n_markers: int,
     if est.shape == "cylinder":
         lines.append(f"# cylinder: {len(est.markers_m)} markers lie on a circle of radius"
                      f" {_mm(est.radius_m)} around a vertical axis (rms {est.round_rms_m * 1000:.1f} mm off"
-                     " it): markers on a rim; on stalks off the surface (KIT's: 1-2.5 cm) the object's radius is that"
-                     " much smaller.")
+                     " it): markers on a rim; on stalks off the surface (KIT's: 1-2.5 cm) the object's"
+                     " radius is that much smaller.")
         size = f"shape cylinder(radius {_mm(est.radius_m)}, height {_mm(est.height_m)})"
     else:
         lines.append(f"# box: {est.length_m * 1000:.0f} x {est.width_m * 1000:.0f} mm = the markers'"

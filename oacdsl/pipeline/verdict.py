@@ -111,8 +111,8 @@ def _during(run: Any, v: Any) -> str:
             continue
         rel = ", ".join([f"+ {' <-> '.join(p)}" for p in change.added]
                         + [f"− {' <-> '.join(p)}" for p in change.removed])
-        s = steps[i]
-        notes.append(f"{rel} at {change.time_s:.1f} s, in step {i + 1} {s.oac}({', '.join(s.binding.values())})")
+        step = f"{steps[i].oac}({', '.join(steps[i].binding.values())})"
+        notes.append(f"{rel} at {change.time_s:.1f} s, in step {i + 1} {step}")
     return f" The extra changes happened: {'; '.join(notes)}." if notes else ""
 
 
