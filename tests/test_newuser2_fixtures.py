@@ -181,3 +181,23 @@ def test_segment_motion_shows_the_demonstrated_turn(tmp_path: Path, capsys) -> N
     assert main(["segment", str(take), "--motion"]) == 0
     rows = [line.split() for line in capsys.readouterr().out.splitlines() if line.strip().startswith("2 ")]
     assert rows[-1][-1] in ("-239deg", "-240deg", "-241deg")
+
+
+def test_a_demonstrated_value_against_the_oacs_written_sign_is_said_in_the_composed_step(
+        tmp_path: Path) -> None:
+    """The mirrored Open composes ``screw_off(…) { angle -240deg }`` over ``screw_off``'s written
+    ``240deg``: the step screws clockwise, against the OAC's name; the step's comment says so
+    (the unmirrored one does not)."""
+    from oacdsl.cli import main
+
+    libraries = _libraries(tmp_path)
+    demo = demos.write("Open", tmp_path, demos.KIT_10HZ)
+    take = tmp_path / "mirrored_Open.c3d"
+    assert main(["take", str(demo), "-o", str(take), "--standard", "mirrored"]) == 0
+    libs = [a for lib in libraries for a in ("--library", str(lib))]
+    for rec, name, turn in ((take, "m_open", "-240deg"), (demo, "s_open", "240deg")):
+        out = tmp_path / f"{name}.oac"
+        assert main(["compose", str(rec), *libs, "--name", name, "-o", str(out)]) == 0
+        text = out.read_text(encoding="utf-8")
+        assert f"screw_off(hand2, lid, bottle) {{ angle {turn}" in text
+        assert ("angle the other way from screw_off's written 240deg" in text) == turn.startswith("-")
