@@ -207,8 +207,8 @@ def pour(
         the lip rolls the balls out lowest, when it is :data:`TUNING.pour_turn_gain_m` lower than
         with the source as it is held, then no turn (a source with a spout faces it to the target)."""
         if spout is None and tilt > SLOW_FROM_RAD:
-            most = int(TUNING.pour_turn_most_deg / TUNING.pour_turn_step_deg)
-            ways = [math.radians(k * TUNING.pour_turn_step_deg) for k in range(1, most + 1)]
+            most = round(TUNING.pour_turn_most_rad / TUNING.pour_turn_step_rad)
+            ways = [k * TUNING.pour_turn_step_rad for k in range(1, most + 1)]
             lifts = {t: roll_out_lift(u, t) for t in (0.0, *ways, *(-w for w in ways))}
             best = min(lifts, key=lambda t: (lifts[t], abs(t)))
             if lifts[best] < lifts[0.0] - TUNING.pour_turn_gain_m:
