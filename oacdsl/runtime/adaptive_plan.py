@@ -134,6 +134,57 @@ class AdaptivePlan:
                 best = (cost, [*prefix, *rest])
         return None if best is None else best[1]
 
+    def _rank(self, step: Step) -> int:
+        """Where ``step`` comes in the demonstration still to come: a demonstrated step's place,
+        else the place of the demonstrated step of the same OAC it stands in for (the most of its
+        arguments alike, the first of them on a tie); -1 for none."""
+        best, rank = 0, -1
+        for k, demo in enumerate(self.demo):
+            if demo.oac.name != step.oac.name:
+                continue
+            if step_key(demo) == step_key(step):
+                return k
+            alike = 1 + sum(step.binding.get(p) == v for p, v in demo.binding.items())
+            if alike > best:
+                best, rank = alike, k
+        return rank
+
+    def _in_demonstrated_order(self, state: WorldState, plan: Sequence[Step]) -> list[Step]:
+        """``plan`` in the demonstrated order of what is left. Step by step, the earliest in the
+        demonstration (:meth:`_rank`; a step standing in for none keeps its place after the one
+        before it) that applies and after which the planned steps still to run, in the plan's
+        order, reach the goal: a planned step, or a demonstrated step the plan left out whose
+        preconditions the plan made true (what the plan starts ends as in the demonstration:
+        a cup taken is put down again). Dough with the liquids in each other's cups: the plan
+        mixes before the second pour and keeps a cup in the hand; the demonstration pours both
+        first and puts each cup down."""
+        planned = {step_key(s) for s in plan}
+        ranks: list[int] = []
+        for step in plan:
+            ranks.append(r if (r := self._rank(step)) >= 0 else (ranks[-1] if ranks else -1))
+        optional = [(k, s) for k, s in enumerate(self.demo) if step_key(s) not in planned
+                    and step_key(s) not in self.banned
+                    and not all(holds(a, state) for a in bind_atoms(s.oac.pre, s.binding))]
+        # (rank, optional?, place in the plan or the demonstration, step)
+        left = [(ranks[i], 0, i, s) for i, s in enumerate(plan)] + [(k, 1, k, s) for k, s in optional]
+        out: list[Step] = []
+        while True:
+            for entry in sorted(left, key=lambda e: e[:3]):
+                rest = [e[3] for e in left if e[1] == 0 and e is not entry]
+                try:
+                    after = replay_steps(self.library, state, [entry[3], *rest])
+                except OacError:
+                    continue
+                if all(holds(a, after) for a in self.goal):
+                    break
+            else:
+                break
+            out.append(entry[3])
+            state = replay_steps(self.library, state, [entry[3]])
+            left.remove(entry)
+        # the plan's own order always applies: a planned step left over means it did not
+        return out if not any(e[1] == 0 for e in left) else list(plan)
+
     def _still_to_come(self, state: WorldState) -> list[Step]:
         """The demonstrated steps not yet done (but those that failed) when, from ``state``, each
         one's preconditions hold in turn and the composed OAC's effects hold after them (by the
@@ -202,7 +253,7 @@ class AdaptivePlan:
                     self.failed = f"{reason}; no plan from the observed state: {why}"
                     self.note("failed", index, self.failed)
                     return False
-                steps = self._steps(plan)
+                steps = self._in_demonstrated_order(state, self._steps(plan))
         except OacError as error:
             self.failed = f"{reason}; planning failed: {error}"
             self.note("failed", index, self.failed)
