@@ -183,16 +183,22 @@ def _changes(
     found: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
     # the first chunk holds two frames at least: frame 0 borrows frame 1's distance change
     borders = [0, *range(max(2, chunk_frames), n_frames, chunk_frames), n_frames]
+    width = min(n_frames, max(2, chunk_frames) + det.history_frames)  # the longest chunk, its history too
+    buffer = np.empty((3, table.marker_order.size, width), dtype=np.float32)  # its coordinates, reused
     for start, stop in pairwise(borders):
         lo = max(0, start - det.history_frames)
-        x = geometry.coordinates(lo, stop)
         known = near_blocks(lo, stop, tracker.touching) if near_blocks is not None else None
         boxes = None
-        if known is not None:  # the detector already knows which pairs come within reach
+        if known is not None:  # the detector already knows which pairs come within reach: their markers
             blocks = known
+            needed = np.zeros(len(table.instances), dtype=bool)
+            needed[table.instance_pairs[blocks].reshape(-1)] = True
+            x = geometry.coordinates(lo, stop, buffer[:, :, : stop - lo], needed)
         elif det.reach_m is None or n_q == 0:
+            x = geometry.coordinates(lo, stop, buffer[:, :, : stop - lo])
             blocks = all_blocks
         else:
+            x = geometry.coordinates(lo, stop, buffer[:, :, : stop - lo])
             boxes = geometry.marker_boxes(x)
             with np.errstate(invalid="ignore"):
                 near = geometry.lower_bounds(x, boxes=boxes) <= det.reach_m + BOUND_MARGIN_M
