@@ -109,16 +109,16 @@ def _scan_chunk(
     ``carry`` and the instance speeds ``kept``."""
     n_frames, lag, reach = recording.n_frames, rule.lag, rule.reach_m
     lo = max(0, start - lag)
-    x = geometry.coordinates(lo, stop, out=work.coordinates[:, :, : stop - lo])
-    blocks = (geometry.lower_bounds(x) <= reach + BOUND_MARGIN_M).nonzero()[0]
-    if blocks.size == 0 and not kept:
-        return
     # rates over `lag` frames; the first frames of the recording use frame 0 (frame 0: frame `lag`)
     rows = np.arange(start, stop)
     prev = np.maximum(rows - lag, 0)
     prev[prev == rows] = min(lag, n_frames - 1)
+    x, steps = _read(recording, geometry, work, lo, rows, prev, lag)
+    blocks = (geometry.lower_bounds(x) <= reach + BOUND_MARGIN_M).nonzero()[0]
+    if blocks.size == 0 and not kept:
+        return
     dt = np.abs(times[rows] - times[prev])
-    speeds = _instance_speeds(recording, groups, rows, prev, lag, dt, geometry.filler, work)
+    speeds = [median_rows(steps[m]) / dt for m in groups]  # per instance (table order), m/s
     for i, into in kept.items():
         into[start:stop] = speeds[i]
     out = slice(start - lo, stop - lo)
@@ -143,27 +143,34 @@ def _scan_chunk(
         carry[q][start:stop] = is_carry
 
 
-def _instance_speeds(
-    recording: Recording, groups: list[np.ndarray], rows: np.ndarray, prev: np.ndarray, lag: int,
-    dt: np.ndarray, filler: RigidFill | None, work: _Buffers,
-) -> list[np.ndarray]:
-    """Per instance (table order), the median marker speed at frames ``rows`` (consecutive) against
-    frames ``prev`` (``rows - lag`` where that is a frame), m/s (NaN in gaps; rigid gaps filled by
-    ``filler``)."""
+def _read(recording: Recording, geometry: ChunkGeometry, work: _Buffers, lo: int, rows: np.ndarray,
+          prev: np.ndarray, lag: int) -> tuple[np.ndarray, np.ndarray]:
+    """Frames ``lo:stop`` read for the scan: ``(coordinates, steps)``, the chunk's (3, M', R) float32
+    coordinates (:meth:`~oacdsl.segmentation.geometry.ChunkGeometry.coordinates`) and (M, len(rows))
+    how far each marker moved from frame ``prev[i]`` to frame ``rows[i]``, metres (NaN in gaps; rigid
+    gaps filled), ``rows`` the chunk's own frames (consecutive, up to ``stop``). Both from the same
+    slab of frames at a time, while it is in cache."""
+    stop = int(rows[-1]) + 1
+    x = work.coordinates[:, :, : stop - lo]
     steps = work.steps[:, : rows.size]
-    if rows[0] >= lag > 0:  # every frame against the one `lag` before: slabs of plain slices
-        start = int(rows[0])
-        for a in range(start, start + rows.size, _SLAB):
-            b = min(start + rows.size, a + _SLAB)
-            steps[:, a - start : b - start] = _steps(recording.positions_m, filler, a, b, lag, work).T
-    else:  # the first frames: against frame 0 (and frame 0 against frame `lag`), gathered
-        first = int(min(prev.min(), rows[0]))
-        last = int(max(prev.max(), rows[-1])) + 1
+    start = int(rows[0])
+    if not start >= lag > 0:  # the first frames: against frame 0 (and frame 0 against frame `lag`)
+        geometry.coordinates(lo, stop, out=x)
+        first, last = int(min(prev.min(), start)), int(max(prev.max(), stop - 1)) + 1
+        filler = geometry.filler
         positions = recording.positions_m[first:last] if filler is None else filler.rows(first, last)
         diff = positions[rows - first] - positions[prev - first]  # (R, M, 3)
         steps[:] = np.sqrt(diff[..., 0] * diff[..., 0] + diff[..., 1] * diff[..., 1]
                            + diff[..., 2] * diff[..., 2]).T
-    return [median_rows(steps[m]) / dt for m in groups]
+        return x, steps
+    for a in range(lo, stop, _SLAB):  # every frame against the one `lag` before: plain slices
+        b = min(stop, a + _SLAB)
+        geometry.coordinates(a, b, out=x[:, :, a - lo : b - lo])
+        if b > start:
+            own = max(a, start)
+            moved = _steps(recording.positions_m, geometry.filler, own, b, lag, work)
+            steps[:, own - start : b - start] = moved.T
+    return x, steps
 
 
 def _steps(positions: np.ndarray, filler: RigidFill | None, a: int, b: int, lag: int,
