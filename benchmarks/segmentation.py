@@ -20,17 +20,20 @@ while ``segment()`` runs, the recording's own positions included (on Linux the p
 before the call, ``/proc/self/clear_refs``; elsewhere it is the process's peak so far); the
 process's peak at the end (the floor's and the generator's working arrays too) is printed
 beside it.
-Times are medians of ``--repeats`` interleaved runs, in CPU seconds of this process (wall
-seconds in brackets). Run on a quiet machine:
+Times are CPU seconds of this process (wall seconds in brackets), medians of ``--repeats``
+interleaved repeats with the lowest and highest; in each repeat the reference runs on its slice
+right before and right after ours, and the ratio printed is the median of the repeats' own ratios
+(a: the mean of the two, extrapolated, over ours), with their range and how many repeats met the
+target (benchmarks/README.md: how to read it). Run on a quiet machine:
 
-    python benchmarks/segmentation.py            # one hour, ~3 minutes
+    python benchmarks/segmentation.py            # one hour, both detectors, ~10 minutes
     python benchmarks/segmentation.py --minutes 5 --scenario both
 
-Last measured (2026-11-26, main after the rest-on-top rule; docs/segmentation.md, Performance):
-``python benchmarks/segmentation.py --mode adaptive``, one hour, medians of 3 runs on a busy
-2-core machine: the default detector 7.66 s CPU, 109x (a) (reference 836 s extrapolated), 0.21x
-(b), peak 0.77 GiB RSS after the first call (the process's whole peak 0.99 GiB, by
-``/usr/bin/time -v``: the floor's pass), agreement on the slice.
+Last measured (2026-11-26 15:47 UTC, branch segperf's second pass; docs/segmentation.md,
+Performance): ``python benchmarks/segmentation.py --mode adaptive``, one hour, 3 repeats on a
+busy 2-core machine (load 8-14): the default detector 4.68 s CPU [4.48-4.75], 100x (a)
+[100-113] (reference 470 s extrapolated), 0.19x (b), peak 0.77 GiB RSS while segment() runs (the
+process's whole peak 0.94 GiB: the floor's pass), agreement on the slice.
 """
 
 from __future__ import annotations
