@@ -257,8 +257,9 @@ SIGNATURES: dict[str, SkillSignature] = {
         ),
         SkillSignature(
             "stroke",
-            "draw the held tool along an object, one way, and back through the air, several times"
-            " (a peeler along a cucumber, a knife pushing pieces across a board towards a bowl)",
+            "draw the held tool along an object's longest side, one way, pressed on, and slide it back"
+            " with the press eased, several times (a peeler along a cucumber, a knife pushing pieces"
+            " across a board towards a bowl the other hand holds)",
             _args("h: Hand, o: Graspable, t: any"),
             (
                 _strokes("number of strokes"),

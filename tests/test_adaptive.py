@@ -11,6 +11,7 @@ from _aas_helpers import path, recording, still, summary
 from oacdsl.errors import SegmentationError
 from oacdsl.segmentation import AasParams, segment
 from oacdsl.segmentation.adaptive import AdaptiveDetector, AdaptiveSettings
+from oacdsl.segmentation.combine import StateCombiner
 from oacdsl.segmentation.recording import Recording
 
 F = 500
@@ -337,9 +338,9 @@ def test_squared_distances_are_the_distances_squared_bit_for_bit() -> None:
         assert np.array_equal(np.sqrt(np.fmin.reduce(sq, axis=0)), closest, equal_nan=True)
 
 
-def _combine_loop(det: AdaptiveDetector, pairs, frames, touching, events):  # type: ignore[no-untyped-def]
+def _combine_loop(det: StateCombiner, pairs, frames, touching, events):  # type: ignore[no-untyped-def]
     """The managed blocks' combined state, change by change (the detector's rule, written out)."""
-    table = det._table
+    table = det.table
     changes: dict[int, list[tuple[int, int, bool, int]]] = {}
     for p, f, v in zip(pairs.tolist(), frames.tolist(), touching.tolist(), strict=True):
         changes.setdefault(int(table.block[p]), []).append((f, 0, v, p))
@@ -350,25 +351,25 @@ def _combine_loop(det: AdaptiveDetector, pairs, frames, touching, events):  # ty
         block_changes.sort()
         for k, (f, kind, v, p) in enumerate(block_changes):
             if kind == 0:
-                if det._pair_state[p] != v:
-                    det._pair_state[p] = v
-                    det._paper_count[q] += 1 if v else -1
+                if det.pair_state[p] != v:
+                    det.pair_state[p] = v
+                    det.paper_count[q] += 1 if v else -1
             else:
-                det._flags[q, kind] = v
+                det.flags[q, kind] = v
             if k + 1 < len(block_changes) and block_changes[k + 1][0] == f:
                 continue  # the state after all changes of a frame counts
-            flags = det._flags[q]
-            state = bool((det._paper_count[q] > 0 or flags[1] or flags[2]) and not flags[3])
-            if state != det._combined[q]:
-                det._combined[q] = state
-                out.append((int(det._heads[q]), f, state))
+            flags = det.flags[q]
+            state = bool((det.paper_count[q] > 0 or flags[1] or flags[2]) and not flags[3])
+            if state != det.combined[q]:
+                det.combined[q] = state
+                out.append((int(det.heads[q]), f, state))
     return sorted(out)
 
 
 def test_combined_block_state_equals_the_change_by_change_rule() -> None:
     """The adaptive detector combines, per instance pair, the paper rule's marker-pair changes with
-    the episode, tool and veto intervals by array operations; the result (and the state carried to
-    the next chunk) is the change-by-change rule's, same-frame changes and all."""
+    the episode, tool and veto intervals by array operations (``StateCombiner``); the result (and
+    the state carried to the next chunk) is the change-by-change rule's, same-frame changes and all."""
     import copy
 
     from oacdsl.segmentation.pairs import PairTable
@@ -379,19 +380,17 @@ def test_combined_block_state_equals_the_change_by_change_rule() -> None:
                     np.zeros((10, 8, 3)), groups)
     table = PairTable.of(rec)
     for _ in range(200):
-        det = AdaptiveDetector(AasParams(mode="adaptive").resolved(RATE))
-        det._table = table
-        det._heads = table.block_offsets[:-1].copy()
+        det = StateCombiner(table)
         n_q = table.n_instance_pairs
-        det._pair_state = rng.random(table.n_pairs) < 0.3
-        det._paper_count = np.array([det._pair_state[table.block == q].sum() for q in range(n_q)])
-        det._flags = rng.random((n_q, 4)) < 0.3
-        det._combined = ((det._paper_count > 0) | det._flags[:, 1] | det._flags[:, 2]) & ~det._flags[:, 3]
+        det.pair_state = rng.random(table.n_pairs) < 0.3
+        det.paper_count = np.array([det.pair_state[table.block == q].sum() for q in range(n_q)])
+        det.flags = rng.random((n_q, 4)) < 0.3
+        det.combined = ((det.paper_count > 0) | det.flags[:, 1] | det.flags[:, 2]) & ~det.flags[:, 3]
         twin = copy.deepcopy(det)
         # paper changes: per marker pair alternating states at distinct frames (sorted by pair, frame)
         pairs, frames, touching = [], [], []
         for p in np.flatnonzero(rng.random(table.n_pairs) < 0.5):
-            state = bool(det._pair_state[p])
+            state = bool(det.pair_state[p])
             for f in np.sort(rng.choice(12, size=int(rng.integers(1, 4)), replace=False)):
                 state = not state if rng.random() < 0.9 else state  # now and then a repeat
                 pairs.append(p), frames.append(f), touching.append(state)
@@ -400,13 +399,13 @@ def test_combined_block_state_equals_the_change_by_change_rule() -> None:
                           dtype=np.intp).reshape(-1, 4)
         args = (np.array(pairs, dtype=np.intp), np.array(frames, dtype=np.intp),
                 np.array(touching, dtype=bool))
-        heads, got_frames, states = det._combine(*args, events[np.argsort(events[:, 0], kind="stable")])
+        heads, got_frames, states = det.combine(*args, events[np.argsort(events[:, 0], kind="stable")])
         got = sorted(zip(heads.tolist(), got_frames.tolist(), states.tolist(), strict=True))
         assert got == _combine_loop(twin, *args, events)
-        assert np.array_equal(det._combined, twin._combined)
-        assert np.array_equal(det._paper_count, twin._paper_count)
-        assert np.array_equal(det._flags, twin._flags)
-        assert np.array_equal(det._pair_state, twin._pair_state)
+        assert np.array_equal(det.combined, twin.combined)
+        assert np.array_equal(det.paper_count, twin.paper_count)
+        assert np.array_equal(det.flags, twin.flags)
+        assert np.array_equal(det.pair_state, twin.pair_state)
 
 
 @pytest.mark.parametrize("scan_frames", [4096, 37])

@@ -9,7 +9,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 from oacdsl.compiler import load_library
-from oacdsl.runtime.adaptive import _Adaptive, _key
+from oacdsl.runtime.adaptive_plan import AdaptivePlan, step_key
 from oacdsl.runtime.binding import Step
 from oacdsl.world import WorldState
 
@@ -17,7 +17,7 @@ ROOT = Path(__file__).resolve().parents[1]
 INSTANCES = ["left_hand", "right_hand", "cup_small", "milk_small", "milk"]
 
 
-def _after_a_failed_pour(held: list[tuple[str, str]]) -> tuple[_Adaptive, Step]:
+def _after_a_failed_pour(held: list[tuple[str, str]]) -> tuple[AdaptivePlan, Step]:
     lib = load_library([ROOT / "library" / "kit"])
     pour = Step(lib.oacs["pour"], {"h": "left_hand", "c": "milk_small", "l": "milk", "b": "cup_small"})
     place = Step(lib.oacs["place_both"],
@@ -29,9 +29,9 @@ def _after_a_failed_pour(held: list[tuple[str, str]]) -> tuple[_Adaptive, Step]:
         context=SimpleNamespace(library=lib), oac=composed, steps=[pour, place], binding=pour.binding,
         world=SimpleNamespace(relations=lambda: state),
     )
-    adaptive = _Adaptive(run, 3, "fast-downward")  # type: ignore[arg-type]  # a stand-in run
+    adaptive = AdaptivePlan(run, 3, "fast-downward")  # type: ignore[arg-type]  # a stand-in run
     adaptive.queue = [place]  # the pour was popped and ran; its skill failed
-    adaptive.banned.add(_key(pour))
+    adaptive.banned.add(step_key(pour))
     return adaptive, place
 
 

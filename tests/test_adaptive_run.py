@@ -71,6 +71,9 @@ def test_liquid_one_already_in_the_bowl_skips_the_first_pour(dough_library, tmp_
 
 
 @pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="the left hand's pour of liquid_two from the red cup stops on the"
+                   " right wrist (68 N into the orange bowl, after the mix; then 125 N into the green cup):"
+                   " the run read as success only because the composed OAC's effects held already")
 def test_liquids_in_each_others_cups_are_poured_from_the_cup_that_holds_them(dough_library):
     fill = {"liquid_one": "green_cup", "liquid_two": "red_cup"}
     run = prepare(dough_library, "dough", scene="kitchen", fill=fill)

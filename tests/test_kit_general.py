@@ -125,6 +125,25 @@ def test_the_hand_lets_go_of_the_lid_only_on_the_middle_of_the_bottle_top():
     assert max(offs) < 0.01, [round(o * 100, 1) for o in offs]
 
 
+@pytest.mark.slow
+def test_the_lid_taken_beside_the_held_bottle_is_held_upright_and_goes_on():
+    # seed 9: the lid beside the bottle the right hand holds up; no top grasp of it keeps the
+    # 3 cm wanted from that hand, and the roomiest, turned a quarter, is reached only with the
+    # torso leaning as far as it goes: the hand closed tipped 14° and the lid, held 10-16°
+    # tilted, sprang off the bottle's edge ("lid did not reach bottle"). Taken upright instead:
+    # the lid is held within 8° of upright and screwed on
+    run = prepare(library(), "close_and_open", seed=9)
+    tilt_deg = []
+
+    def on_step(index, step, world):
+        if index == 1:
+            tilt_deg.append(math.degrees(math.acos(min(1.0, float(world.body_pose("lid")[2, 2])))))
+
+    result = run_prepared(run, on_step=on_step)
+    assert result.success, result.error
+    assert tilt_deg and tilt_deg[0] < 8.0, tilt_deg
+
+
 def test_oacc_run_closes_and_opens_the_bottle_from_the_command_line():
     args = [a for p in LIBRARIES for a in ("--library", str(p))]
     out = subprocess.run(

@@ -154,6 +154,17 @@ def test_bad_segmentation_file_and_name(capsys, lib_dir, tmp_path):
     assert code == 2 and "--name '9lives'" in err
 
 
+@pytest.mark.parametrize(("change", "shown"), [("soon", '"soon"'), ([1.0], "[1.0]"), (float("nan"), "NaN")])
+def test_a_malformed_change_time_names_its_keyframe(capsys, lib_dir, dough_json, tmp_path, change, shown):
+    doc = json.loads(dough_json.read_text())
+    doc["keyframes"][2]["change_s"] = change
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(doc))
+    code, _, err = run(capsys, "match", str(bad), "--library", str(lib_dir))
+    message = f"bad.json: keyframe 2: change_s must be a finite number of seconds, got {shown}"
+    assert code == 2 and message in err and len(err.strip().splitlines()) == 1
+
+
 def test_no_traceback_from_the_command(tmp_path):
     out = subprocess.run([sys.executable, "-m", "oacdsl", "compose", str(tmp_path / "x.c3d"), "--name", "x",
                           "--library", str(ROOT / "library")], capture_output=True, text=True, cwd=ROOT)

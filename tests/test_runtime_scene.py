@@ -89,6 +89,10 @@ def test_layout_errors_name_the_problem():
         plan_layout(lib, hands)
     with pytest.raises(RuntimeFailure, match="off the table"):
         plan_layout(lib, KITCHEN, places={"red_cup": (2.0, 0.0)})
+    # where the table is, and where the object's origin may stand on it (its circle on the table)
+    with pytest.raises(RuntimeFailure, match=r"off the table \(x from 0.4 to 1.4 m, y within ±0.8 m;"
+                       r" the circle of radius 0.\d\d m .*: x from 0.4\d to 1.3\d m, y within ±0.7\d m\)"):
+        plan_layout(lib, KITCHEN, places={"red_cup": (0.41, 0.0)})
 
 
 def test_weld_holds_an_object_where_it_was():

@@ -12,7 +12,8 @@ distance (zero for a pair with an agent: ``static_agents``), OR the co-motion, r
 and holding-still intervals, AND NOT the cross-hand vetoes; co-motion frame by frame in
 :func:`~segeval.reference_comotion.comotion_reference`, the tool rule
 (:func:`~oacdsl.segmentation.tooluse.tool_contacts`, interval logic over those per-frame signals)
-and the rest-on-top rule (:func:`~oacdsl.segmentation.stacking.resting_on_top`) shared with the detector.
+and the rest-on-top rule (:func:`~oacdsl.segmentation.stacking.resting_on_top`, ended at a lift-off:
+:func:`~oacdsl.segmentation.liftoff.lift_offs`) shared with the detector.
 """
 
 from __future__ import annotations
@@ -124,6 +125,7 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
     the tool rule's reach between two objects (the detector's; None: ``d``)."""
     from oacdsl.segmentation.comotion import AdaptiveSettings
     from oacdsl.segmentation.holding import resting_holds
+    from oacdsl.segmentation.liftoff import LiftOff, lift_offs
     from oacdsl.segmentation.pairs import PairTable
     from oacdsl.segmentation.stacking import resting_on_top, with_rests
     from oacdsl.segmentation.tooluse import agents_of, tool_contacts
@@ -144,12 +146,16 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
         delay = n - 1 + half
         found = comotion_reference(recording, table, params, settings)
         learned = found.learned
-        if settings.stacked:  # an object at rest on top of another (the detector's rule)
-            learned = with_rests(learned, resting_on_top(
+        lifts: dict[int, list[LiftOff]] = {}
+        if settings.stacked:  # an object at rest on top of another until lifted off (the detector's rules)
+            rests = resting_on_top(
                 recording, table, found.closest, {q: i for q, (i, _) in learned.items()},
                 agents_of(table.instances, settings.agent_pattern), params.distance_m,
                 settings.move_speed_m_s, settings.lag_s, settings.tool_dwell_s, settings.tool_bridge_s,
-                settings.margin))
+                settings.margin)
+            learned = with_rests(learned, rests)
+            dwell = settings.frames(settings.tool_dwell_s, recording.rate_hz)
+            lifts = lift_offs(recording, table, rests, dwell, settings.margin)
         reach = params.distance_m if tool_reach_m is None else tool_reach_m
         held = {q: intervals for q, (intervals, _) in learned.items()}
         tools = tool_contacts(
@@ -166,6 +172,7 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
             reach * (1 + settings.margin),
             recording.positions_m,
             settings.frames(settings.lag_s, recording.rate_hz),
+            lifts,
         )
         for q, (_, threshold) in learned.items():
             distance[q] = round(threshold, 4)

@@ -1,8 +1,10 @@
 """``oacc run``: execute an OAC on the simulated ARMAR-III (MuJoCo + placo).
 
 Exit status 0 when every step — primitive or composed — succeeded and its predicted
-effects were observed, 1 when the run failed (the reason is printed on one line, naming
-the failed step), 2 for usage or I/O errors.
+effects were observed (adaptive: or a repair made good each step that failed), 1 when the
+run failed (the reason is printed on one line, naming the failed step; also when the
+composed OAC's effects hold but a step failed that nothing made good), 2 for usage or I/O
+errors.
 """
 
 from __future__ import annotations
@@ -249,7 +251,7 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(result.to_json(), indent=2))
     else:
-        verdict = "success" if result.success else f"failed at {result.failed_step or 'the start'}"
+        verdict = result.outcome
         poured = f" {m['balls_in_bowl']}/{m['balls_total']} balls in a bowl," if m.get("balls_total") else ""
         timing = f"{m['sim_time_s']:.1f} s simulated in {m['wall_time_s']:.1f} s"
         print(f"{result.oac}: {verdict} —{poured} {timing}")

@@ -11,7 +11,9 @@ with at least :data:`~oacdsl.segmentation.poses.MIN_MARKERS` markers:
   marker near its base — so it is high by about that marker's height (a marker's radius,
   5–10 mm, on a recording with base markers);
 * the **principal horizontal axes** are the eigenvectors of the markers' horizontal
-  covariance, the larger first (x), y = z × x;
+  covariance, the larger first (x), y = z × x; given the demonstrator's forward direction
+  (:mod:`oacdsl.draft.facing`), x is instead the one of the two nearer it, pointing forward, so
+  that the object lies on the robot's table as in front of the demonstrator;
 * a **box** spans the markers' extent along those axes (length along x, width along y)
   and reaches from the table to the highest marker (height); a **cylinder** instead when
   at least 4 markers lie on one circle around a vertical axis (rms off the circle at most
@@ -19,7 +21,8 @@ with at least :data:`~oacdsl.segmentation.poses.MIN_MARKERS` markers:
   a rectangle's corners (which lie on a circle too: two pairs of opposite points) — markers
   on a rim; its radius is the circle's;
 * the **object frame** (docs/language.md, "Geometry") has its origin at the centre of the
-  shape's base, on the table, z up, x along the principal axis; the markers are given in it.
+  shape's base, on the table, z up, x along the principal axis (or the forward one); the markers
+  are given in it.
 
 A size below :data:`MIN_SIZE_M` (markers in a line or in one plane) is raised to it, and
 the estimate says so. Metres throughout.
@@ -63,6 +66,7 @@ class ShapeEstimate:
         unseen: markers of the group not seen at the reference frame (left out).
         raised: the sizes raised to :data:`MIN_SIZE_M` (``"width"``, ``"height"`` …).
         round_rms_m: rms distance of the markers from the fitted circle (NaN: no fit), metres.
+        facing: x is the principal axis nearer the demonstrator's forward (not the larger spread).
     """
 
     instance: str
@@ -76,6 +80,7 @@ class ShapeEstimate:
     unseen: int
     raised: tuple[str, ...]
     round_rms_m: float
+    facing: bool = False
 
     @property
     def volume_m3(self) -> float:
@@ -115,6 +120,15 @@ def _principal_axes(xy: np.ndarray) -> np.ndarray:
     return np.array([x, [-x[1], x[0]]])
 
 
+def _facing(axes: np.ndarray, forward_xy: np.ndarray) -> np.ndarray:
+    """(2, 2) rows x, y: of the principal ``axes``, the one nearer ``forward_xy`` as x, pointing
+    along it, and y = z × x."""
+    along = axes @ np.asarray(forward_xy, float)
+    i = int(np.argmax(np.abs(along)))
+    x = axes[i] * (1.0 if along[i] >= 0 else -1.0)
+    return np.array([x, [-x[1], x[0]]])
+
+
 def _circle(xy: np.ndarray) -> tuple[np.ndarray, float, float, float]:
     """Least-squares circle through horizontal points (Kåsa): centre, radius, rms off it, metres,
     and the largest angular gap between neighbouring points around it, radians."""
@@ -143,8 +157,10 @@ def _opposite_pairs(xy: np.ndarray, centre: np.ndarray) -> int:
     return pairs
 
 
-def estimate_shape(recording: Recording, instance: str, table_z_m: float) -> ShapeEstimate:
-    """The box or cylinder of ``instance`` standing on a table at ``table_z_m`` (module doc)."""
+def estimate_shape(recording: Recording, instance: str, table_z_m: float,
+                   forward_xy: np.ndarray | None = None) -> ShapeEstimate:
+    """The box or cylinder of ``instance`` standing on a table at ``table_z_m`` (module doc);
+    ``forward_xy``: the demonstrator's forward direction, which the object's x axis then takes."""
     poses = fit_instance(recording, instance)
     ref = poses.reference_frame
     pts = poses.constellation_m + poses.T_world_object[ref, :3, 3]  # world, at the reference frame
@@ -155,6 +171,8 @@ def estimate_shape(recording: Recording, instance: str, table_z_m: float) -> Sha
                              location=recording.source)
     xy = pts[:, :2]
     axes = _principal_axes(xy)
+    if forward_xy is not None:
+        axes = _facing(axes, forward_xy)
     raised: list[str] = []
 
     def at_least(value: float, what: str) -> float:
@@ -184,4 +202,4 @@ def estimate_shape(recording: Recording, instance: str, table_z_m: float) -> Sha
     origin = np.array([origin_xy[0], origin_xy[1], table_z_m])
     markers = (pts - origin) @ rot.T
     return ShapeEstimate(instance, shape, length, width, height, radius, markers, ref,
-                         int((~seen).sum()), tuple(raised), rms)
+                         int((~seen).sum()), tuple(raised), rms, forward_xy is not None)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import re
 from collections.abc import Collection
 
-__all__ = ["camel_case", "instance_name", "library_class_for", "unique"]
+__all__ = ["camel_case", "instance_name", "library_class_for", "library_classes_alike", "unique"]
 
 
 def _is_name(text: str) -> bool:
@@ -65,3 +65,10 @@ def library_class_for(group: str, candidates: Collection[str]) -> tuple[str | No
     most = max(len(_words(c)) for c in fitting)
     best = sorted(c for c in fitting if len(_words(c)) == most)
     return (best[0], []) if len(best) == 1 else (None, best)
+
+
+def library_classes_alike(group: str, candidates: Collection[str]) -> list[str]:
+    """The library classes that share a word with marker group ``group`` but are not all in it
+    (``board`` and ``CuttingBoard``), sorted: perhaps the same object, named otherwise."""
+    words = _words(group)
+    return sorted(c for c in candidates if _words(c) & words and not _words(c) <= words)

@@ -17,6 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from oacdsl.draft.estimate import ShapeEstimate, estimate_shape, table_height
+from oacdsl.draft.facing import demonstrator_forward
+from oacdsl.draft.hints import alike_notes, carried_notes
 from oacdsl.draft.names import camel_case, instance_name, library_class_for, unique
 from oacdsl.draft.support import supports
 from oacdsl.geometry import ROLE_SHAPES
@@ -43,6 +45,8 @@ BASE_CLASSES: dict[str, str] = {
     "Table": "class Table : Surface { shape table }",
 }
 _NEEDED = ("Hand", "Graspable", "Surface", "Table")  # what a draft itself uses
+_FACING = (", x the one nearer the demonstrator's forward: the robot stands an object with its x axis"
+           " away from it, so it lies as the demonstrator had it.")
 _PARENTS_NOTE = ("parents: Graspable (the robot may pick it up); also possible: Container (a liquid"
                  " can be in it), Tool (a Graspable used on another object), Surface (things stand on it)")
 
@@ -92,7 +96,8 @@ def _class_lines(cls: str, est: ShapeEstimate, table_z_m: float, n_markers: int,
         size = f"shape cylinder(radius {_mm(est.radius_m)}, height {_mm(est.height_m)})"
     else:
         lines.append(f"# box: {est.length_m * 1000:.0f} x {est.width_m * 1000:.0f} mm = the markers'"
-                     " extent along their principal horizontal axes (x, y).")
+                     " extent along their principal horizontal axes (x, y)"
+                     + (_FACING if est.facing else "."))
         size = f"shape box(length {_mm(est.length_m)}, width {_mm(est.width_m)}, height {_mm(est.height_m)})"
     lines.append(f"# height {est.height_m * 1000:.0f} mm = highest marker {top * 1000:.0f} mm - table top"
                  f" {table_z_m * 1000:.0f} mm; markers sit on the surface: the object may be larger.")
@@ -103,7 +108,7 @@ def _class_lines(cls: str, est: ShapeEstimate, table_z_m: float, n_markers: int,
     lines.append(f"# mass {mass} = volume {est.volume_m3 * 1e6:.0f} cm3 x {DENSITY_KG_M3:g} kg/m3 (a guess"
                  f"{', raised to 10 g' if kg == MIN_MASS_KG else ''}); weigh the object.")
     lines.append("# markers: where they sat at that frame, in the object frame (origin at the base centre,"
-                 " x along the principal axis, z up)"
+                 f" x along {'that' if est.facing else 'the principal'} axis, z up)"
                  + (f"; {est.unseen} marker(s) unseen there are left out." if est.unseen else "."))
     lines.append(f"# {_PARENTS_NOTE}.")
     markers = ", ".join(f"({_mm(x)}, {_mm(y)}, {_mm(z)})" for x, y, z in est.markers_m)
@@ -156,6 +161,7 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
     groups = list(recording.instances)
     objects = [g for g in groups if g not in agents]
     table_z, lowest = table_height(recording, objects)
+    forward = demonstrator_forward(recording, agents)
     support = supports(recording, objects, table_z)
     instances: dict[str, str] = {}
     explicit: dict[str, tuple[str, ...]] = {}
@@ -180,6 +186,8 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
         cls = camel_case(inst)
         cls = unique(f"{cls}Object", written) if cls in bases else cls  # a group called 'tool', 'container' …
         cls = unique(cls, written)
+        reused: str | None = None
+        tied: list[str] = []
         if cls not in known:
             reused, tied = library_class_for(g, buildable)
             if reused is not None:
@@ -202,7 +210,7 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
                           f"# {_PARENTS_NOTE}.", f"class {cls} : Graspable"])
             continue
         stand = support[g]
-        est = estimate_shape(recording, g, stand.base_z_m)
+        est = estimate_shape(recording, g, stand.base_z_m, forward)
         estimates[inst] = est
         decl = _class_lines(cls, est, stand.base_z_m, n, recording.n_frames)
         if stand.on is not None:
@@ -210,6 +218,9 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
             decl.insert(1, f"# it stands on {under} at frame {stand.frame}: its base is {under}'s highest"
                            f" marker ({stand.base_z_m * 1000:.0f} mm), not the table top.")
             decl = [x.replace("- table top", f"- {under}'s top") for x in decl]
+        decl[1:1] = carried_notes(recording, g, support, instances, stand.base_z_m)
+        if reused is None and not tied:
+            decl[1:1] = alike_notes(g, inst, buildable)
         decls.append(decl)
         grasps.append(_grasp_line(cls, est))
     base_names = list(BASE_CLASSES) if library is None else [c for c in _NEEDED if c not in known]

@@ -28,9 +28,11 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from oacdsl.errors import InputError, UsageError
 from oacdsl.library import Library
@@ -151,15 +153,7 @@ def read_segmentation_json(path: Path) -> Segmentation:
         raise InputError("nested too deeply; not a segmentation", location=str(path)) from None
     try:
         instances = tuple(str(i) for i in doc["instances"])
-        keyframes = tuple(
-            Keyframe(
-                int(k["frame"]),
-                float(k["time_s"]),
-                WorldState.of(instances, [(str(a), str(b)) for a, b in k["relations"]]),
-                float(k["change_s"]) if k.get("change_s") is not None else None,
-            )
-            for k in doc["keyframes"]
-        )
+        keyframes = tuple(_keyframe(n, k, instances, path) for n, k in enumerate(doc["keyframes"]))
         return Segmentation(
             str(doc.get("recording", path)),
             float(doc["rate_hz"]),
@@ -171,6 +165,26 @@ def read_segmentation_json(path: Path) -> Segmentation:
     except (KeyError, TypeError, ValueError) as error:
         what = f"missing key {error}" if isinstance(error, KeyError) else str(error)
         raise InputError(f"not a segmentation (oacc segment --json): {what}", location=str(path)) from error
+
+
+def _keyframe(index: int, doc: Any, instances: tuple[str, ...], path: Path) -> Keyframe:
+    """Keyframe ``index`` (counted from 0, as ``oacc segment`` numbers them) of a segmentation
+    document; a one-line error naming it (``FILE: keyframe N: …``) when it is malformed."""
+    where = f"keyframe {index}"
+    try:
+        change = doc.get("change_s")
+        if change is not None and (isinstance(change, bool) or not isinstance(change, (int, float))
+                                   or not math.isfinite(change)):
+            raise ValueError(f"change_s must be a finite number of seconds, got {json.dumps(change)}")
+        return Keyframe(
+            int(doc["frame"]),
+            float(doc["time_s"]),
+            WorldState.of(instances, [(str(a), str(b)) for a, b in doc["relations"]]),
+            None if change is None else float(change),
+        )
+    except (KeyError, TypeError, ValueError, AttributeError) as error:
+        what = f"missing key {error}" if isinstance(error, KeyError) else str(error)
+        raise InputError(f"{where}: {what}", location=str(path)) from error
 
 
 def load_inputs(

@@ -18,10 +18,11 @@ def verdict(result: ResultRecord, failure: tuple[str, OacError] | None, name: st
         return {"success": False, "summary": f"The {stage} stage failed: {error}", "failed_stage": stage}
     run, v = result.run, result.verification
     if run is not None and not run.success:
+        held = "the composed OAC's effects hold, but " if run.effects_hold else ""
         return {
             "success": False,
             "failed_stage": "execute",
-            "summary": f"The robot did not complete {name}: {run.error or 'a step failed'}.",
+            "summary": f"The robot did not complete {name}: {held}{run.error or 'a step failed'}.",
         }
     extra = (v.model_extra or {}) if v is not None else {}
     flags = {"verified": bool(v.verified), "faithful": bool(extra.get("faithful", v.verified))} \
@@ -49,7 +50,7 @@ def verdict(result: ResultRecord, failure: tuple[str, OacError] | None, name: st
             **flags,
             "failed_checks": [c["name"] for c in failed] + [f"untracked.{u['instance']}" for u, _ in spilt],
             "summary": f"The robot executed {name}, but the outcome differs from the demonstration:"
-            f" {v.verdict}." + (f" Failed: {named}." if named else ""),
+            f" {v.verdict}." + (f" Failed: {named}." if named else "") + _repaired(run),
         }
     m = run.metrics if run is not None else {}
     balls = f", {m['balls_in_bowl']} of {m['balls_total']} balls in the bowl" if m.get("balls_total") else ""
@@ -77,6 +78,17 @@ def verdict(result: ResultRecord, failure: tuple[str, OacError] | None, name: st
         f" {v.distance if v else '–'});{ends} {'faithful' if flags.get('faithful') else 'verified'}."
         f"{unfaithful}{liquid}",
     }
+
+
+def _repaired(run: Any) -> str:
+    """The steps that failed in a run that completed by repairs: often why the outcome differs
+    (a lid the twist could not turn, put down and taken again)."""
+    failed = [(i, s) for i, s in enumerate(run.steps if run is not None else [], 1) if not s.success]
+    if not failed:
+        return ""
+    why = [f"step {i} {s.oac}({', '.join(s.binding.values())}) failed"
+           f" ({s.error or 'its effects were not observed'})" for i, s in failed]
+    return " The run completed only by repairs after " + "; ".join(why) + "."
 
 
 def _untracked_failed(untracked: list[dict[str, Any]]) -> list[tuple[dict[str, Any], dict[str, Any]]]:

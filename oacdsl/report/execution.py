@@ -77,6 +77,9 @@ def execution_section(r: Result, images: Images) -> str:
         " After every step the touching relations observed in the simulation are compared with the"
         " OAC's prediction.</p>"
     )
+    if not run.success and run.effects_hold:
+        why = esc(run.error or "a step failed")
+        out.append(f"<p>The composed OAC's effects hold at the end, but the run failed: {why}</p>")
     m = run.metrics
     facts = []
     if "balls_in_bowl" in m and "balls_total" in m:

@@ -48,6 +48,8 @@ class RunDoc(Doc):
     video: str | None = None  # linked, not embedded
     grasp: str | None = None  # how grasps hold: "friction" or "weld"
     error: str | None = None  # why the run failed
+    # an adaptive run of a composed OAC: its effects hold at the end (also when a step failed)
+    effects_hold: bool | None = None
 
 
 class ChangeDoc(Doc):

@@ -97,6 +97,9 @@ def choose_scene(
         return fitting[0]
     if not library.scenes:
         raise RuntimeFailure("the library declares no scene to run in (give one with --scene)")
+    if len(fitting) > 1:  # Open and Close: the same marker groups, a scene for each
+        raise RuntimeFailure(f"choose a scene with --scene: {', '.join(sorted(s.name for s in fitting))} each"
+                             f" hold the instances {oac.name} names")
     raise RuntimeFailure(f"choose a scene with --scene (the library has {', '.join(sorted(library.scenes))})")
 
 

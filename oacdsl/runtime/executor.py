@@ -47,6 +47,7 @@ from oacdsl.world import NOTHING, WorldState
 
 __all__ = [
     "execute",
+    "step_label",
     "RunResult",
     "StepResult",
     "CallResult",
@@ -222,7 +223,8 @@ def execute(
     return run_prepared(run, on_step=on_step, wall0=wall0)
 
 
-def _label(name: str, binding: Mapping[str, str]) -> str:
+def step_label(name: str, binding: Mapping[str, str]) -> str:
+    """``name(instance, …)``: a step or call as the terminal and the errors name it."""
     return f"{name}({', '.join(binding.values())})"
 
 
@@ -276,7 +278,7 @@ def run_prepared(
         )
         results.append(result)
         if error is not None:
-            failed = f"step {index + 1} {_label(step.oac.name, step.binding)}"
+            failed = f"step {index + 1} {step_label(step.oac.name, step.binding)}"
         if on_step is not None:
             on_step(index, result, world)
         if error is not None:
@@ -290,7 +292,7 @@ def run_prepared(
             if verdict.error is not None:
                 what = "the composed OAC" if call.depth == 0 else "composed step"
                 span = f"steps {call.first + 1}-{call.last + 1}"
-                failed = f"{what} {_label(call.oac.name, call.binding)} ({span})"
+                failed = f"{what} {step_label(call.oac.name, call.binding)} ({span})"
                 break
         if failed is not None:
             break

@@ -212,13 +212,22 @@ class WholeBodyIK:
             side = "r" if self.active["r"] else "l"
             res = self.residual(side)
             raise IKError(
-                f"whole-body IK failed for grasp_{side}: {error}",
+                f"whole-body IK failed: {self._no_solution()} ({error})",
                 frame=f"grasp_{side}",
                 target=self.target(side),
                 residual_m=res.position_m,
             ) from None
         self.robot.update_kinematics()
         return self.controlled_positions()
+
+    def _no_solution(self) -> str:
+        """What an infeasible solve means, in words: the hands driven, each one's distance from
+        its target, and what a library author may change."""
+        driven = [s for s in ("l", "r") if self.active[s]] or ["r"]
+        hands = " and ".join(f"the {'left' if s == 'l' else 'right'} hand"
+                             f" ({self.residual(s).position_m * 100:.1f} cm from its target)" for s in driven)
+        return (f"no motion within the joint limits moves {hands} on: a target out of reach or a"
+                " turn the wrist cannot make (another grasp offset or approach may help)")
 
     def converge(self, iterations: int = 200, tolerance_m: float = 1e-4) -> Residual:
         """Solve repeatedly towards the current targets (a static solve); the final residual

@@ -285,7 +285,13 @@ def _wanted(
 def _on_table(name: str, bodies: Mapping[str, Body], xy: tuple[float, float]) -> tuple[float, float]:
     r = bodies[name].radius
     if not (TABLE_FRONT <= xy[0] - r and xy[0] + r <= TABLE_FRONT + TABLE_DEPTH and abs(xy[1]) + r <= 0.8):
-        raise RuntimeFailure(f"cannot place {name!r} at ({xy[0]:.2f}, {xy[1]:.2f}) m: off the table")
+        near, far = TABLE_FRONT + r, TABLE_FRONT + TABLE_DEPTH - r
+        across = f"y within ±{0.8 - r:.2f} m" if r < 0.8 else "no y"
+        raise RuntimeFailure(
+            f"cannot place {name!r} at ({xy[0]:.2f}, {xy[1]:.2f}) m: off the table (x from {TABLE_FRONT:g} to"
+            f" {TABLE_FRONT + TABLE_DEPTH:g} m, y within ±0.8 m; the circle of radius {r:.2f} m around its"
+            f" origin that holds it must lie on it: x from {near:.2f} to {far:.2f} m, {across})"
+        )
     return (float(xy[0]), float(xy[1]))
 
 

@@ -86,15 +86,35 @@ class RunResult:
     #: What the adaptive executor changed: ``{"kind": "skipped"|"replanned"|"followed"|"exchanged"
     #: |"failed", "step": N, "text": …, "plan": [...]}`` (empty for a strict run).
     adaptations: list[dict[str, Any]] = field(default_factory=list)
+    #: An adaptive run of a composed OAC: whether its effects hold at the end (None otherwise).
+    #: They may hold while the run failed: a step failed and nothing made it good (its effects
+    #: were not needed for the composed OAC's).
+    effects_hold: bool | None = None
+    #: Why :attr:`failed_step` failed, when that is not the first step error (a step that failed
+    #: earlier was made good by a repair).
+    failure: str | None = None
 
     @property
     def error(self) -> str | None:
         """Why the run failed, naming the failed step (``step 3 place(right_hand, cup): …``)."""
+        if self.failure is not None:
+            return f"{self.failed_step}: {self.failure}" if self.failed_step else self.failure
         reasons = [s.error for s in self.steps] + [c.error for c in self.composed]
         reason = next((r for r in reasons if r), None)
         if reason is None:
             return None
         return f"{self.failed_step}: {reason}" if self.failed_step else reason
+
+    @property
+    def outcome(self) -> str:
+        """The run's outcome in a few words: ``success``; ``effects hold, but step 3 screw_on(…)
+        failed`` (a step failed and nothing made it good, yet the composed OAC's effects hold:
+        a failed run all the same); else ``failed at …``."""
+        if self.success:
+            return "success"
+        if self.effects_hold and self.failed_step:
+            return f"effects hold, but {self.failed_step} failed"
+        return f"failed at {self.failed_step or 'the start'}"
 
     def to_json(self) -> dict[str, Any]:
         return {
@@ -105,4 +125,5 @@ class RunResult:
             "composed": [c.to_json() for c in self.composed],
             "metrics": dict(self.metrics),
             **({"adaptations": list(self.adaptations)} if self.adaptations else {}),
+            **({"effects_hold": self.effects_hold} if self.effects_hold is not None else {}),
         }

@@ -22,7 +22,8 @@ cup "touch" it. This detector learns the distance from the recording itself:
    the hold after it is set down, until the hand leaves.
 3a. **Resting on top** (:mod:`oacdsl.segmentation.stacking`, ``stacked``): an object that
    nobody holds, at rest on top of another (its markers above the other's, its centre over
-   them), is an episode of that pair too, extended as in 3 until it is lifted off.
+   them), is an episode of that pair too, extended as in 3 until it is lifted off; a tool
+   contact of the pair (5) does not carry it on from there (:mod:`oacdsl.segmentation.liftoff`).
 4. **The paper's rule per pair.** Eq. 1 / Eq. 2 (the paper's ``v`` and ``n``, marker
    pair by marker pair, gaps as in the paper's mode), with the distance change estimated
    over a window in seconds (:class:`~oacdsl.segmentation.robust.RobustDetector`), run at each pair's own
@@ -37,7 +38,8 @@ cup "touch" it. This detector learns the distance from the recording itself:
    an object the other hand holds.
 
 Two instances touch when (1–3), (4) or the tool rule says so, and the cross-hand
-rule does not forbid it. The episodes need the whole
+rule does not forbid it (:mod:`oacdsl.segmentation.ruleintervals` runs the interval rules,
+:mod:`oacdsl.segmentation.combine` combines them with (4) chunk by chunk). The episodes need the whole
 recording, so :meth:`AdaptiveDetector.begin` scans it once (chunked, memory
 O(frames) per instance pair that ever comes within reach, float32); step 4 runs
 chunk by chunk, one robust detector with each marker pair at its own distance. Results do not
@@ -51,22 +53,20 @@ from __future__ import annotations
 import numpy as np
 
 from oacdsl.errors import SegmentationError
+from oacdsl.segmentation.combine import StateCombiner
 from oacdsl.segmentation.comotion import AdaptiveSettings, comotion
 from oacdsl.segmentation.detectors import DistanceChunk, PairChanges
-from oacdsl.segmentation.episodes import union_spans
-from oacdsl.segmentation.geomcontact import decided_by_geometry, geometric_contacts
 from oacdsl.segmentation.geometry import BOUND_MARGIN_M
-from oacdsl.segmentation.holding import resting_holds
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.poses import RigidFill, fill_rigid_gaps
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.robust import RobustDetector
+from oacdsl.segmentation.ruleintervals import causal_events, event_rows, rule_intervals
 from oacdsl.segmentation.scales import DemoScale, measure, scale_params, scale_settings, tool_reach_m
 from oacdsl.segmentation.shapes import ShapeModel
-from oacdsl.segmentation.stacking import resting_on_top, with_rests
 from oacdsl.segmentation.subframe import change_times_s
-from oacdsl.segmentation.tooluse import agents_of, tool_contacts
+from oacdsl.segmentation.tooluse import agents_of
 
 __all__ = ["AdaptiveDetector", "AdaptiveSettings", "comotion"]
 
@@ -93,11 +93,7 @@ class AdaptiveDetector:
         # block → (E, 3) [causal frame, kind (1 episode, 2 tool, 3 veto), on?], sorted
         self._events: dict[int, np.ndarray] = {}
         self._event_rows = np.zeros((0, 4), dtype=np.intp)
-        self._heads = np.zeros(0, dtype=np.intp)
-        self._paper_count = np.zeros(0, dtype=np.int64)  # managed blocks: touching marker pairs
-        self._pair_state = np.zeros(0, dtype=bool)  # managed blocks: paper state per marker pair
-        self._flags = np.zeros((0, 4), dtype=bool)  # per block: [unused, episode, tool, veto]
-        self._combined = np.zeros(0, dtype=bool)
+        self._state: StateCombiner | None = None  # the managed blocks' state (from begin() on)
         self._managed = np.zeros(0, dtype=bool)
         self._near_bins: np.ndarray | None = None  # (Q, bins) bool: some frame of the bin within reach
         self._edges: dict[int, dict[int, float]] = {}  # pair → {frame: threshold crossing, frames}
@@ -147,28 +143,21 @@ class AdaptiveDetector:
         template = RobustDetector(self.params, recording.rate_hz)
         self.history_frames, self.delay_frames = template.history_frames, template.delay_frames
         self._table = table
-        self._heads = table.block_offsets[:-1].copy()
+        self._state = StateCombiner(table)
         n_q = table.n_instance_pairs
-        self._paper_count = np.zeros(n_q, dtype=np.int64)
-        self._pair_state = np.zeros(table.n_pairs, dtype=bool)
-        self._flags = np.zeros((n_q, 4), dtype=bool)
-        self._combined = np.zeros(n_q, dtype=bool)
         self.filler = RigidFill(recording, self._rigid(recording)) if self.settings.fill_gaps else None
         agents = agents_of(table.instances, self.settings.agent_pattern)
         found = comotion(recording, table, self.params, self._run, self.filler,
                          keep_speeds=agents if self._run.hold_still else ())
-        learned = found.learned
         self._edges = {q: dict(e) for q, e in found.edges.items()}
-        if self._run.stacked:  # an object at rest on top of another (stacking.py)
-            learned = with_rests(learned, resting_on_top(
-                recording, table, found.closest, {q: s for q, (s, _) in learned.items()}, agents,
-                self.params.distance_m,
-                self._run.move_speed_m_s, self._run.lag_s, self._run.tool_dwell_s,
-                self._run.tool_bridge_s, self._run.margin))
+        rules = rule_intervals(recording, table, found, self.params, self._run, agents, self.tool_reach_m,
+                               self._shapes)
+        if self._shapes is not None:
+            self.geometry_report = rules.geometry_report
         # the paper's rule per pair: at the pair's learned distance, else at the static distance
         by_distance: dict[float, np.ndarray] = {}
         default = np.ones(n_q, dtype=bool)
-        for q, (_, threshold) in learned.items():
+        for q, (_, threshold) in rules.learned.items():
             key = round(threshold, 4)  # 0.1 mm: pairs with the same distance share a detector
             by_distance.setdefault(key, np.zeros(n_q, dtype=bool))[q] = True
             default[q] = False
@@ -184,58 +173,8 @@ class AdaptiveDetector:
         self._inner.begin(recording, table)
         self.reach_m = max(by_distance)
         self._near_bins = self._index_near(found.closest, block_d, recording.n_frames)
-        tools = tool_contacts(
-            table,
-            recording.n_frames,
-            recording.rate_hz,
-            {q: spans for q, (spans, _) in learned.items()},
-            found.closest,
-            agents_of(table.instances, self.settings.agent_pattern),
-            self.tool_reach_m,
-            self._run.tool_dwell_s,
-            self._run.tool_bridge_s,
-            self._run.rest_m,
-            self.tool_reach_m * (1 + self._run.margin),
-            recording.positions_m,
-            self._run.frames(self._run.lag_s, recording.rate_hz),
-        )
-        last = recording.n_frames - 1
-        collected: dict[int, list[tuple[int, int, int]]] = {}
-        added = dict(tools.added)
-        if self._run.hold_still:  # a hand at rest on or around a still object (holding.py)
-            holds = resting_holds(recording, table, found.closest, agents, self.params.distance_m,
-                                  self._run.move_speed_m_s, self._run.lag_s, self._run.tool_dwell_s,
-                                  speeds=found.speeds,  # the hands' speeds: measured by the scan
-                                  held={q: spans for q, (spans, _) in learned.items()})
-            for q, spans in holds.items():
-                added[q] = union_spans([*added.get(q, []), *spans])  # one flag per kind and pair
-        removed = dict(tools.removed)
-        if self._shapes is not None:  # pairs measured by geometry: decided by it alone
-            agents = agents_of(table.instances, self.settings.agent_pattern)
-            geo = geometric_contacts(recording, table, self._shapes, agents, self.params.n,
-                                     self._run.tool_bridge_s)
-            self.geometry_report = geo.report
-            with_hand = np.isin(table.instance_pairs, agents).sum(axis=1) == 1
-            carried = {q: spans for q, (spans, _) in learned.items() if with_hand[q]}
-            added, removed = decided_by_geometry(geo, added, removed, recording.n_frames, carried)
-        sources = [(1, {q: spans for q, (spans, _) in learned.items()}), (2, added), (3, removed)]
-        for kind, per_pair in sources:
-            for q, spans in per_pair.items():
-                events = []
-                for a, b in spans:  # true frames [a, b) → causal frames (+ delay), clamped to the recording
-                    on, off = min(a + self.delay_frames, last), min(b + self.delay_frames, last)
-                    if b >= recording.n_frames:
-                        events.append((on, kind, 1))
-                    elif off > on:
-                        events += [(on, kind, 1), (off, kind, 0)]
-                collected.setdefault(q, []).extend(events)
-        self._events = {
-            q: np.asarray(sorted(e), dtype=np.intp).reshape(-1, 3) for q, e in collected.items() if e
-        }
-        # all events as (E, 4) [causal frame, kind, on?, block], sorted by frame: a chunk slices its own
-        rows = [np.column_stack([e, np.full(len(e), q, dtype=np.intp)]) for q, e in self._events.items()]
-        merged = np.concatenate(rows) if rows else np.zeros((0, 4), dtype=np.intp)
-        self._event_rows = merged[np.argsort(merged[:, 0], kind="stable")]
+        self._events = causal_events(rules, self.delay_frames, recording.n_frames)
+        self._event_rows = event_rows(self._events)
         self._managed = np.zeros(n_q, dtype=bool)  # blocks with events: the detector combines their state
         self._managed[list(self._events)] = True
 
@@ -256,7 +195,7 @@ class AdaptiveDetector:
         beyond its distance there: the paper's rule cannot find it close, and the broad phase of
         the main pass need not be run again.
         """
-        scan_reach = self.params.distance_m * (1 + self._run.margin)  # metres, as in comotion._scan
+        scan_reach = self.params.distance_m * (1 + self._run.margin)  # metres, the co-motion scan's reach
         if self.reach_m is None or self.reach_m > scan_reach:
             return None
         n_bins = -(-n_frames // _NEAR_BIN)
@@ -280,14 +219,14 @@ class AdaptiveDetector:
         return np.flatnonzero(near)
 
     def step(self, chunk: DistanceChunk) -> PairChanges:
-        if self._table is None or self._inner is None:
+        if self._table is None or self._inner is None or self._state is None:
             raise SegmentationError("adaptive detector: step() before begin()")
         inner = self._inner.step(chunk)
         if not self._events:
             return inner
         managed = self._managed[self._table.block[inner.pairs]]
         first, last = np.searchsorted(self._event_rows[:, 0], [chunk.start, chunk.stop], side="left")
-        heads, frames, states = self._combine(
+        heads, frames, states = self._state.combine(
             inner.pairs[managed], inner.frames[managed], inner.touching[managed], self._event_rows[first:last]
         )
         pairs = np.concatenate([inner.pairs[~managed], heads])
@@ -295,71 +234,3 @@ class AdaptiveDetector:
         values = np.concatenate([inner.touching[~managed], states]).astype(bool)
         order = np.lexsort((frames, pairs))
         return PairChanges(pairs[order].astype(np.intp), frames[order].astype(np.intp), values[order])
-
-    def _combine(
-        self, pairs: np.ndarray, frames: np.ndarray, touching: np.ndarray, events: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The managed blocks' combined state changes, ``(head pairs, frames, states)``.
-
-        ``pairs``, ``frames``, ``touching``: the paper rule's changes of managed marker pairs
-        (sorted by pair, then frame); ``events``: (E, 4) [causal frame, kind, on?, block] of the
-        chunk. A block's state is (some marker pair touching by the paper's rule, or an episode
-        or a tool contact) and not a veto; it is evaluated after all changes of a frame, in the
-        order (frame, kind, value, pair) per block.
-        """
-        table = self._table
-        if table is None:
-            raise SegmentationError("adaptive detector: step() before begin()")
-        # the paper's changes that change their marker pair's state (a flip repeats none, but be exact)
-        previous = np.empty_like(touching)
-        previous[1:] = touching[:-1]
-        new_pair = np.ones(pairs.size, dtype=bool)
-        new_pair[1:] = pairs[1:] != pairs[:-1]
-        previous[new_pair] = self._pair_state[pairs[new_pair]]
-        delta = np.where(touching != previous, np.where(touching, 1, -1), 0)
-        last_of_pair = np.ones(pairs.size, dtype=bool)
-        last_of_pair[:-1] = pairs[1:] != pairs[:-1]
-        self._pair_state[pairs[last_of_pair]] = touching[last_of_pair]
-        # all changes, block by block in the order the state is followed
-        q = np.concatenate([table.block[pairs], events[:, 3]])
-        f = np.concatenate([frames, events[:, 0]])
-        kind = np.concatenate([np.zeros(pairs.size, dtype=np.intp), events[:, 1]])
-        value = np.concatenate([touching.astype(np.intp), events[:, 2]])
-        p = np.concatenate([pairs, np.full(events.shape[0], -1, dtype=np.intp)])
-        step = np.concatenate([delta, np.zeros(events.shape[0], dtype=delta.dtype)])
-        order = np.lexsort((p, value, kind, f, q))
-        q, f, kind, value, step = q[order], f[order], kind[order], value[order], step[order]
-        empty = np.zeros(0, dtype=np.intp)
-        if q.size == 0:
-            return empty, empty.copy(), np.zeros(0, dtype=bool)
-        index = np.arange(q.size)
-        group_start = np.ones(q.size, dtype=bool)
-        group_start[1:] = q[1:] != q[:-1]
-        first = np.maximum.accumulate(np.where(group_start, index, 0))  # first change of each one's block
-        # touching marker pairs after each change
-        total = np.cumsum(step)
-        count = self._paper_count[q] + total - (total[first] - step[first])
-        # each flag after each change: its last value so far in the block, else the block's own
-        flag = []
-        for k in (1, 2, 3):
-            seen = np.maximum.accumulate(np.where(kind == k, index, -1))
-            flag.append(np.where(seen >= first, value[np.maximum(seen, 0)] > 0, self._flags[q, k]))
-        state = ((count > 0) | flag[0] | flag[1]) & ~flag[2]
-        frame_end = np.ones(q.size, dtype=bool)  # the state after all changes of a frame counts
-        frame_end[:-1] = (q[1:] != q[:-1]) | (f[1:] != f[:-1])
-        eq, ef, es = q[frame_end], f[frame_end], state[frame_end]
-        before = np.empty_like(es)
-        before[1:] = es[:-1]
-        block_start = np.ones(eq.size, dtype=bool)
-        block_start[1:] = eq[1:] != eq[:-1]
-        before[block_start] = self._combined[eq[block_start]]
-        emit = es != before
-        block_end = np.ones(q.size, dtype=bool)
-        block_end[:-1] = q[1:] != q[:-1]
-        done = q[block_end]
-        self._paper_count[done] = count[block_end]
-        for j, k in enumerate((1, 2, 3)):
-            self._flags[done, k] = flag[j][block_end]
-        self._combined[done] = state[block_end]
-        return self._heads[eq[emit]], ef[emit], es[emit]
-

@@ -44,6 +44,7 @@ import numpy as np
 
 from oacdsl.segmentation.comotion import frames_within
 from oacdsl.segmentation.episodes import true_runs
+from oacdsl.segmentation.liftoff import LiftOff, cut_at_lift_offs
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.toolroles import refine
 
@@ -79,6 +80,7 @@ def tool_contacts(
     hold_m: float | None = None,
     positions_m: np.ndarray | None = None,
     step: int = 1,
+    lifts: Mapping[int, list[LiftOff]] | None = None,
 ) -> ToolContacts:
     """Tool contacts and cross-hand vetoes (see the module docstring).
 
@@ -90,7 +92,9 @@ def tool_contacts(
     contacts that stays within it is bridged (None: ``reach_m``, only ``bridge_s``);
     ``positions_m``: the recording's (F, M, 3) marker positions, with which a tool that goes
     straight through the target's reach is passing by, however long it takes
-    (:func:`passes_through`, sampled every ``step`` frames); None: the dwell alone decides.
+    (:func:`passes_through`, sampled every ``step`` frames); None: the dwell alone decides;
+    ``lifts``: object pair → each lift-off from a rest on top, where its tool contact ends (with
+    ``positions_m``) (:func:`~oacdsl.segmentation.liftoff.cut_at_lift_offs`).
     """
     agent_set = set(agents)
     if not agent_set:
@@ -156,6 +160,8 @@ def tool_contacts(
                      and not (positions_m is not None
                               and passes_through(_centre(positions_m, table, x, s, e),
                                                  _centre(positions_m, table, a, s, e), step, reach_m))]
+            if lifts and q in lifts and positions_m is not None:  # lifted off a rest: not carried on
+                spans = cut_at_lift_offs(spans, lifts[q], dist(x, a), dwell, positions_m, table)
             if spans:
                 added[q] = spans
     removed: dict[int, Spans] = {}

@@ -10,6 +10,17 @@ right wrist). Here the approaching hand is its collision boxes
 the approach from the pre-grasp to the grasp, and the other side is the boxes of the other
 hand and of what it holds, as they are now (:func:`~oacdsl.runtime.motion.detour.boxes`);
 the gap is the smallest distance between the two along the way (metres).
+
+The IK's postures along an approach (:func:`approach_postures`) say two more things: whether
+the arm lies on what the other hand holds (:func:`arm_room_to`), and whether the whole-body IK
+reaches the grasp only with the torso leaning as far as it goes (:func:`torso_margin_rad`). A
+left hand taking a lid turned a quarter from its natural heading, beside the bottle the right
+hand held up, reached it with the hip's roll at its limit and the arm stretched: the shoulder
+lagged its command by 0.2 rad, the folded thumb landing on the lid's top tipped the hand 14°,
+and the hand closed so, holding the lid 10-16° tilted once the arm levelled the hand again;
+brought onto the bottle, its rim touched the bottle's edge for a moment and sprang off (seed 9
+of the ``close_and_open`` example). Taken at its natural heading, the torso upright, it closed
+within 6° and the lid went on.
 """
 
 from __future__ import annotations
@@ -19,6 +30,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from oacdsl.runtime.armar3 import JOINTS, TORSO_JOINTS
 from oacdsl.runtime.armroom import room_to_object
 from oacdsl.runtime.handgap import hand_box_poses
 from oacdsl.runtime.motion.detour import Box, boxes, gap, way_gap
@@ -29,10 +41,21 @@ if TYPE_CHECKING:
     from oacdsl.runtime.ik import WholeBodyIK
     from oacdsl.runtime.simworld import SimWorld
 
-__all__ = ["approach_gap", "arm_room_to", "hand_boxes_at", "other_side_boxes", "over_other_side"]
+__all__ = [
+    "approach_gap",
+    "approach_postures",
+    "arm_room_in",
+    "arm_room_to",
+    "hand_boxes_at",
+    "other_side_boxes",
+    "over_other_side",
+    "torso_margin_rad",
+]
 
 #: The corners of a unit box about the origin, one per row.
 _SIGNS = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
+#: (lower, upper) limits of the torso's joints, rad.
+_TORSO_LIMITS = {j.name: j.limits for j in JOINTS if j.name in TORSO_JOINTS}
 
 
 def hand_boxes_at(side: str, t_world_grasp: np.ndarray, fingers: Mapping[str, float]) -> list[Box]:
@@ -83,12 +106,33 @@ def over_other_side(
     return max(float(hi[2]) for _, hi in still) + below + tuning.over_m
 
 
+def approach_postures(ik: WholeBodyIK, side: str, plan: GraspPlan) -> list[Mapping[str, float]]:
+    """The IK's postures (:meth:`~oacdsl.runtime.ik.WholeBodyIK.joints`) with hand ``side`` at
+    ``plan``'s pre-grasp and grasp, reached one after the other from now (the robot unmoved)."""
+    return [q for _, q in ik.reach_postures(side, [plan.pre_grasp, plan.grasp])]
+
+
+def arm_room_in(world: SimWorld, side: str, postures: Sequence[Mapping[str, float]], obj: str) -> float:
+    """The smallest room (m, at most 0.1; negative: overlapping) between arm ``side`` with its
+    hand in any of ``postures`` and ``obj`` where it is now."""
+    pose = world.body_pose(obj)
+    return min(room_to_object(world, side, q, obj, pose) for q in postures)
+
+
 def arm_room_to(world: SimWorld, ik: WholeBodyIK, side: str, plan: GraspPlan, obj: str) -> float:
     """The smallest room (m, at most 0.1; negative: overlapping) between arm ``side`` with its
     hand, in the IK's postures at ``plan``'s pre-grasp and grasp (reached one after the other
     from now), and ``obj`` where it is now: whether the arm coming in along the approach lies
     on what the other hand holds (a left hand taking a peeler from behind laid its forearm on
     the cucumber the right hand held up: 61 N)."""
-    postures = ik.reach_postures(side, [plan.pre_grasp, plan.grasp])
-    pose = world.body_pose(obj)
-    return min(room_to_object(world, side, q, obj, pose) for _, q in postures)
+    return arm_room_in(world, side, approach_postures(ik, side, plan), obj)
+
+
+def torso_margin_rad(posture: Mapping[str, float]) -> float:
+    """How far (rad) the torso joint nearest its limit is from it in ``posture`` (joints it
+    lacks count as in the middle): near 0, the whole-body IK leans the torso as far as it goes
+    to reach the hand's pose (module docstring)."""
+    return min(
+        (min(posture[n] - lo, hi - posture[n]) for n, (lo, hi) in _TORSO_LIMITS.items() if n in posture),
+        default=float("inf"),
+    )

@@ -231,6 +231,11 @@ class Tuning:
     settle_s: float = 0.3
 
     # --- grasp, release and withdrawal -----------------------------------------------------
+    #: among grasps whose way in keeps too little room, one the whole-body IK reaches only with
+    #: a torso joint nearer its limit than this comes after the others, rad (the torso leaning
+    #: as far as it goes, the stretched arm yielded to what the hand met and closed on a lid
+    #: tilted 14°: :mod:`~oacdsl.runtime.motion.approach`)
+    torso_margin_rad: float = 0.05
     #: longest time for the fingers to close on an object, s
     close_s: float = 0.6
     #: longest time for the fingers to close again on an object being turned, s

@@ -98,10 +98,18 @@ def _pair(ctx: SkillContext, a: tuple[str, str], b: tuple[str, str]) -> tuple[Gr
             f"the best whole-body IK solution for both leaves a hand off by {cm(best[0])}"
             if best is not None
             else f"no pair of their grasps leaves {cm(HANDS_APART_M)} between the hands"
-            f" (at most {widest * 100:.1f} cm)"
+            f" (at most {widest * 100:.1f} cm)" + (_shared_hint(ctx, a[1]) if a[1] == b[1] else "")
         )
         raise RuntimeFailure(f"{a[0]} cannot grasp {a[1]} while {b[0]} grasps {b[1]}: {why}")
     return best[1], best[2]
+
+
+def _shared_hint(ctx: SkillContext, obj: str) -> str:
+    """How one object in both hands is taken, for the failure above."""
+    x, y, z = (float(v) + 0.0 for v in ctx.grasp_for(obj).offset)
+    return (f"; one object in both hands is taken at its grasp offset ({x:g}, {y:g}, {z:g}) and at"
+            f" ({0.0 - x:g}, {0.0 - y:g}, {z:g}), each hand on its own side, and it stands with its x"
+            " axis away from the robot: an offset along y, to the robot's left, puts the hands apart")
 
 
 def _sides(ctx: SkillContext, h1: str, h2: str, what: str) -> tuple[str, str]:
@@ -119,13 +127,27 @@ def grasp_both(
     tuning's ``pace_factor`` if need be: :func:`~oacdsl.runtime.motion.both.paced`); else one
     after the other. Both reaching far across the table at once, the torso bent to its limits
     and a hand sagged 17 cm below its way onto a rack (92 N) or stayed 12 cm above its grasp."""
-    world, ctl = ctx.world, ctx.ctl
+    world = ctx.world
     _sides(ctx, h1, h2, "grasp_both")
     for hand in (h1, h2):
         held = world.held[ctx.side(hand)]
         if held is not None:
             raise RuntimeFailure(f"{hand} already holds {held}")
     p1, p2 = _pair(ctx, (h1, o1), (h2, o2))
+    apart = p1.grasp[:3, 3] - p2.grasp[:3, 3]
+    try:
+        _grasp_pair(ctx, (h1, o1, p1), (h2, o2, p2), lift)
+    except RuntimeFailure as failure:
+        if o1 == o2 and abs(float(apart[1])) < abs(float(apart[0])):  # one hand behind the other
+            raise RuntimeFailure(f"{failure}{_shared_hint(ctx, o1)}") from None
+        raise
+
+
+def _grasp_pair(ctx: SkillContext, a: tuple[str, str, GraspPlan], b: tuple[str, str, GraspPlan],
+                lift: float) -> None:
+    """:func:`grasp_both` once its pair of grasps is chosen."""
+    ctl = ctx.ctl
+    (h1, o1, p1), (h2, o2, p2) = a, b
     motions = [plan_grasp(ctx, h1, o1, p1), plan_grasp(ctx, h2, o2, p2)]
     slower = TUNING.pace_factor
     ways = {m.side: _way(m) for m in motions}

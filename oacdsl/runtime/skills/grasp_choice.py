@@ -1,23 +1,30 @@
 """Which grasps of an object a hand tries, most preferred first (:func:`grasp_candidates`):
 the declared grasp's variants (:func:`~oacdsl.runtime.grasping.plan_grasps`) ordered by
 whether their way in is free of the objects standing on the table, of the other hand and
-what it holds (:mod:`oacdsl.runtime.motion.approach`), and whether the arm keeps off what that
-hand holds; a side approach near a neighbour starts closer (:func:`clear_pre_grasp`); and,
-while the other hand holds the object, the grasps that leave it room
-(:func:`handover_candidates`).
+what it holds (:mod:`oacdsl.runtime.motion.approach`), whether the arm keeps off what that
+hand holds, and, when none is free, whether the IK reaches them without leaning the torso as
+far as it goes (:func:`fallback_rank`); a side approach near a neighbour starts closer
+(:func:`clear_pre_grasp`); and, while the other hand holds the object, the grasps that leave
+it room (:func:`handover_candidates`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 
 import numpy as np
 
 from oacdsl.runtime.grasping import GraspPlan, plan_grasps
 from oacdsl.runtime.handgap import hands_gap
 from oacdsl.runtime.hands import OPEN, TOP_PRESHAPE
-from oacdsl.runtime.motion.approach import approach_gap, arm_room_to, other_side_boxes
-from oacdsl.runtime.motion.tuning import TUNING
+from oacdsl.runtime.motion.approach import (
+    approach_gap,
+    approach_postures,
+    arm_room_in,
+    other_side_boxes,
+    torso_margin_rad,
+)
+from oacdsl.runtime.motion.tuning import TUNING, Tuning
 from oacdsl.runtime.skills.base import SkillContext
 from oacdsl.runtime.transforms import make_T
 
@@ -25,6 +32,7 @@ __all__ = [
     "HAND_HALF_WIDTH_M",
     "HANDS_APART_M",
     "clear_pre_grasp",
+    "fallback_rank",
     "grasp_candidates",
     "handover_candidates",
     "preshape",
@@ -69,16 +77,23 @@ def grasp_candidates(ctx: SkillContext, hand: str, obj: str, shared: bool = Fals
     # hand held up beside it, 66 N; taken from behind instead, its forearm lay on it, 61 N)
     still, fingers = other_side_boxes(ctx.world, side, {obj}), preshape(ctx, obj)
     held = ctx.world.held.get("l" if side == "r" else "r")
-    arm: dict[int, bool] = {}
+    postures: dict[int, list[Mapping[str, float]]] = {}
 
     def room(p: GraspPlan) -> float:
         return approach_gap(side, p, fingers, still)
+
+    def posture(p: GraspPlan) -> list[Mapping[str, float]]:
+        if id(p) not in postures:
+            postures[id(p)] = approach_postures(ctx.ctl.ik, side, p)
+        return postures[id(p)]
+
+    arm: dict[int, bool] = {}
 
     def arm_clear(p: GraspPlan) -> bool:
         if held is None or held == obj:
             return True
         if id(p) not in arm:
-            arm[id(p)] = arm_room_to(ctx.world, ctx.ctl.ik, side, p, held) >= 0.0
+            arm[id(p)] = arm_room_in(ctx.world, side, posture(p), held) >= 0.0
         return arm[id(p)]
 
     def free(p: GraspPlan) -> bool:
@@ -88,12 +103,25 @@ def grasp_candidates(ctx: SkillContext, hand: str, obj: str, shared: bool = Fals
     # the planned approaches whose corridor is free first; then those made free by a shorter
     # approach (clear_pre_grasp: a left hand pouring a cup across its body, taken so, reached
     # it past the bowl, 111 N, where a planned free approach was there); then the others, those
-    # whose arm keeps off what the other hand holds first, then the roomiest
+    # ranked by fallback_rank
     clear = [p for p in plans if free(p)]
     moved = [clear_pre_grasp(ctx, p, obj, room) for p in plans if not free(p)]
     rest = sorted((p for p in moved if not free(p)),
-                  key=lambda p: (not arm_clear(p), -min(room(p), HANDS_APART_M)))
+                  key=lambda p: fallback_rank(arm_clear(p), room(p), torso_margin_rad(posture(p)[-1])))
     return clear + [p for p in moved if free(p)] + rest
+
+
+def fallback_rank(
+    arm_clear: bool, room_m: float, torso_margin: float, tuning: Tuning = TUNING
+) -> tuple[bool, bool, bool, float]:
+    """The rank (smaller first) of a grasp whose way in keeps less than :data:`HANDS_APART_M`
+    from the other hand and what it holds, among such grasps: those whose arm keeps off what
+    the other hand holds (``arm_clear``) first, then those whose way in does not overlap the
+    other hand (``room_m`` ≥ 0), then those the whole-body IK reaches without leaning the torso
+    as far as it goes (``torso_margin``, rad, :func:`~oacdsl.runtime.motion.approach.torso_margin_rad`,
+    at least the tuning's ``torso_margin_rad``: a lid taken so was held 10-16° tilted and
+    missed the bottle), then the roomiest."""
+    return (not arm_clear, room_m < 0.0, torso_margin < tuning.torso_margin_rad, -min(room_m, HANDS_APART_M))
 
 
 def clear_pre_grasp(

@@ -58,6 +58,13 @@ def _clear_of(ctx: SkillContext, side: str, t_hand: np.ndarray, u: np.ndarray, o
     return near - front - TUNING.hand_clearance_m
 
 
+def _towards(u: np.ndarray) -> str:
+    """A horizontal direction in the robot's words."""
+    if abs(float(u[0])) >= abs(float(u[1])):
+        return "away from the robot" if u[0] > 0 else "towards the robot"
+    return "to the robot's left" if u[1] > 0 else "to the robot's right"
+
+
 def stroke_direction(ctx: SkillContext, side: str, target: str) -> np.ndarray:
     """The horizontal unit direction of the strokes on ``target`` (module doc), world frame."""
     world = ctx.world
@@ -130,7 +137,13 @@ def stroke(
         end = min(end, _clear_of(ctx, side, hand_at(0.0, 0.0), u, held))
         run = min(run, end - (mid - half + tool_half + t.end_margin_m))
         if run < t.end_margin_m:
-            raise RuntimeFailure(f"stroke: no room for strokes of {tool} on {target} before {held}")
+            raise RuntimeFailure(
+                f"stroke: no room for strokes of {tool} on {target} before {held}: they go along"
+                f" {target}'s longest side ({_towards(u)}, towards {held}, which the other hand holds) and"
+                f" stop where the hand comes within {cm(t.hand_clearance_m)} of it, {cm(max(run, 0.0))}"
+                f" after they start; {held} held beyond that end of {target} leaves room"
+                " (an object stands with its x axis away from the robot, docs/language.md)"
+            )
     start = end - run
     ctl.activity = f"bringing {tool} over {target}"
     above = hand_at(start, LIFT_M)

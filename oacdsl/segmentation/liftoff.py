@@ -1,0 +1,148 @@
+"""Lifted off: an object that rested on top of another stops touching it when it is lifted off.
+
+A rest on top (:mod:`oacdsl.segmentation.stacking`) teaches a pair of objects the distance at
+which they touch, and its contact grows from the rest until that distance is left. The tool rule
+(:mod:`oacdsl.segmentation.tooluse`) knows no such distance: a held object touches another while
+it stays within the tool reach ``d`` (150 mm in the reference's length), because a tool's markers
+sit far from where it works. Without this rule a lid unscrewed and lifted 8 cm off its bottle,
+held there, touched the bottle for as long as it was held (its markers 146 mm from the bottle's,
+the synthetic Open turned 535°), and one held 156 mm off stopped touching it 0.5 s after it was
+lifted, when it left the reach.
+
+Physically, lifting an object off another ends their contact; what a held tool does afterwards
+near that object is a new contact only if it arrives again. So, for each rest of a pair:
+
+- **Lifted off.** The rest's contact ends at frame ``b`` (the closest marker distance leaves the
+  rest's threshold, beyond the bridge) and the two objects separate vertically there: within the
+  dwell after ``b`` the height of one above the other (each object's marker heights against their
+  own at the end of the rest, the median over its markers: a marker gap does not move it) grows
+  by more than what the threshold allows beyond the rest's distance (``margin`` of it: a lid
+  turned on its bottle stays at its height; one lifted 8 cm rises 80 mm, the threshold allows
+  11 mm). An object slid off sideways, or a rest that ends because the markers turn out of the
+  threshold, is not lifted off: the tool rule carries on there.
+- **Not extended.** A tool contact of the pair running through ``b`` ends at ``b``. It resumes
+  where the lifted object comes back onto the other — within the rest's threshold, its centre over
+  the other's markers seen from above, as it rested (a knife lifted off a board and brought down
+  onto it again, a lid put back) — if what is left of it lasts the dwell; a lid put down beside
+  its bottle, within the threshold but not over it, does not touch it. A tool contact that begins
+  after ``b`` (the tool left the reach and came back) is a new arrival and stays.
+
+A knife lying on a board, picked up and used on the cucumber on it, leaves the board as it is
+lifted; a spoon lifted out of a cup and held above it is not covered (a tool contact without a
+rest: the tool rule still holds it within ``d``). Everything here is in frames and the
+recording's own lengths: scale, rotation about the vertical, mirror and pace (the dwell and the
+margin are the detector's rescaled ones) do not change it; it needs z up.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Mapping
+from typing import NamedTuple
+
+import numpy as np
+
+from oacdsl.segmentation.pairs import PairTable
+from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.stacking import inside_hull
+
+__all__ = ["LiftOff", "cut_at_lift_offs", "lift_offs", "over"]
+
+Spans = list[tuple[int, int]]
+
+
+def _heights(recording: Recording, table: PairTable, instance: int, lo: int, hi: int) -> np.ndarray:
+    """(hi - lo, k) marker heights of ``instance``, metres (NaN in gaps)."""
+    columns = np.asarray(recording.groups[table.instances[instance]], dtype=np.intp)
+    return recording.positions_m[lo:hi, columns, 2].astype(np.float64)
+
+
+def _rise(z: np.ndarray, split: int) -> np.ndarray:
+    """Per frame after ``split`` (rows ``split:``), the median over markers of each marker's height
+    above its own median over rows ``:split``, metres (NaN: nothing seen)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a marker unseen in one of the parts: NaN
+        base = np.nanmedian(z[:split], axis=0)
+        return np.asarray(np.nanmedian(z[split:] - base[None, :], axis=1), dtype=np.float64)
+
+
+class LiftOff(NamedTuple):
+    """A rest on top ended by a lift-off: at ``frame``, the pair's rest distance ``threshold``
+    (metres), ``top`` the instance lifted off ``base`` (indices of the pair table's instances)."""
+
+    frame: int
+    threshold: float
+    top: int
+    base: int
+
+
+def lift_offs(
+    recording: Recording,
+    table: PairTable,
+    rests: Mapping[int, tuple[Spans, float]],
+    dwell: int,
+    margin: float,
+) -> dict[int, list[LiftOff]]:
+    """Object pair → each rest contact of ``rests`` (pair → (intervals ``[a, b)``, the pair's
+    learned distance, metres; :func:`~oacdsl.segmentation.stacking.resting_on_top`) that ends by
+    a lift-off (module doc); ``dwell``: frames in which the lift must show, ``margin``: the
+    threshold's over the rest's distance."""
+    n = recording.n_frames
+    out: dict[int, list[LiftOff]] = {}
+    for q, (spans, threshold) in rests.items():
+        i, j = (int(x) for x in table.instance_pairs[q])
+        allowed = threshold * margin / (1 + margin)  # metres the distance may grow within the contact
+        for a, b in spans:
+            if b >= n:
+                continue
+            lo, hi = max(a, b - dwell), min(n, b + max(1, dwell))
+            rise_i = _rise(_heights(recording, table, i, lo, hi), b - lo)
+            rise_j = _rise(_heights(recording, table, j, lo, hi), b - lo)
+            with np.errstate(invalid="ignore"):
+                apart = rise_i - rise_j
+            if not np.isfinite(apart).any():
+                continue
+            k = int(np.nanargmax(np.abs(apart)))
+            if abs(float(apart[k])) > allowed:
+                top, base = (i, j) if apart[k] > 0 else (j, i)
+                out.setdefault(q, []).append(LiftOff(b, threshold, top, base))
+    return out
+
+
+def _columns(table: PairTable, instance: int) -> np.ndarray:
+    return table.marker_order[table.marker_offsets[instance] : table.marker_offsets[instance + 1]]
+
+
+def over(positions_m: np.ndarray, table: PairTable, top: int, base: int, frame: int) -> bool:
+    """At ``frame``, is the centre of ``top``'s visible markers over ``base``: inside the hull of
+    ``base``'s visible markers seen from above (:func:`~oacdsl.segmentation.stacking.inside_hull`)?"""
+    a = positions_m[frame, _columns(table, top)]
+    b = positions_m[frame, _columns(table, base)]
+    a, b = a[np.isfinite(a).all(axis=1)], b[np.isfinite(b).all(axis=1)]
+    return a.shape[0] > 0 and inside_hull(a[:, :2].mean(axis=0), b[:, :2])
+
+
+def cut_at_lift_offs(
+    spans: Spans, lifts: list[LiftOff], closest_m: np.ndarray, dwell: int, positions_m: np.ndarray,
+    table: PairTable,
+) -> Spans:
+    """A pair's tool contacts ``spans`` with each one that runs through a lift-off of ``lifts``
+    ended there, and resumed where the lifted object comes back onto the other: ``closest_m``
+    ((F,) the pair's closest marker distance, metres) within the rest's threshold and its centre
+    over the other's markers (:func:`over`, in ``positions_m``, (F, M, 3)), if what is left of the
+    contact from there lasts ``dwell`` frames (module doc)."""
+    out = list(spans)
+    for lift in lifts:
+        cut: Spans = []
+        for s, e in out:
+            if not s < lift.frame < e:
+                cut.append((s, e))
+                continue
+            cut.append((s, lift.frame))
+            with np.errstate(invalid="ignore"):
+                near = lift.frame + np.flatnonzero(closest_m[lift.frame : e - dwell + 1] <= lift.threshold)
+            back = next((int(f) for f in near if over(positions_m, table, lift.top, lift.base, int(f))), None)
+            if back is not None:
+                cut.append((back, e))
+        out = cut
+    return out
