@@ -41,7 +41,7 @@ from typing import Any
 import numpy as np
 
 from oacdsl.segmentation.motion import SubActionMotion, sub_action_motion
-from oacdsl.segmentation.motionfeatures import MotionFeatures, motion_features
+from oacdsl.segmentation.motionfeatures import MotionFeatures, core_entry, motion_features
 from oacdsl.segmentation.poses import ObjectPoses, relative
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import SubAction
@@ -63,14 +63,22 @@ class MotionCheck:
     label: str  # "moved → target"
 
 
-def tilt_gain(T_target_object: np.ndarray) -> float:
-    """Largest tilt (rad) of the object relative to the target within the span, less its tilt at
-    the span's first posed frame."""
-    ok = np.isfinite(T_target_object[:, 0, 0])
+def tilt_gain(T_target_object: np.ndarray, times_s: np.ndarray | None = None) -> float:
+    """Largest tilt (rad) of the object relative to the target from where it reaches the target
+    to the span's end, less its tilt there (module doc): from the moment the path enters its
+    core (:func:`~oacdsl.segmentation.motionfeatures.core_entry`, between two frames; the span's
+    first posed frame for a path without one; the path in time when ``times_s`` is given)."""
+    T = np.asarray(T_target_object, dtype=np.float64)
+    ok = np.isfinite(T[:, 0, 0])
     if ok.sum() < 2:
         return 0.0
-    tilt = np.arccos(np.clip(T_target_object[ok, 2, 2], -1.0, 1.0))
-    return float(tilt.max() - tilt[0])
+    tilt = np.arccos(np.clip(T[:, 2, 2], -1.0, 1.0))
+    a, w = core_entry(T[:, :3, 3], times_s)
+    after = tilt[a:][ok[a:]]
+    if after.size == 0:
+        return 0.0
+    start = float(tilt[a - 1] + w * (tilt[a] - tilt[a - 1])) if w < 1.0 else float(after[0])
+    return max(float(after.max()), start) - start
 
 
 def moving_stretches(times_s: np.ndarray, T_target_object: np.ndarray, still_speed_m_s: float,
@@ -181,7 +189,7 @@ def motion_checks(
             wanted.append("cycles")
         if abs(feats.twist_rad) >= tolerances.min_turn_rad:
             wanted.append("turn")
-        gain = tilt_gain(d.T_target_object)
+        gain = tilt_gain(d.T_target_object, d.times_s)
         if gain >= tolerances.min_tilt_rad:
             wanted.append("tilt")
         if not wanted:
@@ -230,7 +238,7 @@ def _judge(k: int, feature: str, d: SubActionMotion, feats: Any, gain: float,
         run = f"{math.degrees(f.twist_rad):+.0f}°"
         what = "turn about the target's axis"
     else:
-        g = tilt_gain(T)
+        g = tilt_gain(T, t)
         ok = g >= gain - tol.tilt_reached_rad
         run = f"{math.degrees(g):.0f}°"
         what = "tilt"

@@ -188,8 +188,9 @@ def test_a_lid_resting_on_its_bottle_keeps_its_whole_turn_though_its_markers_cir
         return 0.0 if r.twists_rad is None else math.degrees(float(r.twists_rad[-1]))
 
     assert kept(resting=True) == pytest.approx(turn_deg, abs=5.0)
-    if turn_deg == 720.0:
-        assert kept(resting=False) < 0.6 * turn_deg  # as before
+    if turn_deg == 720.0:  # once cut to its last 139°; the markers' circling beyond the core's
+        # bound is now a brief excursion, which no longer cuts a path's core (pathcore.py)
+        assert kept(resting=False) == pytest.approx(turn_deg, abs=5.0)
 
 
 @pytest.mark.slow

@@ -17,7 +17,7 @@ from oacdsl.model import Grasp
 from oacdsl.model.oac import Atom
 from oacdsl.runtime import reach
 from oacdsl.runtime.grasping import PRE_GRASP_M, GraspPlan, plan_grasps
-from oacdsl.runtime.hands import OPEN
+from oacdsl.runtime.hands import OPEN, TOP_PRESHAPE
 from oacdsl.runtime.motion import TUNING
 from oacdsl.runtime.motion.approach import approach_gap, hand_boxes_at, over_other_side
 from oacdsl.runtime.motion.paths import segment_distance
@@ -69,6 +69,26 @@ def test_the_approach_from_the_hands_own_side_runs_into_what_the_other_hand_hold
     assert approach_gap("l", shorter, OPEN, STILL) > approach_gap("l", natural, OPEN, STILL) + 0.04
     assert approach_gap("l", shorter, OPEN, STILL) > 0.0
 
+
+
+def test_a_side_approach_keeps_its_room_as_far_as_the_hand_may_go_past_the_grasp_point():
+    # the guarded approach goes on past the grasp point until the hand touches the object (a
+    # right hand's palm met a peeler's handle 2.4 cm past it, and its thumb the cucumber the
+    # other hand held up beside it): something just past the hand at the grasp pose counts
+    side = _left_hand_plans()[0]
+    at_grasp = GraspPlan(side.grasp, side.pre_grasp, side.approach, side.grasp)
+    reach_at_grasp = min(lo[1] for lo, _ in hand_boxes_at("l", side.grasp, OPEN))  # the approach is -y
+    beyond = [_box((0.45, reach_at_grasp - 0.06, 0.75), (0.60, reach_at_grasp - 0.035, 1.0))]
+    assert approach_gap("l", at_grasp, OPEN, beyond) > HANDS_APART_M
+    assert approach_gap("l", side, OPEN, beyond) < 0.0
+    assert float(np.linalg.norm(side.end[:3, 3] - side.grasp[:3, 3])) > 0.04
+    # from above the hand stops on the object's top: what lies below (the object, what it
+    # stands on, the other hand holding that) is not on its way
+    lid = plan_grasps(Grasp(cls="Lid", type="power", approach="top", offset=(0.0, 0.0, 0.02)), True,
+                      PEELER, "l", support_z=0.75, top_z=0.82)[0]
+    lowest = min(lo[2] for lo, _ in hand_boxes_at("l", lid.grasp, TOP_PRESHAPE))
+    under = [_box((0.45, -0.2, lowest - 0.05), (0.6, -0.05, lowest - 0.035))]
+    assert approach_gap("l", lid, TOP_PRESHAPE, under) > HANDS_APART_M
 
 class _Ctx:
     """What clear_pre_grasp asks of a skill context: the gap to the objects' footprints."""

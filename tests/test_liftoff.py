@@ -32,6 +32,7 @@ LIFT = (620, 700)  # frames: the lid rises from the bottle's top
 LIFT_M = 0.04  # how far: the lid's markers end 115 mm from the bottle's, within the tool reach
 AWAY = (850, 930)  # frames: then put back onto the bottle, or down beside it
 BESIDE = np.array([0.12, 0.0, -0.18])  # on the table beside the bottle, 2.5 cm from it
+CLOSE_BESIDE = np.array([0.095, 0.0, -0.18])  # 1.5 cm from it: markers within the rest's distance
 
 
 def _turned(layout: np.ndarray, angle_rad: np.ndarray) -> np.ndarray:
@@ -42,16 +43,16 @@ def _turned(layout: np.ndarray, angle_rad: np.ndarray) -> np.ndarray:
     return out
 
 
-def scene(then: str = "hold") -> dict[str, np.ndarray]:
+def scene(then: str = "hold", beside: np.ndarray = BESIDE) -> dict[str, np.ndarray]:
     """The lid rests on the bottle; the right hand holds the bottle from 1 s; the left hand takes
     the lid (2 s), turns it 240° on the bottle (2.5-5.5 s), lifts it ``LIFT_M`` (6.2-7 s) and holds
     it; ``then`` (8.5-9.3 s): ``hold`` it up, put it ``back`` on the bottle, or put it ``beside``
-    the bottle on the table; the hand keeps holding it."""
+    the bottle on the table (at ``beside`` from the lid's place on it); the hand keeps holding it."""
     frames = np.arange(N)
     angle = np.interp(frames, [250, 550], [0.0, np.radians(240.0)])
     up = (0.0, 0.0, LIFT_M)
-    end = {"hold": up, "back": (0.0, 0.0, 0.0), "beside": tuple(BESIDE)}[then]
-    aside = ((AWAY[0] + AWAY[1]) // 2, (BESIDE[0], 0.0, LIFT_M))  # beside: first aside, then down
+    end = {"hold": up, "back": (0.0, 0.0, 0.0), "beside": tuple(beside)}[then]
+    aside = ((AWAY[0] + AWAY[1]) // 2, (beside[0], 0.0, LIFT_M))  # beside: first aside, then down
     via = [aside] if then == "beside" else []
     offset = path(N, [(0, (0.0, 0.0, 0.0)), (LIFT[0], (0.0, 0.0, 0.0)), (LIFT[1], up), (AWAY[0], up), *via,
                       (AWAY[1], end)])
@@ -105,6 +106,23 @@ def test_a_lid_put_back_touches_again_and_one_put_beside_does_not():
     assert closest_m(beside)[AWAY[0]:].min() < 0.08  # passing by as near as it rested on it (77 mm)
     (span,) = on_spans(run(recording(beside)))
     assert LIFT[0] <= span[1] <= LIFT[1], span
+
+
+def test_a_lid_set_down_within_the_rest_distance_beside_its_bottle_does_not_touch_it():
+    """Side by side on the table, neither on the other, nothing moving them together: the
+    distance learned from the rest on top (the paper's rule at it) does not make them touch."""
+    beside = scene("beside", CLOSE_BESIDE)
+    rec = recording(beside)
+    detector = AdaptiveDetector(AasParams().resolved(rec.rate_hz))
+    seg = segment(rec, AasParams(), detector=detector)
+    table = PairTable.of(rec)
+    q = next(q for q, (i, j) in enumerate(table.instance_pairs)
+             if {table.instances[i], table.instances[j]} == {"bottle", "lid"})
+    assert (closest_m(beside)[AWAY[1] + 20 :] < detector._inner._pair_d[table.block == q].max()).all()
+    (span,) = on_spans(summary(seg))
+    assert span[0] == 0 and LIFT[0] <= span[1] <= LIFT[1], span
+    (again,) = on_spans(run(recording(scene("back", CLOSE_BESIDE))))[1:]  # put back on top: touches
+    assert AWAY[0] <= again[0] <= AWAY[1] + 10 and again[1] is None, again
 
 
 @pytest.mark.parametrize("take", sorted(STANDARD_TAKES))
@@ -173,3 +191,11 @@ def test_a_cut_tool_contact_resumes_only_back_on_top():
     aside = rec.positions_m.copy()
     aside[:, list(rec.groups["lid"])] += (0.2, 0.0, 0.0)  # back down, but beside the bottle
     assert cut_at_lift_offs([(50, 300)], [lift], near, 20, aside, table) == [(50, 120)]
+
+
+def test_the_per_frame_reference_agrees_beside():
+    from oacdsl.segmentation.takes import resampled
+
+    rec = resampled(recording(scene("beside", CLOSE_BESIDE)), 30.0)
+    params = AasParams(mode="adaptive")
+    assert segment(rec, params).keyframes == segment_reference(rec, params).keyframes

@@ -70,5 +70,5 @@ def test_kit_stir_motion_table(capsys, tmp_path):
     code, out, err = run(capsys, mocap_file(STIR), "--motion", "--plot-motion", tmp_path / "stir.png")
     assert code == 0, err
     rows = [line for line in out.splitlines() if "tablespoon" in line and "cup_large (" in line]
-    assert any(" 0.50s x3.4 " in row for row in rows), out  # measured: 0.50 s, 3.4 circles
+    assert any(" 0.50s x3.5 " in row for row in rows), out  # measured: 0.50 s, 3.5 circles
     assert (tmp_path / "stir.png").stat().st_size > 20_000

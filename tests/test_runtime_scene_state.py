@@ -95,6 +95,34 @@ def test_the_demonstrated_layout_keeps_sides_and_order_and_fits_the_reach():
     assert bunched["a"][1] > bunched["b"][1]  # a was left of b (the demonstrator's view)
 
 
+
+def test_what_the_demonstration_lays_out_keeps_clear_of_what_is_placed_otherwise():
+    # a sheet of dough KIT does not track (no first frame) is placed by the scene's `at`; the
+    # rolling pin, laid out as demonstrated in the middle, was built inside it (the footprints
+    # 14 cm apart, their radii 38 cm); with `--layout demonstrated` the `at` was dropped
+    # altogether, and no free slot was found for the dough
+    from oacdsl.compiler import load_library
+
+    lib = load_library([ROOT / "library" / "kit", ROOT / "library" / "examples"])
+    scene = lib.scenes["rolling"]
+    demonstrated = {"left_hand": np.array([-0.224, -0.03, 0.85]),
+                    "right_hand": np.array([0.276, -0.03, 0.85]),
+                    "rolling_pin": np.array([0.008, 0.361, 0.85])}
+    only_dough = scene.model_copy(update={"layout": "demonstrated",
+                                          "places": tuple(p for p in scene.places if p.instance == "dough")})
+    for layout in (plan_layout(lib, scene, layout="demonstrated", demonstrated=demonstrated),
+                   plan_layout(lib, only_dough, demonstrated=demonstrated)):
+        assert layout.sources == {"dough": "scene", "rolling_pin": "demonstrated"}
+        dough, pin = layout.placement("dough"), layout.placement("rolling_pin")
+        assert (dough.x, dough.y) == pytest.approx((0.64, 0.16))  # where the scene says
+        assert math.dist((dough.x, dough.y), (pin.x, pin.y)) > dough.body.radius + pin.body.radius
+    # map_into_reach: a fixed footprint stays, the mapped one moves off it the whole way
+    hands = {"l": np.array([-0.4, 0.0, 0.8]), "r": np.array([0.4, 0.0, 0.8])}
+    alone = map_into_reach({"a": np.array([0.0, 0.5, 0.8])}, hands, {"a": 0.05}, MIN_GAP_M)
+    pushed = map_into_reach({"a": np.array([0.0, 0.5, 0.8])}, hands, {"a": 0.05}, MIN_GAP_M,
+                            fixed={"b": (alone["a"], 0.05)})
+    assert math.dist(pushed["a"], alone["a"]) >= 0.1 + MIN_GAP_M - 1e-6
+
 def test_the_bundled_demonstration_lays_out_its_cups_on_their_sides():
     from oacdsl.segmentation.readers import read_recording
 

@@ -75,7 +75,7 @@ def test_twice_as_fast_the_wiping_reads_as_the_original() -> None:
     assert np.linalg.norm(T[left:end.frame + 1, :3, 3], axis=1).min() > 0.25
     same, twice = _verify(inputs, original, original), _verify(inputs, fast, fast)
     assert same.faithful and twice.faithful
-    assert _motion(twice) == _motion(same) == {"motion.4.cycles": ("2.5 cycles, radius 53 mm",) * 2}
+    assert _motion(twice) == _motion(same) == {"motion.4.cycles": ("2.6 cycles, radius 53 mm",) * 2}
 
 
 def _robot_like(demo: Recording, params: AasParams, carry_s: float, shake_m: float = 0.0) -> Recording:
@@ -136,7 +136,7 @@ def test_a_robot_that_lifts_the_sponge_then_carries_the_plate(merged: bool) -> N
     o = _verify(inputs, demo, run, contacts=_contacts(run, inputs.params), demo_segmentation=seg)
     assert o.relations.counts()["split"] == (1 if merged else 0)
     assert o.verified and o.faithful, [(c.name, c.detail) for c in o.failed()]
-    assert _motion(o)["motion.4.cycles"][1].startswith("2.5 cycles")
+    assert _motion(o)["motion.4.cycles"][1].startswith("2.6 cycles")
 
 
 @pytest.mark.parametrize("merged", [True, False])

@@ -124,11 +124,12 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
     """Modes ``robust`` and ``adaptive``, frame by frame (see the module docstring); ``tool_reach_m``:
     the tool rule's reach between two objects (the detector's; None: ``d``)."""
     from oacdsl.segmentation.comotion import AdaptiveSettings
+    from oacdsl.segmentation.episodes import union_spans
     from oacdsl.segmentation.holding import resting_holds
-    from oacdsl.segmentation.liftoff import LiftOff, lift_offs
+    from oacdsl.segmentation.liftoff import LiftOff, lift_offs, set_down_beside
     from oacdsl.segmentation.pairs import PairTable
     from oacdsl.segmentation.stacking import resting_on_top, with_rests
-    from oacdsl.segmentation.tooluse import agents_of, tool_contacts
+    from oacdsl.segmentation.tooluse import LiftOut, agents_of, tool_contacts
     from segeval.reference_comotion import comotion_reference
 
     v, n, half = params.speed_m_s, params.n, params.half_window(recording.rate_hz)
@@ -173,6 +174,7 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
             recording.positions_m,
             settings.frames(settings.lag_s, recording.rate_hz),
             lifts,
+            LiftOut(settings.frames(settings.lag_s, recording.rate_hz), settings.move_speed_m_s),
         )
         for q, (_, threshold) in learned.items():
             distance[q] = round(threshold, 4)
@@ -182,7 +184,11 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
             holds = resting_holds(recording, table, found.closest, agents, params.distance_m,
                                   settings.move_speed_m_s, settings.lag_s, settings.tool_dwell_s,
                                   held=held)
-        sources = ((spans, held), (spans, tools.added), (spans, holds), (vetoes, tools.removed))
+        removed = dict(tools.removed)  # and, after a lift-off, two objects side by side (the detector's)
+        kept = {q: union_spans([*held.get(q, []), *tools.added.get(q, [])]) for q in lifts}
+        for q, beside in set_down_beside(lifts, found.closest, kept, recording.positions_m, table).items():
+            removed[q] = union_spans([*removed.get(q, []), *beside])
+        sources = ((spans, held), (spans, tools.added), (spans, holds), (vetoes, removed))
         for target, per_pair in sources:
             for q, intervals in per_pair.items():
                 for a, b in intervals:  # as the detector reports them: clamped to the last decidable frame

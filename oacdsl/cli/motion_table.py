@@ -11,7 +11,7 @@ __all__ = ["format_motion_table"]
 
 _HEADER = (
     f"{'#':>3}  {'frames':>9}  {'moved':<22} {'by':<11} {'target (relation)':<32}"
-    f" {'path':>7} {'extent':>7} {'period':>13} {'radius':>7} {'tilt':>11}"
+    f" {'path':>7} {'extent':>7} {'period':>13} {'radius':>7} {'tilt':>11} {'turn':>8}"
 )
 
 
@@ -23,10 +23,12 @@ def _row(m: SubActionMotion) -> str:
     target = f"{m.target} ({m.relation})" if m.target else "world"
     period = f"{f.period_s:.2f}s x{f.cycles:.1f}" if f.period_s is not None and f.cycles else "-"
     tilt = f"{math.degrees(f.tilt_max_rad):.0f}deg {f.tilt_time_s:.1f}s"
+    turn_deg = round(math.degrees(f.twist_rad))
+    turn = f"{turn_deg:+d}deg" if turn_deg else "0deg"
     return (
         f"{m.index:>3}  {frames:>9}  {m.moved:<22} {m.hand or '-':<11} {target:<32}"
         f" {f.path_length_m * 1e3:>5.0f}mm {f.extent_m[0] * 1e3:>5.0f}mm {period:>13}"
-        f" {f.radius_m * 1e3:>5.0f}mm {tilt:>11}"
+        f" {f.radius_m * 1e3:>5.0f}mm {tilt:>11} {turn:>8}"
     )
 
 
@@ -40,6 +42,8 @@ def format_motion_table(motions: Sequence[SubActionMotion]) -> str:
     lines += [_row(m) for m in motions]
     lines.append(
         "path: length; extent: along the main axis; period: of the oscillation x cycles;"
-        " radius: around its centre; tilt: largest, and time above half of it"
+        " radius: around its centre; tilt: largest, and time above half of it;"
+        " turn: about the target's vertical axis, counterclockwise seen from above positive (a lid"
+        " unscrewed; twist's angle)"
     )
     return "\n".join(lines)

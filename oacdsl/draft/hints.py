@@ -12,7 +12,7 @@ from oacdsl.draft.names import library_classes_alike
 from oacdsl.draft.support import Support
 from oacdsl.segmentation.recording import Recording
 
-__all__ = ["alike_notes", "carried_notes"]
+__all__ = ["alike_notes", "carried_notes", "stacked_notes"]
 
 
 def carried_notes(recording: Recording, group: str, support: Mapping[str, Support],
@@ -32,11 +32,26 @@ def carried_notes(recording: Recording, group: str, support: Mapping[str, Suppor
     return notes
 
 
-def alike_notes(group: str, instance: str, candidates: Collection[str]) -> list[str]:
-    """The library classes that share a word with ``group`` (``board``: ``CuttingBoard``)."""
+def alike_notes(group: str, instance: str, candidates: Collection[str], cls: str) -> list[str]:
+    """The library classes that share a word with ``group`` (``board``: ``CuttingBoard``), and
+    how to keep the drafted size with that class's grasp and OACs (a subclass)."""
     alike = library_classes_alike(group, candidates)
     if not alike:
         return []
     return [f"# the library's {', '.join(alike)} share{'s' if len(alike) == 1 else ''} a word with"
             f" '{group}': '{instance} : {alike[0]}' in the scene instead of the class below takes"
-            " its geometry, grasp and the OACs written for it."]
+            " its geometry, grasp and the OACs written for it; 'class"
+            f" {cls} : {alike[0]}' below instead of ': Graspable' keeps its grasp and OACs with this"
+            " class's geometry."]
+
+
+def stacked_notes(recording: Recording, group: str, under: str, frame: int, base_z_m: float) -> list[str]:
+    """For an object drafted on ``under`` from ``under``'s highest marker (a lid on its bottle):
+    ``under``'s top may be higher, up to this object's lowest marker, and this object lower."""
+    pts = recording.group_positions(group)[frame]
+    low_m, high_m = float(np.nanmin(pts[:, 2])), float(np.nanmax(pts[:, 2]))
+    if low_m - base_z_m < 0.005:
+        return []
+    return [f"# {under}'s top may be higher, up to this object's lowest marker ({low_m * 1000:.0f} mm,"
+            f" {(low_m - base_z_m) * 1000:.0f} mm above that base): then this object is only"
+            f" {(high_m - low_m) * 1000:.0f} mm high, from there to its highest marker, or a little more."]

@@ -18,7 +18,7 @@ import numpy as np
 
 from oacdsl.draft.estimate import ShapeEstimate, estimate_shape, table_height
 from oacdsl.draft.facing import demonstrator_forward
-from oacdsl.draft.hints import alike_notes, carried_notes
+from oacdsl.draft.hints import alike_notes, carried_notes, stacked_notes
 from oacdsl.draft.names import camel_case, instance_name, library_class_for, unique
 from oacdsl.draft.support import supports
 from oacdsl.geometry import ROLE_SHAPES
@@ -92,7 +92,8 @@ def _class_lines(cls: str, est: ShapeEstimate, table_z_m: float, n_markers: int,
     if est.shape == "cylinder":
         lines.append(f"# cylinder: {len(est.markers_m)} markers lie on a circle of radius"
                      f" {_mm(est.radius_m)} around a vertical axis (rms {est.round_rms_m * 1000:.1f} mm off"
-                     " it): markers on a rim.")
+                     " it): markers on a rim; on stalks off the surface (KIT's: 1-2.5 cm) the object's"
+                     " radius is that much smaller.")
         size = f"shape cylinder(radius {_mm(est.radius_m)}, height {_mm(est.height_m)})"
     else:
         lines.append(f"# box: {est.length_m * 1000:.0f} x {est.width_m * 1000:.0f} mm = the markers'"
@@ -217,10 +218,11 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
             under = instances[stand.on]
             decl.insert(1, f"# it stands on {under} at frame {stand.frame}: its base is {under}'s highest"
                            f" marker ({stand.base_z_m * 1000:.0f} mm), not the table top.")
+            decl[2:2] = stacked_notes(recording, g, under, stand.frame, stand.base_z_m)
             decl = [x.replace("- table top", f"- {under}'s top") for x in decl]
         decl[1:1] = carried_notes(recording, g, support, instances, stand.base_z_m)
         if reused is None and not tied:
-            decl[1:1] = alike_notes(g, inst, buildable)
+            decl[1:1] = alike_notes(g, inst, buildable, cls)
         decls.append(decl)
         grasps.append(_grasp_line(cls, est))
     base_names = list(BASE_CLASSES) if library is None else [c for c in _NEEDED if c not in known]

@@ -23,6 +23,28 @@ from oacdsl.skills import SIGNATURES
 __all__ = ["composed_params", "with_demo_params"]
 
 
+def _against_written(found: StepParams, oac: Oac) -> StepParams:
+    """``found`` with its comment saying where a demonstrated value has the opposite sign of
+    what ``oac`` writes on its skill (a mirrored take's unscrewing turns clockwise: ``angle
+    -240deg`` on ``screw_off``'s written ``240deg``): the step then does the opposite of what
+    the OAC's name says, and the author should know."""
+    from oacdsl.model import Quantity
+    from oacdsl.units import language_si
+
+    written = {q.name: q.value for q in oac.skill_params if isinstance(q.value, Quantity)}
+    notes = []
+    for p in found.params:
+        w = written.get(p.name)
+        if w is None or not isinstance(p.value, Quantity):
+            continue
+        got, was = language_si(p.value.value, p.value.unit)[0], language_si(w.value, w.unit)[0]
+        if got * was < 0:
+            notes.append(f"{p.name} the other way from {oac.name}'s written {w.value:g}{w.unit}")
+    if not notes or found.comment is None:
+        return found
+    return dataclasses.replace(found, comment=f"{found.comment}; {'; '.join(notes)}")
+
+
 def composed_params(oac: Oac, mapping: Mapping[str, str], motion: SubActionMotion | None,
                     library: Library, scene: Scene) -> StepParams:
     """What the demonstration sets on a step calling the composed ``oac`` (its parameters bound
@@ -106,6 +128,7 @@ def with_demo_params(comp: Composition, motions: Mapping[int, SubActionMotion],
                 # the sponge's against the plate). A path is also the pair's seen from the other.
                 motion = motions.of_pair(step.start_frame, *pair) or motion
             found = step_params(step.oac.skill, motion, args, library, scene)
+            found = _against_written(found, step.oac)
         if found.comment is None:
             calls.append(call)
             continue

@@ -182,6 +182,15 @@ def choice_reason(matches: list[Match]) -> str | None:
         return None
     a, b = matches[0], matches[1]
     head = f"{len(matches)} matches; chose {a.text()}"
+    why = _reason(a, b)
+    other = next((m for m in matches[2:] if not a.same_meaning(m)), None) if a.same_meaning(b) else None
+    if other is not None:  # the twin says nothing of why it beat a different OAC: say that too
+        why += f"; over {other.text()}: {_reason(a, other)}"
+    return f"{head}: {why}"
+
+
+def _reason(a: Match, b: Match) -> str:
+    """Why ``a`` ranks before ``b``."""
     if a.explained != b.explained:
         why = f"it explains {a.explained} of {a.changes} changed relations, {b.text()} only {b.explained}"
     elif a.specificity != b.specificity:
@@ -215,4 +224,4 @@ def choice_reason(matches: list[Match]) -> str | None:
             " other, give the OAC you mean a more specific parameter class or a precondition the"
             " other lacks (or leave the other out of the library)"
         )
-    return f"{head}: {why}"
+    return why

@@ -50,7 +50,7 @@ def verdict(result: ResultRecord, failure: tuple[str, OacError] | None, name: st
             **flags,
             "failed_checks": [c["name"] for c in failed] + [f"untracked.{u['instance']}" for u, _ in spilt],
             "summary": f"The robot executed {name}, but the outcome differs from the demonstration:"
-            f" {v.verdict}." + (f" Failed: {named}." if named else "") + _repaired(run),
+            f" {v.verdict}." + (f" Failed: {named}." if named else "") + _during(run, v) + _repaired(run),
         }
     m = run.metrics if run is not None else {}
     balls = f", {m['balls_in_bowl']} of {m['balls_total']} balls in the bowl" if m.get("balls_total") else ""
@@ -89,6 +89,31 @@ def _repaired(run: Any) -> str:
     why = [f"step {i} {s.oac}({', '.join(s.binding.values())}) failed"
            f" ({s.error or 'its effects were not observed'})" for i, s in failed]
     return " The run completed only by repairs after " + "; ".join(why) + "."
+
+
+def _during(run: Any, v: Any) -> str:
+    """In which executed step each extra change of the robot's happened: its time in the robot's
+    recording within the steps' consecutive durations (the recording starts with step 1). A
+    change the alignment calls extra is what a step did besides its effects (a hand brushing an
+    object on its way): that step is what to change, and the relations check names only the
+    change."""
+    extra = [v.robot[a.robot] for a in getattr(v, "alignment", None) or []
+             if a.op == "extra" and a.robot is not None and v.robot[a.robot].time_s is not None]
+    steps = list(run.steps) if run is not None and extra else []
+    ends, t = [], 0.0
+    for s in steps:
+        t += float(s.duration_s)
+        ends.append(t)
+    notes: list[str] = []
+    for change in extra:
+        i = next((k for k, end in enumerate(ends) if change.time_s <= end + 1e-9), None)
+        if i is None:
+            continue
+        rel = ", ".join([f"+ {' <-> '.join(p)}" for p in change.added]
+                        + [f"− {' <-> '.join(p)}" for p in change.removed])
+        step = f"{steps[i].oac}({', '.join(steps[i].binding.values())})"
+        notes.append(f"{rel} at {change.time_s:.1f} s, in step {i + 1} {step}")
+    return f" The extra changes happened: {'; '.join(notes)}." if notes else ""
 
 
 def _untracked_failed(untracked: list[dict[str, Any]]) -> list[tuple[dict[str, Any], dict[str, Any]]]:

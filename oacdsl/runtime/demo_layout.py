@@ -142,16 +142,23 @@ def map_into_reach(
     hands: Mapping[str, np.ndarray],
     radii: Mapping[str, float],
     gap_m: float,
+    fixed: Mapping[str, tuple[tuple[float, float], float]] | None = None,
 ) -> dict[str, tuple[float, float]]:
     """Robot-table (x, y) for each object of ``objects`` (first-frame positions, m); ``hands``
-    maps ``"r"``/``"l"`` to the demonstrator's hands; ``radii`` are footprints (m)."""
+    maps ``"r"``/``"l"`` to the demonstrator's hands; ``radii`` are footprints (m);
+    ``fixed``: objects placed otherwise (a scene's ``at``, ``--place``: name → ((x, y),
+    radius), m), which stay where they are while the mapped ones are pushed off them (an
+    untracked sheet of dough placed by ``at`` under the rolling pin laid out as demonstrated:
+    both were built in one another)."""
     if not objects:
         return {}
     names = sorted(objects)
     mapping = table_map(objects, hands, radii)
-    xy = np.array([mapping(objects[n]) for n in names])
-    r = np.array([radii[n] for n in names])
-    xy = _separate(xy, r, gap_m)
+    still = [v for _, v in sorted((fixed or {}).items())]
+    xy = np.array([mapping(objects[n]) for n in names] + [np.asarray(p, float) for p, _ in still])
+    r = np.array([radii[n] for n in names] + [rad for _, rad in still], dtype=float)
+    xy = _separate(xy, r, gap_m, moving=len(names))[: len(names)]
+    r = r[: len(names)]
     out = {n: (float(x), float(y)) for n, (x, y) in zip(names, xy, strict=True)}
     for n, (x, y), rad in zip(names, xy, r, strict=True):
         if not (X_RANGE_M[0] - 0.05 <= x <= X_RANGE_M[1] + 0.05 and abs(y) + rad <= Y_LIMIT_M + 0.1):
@@ -162,15 +169,21 @@ def map_into_reach(
     return out
 
 
-def _separate(xy: np.ndarray, r: np.ndarray, gap_m: float, rounds: int = 200) -> np.ndarray:
+def _separate(xy: np.ndarray, r: np.ndarray, gap_m: float, rounds: int = 200,
+              moving: int | None = None) -> np.ndarray:
     """Push overlapping footprints apart along the line joining their centres (the one
-    further left moves left on a tie), keeping them inside the mapping region."""
+    further left moves left on a tie), keeping them inside the mapping region; only the
+    first ``moving`` ones move (default: all), the others are fixed and the one meeting
+    them is pushed the whole way."""
     xy = xy.copy()
     n = len(xy)
+    m = n if moving is None else moving
     for _ in range(rounds):
         moved = False
         for i in range(n):
             for j in range(i + 1, n):
+                if i >= m:  # both fixed
+                    continue
                 d = xy[j] - xy[i]
                 dist = float(np.linalg.norm(d))
                 need = r[i] + r[j] + gap_m
@@ -181,11 +194,14 @@ def _separate(xy: np.ndarray, r: np.ndarray, gap_m: float, rounds: int = 200) ->
                 else:
                     direction = np.array([0.0, 1.0 if xy[j, 1] >= xy[i, 1] else -1.0])
                 push = 0.5 * (need - dist) + 1e-4
-                xy[i] -= push * direction
-                xy[j] += push * direction
+                if j >= m:  # j is fixed: i moves the whole way
+                    xy[i] -= 2.0 * push * direction
+                else:
+                    xy[i] -= push * direction
+                    xy[j] += push * direction
                 moved = True
-        xy[:, 0] = np.clip(xy[:, 0], X_RANGE_M[0], X_RANGE_M[1])
-        xy[:, 1] = np.clip(xy[:, 1], -(Y_LIMIT_M - r), Y_LIMIT_M - r)
+        xy[:m, 0] = np.clip(xy[:m, 0], X_RANGE_M[0], X_RANGE_M[1])
+        xy[:m, 1] = np.clip(xy[:m, 1], -(Y_LIMIT_M - r[:m]), Y_LIMIT_M - r[:m])
         if not moved:
             break
     return xy

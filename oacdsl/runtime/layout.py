@@ -259,7 +259,10 @@ def _wanted(
 ) -> tuple[dict[str, tuple[float, float]], dict[str, str]]:
     """The place each object asks for, and where that came from (given, scene, demonstrated).
 
-    ``layout`` is the caller's: it replaces the scene's ``layout`` and its ``at`` statements."""
+    ``layout`` is the caller's: it replaces the scene's ``layout`` and its ``at`` statements,
+    but for ``demonstrated`` the ``at`` of an object the demonstration does not show (an
+    untracked one: it has no first frame) stays. The objects laid out as demonstrated keep
+    clear of those placed otherwise."""
     wanted: dict[str, tuple[float, float]] = {}
     sources: dict[str, str] = {}
     for name, xy in places.items():
@@ -268,7 +271,10 @@ def _wanted(
                 f"cannot place {name!r}: not an object on the table{did_you_mean(name, names)}"
             )
         wanted[name], sources[name] = _on_table(name, bodies, xy), "given"
-    for place in scene.places if layout is None else ():  # a layout given by the caller replaces them
+    shown = demonstrated if layout == "demonstrated" and demonstrated else None
+    for place in scene.places:  # a layout given by the caller replaces them
+        if layout is not None and (shown is None or place.instance in shown):
+            continue
         if place.instance in names and place.instance not in wanted:
             xy = (language_si(place.x.value, place.x.unit)[0], language_si(place.y.value, place.y.unit)[0])
             wanted[place.instance] = _on_table(place.instance, bodies, xy)
@@ -277,7 +283,8 @@ def _wanted(
         free = {n: demonstrated[n] for n in names if n not in wanted and n in demonstrated}
         demo_hands = {side: demonstrated[h] for h, side in hands.items() if h in demonstrated}
         radii = {n: bodies[n].radius for n in free}
-        for name, xy in map_into_reach(free, demo_hands, radii, MIN_GAP_M).items():
+        fixed = {n: (xy, bodies[n].radius) for n, xy in wanted.items()}  # kept clear of
+        for name, xy in map_into_reach(free, demo_hands, radii, MIN_GAP_M, fixed).items():
             wanted[name], sources[name] = xy, "demonstrated"
     return wanted, sources
 

@@ -27,9 +27,18 @@ near that object is a new contact only if it arrives again. So, for each rest of
   its bottle, within the threshold but not over it, does not touch it. A tool contact that begins
   after ``b`` (the tool left the reach and came back) is a new arrival and stays.
 
+- **Set down beside.** After a lift-off the pair's learned distance (the rest's) no longer makes
+  it touch by the paper's rule (step 4 of the adaptive detector) where neither object is over the
+  other: that distance was learned with one on top of the other, and two objects standing side by
+  side on the table, neither on the other, with nothing moving them together, do not touch,
+  however near (a lid set down 1.5 cm beside its bottle, its markers 84 mm from the bottle's,
+  within the rest's 88 mm). :func:`set_down_beside` vetoes those frames; a rest, a tool contact
+  (a new arrival, or resumed back on top) and the frames where one is over the other and within
+  the rest's distance are left to the other rules.
+
 A knife lying on a board, picked up and used on the cucumber on it, leaves the board as it is
-lifted; a spoon lifted out of a cup and held above it is not covered (a tool contact without a
-rest: the tool rule still holds it within ``d``). Everything here is in frames and the
+lifted; a spoon lifted out of a cup and held above it (a tool contact without a rest) is
+:mod:`oacdsl.segmentation.liftout`'s. Everything here is in frames and the
 recording's own lengths: scale, rotation about the vertical, mirror and pace (the dwell and the
 margin are the detector's rescaled ones) do not change it; it needs z up.
 """
@@ -42,11 +51,12 @@ from typing import NamedTuple
 
 import numpy as np
 
+from oacdsl.segmentation.episodes import true_runs
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.stacking import inside_hull
 
-__all__ = ["LiftOff", "cut_at_lift_offs", "lift_offs", "over"]
+__all__ = ["LiftOff", "cut_at_lift_offs", "lift_offs", "over", "set_down_beside"]
 
 Spans = list[tuple[int, int]]
 
@@ -145,4 +155,36 @@ def cut_at_lift_offs(
             if back is not None:
                 cut.append((back, e))
         out = cut
+    return out
+
+
+def set_down_beside(
+    lifts: Mapping[int, list[LiftOff]], closest: Mapping[int, np.ndarray], kept: Mapping[int, Spans],
+    positions_m: np.ndarray, table: PairTable,
+) -> dict[int, Spans]:
+    """Object pair → frame intervals ``[a, b)`` from its first lift-off of ``lifts`` on in which
+    nothing makes it touch: outside its intervals ``kept`` (rests, tool contacts) and not within
+    the rest's distance with one object over the other (:func:`over`, in ``positions_m``) —
+    ``closest`` ((F,) the pair's closest marker distance, metres; NaN: unseen, inf: beyond the
+    scan) — so the paper's rule at the rest's distance does not make two objects side by side
+    touch (module doc)."""
+    n = positions_m.shape[0]
+    out: dict[int, Spans] = {}
+    for q, pair_lifts in lifts.items():
+        if not pair_lifts or q not in closest:
+            continue
+        lift = min(pair_lifts, key=lambda x: x.frame)
+        veto = np.zeros(n, dtype=bool)
+        veto[lift.frame :] = True
+        for a, b in kept.get(q, []):
+            veto[a:b] = False
+        with np.errstate(invalid="ignore"):
+            near = ~(np.asarray(closest[q]) > lift.threshold)  # within it or unseen: the rule may hold
+        for f in np.flatnonzero(veto & near).tolist():  # only near frames need the footprint test
+            top, base = lift.top, lift.base
+            if over(positions_m, table, top, base, f) or over(positions_m, table, base, top, f):
+                veto[f] = False
+        spans = true_runs(veto)
+        if spans:
+            out[q] = spans
     return out

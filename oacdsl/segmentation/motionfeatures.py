@@ -9,15 +9,19 @@ and bridged linearly for the period. numpy only.
 
 Definitions (all in the target's frame):
 
-- **path length**: the summed distance between consecutive posed frames of the
-  object frame's origin, after a centred moving average over :data:`SMOOTH_S`
-  (none at 10 Hz), metres.
+- **path length**: the length of the object frame's origin's path sampled every
+  :data:`SMOOTH_S` seconds from its first posed frame (linearly between posed frames),
+  metres: in seconds, not frames, so that a take at 30-240 Hz of a 10 Hz recording measures
+  what the recording does (a moving average over frames cut its corners: 5 % shorter), and
+  marker jitter, small against a moving object's 0.05 s step, adds next to nothing at any rate.
 - **extent**: peak-to-peak of the origin's path along its three principal axes
   (PCA of the positions), largest first, metres.
 - **core**: the frames where the object dwells: the longest run of posed frames
-  within :data:`CORE_FACTOR` × the median distance of the path's points from their
-  median point (the object entering and leaving the target is cut off; a stir is the
-  circles, not the spoon's way into the cup). Period, cycles and radius describe the core.
+  within :data:`CORE_FACTOR` × the median distance of the path from its median point, both
+  taken over the path in time (the lines between frames sampled finely), ``core_s`` its
+  entry and exit times between frames (:mod:`oacdsl.segmentation.pathcore`: the object
+  entering and leaving the target is cut off; a stir is the circles, not the spoon's way into
+  the cup). Period, cycles and radius describe the core.
 - **period**: the lag of the first peak (at least :data:`MIN_PERIODICITY`) of the
   path's autocorrelation (principal plane, centred, linear trend removed) after it
   first turns negative, refined by a
@@ -51,6 +55,8 @@ from typing import Any
 
 import numpy as np
 
+from oacdsl.segmentation.pathcore import CORE_FACTOR, core_entry, core_frames, core_times
+
 __all__ = [
     "CORE_FACTOR",
     "MIN_CYCLES",
@@ -59,6 +65,7 @@ __all__ = [
     "MIN_TILT_RAD",
     "SMOOTH_S",
     "MotionFeatures",
+    "core_entry",
     "core_frames",
     "dominant_period",
     "motion_features",
@@ -70,14 +77,12 @@ __all__ = [
 MIN_PERIODICITY = 0.3
 #: Fewest periods the span must hold for a period to be reported.
 MIN_CYCLES = 1.5
-#: The core holds the points within this many median distances of the path's median point.
-CORE_FACTOR = 2.5
 #: Smallest radius of a reported oscillation, metres: below it the path is jitter of the fit.
 MIN_RADIUS_M = 0.005
 #: The period's lag over the first zero crossing's lag (4 for a sinusoid).
 _ZERO_RATIO = (3.0, 5.5)
-#: Window of the moving average a path length is measured on, seconds (marker jitter
-#: would add length at high frame rates; a 0.6 s stirring circle loses ~1 %).
+#: Time step a path length is measured at, seconds (marker jitter would add length at high
+#: frame rates over every frame; a 0.6 s stirring circle loses ~1 %).
 SMOOTH_S = 0.05
 #: Smallest tilt whose duration is measured, radians (5°: below it the object was not tilted).
 MIN_TILT_RAD = math.radians(5.0)
@@ -172,33 +177,16 @@ def dominant_period(times_s: np.ndarray, signal: np.ndarray) -> tuple[float | No
     return (k + float(np.clip(shift, -0.5, 0.5))) * dt, peak
 
 
-def _smooth(times_s: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """Centred moving average of (N, 3) ``points`` over :data:`SMOOTH_S` (edges: the mean of what fits)."""
-    dt = float(np.median(np.diff(times_s))) if len(times_s) > 1 else 1.0
-    w = int(round(SMOOTH_S / dt)) if dt > 0 else 1
-    if w <= 1:
-        return points
-    kernel = np.ones(w)
-    count = np.convolve(np.ones(len(points)), kernel, mode="same")
-    return np.stack([np.convolve(col, kernel, mode="same") / count for col in points.T], axis=1)
-
-
-def core_frames(points: np.ndarray) -> tuple[int, int]:
-    """``[a, b)``: the longest run of rows of (N, 3) ``points`` near their median point (module doc)."""
-    ok = np.isfinite(points).all(axis=1)
-    if not ok.any():
-        return 0, 0
-    dist = np.linalg.norm(points - np.median(points[ok], axis=0), axis=1)
-    scale = float(np.median(dist[ok]))
-    far = np.zeros(len(points), dtype=bool)
-    far[ok] = dist[ok] > CORE_FACTOR * scale
-    near = (~far).astype(np.int8)  # a gap does not cut the core
-    edges = np.diff(np.r_[0, near, 0])
-    starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
-    posed = np.r_[0, np.cumsum(ok)]
-    k = int(np.argmax(posed[stops] - posed[starts]))  # the run with the most posed frames
-    inside = np.flatnonzero(ok[starts[k] : stops[k]]) + starts[k]
-    return (int(inside[0]), int(inside[-1]) + 1) if inside.size else (0, 0)
+def _path_length(times_s: np.ndarray, points: np.ndarray) -> float:
+    """Length (m) of the (N, 3) ``points`` at ``times_s`` sampled every :data:`SMOOTH_S` from the
+    first, linearly between them (module doc)."""
+    t = np.asarray(times_s, dtype=np.float64)
+    if len(t) < 2:
+        return 0.0
+    grid = np.arange(t[0], t[-1], SMOOTH_S)
+    grid = np.r_[grid[np.abs(grid - t[-1]) > 1e-9], t[-1]]
+    samples = np.stack([np.interp(grid, t, col) for col in points.T], axis=1)
+    return float(np.linalg.norm(np.diff(samples, axis=0), axis=1).sum())
 
 
 def motion_features(times_s: np.ndarray, T_target_object: np.ndarray) -> MotionFeatures:
@@ -210,9 +198,9 @@ def motion_features(times_s: np.ndarray, T_target_object: np.ndarray) -> MotionF
     if ok.sum() < 2:
         return MotionFeatures(duration, 0.0, (0.0, 0.0, 0.0), (0.0, 0.0), None, None, 0.0, 0.0, 0.0)
     pos = T[ok, :3, 3]
-    path = float(np.linalg.norm(np.diff(_smooth(t[ok], pos), axis=0), axis=1).sum())
+    path = _path_length(t[ok], pos)
     extent = np.ptp(_principal(pos)[0], axis=0)
-    a, b = core_frames(T[:, :3, 3])
+    a, b = core_frames(T[:, :3, 3], t)
     core = T[a:b, :3, 3]
     core_ok = np.isfinite(core).all(axis=1)
     plane = np.full((b - a, 2), np.nan)
@@ -221,7 +209,7 @@ def motion_features(times_s: np.ndarray, T_target_object: np.ndarray) -> MotionF
         plane[core_ok] = _principal(core[core_ok])[0][:, :2]
         radius = float(np.median(np.linalg.norm(plane[core_ok], axis=1)))
     period, _ = dominant_period(t[a:b], plane) if b - a >= _MIN_SAMPLES else (None, 0.0)
-    core_s = (float(t[a]), float(t[b - 1])) if b > a else (0.0, 0.0)
+    core_s = core_times(T[:, :3, 3], t)
     cycles = (core_s[1] - core_s[0]) / period if period else None
     if cycles is not None and (cycles < MIN_CYCLES or radius < MIN_RADIUS_M):
         period = cycles = None

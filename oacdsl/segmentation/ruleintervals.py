@@ -19,13 +19,13 @@ from oacdsl.segmentation.comotion import AdaptiveSettings, CoMotion
 from oacdsl.segmentation.episodes import union_spans
 from oacdsl.segmentation.geomcontact import decided_by_geometry, geometric_contacts
 from oacdsl.segmentation.holding import resting_holds
-from oacdsl.segmentation.liftoff import LiftOff, lift_offs
+from oacdsl.segmentation.liftoff import LiftOff, lift_offs, set_down_beside
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.shapes import ShapeModel
 from oacdsl.segmentation.stacking import resting_on_top, with_rests
-from oacdsl.segmentation.tooluse import tool_contacts
+from oacdsl.segmentation.tooluse import LiftOut, tool_contacts
 
 __all__ = ["EPISODE", "TOOL", "VETO", "RuleIntervals", "causal_events", "event_rows", "rule_intervals"]
 
@@ -79,7 +79,7 @@ def rule_intervals(
     tools = tool_contacts(
         table, n_frames, rate, held, found.closest, agents, tool_reach_m, run.tool_dwell_s,
         run.tool_bridge_s, run.rest_m, tool_reach_m * (1 + run.margin), recording.positions_m,
-        run.frames(run.lag_s, rate), lifts,
+        run.frames(run.lag_s, rate), lifts, LiftOut(run.frames(run.lag_s, rate), run.move_speed_m_s),
     )
     added = dict(tools.added)
     if run.hold_still:  # a hand at rest on or around a still object (holding.py)
@@ -90,6 +90,10 @@ def rule_intervals(
         for q, spans in holds.items():
             added[q] = union_spans([*added.get(q, []), *spans])  # one flag per kind and pair
     removed = dict(tools.removed)
+    if lifts:  # after a lift-off, the rest's distance does not make two objects side by side touch
+        kept = {q: union_spans([*held.get(q, []), *added.get(q, [])]) for q in lifts}
+        for q, spans in set_down_beside(lifts, found.closest, kept, recording.positions_m, table).items():
+            removed[q] = union_spans([*removed.get(q, []), *spans])
     report = None
     if shapes is not None:  # pairs measured by geometry: decided by it alone
         geo = geometric_contacts(recording, table, dict(shapes), agents, params.n, run.tool_bridge_s)

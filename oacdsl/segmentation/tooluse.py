@@ -45,12 +45,22 @@ import numpy as np
 from oacdsl.segmentation.comotion import frames_within
 from oacdsl.segmentation.episodes import true_runs
 from oacdsl.segmentation.liftoff import LiftOff, cut_at_lift_offs
+from oacdsl.segmentation.liftout import cut_at_lift_outs, size_m
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.toolroles import refine
 
-__all__ = ["STRAIGHT_RATIO", "ToolContacts", "agents_of", "passes_through", "tool_contacts"]
+__all__ = ["STRAIGHT_RATIO", "LiftOut", "ToolContacts", "agents_of", "passes_through", "tool_contacts"]
 
 Spans = list[tuple[int, int]]
+
+
+@dataclass(frozen=True)
+class LiftOut:
+    """The settings of the lifted-out rule (:mod:`oacdsl.segmentation.liftout`): ``lag`` frames
+    over which the tool's speed is measured, and the speed below which it is held still, m/s."""
+
+    lag: int
+    move_speed_m_s: float
 
 
 @dataclass(frozen=True)
@@ -81,6 +91,7 @@ def tool_contacts(
     positions_m: np.ndarray | None = None,
     step: int = 1,
     lifts: Mapping[int, list[LiftOff]] | None = None,
+    lift_out: LiftOut | None = None,
 ) -> ToolContacts:
     """Tool contacts and cross-hand vetoes (see the module docstring).
 
@@ -94,7 +105,9 @@ def tool_contacts(
     straight through the target's reach is passing by, however long it takes
     (:func:`passes_through`, sampled every ``step`` frames); None: the dwell alone decides;
     ``lifts``: object pair → each lift-off from a rest on top, where its tool contact ends (with
-    ``positions_m``) (:func:`~oacdsl.segmentation.liftoff.cut_at_lift_offs`).
+    ``positions_m``) (:func:`~oacdsl.segmentation.liftoff.cut_at_lift_offs`); ``lift_out``: a tool
+    lifted out of its target and held above it stops touching it (with ``positions_m``,
+    :func:`~oacdsl.segmentation.liftout.cut_at_lift_outs`; None: it does not).
     """
     agent_set = set(agents)
     if not agent_set:
@@ -129,6 +142,7 @@ def tool_contacts(
     dwell = max(1, round(dwell_s * rate_hz))
     bridge = frames_within(bridge_s, rate_hz)
     added: dict[int, Spans] = {}
+    sizes: dict[int, float] = {}  # instance → its size, metres (lifted out)
     for i, x in enumerate(objects):
         for a in objects[i + 1 :]:
             q = pair(x, a)
@@ -162,6 +176,15 @@ def tool_contacts(
                                                  _centre(positions_m, table, a, s, e), step, reach_m))]
             if lifts and q in lifts and positions_m is not None:  # lifted off a rest: not carried on
                 spans = cut_at_lift_offs(spans, lifts[q], dist(x, a), dwell, positions_m, table)
+            if lift_out is not None and positions_m is not None and spans:  # held above its target
+                for tool, target in ((x, a), (a, x)):
+                    wielded = np.zeros(n_frames, dtype=bool)
+                    for h in agent_set:
+                        wielded |= holds[(h, tool)]
+                    if target not in sizes:
+                        sizes[target] = size_m(positions_m, table, target, max(1, n_frames // 200))
+                    spans = cut_at_lift_outs(spans, tool, target, wielded, positions_m, table, sizes[target],
+                                             dwell, lift_out.lag, lift_out.move_speed_m_s, rate_hz)
             if spans:
                 added[q] = spans
     removed: dict[int, Spans] = {}

@@ -70,12 +70,24 @@ def hand_boxes_at(side: str, t_world_grasp: np.ndarray, fingers: Mapping[str, fl
 
 def approach_gap(side: str, plan: GraspPlan, fingers: Mapping[str, float], still: Sequence[Box]) -> float:
     """The smallest gap (m) between hand ``side`` coming in along ``plan`` (pre-grasp to grasp,
-    turned as at the grasp, fingers at ``fingers``) and the ``still`` boxes; ``inf`` when there
-    are none, negative where they overlap."""
+    or to the approach's end for an approach from the side; turned as at the grasp, fingers at
+    ``fingers``) and the ``still`` boxes; ``inf`` when there are none, negative where they overlap.
+
+    From the side, to the end: the guarded approach goes on past the grasp point until the
+    hand touches the object (``plan.end``, up to ``OVERSHOOT_M`` past it), and a hand from the
+    side touches it first with its palm. A right hand taking a standing peeler from its side
+    closed with its grasp centre 2.4 cm past the grasp point, its palm on the handle, and its
+    thumb met the cucumber the left hand held up beside it (0.76 s, an extra + and −), the
+    approach having kept 3.1 cm up to the grasp point. From above the hand stops on the
+    object's top, at the grasp point (a lid on a bottle the other hand holds: what lies past it
+    is the object and what it stands on)."""
     if not still:
         return float("inf")
     start = plan.pre_grasp[:3, 3]
-    return way_gap(hand_boxes_at(side, plan.pre_grasp, fingers), still, start, [start, plan.grasp[:3, 3]])
+    d = plan.approach
+    from_above = abs(float(d[2])) > float(np.hypot(d[0], d[1]))
+    stop = plan.grasp if from_above else plan.end
+    return way_gap(hand_boxes_at(side, plan.pre_grasp, fingers), still, start, [start, stop[:3, 3]])
 
 
 def other_side_boxes(world: SimWorld, side: str, exclude: set[str]) -> list[Box]:

@@ -81,6 +81,13 @@ class Tuning:
     #: (pouring into the cup it holds; the arm follows the tilt within a few mm there) and that
     #: hand's, m (as ``FOLLOW.hand_clearance_m``)
     hands_clearance_m: float = 0.01
+    #: a round source (no spout) is turned about its axis before a pour, by up to
+    #: ``pour_turn_most_rad`` either way in steps of ``pour_turn_step_rad`` (90°, 15°), when the
+    #: turn lets its lip roll the balls out at least ``pour_turn_gain_m`` lower: its hand then
+    #: reaches less over the target and the other hand holding it
+    pour_turn_most_rad: float = 1.5708
+    pour_turn_step_rad: float = 0.2618
+    pour_turn_gain_m: float = 0.01
     #: height of a tool's tip above a rim before it goes in, m
     above_rim_m: float = 0.05
     #: how far beyond a wall (or into a floor) a tool is aimed to stay in contact with it, m

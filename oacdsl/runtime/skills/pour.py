@@ -24,7 +24,12 @@ through the tilt, the balls leave the lip later, from its usual height (KIT Pour
 right thumb met the cup while pouring). The source and the pouring hand keep
 :data:`~oacdsl.runtime.motion.tuning.Tuning.hands_clearance_m` from the collision boxes of the
 palm, fingers and thumb of a hand that holds the target, as they are: boxes beside them need
-no lift, boxes over them are passed over (:mod:`oacdsl.runtime.boxlift`). Over a wide target
+no lift, boxes over them are passed over (:mod:`oacdsl.runtime.boxlift`). A round source (no
+spout) is first turned about its axis, by up to a quarter turn either way, when its lip can then
+roll the balls out lower (its hand beside the lip rather than over the target: the carton of KIT
+Pour mirrored, turned 60°, rolled its balls out 2.5 cm above the rim of the cup the other hand
+held instead of 10.7 cm, where balls bounced out); the arm's reach decides, else it is poured
+as it is held. Over a wide target
 each step is raised by what the arm's measured lag needs: the hand taken to be as far off its
 next goal as it is off its last one now, the cup held there must still clear the rim (at the
 demonstrated pace the hand lags 1.5-2 cm below its goal as the tilt begins, and the cup came
@@ -43,12 +48,12 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.armroom import arm_room
-from oacdsl.runtime.bodies import Body
 from oacdsl.runtime.boxlift import lift_to_clear
 from oacdsl.runtime.control import CONTROL_DT_S
 from oacdsl.runtime.motion import TUNING, Motion, OtherHand, raised
 from oacdsl.runtime.shapes import hand_corners, world_corners
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
+from oacdsl.runtime.spout import spout_direction
 from oacdsl.runtime.transforms import make_T, rot_axis
 from oacdsl.skills import SIGNATURES
 
@@ -85,39 +90,6 @@ def _cup_pose(
     return make_T(r, lip_world - r @ lip_local)
 
 
-def spout_direction(body: Body) -> np.ndarray | None:
-    """The horizontal direction (object frame, unit) of the middle of the widest gap in what
-    closes a container's top (a carton's opening), or None when the rim is open all round
-    (a cup) or closed all round."""
-    shell = body.shell
-    if shell is None:
-        return None
-    rim_z, r = shell.top, shell.dims["radius"] - shell.dims["wall"]
-    lids = [s for s in body.solids if s is not shell and s.top >= rim_z - 0.01]
-    angles = np.radians(np.arange(0.0, 360.0, 5.0))
-    open_ = np.ones(len(angles), dtype=bool)
-    for a_i, a in enumerate(angles):  # a point of the opening near the wall at each azimuth
-        x, y = 0.8 * r * math.cos(a), 0.8 * r * math.sin(a)
-        for lid in lids:
-            d, (cx, cy, _) = lid.dims, lid.at
-            if lid.kind == "box":
-                covered = abs(x - cx) <= d["length"] / 2 and abs(y - cy) <= d["width"] / 2
-            else:
-                covered = math.hypot(x - cx, y - cy) <= d.get("radius", 0.0)
-            open_[a_i] &= not covered
-    if open_.all() or not open_.any():
-        return None
-    # the widest run of open angles (the circle wraps around)
-    start = int(np.argmin(open_))  # a closed angle: runs begin after it
-    best, run, best_mid = 0, 0, 0.0
-    for k in range(1, len(angles) + 1):
-        i = (start + k) % len(angles)
-        run = run + 1 if open_[i] else 0
-        if run > best:
-            best, best_mid = run, float(angles[i]) - math.radians(5.0) * (run - 1) / 2
-    return np.array([math.cos(best_mid), math.sin(best_mid), 0.0])
-
-
 def pour(
     ctx: SkillContext,
     hand: str,
@@ -146,18 +118,18 @@ def pour(
     off_centre = bowl.inner_radius if narrow else min(LIP_FROM_CENTRE_M, 0.5 * bowl.inner_radius)
     if narrow:
         height = min(height, NARROW_LIP_ABOVE_RIM_M)
-    # the cup kept upright with its current heading; a cup with an opening in its top (a
-    # carton's spout) turned so that the opening faces the target
+    # the cup kept upright with its current heading (or turned about its axis, see turns()); a
+    # cup with an opening in its top (a carton's spout) turned so that the opening faces the target
     yaw = math.atan2(t_cup[1, 0], t_cup[0, 0])
     spout = spout_direction(cup)
 
-    def heading(u: np.ndarray) -> np.ndarray:
+    def heading(u: np.ndarray, turn: float) -> np.ndarray:
         if spout is None:
-            return rot_axis((0.0, 0.0, 1.0), yaw)
+            return rot_axis((0.0, 0.0, 1.0), yaw + turn)
         return rot_axis((0.0, 0.0, 1.0), math.atan2(-u[1], -u[0]) - math.atan2(spout[1], spout[0]))
 
-    def hand_at(u: np.ndarray, angle: float, lift: float) -> np.ndarray:
-        base_r = heading(u)
+    def hand_at(u: np.ndarray, angle: float, lift: float, turn: float = 0.0) -> np.ndarray:
+        base_r = heading(u, turn)
         lip_local = base_r.T @ (-u * cup.rim_radius) + np.array([0.0, 0.0, cup.rim_height])
         lip = np.array([*(centre[:2] + u[:2] * off_centre), rim_z + height + lift])
         axis = np.cross(u, (0.0, 0.0, 1.0))
@@ -179,10 +151,10 @@ def pour(
         which they keep :data:`TUNING.hands_clearance_m` from the other hand's."""
         return lift_to_clear(pts, holder_pts, TUNING.hands_clearance_m, from_m) if len(holder_pts) else from_m
 
-    def need(u: np.ndarray, s: float, base: float) -> float:
+    def need(u: np.ndarray, s: float, base: float, turn: float = 0.0) -> float:
         """How much higher (m) than ``base`` above its place the lip must be at ``s`` of the
         tilt (:func:`need_at` of the hand's pose there)."""
-        return need_at(hand_at(u, tilt * s, base))
+        return need_at(hand_at(u, tilt * s, base, turn))
 
     def need_at(t_hand: np.ndarray) -> float:
         """How much higher (m) the hand at ``t_hand`` must be so that the cup stays above the
@@ -211,17 +183,37 @@ def pour(
                 out = max(out, float((top + TUNING.rim_clearance_m - both[:, 2])[near].max()))
         return over_holder(both, max(out, 0))
 
-    def lifted(u: np.ndarray, s: float, base: float) -> np.ndarray:
+    def lifted(u: np.ndarray, s: float, base: float, turn: float = 0.0) -> np.ndarray:
         """The hand's pose at ``s`` of the tilt, the lip ``base`` higher than its place and as
         much more as :func:`need` asks there and half a tilt step either side (the lip is as
         low as the hand allows at every tilt: where the balls leave it is over the rim)."""
-        extra = max(need(u, min(1.0, max(0.0, s + ds)), base) for ds in (-1.0 / STEPS, 0.0, 1.0 / STEPS))
-        return hand_at(u, tilt * s, base + max(0.0, extra))
+        around = (min(1.0, max(0.0, s + ds)) for ds in (-1.0 / STEPS, 0.0, 1.0 / STEPS))
+        extra = max(need(u, s_k, base, turn) for s_k in around)
+        return hand_at(u, tilt * s, base + max(0.0, extra), turn)
 
-    def tilted(u: np.ndarray, s: float) -> np.ndarray:
+    def tilted(u: np.ndarray, s: float, turn: float = 0.0) -> np.ndarray:
         """The hand's pose at ``s`` of the tilt: the lip comes down from its start height over the
         first half of the tilt."""
-        return lifted(u, s, LIP_START_EXTRA_M * max(0.0, 1.0 - 2.0 * s))
+        return lifted(u, s, LIP_START_EXTRA_M * max(0.0, 1.0 - 2.0 * s), turn)
+
+    def roll_out_lift(u: np.ndarray, turn: float) -> float:
+        """The highest the lip must rise (m) above its place while the balls roll out (the tilt
+        from :data:`SLOW_FROM_RAD` on), the source turned ``turn`` (rad) about its axis."""
+        rolling = (k / STEPS for k in range(1, STEPS + 1) if tilt * k / STEPS >= SLOW_FROM_RAD)
+        return max(need(u, s, 0.0, turn) for s in rolling)
+
+    def turns(u: np.ndarray) -> list[float]:
+        """The turns of a round source about its axis to try from side ``u``: the one after which
+        the lip rolls the balls out lowest, when it is :data:`TUNING.pour_turn_gain_m` lower than
+        with the source as it is held, then no turn (a source with a spout faces it to the target)."""
+        if spout is None and tilt > SLOW_FROM_RAD:
+            most = round(TUNING.pour_turn_most_rad / TUNING.pour_turn_step_rad)
+            ways = [k * TUNING.pour_turn_step_rad for k in range(1, most + 1)]
+            lifts = {t: roll_out_lift(u, t) for t in (0.0, *ways, *(-w for w in ways))}
+            best = min(lifts, key=lambda t: (lifts[t], abs(t)))
+            if lifts[best] < lifts[0.0] - TUNING.pour_turn_gain_m:
+                return [best, 0.0]
+        return [0.0]
 
     def step_s(s: float) -> float:
         """Time (s) of the tilt's step to ``s``: slower where the balls roll out into a narrow target."""
@@ -238,24 +230,29 @@ def pour(
     # its elbow on the table)
     ticks = [TUNING.pose_solve_tries] + [
         max(1, round(step_s(k / STEPS) / CONTROL_DT_S)) for k in range(1, STEPS + 1)]
-    best: tuple[float, np.ndarray] | None = None
-    for a in candidates:
-        u = np.array([math.cos(a), math.sin(a), 0.0])
-        path = [lifted(u, 0.0, LIP_START_EXTRA_M)] + [tilted(u, k / STEPS) for k in range(1, STEPS + 1)]
+    # each side tried with a round source turned about its axis so that its lip rolls the balls
+    # out lowest (its hand reaching less over the target: 2 cm instead of 10 cm above the rim of
+    # the cup the other hand held, KIT Pour mirrored, where balls bounced out), then as it is held
+    units = (np.array([math.cos(a), math.sin(a), 0.0]) for a in candidates)
+    ways = ((u, turn) for u in units for turn in turns(u))
+    best: tuple[float, np.ndarray, float] | None = None
+    for u, turn in ways:
+        path = [lifted(u, 0.0, LIP_START_EXTRA_M, turn)]
+        path += [tilted(u, k / STEPS, turn) for k in range(1, STEPS + 1)]
         postures = ctl.ik.reach_postures(side, path, ticks)
         err = max(r.miss_m for r, _ in postures)
         if best is None or err < best[0]:
-            best = (err, u)
+            best = (err, u, turn)
         rooms = (arm_room(world, side, postures[k][1], {source}) for k in (0, STEPS // 2, STEPS))
         if err < REACH_TOLERANCE_M and all(room >= TUNING.arm_room_m for room in rooms):
-            best = (err, u)
+            best = (err, u, turn)
             break
     if best is None or best[0] > 3 * REACH_TOLERANCE_M:
         raise RuntimeFailure(
             f"cannot pour from {source} into {target}: no tilted pose over {target} is in reach"
             f" of {hand} (best leaves the hand {best[0] * 100 if best else float('nan'):.0f} cm off)"
         )
-    u = best[1]
+    u, turn = best[1], best[2]
 
     # a hand holding the target keeps it where it was (its goal fixed, as strong a task as the
     # pouring hand's: the whole-body IK would otherwise let it drift with the torso as the source tilts)
@@ -286,16 +283,16 @@ def pour(
         m.hold_still()
     ctl.activity = f"bringing {source} over {target}"
     came_from = m.here()
-    m.carry(lifted(u, 0.0, LIP_START_EXTRA_M), {source, target}, TUNING.work_carry_s)
+    m.carry(lifted(u, 0.0, LIP_START_EXTRA_M, turn), {source, target}, TUNING.work_carry_s)
     ctl.activity = f"pouring {liquid} into {target}"
     for k in range(1, STEPS + 1):
-        go(tilted(u, k / STEPS), step_s(k / STEPS))
+        go(tilted(u, k / STEPS, turn), step_s(k / STEPS))
     m.hold_still(EMPTY_S, until=lambda: world.balls_inside(source, liquid) == 0)
     m.hold_still(TUNING.shift_s)
     back = STEPS // 2
     for k in range(1, back + 1):
         s = 1.0 - k / back
-        go(lifted(u, s, LIP_START_EXTRA_M * (1.0 - s)), 1.0 / back)
+        go(lifted(u, s, LIP_START_EXTRA_M * (1.0 - s), turn), 1.0 / back)
     inside = world.balls_inside(target, liquid)
     if inside < SUCCESS_FRACTION * total:
         left = world.balls_inside(source, liquid)
