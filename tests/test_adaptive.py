@@ -263,8 +263,9 @@ def test_windowed_extend_equals_the_whole_recording_pass(monkeypatch: pytest.Mon
 
 
 def test_instance_speed_median_by_network_equals_the_sorted_median() -> None:
-    """The scan's instance speeds: the min/max network gives _nanmedian0's values, gaps, ties and all."""
-    from oacdsl.segmentation.comotion import _median_rows, _nanmedian0
+    """The scan's instance speeds: the min/max networks give nanmedian0's values, gaps, ties and all."""
+    from oacdsl.segmentation.medians import median_rows as _median_rows
+    from oacdsl.segmentation.medians import nanmedian0 as _nanmedian0
 
     rng = np.random.default_rng(11)
     for k in range(0, 11):  # up to 8 markers by the network, more by sorting
@@ -278,7 +279,7 @@ def test_instance_speed_median_by_network_equals_the_sorted_median() -> None:
 def test_sorted_median_equals_nanmedian_with_and_without_gaps() -> None:
     """_nanmedian0 (the scan's distance-change and speed medians) reads the middle rows when no
     value is missing, and counts per column otherwise: both are np.nanmedian's values."""
-    from oacdsl.segmentation.comotion import _nanmedian0
+    from oacdsl.segmentation.medians import nanmedian0 as _nanmedian0
 
     rng = np.random.default_rng(5)
     for k in (1, 2, 5, 16, 25):
@@ -411,7 +412,7 @@ def test_combined_block_state_equals_the_change_by_change_rule() -> None:
 def test_the_scan_measures_the_hands_speeds_as_holding_still_does(monkeypatch, scan_frames):
     """The hold-still rule takes the hands' speeds from the co-motion scan (not measured twice):
     from frame ``lag`` on they are its own, gaps and chunk borders included."""
-    from oacdsl.segmentation import comotion as scan
+    from oacdsl.segmentation import scan
     from oacdsl.segmentation.comotion import AdaptiveSettings, comotion
     from oacdsl.segmentation.holding import median_speeds as _speeds
     from oacdsl.segmentation.pairs import PairTable
@@ -425,7 +426,7 @@ def test_the_scan_measures_the_hands_speeds_as_holding_still_does(monkeypatch, s
     hand = table.instances.index("hand")
     settings = AdaptiveSettings(lag_s=0.07)
     params = AasParams(mode="adaptive").resolved(rec.rate_hz)
-    monkeypatch.setattr(scan, "_SCAN_FRAMES", scan_frames)  # chunks of the scan
+    monkeypatch.setattr(scan, "SCAN_FRAMES", scan_frames)  # chunks of the scan
     found = comotion(rec, table, params, settings, RigidFill(rec, ["cup"]), keep_speeds=[hand])
     lag = settings.frames(settings.lag_s, rec.rate_hz)
     own = _speeds(rec.group_positions("hand"), np.asarray(rec.times_s, dtype=np.float64), lag)

@@ -195,7 +195,7 @@ class AdaptiveDetector:
         beyond its distance there: the paper's rule cannot find it close, and the broad phase of
         the main pass need not be run again.
         """
-        scan_reach = self.params.distance_m * (1 + self._run.margin)  # metres, as in comotion._scan
+        scan_reach = self.params.distance_m * (1 + self._run.margin)  # metres, the co-motion scan's reach
         if self.reach_m is None or self.reach_m > scan_reach:
             return None
         n_bins = -(-n_frames // _NEAR_BIN)

@@ -1,9 +1,10 @@
 """Co-motion: when two instances move as one, and the distance at which they do.
 
 Steps 1–3 of the adaptive touch detector (:mod:`oacdsl.segmentation.adaptive`):
-co-motion frames per instance pair, episodes, each pair's learned contact distance,
-and the touching intervals grown from the episodes. Reads the whole recording in
-chunks; memory O(frames) per instance pair that comes within reach (float32).
+co-motion frames per instance pair (the scan, :mod:`oacdsl.segmentation.scan`), episodes, each
+pair's learned contact distance, and the touching intervals grown from the episodes. The scan
+reads the whole recording in chunks; memory O(frames) per instance pair that comes within reach
+(float32).
 """
 
 from __future__ import annotations
@@ -17,16 +18,14 @@ import numpy as np
 
 from oacdsl.errors import SegmentationError
 from oacdsl.segmentation.episodes import extend_episode, find_episodes, near_episodes, union_spans
-from oacdsl.segmentation.geometry import BOUND_MARGIN_M, ChunkGeometry, chunk_frames_for
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import AasParams
 from oacdsl.segmentation.poses import RigidFill
 from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.scan import Rule, scan_signals
 from oacdsl.segmentation.subframe import EdgeTimes, span_edges
 
 __all__ = ["AdaptiveSettings", "CoMotion", "comotion", "frames_within"]
-
-_SCAN_FRAMES = 4096  # frames per chunk of the scan
 
 
 @dataclass(frozen=True)
@@ -159,7 +158,9 @@ def comotion(
     (``filler``: rigid gaps filled chunk by chunk, :class:`~oacdsl.segmentation.poses.RigidFill`;
     ``keep_speeds``: instances whose speeds the scan measured are returned too)."""
     speeds: dict[int, np.ndarray] = {}
-    signals = _scan(recording, table, params, settings, filler, keep_speeds, speeds)
+    rule = Rule(params.distance_m * (1 + settings.margin), settings.frames(settings.lag_s, recording.rate_hz),
+                settings.move_speed_m_s, settings.rigid_ratio)
+    signals = scan_signals(recording, table, rule, filler, keep_speeds, speeds)
     _prune_indirect(signals, table)
     min_len = settings.frames(settings.min_episode_s, recording.rate_hz)
     bridge = frames_within(settings.tool_bridge_s, recording.rate_hz)  # a short excursion is no release
@@ -176,83 +177,6 @@ def comotion(
             span_edges(dmin, [(a, b, t) for (a, b), t in zip(spans, thresholds, strict=True)],
                        edges.setdefault(q, {}))
     return CoMotion(out, {q: dmin for q, (dmin, _) in signals.items()}, speeds, edges)
-
-
-def _scan(
-    recording: Recording, table: PairTable, params: AasParams, settings: AdaptiveSettings,
-    filler: RigidFill | None = None, keep_speeds: Sequence[int] = (),
-    speeds: dict[int, np.ndarray] | None = None,
-) -> dict[int, tuple[np.ndarray, np.ndarray]]:
-    """Per instance pair that comes within reach: closest distance (F,) and co-motion frames (F,);
-    into ``speeds``, the speeds of the instances ``keep_speeds`` (:class:`CoMotion`)."""
-    n_frames, n_q = recording.n_frames, table.n_instance_pairs
-    if n_q == 0 or n_frames < 2:
-        return {}
-    kept = {i: np.empty(n_frames) for i in keep_speeds}
-    if speeds is not None:
-        speeds.update(kept)
-    geometry = ChunkGeometry(recording, table, filler)
-    lag = settings.frames(settings.lag_s, recording.rate_hz)
-    reach = params.distance_m * (1 + settings.margin)
-    times = np.asarray(recording.times_s, dtype=np.float64)
-    groups = [
-        table.marker_order[a:b]
-        for a, b in zip(table.marker_offsets[:-1], table.marker_offsets[1:], strict=True)
-    ]
-    dmin: dict[int, np.ndarray] = {}
-    carry: dict[int, np.ndarray] = {}
-    with np.errstate(invalid="ignore"):  # NaN: a gap
-        step = chunk_frames_for(2 * geometry.max_block_pairs, _SCAN_FRAMES, lag)  # two scratch buffers
-        for start in range(0, n_frames, step):
-            stop = min(n_frames, start + step)
-            _scan_chunk(recording, table, params, settings, geometry, groups, times, lag, reach,
-                        start, stop, dmin, carry, kept)
-    return {q: (dmin[q], carry[q]) for q in dmin}
-
-
-def _scan_chunk(
-    recording: Recording, table: PairTable, params: AasParams, settings: AdaptiveSettings,
-    geometry: ChunkGeometry, groups: list[np.ndarray], times: np.ndarray, lag: int, reach: float,
-    start: int, stop: int, dmin: dict[int, np.ndarray], carry: dict[int, np.ndarray],
-    kept: Mapping[int, np.ndarray],
-) -> None:
-    """:func:`_scan` of frames ``start:stop`` (reading ``lag`` frames before), into ``dmin``, ``carry``
-    and the instance speeds ``kept``."""
-    n_frames = recording.n_frames
-    lo = max(0, start - lag)
-    x = geometry.coordinates(lo, stop)
-    blocks = (geometry.lower_bounds(x) <= reach + BOUND_MARGIN_M).nonzero()[0]
-    if blocks.size == 0 and not kept:
-        return
-    # rates over `lag` frames; the first frames of the recording use frame 0 (frame 0: frame `lag`)
-    rows = np.arange(lo, stop)
-    prev = np.maximum(rows - lag, 0)
-    prev[prev == rows] = min(lag, n_frames - 1)
-    dt = np.abs(times[rows] - times[prev])
-    local_prev = prev - lo
-    speeds = _instance_speeds(recording, groups, rows, prev, dt, geometry.filler)
-    out = slice(start - lo, stop - lo)
-    for i, into in kept.items():
-        into[start:stop] = speeds[i][out]
-    sq_buf, tmp = geometry.scratch(x.shape[2]), geometry.scratch(x.shape[2])
-    for q in blocks.tolist():
-        # one pair's squared marker distances, (P_q, R) frames lo..stop-1, while in cache; the
-        # square root is taken only where needed (sqrt is monotonic: the same values)
-        sq = geometry.squared(x, q, sq_buf, tmp)
-        closest = np.sqrt(np.fmin.reduce(sq, axis=0))
-        a, b = table.instance_pairs[q]
-        slower = np.fmin(speeds[a], speeds[b])
-        moving = (closest < reach) & (slower > settings.move_speed_m_s)  # within d: near_episodes
-        is_carry = moving.copy()
-        cols = moving.nonzero()[0]  # the distance change matters only where both move
-        if cols.size:
-            change = np.abs(np.sqrt(sq[:, cols]) - np.sqrt(sq[:, local_prev[cols]]))
-            is_carry[cols] = _nanmedian0(change) / dt[cols] < settings.rigid_ratio * slower[cols]
-        if q not in dmin:
-            dmin[q] = np.full(n_frames, np.inf, dtype=np.float32)
-            carry[q] = np.zeros(n_frames, dtype=bool)
-        dmin[q][start:stop] = closest[out]
-        carry[q][start:stop] = is_carry[out]
 
 
 def _prune_indirect(signals: dict[int, tuple[np.ndarray, np.ndarray]], table: PairTable) -> None:
@@ -278,68 +202,3 @@ def _prune_indirect(signals: dict[int, tuple[np.ndarray, np.ndarray]], table: Pa
                 continue
             drop |= np.fmax(signals[q1][0][frames], signals[q2][0][frames]) < here  # NaN: not closer
         carry[frames[drop]] = False
-
-
-def _instance_speeds(
-    recording: Recording, groups: list[np.ndarray], rows: np.ndarray, prev: np.ndarray, dt: np.ndarray,
-    filler: RigidFill | None = None,
-) -> list[np.ndarray]:
-    """Per instance (table order), the median marker speed at ``rows`` (m/s; NaN in gaps)."""
-    lag = int(rows[0] - prev[0])
-    if filler is None:
-        positions = recording.positions_m
-        first = 0
-    else:  # the frames from the earliest ``prev`` on, gaps filled
-        first = int(min(prev.min(), rows[0]))
-        positions = filler.rows(first, int(max(prev.max(), rows[-1])) + 1)
-    if rows[0] >= lag > 0 and np.array_equal(prev, rows - lag):  # a plain slice, no gather
-        before = positions[rows[0] - lag - first : rows[-1] + 1 - lag - first]
-    else:
-        before = positions[prev - first]
-    diff = positions[rows[0] - first:rows[-1] + 1 - first] - before  # (R, M, 3)
-    step = np.sqrt(diff[..., 0] * diff[..., 0] + diff[..., 1] * diff[..., 1]
-                   + diff[..., 2] * diff[..., 2])  # (R, M) metres, as np.linalg.norm(diff, axis=-1)
-    by_marker = np.ascontiguousarray(step.T)  # (M, R): one marker's steps contiguous
-    return [_median_rows(by_marker[m]) / dt for m in groups]
-
-
-_NETWORK_ROWS = 8  # up to this many markers an instance's median is sorted by a network
-
-
-def _median_rows(x: np.ndarray) -> np.ndarray:
-    """:func:`_nanmedian0` of (K, R), the same values; for K ≤ ``_NETWORK_ROWS`` the columns
-    without a gap are sorted by an odd–even transposition network of element-wise min/max."""
-    k = x.shape[0]
-    if k == 0 or k > _NETWORK_ROWS:
-        return _nanmedian0(x)
-    gap = np.isnan(x).any(axis=0)
-    full = ~gap
-    some = bool(gap.any())
-    rows = [row[full] for row in x] if some else list(x)
-    for rnd in range(k):
-        for i in range(rnd % 2, k - 1, 2):
-            rows[i], rows[i + 1] = np.minimum(rows[i], rows[i + 1]), np.maximum(rows[i], rows[i + 1])
-    middle = (rows[(k - 1) // 2] + rows[k // 2]) / 2  # as _nanmedian0 with every value present
-    if not some:
-        return middle
-    out = np.empty(x.shape[1], dtype=middle.dtype)
-    out[full] = middle
-    out[gap] = _nanmedian0(x[:, gap])
-    return out
-
-
-def _nanmedian0(x: np.ndarray) -> np.ndarray:
-    """Median over axis 0 ignoring NaN (NaN where a column has no value); faster than np.nanmedian."""
-    if x.shape[0] == 0:
-        return np.full(x.shape[1:], np.nan)
-    ordered = np.sort(x, axis=0)  # NaN sort last
-    k = x.shape[0]
-    if not np.isnan(ordered[-1]).any():  # no NaN at all: the middle rows
-        middle: np.ndarray = (ordered[(k - 1) // 2] + ordered[k // 2]) / 2
-        return middle
-    count = k - np.isnan(ordered).sum(axis=0)
-    cols = np.arange(x.shape[1])
-    lo = np.maximum(count - 1, 0) // 2
-    hi = np.minimum(count // 2, k - 1)
-    median = (ordered[lo, cols] + ordered[hi, cols]) / 2
-    return np.where(count > 0, median, np.nan)

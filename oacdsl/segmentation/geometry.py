@@ -29,7 +29,6 @@ __all__ = [
     "MAX_CHUNK_DISTANCE_BYTES",
     "ChunkGeometry",
     "chunk_frames_for",
-    "closest_distances",
 ]
 
 #: Safety margin, metres, added to the reach in the broad phase against float32 rounding.
@@ -67,18 +66,25 @@ class ChunkGeometry:
         self._row_of = np.full(recording.positions_m.shape[1], -1, dtype=np.intp)
         self._row_of[order] = np.arange(order.size)
 
-    def coordinates(self, lo: int, hi: int) -> np.ndarray:
-        """(3, M', hi - lo) float32 centred coordinates of frames ``lo:hi``, metres (NaN = gap)."""
-        out = np.empty((3, self.table.marker_order.size, hi - lo), dtype=np.float32)
-        rows = self.recording.positions_m[lo:hi]
-        if not self._in_order:
-            rows = rows[:, self.table.marker_order]
+    def coordinates(self, lo: int, hi: int, out: np.ndarray | None = None,
+                    instances: np.ndarray | None = None) -> np.ndarray:
+        """(3, M', hi - lo) float32 centred coordinates of frames ``lo:hi``, metres (NaN = gap);
+        written into ``out`` when given (a buffer of that shape, reused across chunks). ``instances``:
+        (I,) bool, only these instances' markers are needed (the other rows are left unset)."""
+        if out is None:
+            out = np.empty((3, self.table.marker_order.size, hi - lo), dtype=np.float32)
+        positions = self.recording.positions_m[lo:hi]
         # centre in float64, then round once to float32, (F, M, 3) → (3, M, F) in one pass, in slabs
         # of frames that stay in cache (the transposed reads of a long block do not)
         centre = self.centre[:, None, None]
-        for a in range(0, hi - lo, _COORD_SLAB):
-            b = min(hi - lo, a + _COORD_SLAB)
-            np.subtract(rows[a:b].transpose(2, 1, 0), centre, out=out[:, :, a:b], casting="unsafe")
+        for r0, r1 in self._marker_runs(instances):
+            if self._in_order:
+                rows = positions[:, r0:r1]
+            else:
+                rows = positions[:, self.table.marker_order[r0:r1]]
+            for a in range(0, hi - lo, _COORD_SLAB):
+                b = min(hi - lo, a + _COORD_SLAB)
+                np.subtract(rows[a:b].transpose(2, 1, 0), centre, out=out[:, r0:r1, a:b], casting="unsafe")
         if self.filler is not None:  # rigid gaps: the filled positions, rounded as the others
             for frames, markers, values in self.filler.cells(lo, hi):
                 at, which = np.nonzero(~np.isnan(values[..., 0]))  # the cells filled (NaN: seen)
@@ -87,6 +93,15 @@ class ChunkGeometry:
                 filled = np.subtract(values[at[keep], which[keep]], self.centre, dtype=np.float64)
                 out[:, rows_of[keep], frames[at[keep]]] = filled.T.astype(np.float32)
         return out
+
+    def _marker_runs(self, instances: np.ndarray | None) -> list[tuple[int, int]]:
+        """Runs ``[r0, r1)`` of coordinate rows (``marker_order``) holding the markers of ``instances``
+        ((I,) bool; None: all), neighbouring instances joined."""
+        offsets = self.table.marker_offsets
+        if instances is None:
+            return [(0, int(offsets[-1]))]
+        edges = np.flatnonzero(np.diff(np.concatenate(([False], instances, [False]))))
+        return [(int(offsets[a]), int(offsets[b])) for a, b in zip(edges[::2], edges[1::2], strict=True)]
 
     def marker_boxes(self, x: np.ndarray, block: int = BOUND_BLOCK_FRAMES) -> tuple[np.ndarray, np.ndarray]:
         """Per marker and run of ``block`` frames, the axis-aligned box of its positions: ``(lo, hi)``,
@@ -111,6 +126,17 @@ class ChunkGeometry:
         ]
         return np.stack([s[0] for s in spans], axis=1), np.stack([s[1] for s in spans], axis=1)
 
+    def _frame_boxes(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Per instance and frame, the box of its markers: ``(lo, hi)``, each (3, I, R) float32
+        (NaN where none is seen)."""
+        offsets = self.table.marker_offsets
+        lo = np.empty((3, offsets.size - 1, x.shape[2]), dtype=np.float32)
+        hi = np.empty_like(lo)
+        for i, (a, b) in enumerate(pairwise(offsets.tolist())):
+            np.fmin.reduce(x[:, a:b], axis=1, out=lo[:, i])
+            np.fmax.reduce(x[:, a:b], axis=1, out=hi[:, i])
+        return lo, hi
+
     def lower_bounds(self, x: np.ndarray, block: int = BOUND_BLOCK_FRAMES,
                      boxes: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
         """(Q,) per instance pair, a lower bound of all its marker distances in the chunk, metres.
@@ -123,7 +149,10 @@ class ChunkGeometry:
         t = self.table
         if t.n_instance_pairs == 0:
             return np.zeros(0, dtype=np.float32)
-        box_lo, box_hi = self.instance_boxes(boxes if boxes is not None else self.marker_boxes(x, block))
+        if boxes is None:  # each instance's box directly: its markers' extremes per frame, then per run
+            box_lo, box_hi = _run_boxes(*self._frame_boxes(x), block)
+        else:
+            box_lo, box_hi = self.instance_boxes(boxes)
         a, b = t.instance_pairs[:, 0], t.instance_pairs[:, 1]
         return _gap(box_lo[:, a], box_hi[:, a], box_lo[:, b], box_hi[:, b])
 
@@ -226,6 +255,21 @@ class ChunkGeometry:
         return flat.reshape(ka * kb, n_rows)
 
 
+def _run_boxes(lo: np.ndarray, hi: np.ndarray, block: int) -> tuple[np.ndarray, np.ndarray]:
+    """Per row and run of ``block`` frames, the extremes of (…, R) ``lo`` and ``hi`` over the run's
+    frames, NaN ignored: ``(lo, hi)``, each (…, runs). The minimum and maximum of a set of values do
+    not depend on how it is grouped: the same values as :meth:`ChunkGeometry.instance_boxes` of
+    :meth:`ChunkGeometry.marker_boxes`."""
+    n_runs = -(-lo.shape[-1] // block)
+    out_lo = np.full(lo.shape[:-1] + (n_runs,), np.nan, dtype=lo.dtype)
+    out_hi = out_lo.copy()
+    for k in range(min(block, lo.shape[-1])):  # frame k of every run; NaN ignored
+        m = -(-(lo.shape[-1] - k) // block)
+        np.fmin(out_lo[..., :m], lo[..., k::block], out=out_lo[..., :m])
+        np.fmax(out_hi[..., :m], hi[..., k::block], out=out_hi[..., :m])
+    return out_lo, out_hi
+
+
 def _gap(lo_a: np.ndarray, hi_a: np.ndarray, lo_b: np.ndarray, hi_b: np.ndarray) -> np.ndarray:
     """The smallest over the last axis (runs of frames) of the gap between boxes ``a`` and ``b``
     ((3, …, blocks) float32 each), metres; NaN when no run sees both."""
@@ -244,37 +288,3 @@ def _centre(positions: np.ndarray) -> np.ndarray:
             frame = block[rows[0]]
             return np.asarray(frame[~np.isnan(frame[:, 0])].mean(axis=0), dtype=np.float64)
     return np.zeros(3, dtype=np.float64)
-
-
-def closest_distances(
-    recording: Recording,
-    table: PairTable | None = None,
-    chunk_frames: int = 4096,
-    reach_m: float | None = None,
-) -> tuple[PairTable, np.ndarray]:
-    """Per instance pair and frame, the smallest marker-pair distance, metres.
-
-    Returns the pair table and a (Q, F) float32 array, NaN where no marker pair of
-    the two instances is visible, and (with ``reach_m``) in chunks where the pair
-    stays farther apart than ``reach_m``. Memory O(Q × F); for plots and reports.
-    """
-    table = table or PairTable.of(recording)
-    geometry = ChunkGeometry(recording, table)
-    n_q = table.n_instance_pairs
-    out = np.full((n_q, recording.n_frames), np.nan, dtype=np.float32)
-    if n_q == 0:
-        return table, out
-    blocks = np.arange(n_q, dtype=np.intp)
-    chunk_frames = chunk_frames_for(table.n_pairs + geometry.max_block_pairs, chunk_frames)
-    for lo in range(0, recording.n_frames, chunk_frames):
-        hi = min(recording.n_frames, lo + chunk_frames)
-        x = geometry.coordinates(lo, hi)
-        if reach_m is not None:
-            with np.errstate(invalid="ignore"):
-                blocks = np.flatnonzero(geometry.lower_bounds(x) <= reach_m + BOUND_MARGIN_M)
-        if blocks.size == 0:
-            continue
-        pairs, dist = geometry.distances(x, blocks)
-        heads = np.flatnonzero(np.r_[True, table.block[pairs[1:]] != table.block[pairs[:-1]]])
-        out[blocks, lo:hi] = np.fmin.reduceat(dist, heads, axis=0)
-    return table, out

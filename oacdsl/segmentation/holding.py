@@ -27,8 +27,8 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from oacdsl.segmentation.comotion import _median_rows
 from oacdsl.segmentation.episodes import true_runs
+from oacdsl.segmentation.medians import median_rows
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.scales import instance_size_m
@@ -48,7 +48,7 @@ def median_speeds(points_m: np.ndarray, times_s: np.ndarray, lag: int) -> np.nda
             diff = points_m[lag:] - points_m[:-lag]
             step = np.sqrt(diff[..., 0] * diff[..., 0] + diff[..., 1] * diff[..., 1]
                            + diff[..., 2] * diff[..., 2])  # (F - lag, k), as np.linalg.norm(axis=2)
-            speed = _median_rows(np.ascontiguousarray(step.T)) / (times_s[lag:] - times_s[:-lag])
+            speed = median_rows(np.ascontiguousarray(step.T)) / (times_s[lag:] - times_s[:-lag])
         out[lag:] = speed
         out[:lag] = speed[0]
     return out

@@ -17,7 +17,8 @@ import numpy as np
 
 from oacdsl.atomic import atomic_path
 from oacdsl.errors import InputError
-from oacdsl.segmentation.geometry import closest_distances
+from oacdsl.segmentation.geometry import BOUND_MARGIN_M, ChunkGeometry, chunk_frames_for
+from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.params import frames_in
 from oacdsl.segmentation.recording import Recording
 from oacdsl.segmentation.result import Keyframe, Segmentation
@@ -26,6 +27,7 @@ from oacdsl.world import WorldState
 
 __all__ = [
     "change_labels",
+    "closest_distances",
     "draw_world_state",
     "plot_distances",
     "save_distance_plot",
@@ -261,3 +263,37 @@ def _reduce(values: np.ndarray, step: int, ufunc: Any) -> np.ndarray:
         return values
     out: np.ndarray = ufunc.reduceat(values, np.arange(0, values.size, step))
     return out
+
+
+def closest_distances(
+    recording: Recording,
+    table: PairTable | None = None,
+    chunk_frames: int = 4096,
+    reach_m: float | None = None,
+) -> tuple[PairTable, np.ndarray]:
+    """Per instance pair and frame, the smallest marker-pair distance, metres.
+
+    Returns the pair table and a (Q, F) float32 array, NaN where no marker pair of
+    the two instances is visible, and (with ``reach_m``) in chunks where the pair
+    stays farther apart than ``reach_m``. Memory O(Q × F); for plots and reports.
+    """
+    table = table or PairTable.of(recording)
+    geometry = ChunkGeometry(recording, table)
+    n_q = table.n_instance_pairs
+    out = np.full((n_q, recording.n_frames), np.nan, dtype=np.float32)
+    if n_q == 0:
+        return table, out
+    blocks = np.arange(n_q, dtype=np.intp)
+    chunk_frames = chunk_frames_for(table.n_pairs + geometry.max_block_pairs, chunk_frames)
+    for lo in range(0, recording.n_frames, chunk_frames):
+        hi = min(recording.n_frames, lo + chunk_frames)
+        x = geometry.coordinates(lo, hi)
+        if reach_m is not None:
+            with np.errstate(invalid="ignore"):
+                blocks = np.flatnonzero(geometry.lower_bounds(x) <= reach_m + BOUND_MARGIN_M)
+        if blocks.size == 0:
+            continue
+        pairs, dist = geometry.distances(x, blocks)
+        heads = np.flatnonzero(np.r_[True, table.block[pairs[1:]] != table.block[pairs[:-1]]])
+        out[blocks, lo:hi] = np.fmin.reduceat(dist, heads, axis=0)
+    return table, out
