@@ -190,11 +190,11 @@ class SkillContext:
         m, d = self.world.model, self.world.data
         geomid = np.array([-1], dtype=np.int32)
         groups = np.array([1, 0, 0, 0, 0, 0], dtype=np.uint8)  # group 0: table and objects only
-        skip = {m.body(name).id for name in passing}
+        skip, down = {m.body(name).id for name in passing}, np.array([0.0, 0.0, -1.0])
         top = below
         while True:
             start = np.array([xy[0], xy[1], top])
-            dist = mujoco.mj_ray(m, d, start, np.array([0.0, 0.0, -1.0]), groups, 1, m.body(exclude).id, geomid)
+            dist = mujoco.mj_ray(m, d, start, down, groups, 1, m.body(exclude).id, geomid)
             if dist < 0:
                 return 0.0
             if int(m.geom_bodyid[geomid[0]]) not in skip:
