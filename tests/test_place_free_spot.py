@@ -182,3 +182,17 @@ def test_a_stalled_set_down_goes_to_the_free_spot_the_hand_reaches_best():
         return ctx.ctl.ik.try_reach("l", bottom @ np.linalg.inv(lid_in_hand)).position_m
 
     assert len(spots) > 1 and miss(xy) <= min(miss(p) for p in spots) + 1e-9
+
+
+def test_the_support_under_a_place_is_seen_through_what_the_other_hand_carries_away():
+    """``place_both``: an object the other hand holds over this one's place and carries away at
+    the same time is no support (a milk carton hung over the cup's place after pouring: the
+    cup's hover went 28 cm up and the cup, lifted there, met the carton, 62 N)."""
+    run = prepare(_library(), "open_and_put_down", layout="demonstrated", demonstrated=FIRST_FRAME)
+    ctx, world = run.context, run.world
+    xy = world.body_pose("bottle")[:2, 3]
+    table = ctx.support_height(xy + np.array([0.0, 0.3]), exclude="lid")
+    on_bottle = ctx.support_height(xy, exclude="lid")
+    assert on_bottle > table + 0.05  # the bottle's top
+    assert ctx.support_height(xy, exclude="lid", passing={"bottle"}) == pytest.approx(table, abs=1e-3)
+    assert ctx.support_height(xy, exclude="lid", passing={"lid"}) == pytest.approx(on_bottle)

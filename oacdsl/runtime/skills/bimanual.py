@@ -240,7 +240,7 @@ def place_both(
     else:
         paths = {}
         for side, obj in zip(sides, (o1, o2), strict=True):
-            pose, where, support = set_down_pose(ctx, side, obj, picks[side])
+            pose, where, support = set_down_pose(ctx, side, obj, picks[side], {o1, o2} - {obj})
             ctx.check_reachable(side, pose, f"the place of {obj} on {where}")
             hover[side] = pose
             exclude = {o1, o2} | ({support} if support else set())

@@ -18,6 +18,7 @@ onto the support (guarded by the wrist force), hold still, release, withdraw.
 from __future__ import annotations
 
 import math
+from collections.abc import Collection
 from dataclasses import replace
 
 import numpy as np
@@ -61,11 +62,12 @@ def target_support(ctx: SkillContext, obj: str) -> str | None:
 
 
 def set_down_pose(
-    ctx: SkillContext, side: str, obj: str, pick: Pick | None
+    ctx: SkillContext, side: str, obj: str, pick: Pick | None, passing: Collection[str] = ()
 ) -> tuple[np.ndarray, str, str | None]:
     """(T_world_grasp above where ``obj`` goes, a name for that place, the object it goes
     is predicted to touch or None, left out of the obstacles): back where it was picked up,
-    or onto the support the step predicts."""
+    or onto the support the step predicts. ``passing``: objects the other hand carries away
+    meanwhile, no support however they hang over that place now."""
     world = ctx.world
     t_obj, t_obj_in_hand = ctx.held_pose(side, obj)
     origin = pick.origin if pick is not None else t_obj
@@ -96,7 +98,7 @@ def set_down_pose(
         return ctx.ctl.ik.goal(side), support, support
     else:
         xy, where = world.body_pose(support)[:2, 3], support
-    height = ctx.support_height(xy, exclude=obj)
+    height = ctx.support_height(xy, exclude=obj, passing=passing)
     target_obj = make_T(r_obj, (xy[0], xy[1], height + TUNING.hover_m))
     return target_obj @ np.linalg.inv(t_obj_in_hand), where, support
 
