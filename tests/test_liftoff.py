@@ -18,8 +18,9 @@ from segeval.reference import segment_reference
 
 from oacdsl.segmentation import AasParams, segment
 from oacdsl.segmentation.adaptive import AdaptiveDetector, AdaptiveSettings
-from oacdsl.segmentation.liftoff import LiftOff, cut_at_lift_offs, lift_offs
+from oacdsl.segmentation.liftoff import LiftOff, cut_at_lift_offs, lift_offs, over_frames
 from oacdsl.segmentation.pairs import PairTable
+from oacdsl.segmentation.stacking import inside_hull
 from oacdsl.segmentation.takes import STANDARD_TAKES
 
 RATE = 100.0
@@ -199,3 +200,25 @@ def test_the_per_frame_reference_agrees_beside():
     rec = resampled(recording(scene("beside", CLOSE_BESIDE)), 30.0)
     params = AasParams(mode="adaptive")
     assert segment(rec, params).keyframes == segment_reference(rec, params).keyframes
+
+
+def test_over_frames_is_the_hull_test_of_every_frame_at_once():
+    """The vectorised footprint test decides as the per-frame convex hull test, with markers
+    unseen, collinear or repeated, and a centre on the hull's corner."""
+    rng = np.random.default_rng(7)
+    frames = 400
+    positions = rng.uniform(-0.1, 0.1, size=(frames, 8, 3))
+    positions[rng.random((frames, 8)) < 0.15] = np.nan  # unseen markers
+    positions[::17, 4:8, 1] = positions[::17, 4:8, 0]  # the base's markers on a line
+    positions[::23, 5] = positions[::23, 4]  # two base markers at one place
+    positions[::29, 0:4, :2] = positions[::29, 4:5, :2]  # the centre on a corner
+    table = PairTable.of(recording({"top": positions[:, 0:4], "base": positions[:, 4:8]}))
+    top, base = table.instances.index("top"), table.instances.index("base")
+    got = over_frames(positions, table, top, base, np.arange(frames))
+    want = []
+    for f in range(frames):
+        a, b = positions[f, 0:4], positions[f, 4:8]
+        a, b = a[np.isfinite(a).all(axis=1)], b[np.isfinite(b).all(axis=1)]
+        want.append(a.shape[0] > 0 and inside_hull(a[:, :2].mean(axis=0), b[:, :2]))
+    assert got.tolist() == want
+    assert 0 < sum(want) < frames

@@ -54,9 +54,8 @@ import numpy as np
 from oacdsl.segmentation.episodes import true_runs
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.recording import Recording
-from oacdsl.segmentation.stacking import inside_hull
 
-__all__ = ["LiftOff", "cut_at_lift_offs", "lift_offs", "over", "set_down_beside"]
+__all__ = ["LiftOff", "cut_at_lift_offs", "lift_offs", "over", "over_frames", "set_down_beside"]
 
 Spans = list[tuple[int, int]]
 
@@ -123,13 +122,51 @@ def _columns(table: PairTable, instance: int) -> np.ndarray:
     return table.marker_order[table.marker_offsets[instance] : table.marker_offsets[instance + 1]]
 
 
+def _visible_xy(positions_m: np.ndarray, table: PairTable, instance: int, frames: np.ndarray) -> np.ndarray:
+    """(len(frames), k, 2) the instance's markers seen from above; NaN where a marker is unseen."""
+    xyz = positions_m[frames][:, _columns(table, instance)]
+    xy = xyz[..., :2].astype(float, copy=True)
+    xy[~np.isfinite(xyz).all(axis=-1)] = np.nan
+    return xy
+
+
+def over_frames(
+    positions_m: np.ndarray, table: PairTable, top: int, base: int, frames: np.ndarray,
+) -> np.ndarray:
+    """(len(frames),) bool: at each of ``frames``, is the centre of ``top``'s visible markers over
+    ``base``: inside (or on) the convex hull of ``base``'s visible markers seen from above? False
+    where the hull has no area or ``top`` is unseen. A point is in the convex hull of points in the
+    plane exactly when it is in a triangle of three of them (Carathéodory), so each frame is tested
+    against every triangle with area of ``base``'s markers at once (the result of
+    :func:`~oacdsl.segmentation.stacking.inside_hull`, per frame)."""
+    frames = np.asarray(frames, dtype=np.intp)
+    inside = np.zeros(frames.shape[0], dtype=bool)
+    if frames.size == 0:
+        return inside
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # an unseen instance: a NaN centre
+        centre = np.nanmean(_visible_xy(positions_m, table, top, frames), axis=1)
+    corners = _visible_xy(positions_m, table, base, frames)
+    k = corners.shape[1]
+
+    def cross(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        return (a[:, 0] - o[:, 0]) * (b[:, 1] - o[:, 1]) - (a[:, 1] - o[:, 1]) * (b[:, 0] - o[:, 0])
+
+    with np.errstate(invalid="ignore"):
+        for i in range(k):
+            for j in range(i + 1, k):
+                for m in range(j + 1, k):
+                    a, b, c = corners[:, i], corners[:, j], corners[:, m]
+                    area = cross(a, b, c)
+                    d1, d2, d3 = cross(a, b, centre), cross(b, c, centre), cross(c, a, centre)
+                    same = ((d1 >= 0) & (d2 >= 0) & (d3 >= 0)) | ((d1 <= 0) & (d2 <= 0) & (d3 <= 0))
+                    inside |= (area != 0) & np.isfinite(area) & same
+    return inside
+
+
 def over(positions_m: np.ndarray, table: PairTable, top: int, base: int, frame: int) -> bool:
-    """At ``frame``, is the centre of ``top``'s visible markers over ``base``: inside the hull of
-    ``base``'s visible markers seen from above (:func:`~oacdsl.segmentation.stacking.inside_hull`)?"""
-    a = positions_m[frame, _columns(table, top)]
-    b = positions_m[frame, _columns(table, base)]
-    a, b = a[np.isfinite(a).all(axis=1)], b[np.isfinite(b).all(axis=1)]
-    return a.shape[0] > 0 and inside_hull(a[:, :2].mean(axis=0), b[:, :2])
+    """At ``frame``, is the centre of ``top``'s visible markers over ``base`` (:func:`over_frames`)?"""
+    return bool(over_frames(positions_m, table, top, base, np.array([frame]))[0])
 
 
 def cut_at_lift_offs(
@@ -151,7 +188,8 @@ def cut_at_lift_offs(
             cut.append((s, lift.frame))
             with np.errstate(invalid="ignore"):
                 near = lift.frame + np.flatnonzero(closest_m[lift.frame : e - dwell + 1] <= lift.threshold)
-            back = next((int(f) for f in near if over(positions_m, table, lift.top, lift.base, int(f))), None)
+            on = near[over_frames(positions_m, table, lift.top, lift.base, near)]
+            back = int(on[0]) if on.size else None
             if back is not None:
                 cut.append((back, e))
         out = cut
@@ -180,10 +218,10 @@ def set_down_beside(
             veto[a:b] = False
         with np.errstate(invalid="ignore"):
             near = ~(np.asarray(closest[q]) > lift.threshold)  # within it or unseen: the rule may hold
-        for f in np.flatnonzero(veto & near).tolist():  # only near frames need the footprint test
-            top, base = lift.top, lift.base
-            if over(positions_m, table, top, base, f) or over(positions_m, table, base, top, f):
-                veto[f] = False
+        frames = np.flatnonzero(veto & near)  # only near frames need the footprint test
+        on = over_frames(positions_m, table, lift.top, lift.base, frames)
+        on |= over_frames(positions_m, table, lift.base, lift.top, frames)
+        veto[frames[on]] = False
         spans = true_runs(veto)
         if spans:
             out[q] = spans
