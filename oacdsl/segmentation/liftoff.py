@@ -52,6 +52,7 @@ from typing import NamedTuple
 import numpy as np
 
 from oacdsl.segmentation.episodes import true_runs
+from oacdsl.segmentation.medians import nanmedian0
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.recording import Recording
 
@@ -69,10 +70,10 @@ def _heights(recording: Recording, table: PairTable, instance: int, lo: int, hi:
 def _rise(z: np.ndarray, split: int) -> np.ndarray:
     """Per frame after ``split`` (rows ``split:``), the median over markers of each marker's height
     above its own median over rows ``:split``, metres (NaN: nothing seen)."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # a marker unseen in one of the parts: NaN
-        base = np.nanmedian(z[:split], axis=0)
-        return np.asarray(np.nanmedian(z[split:] - base[None, :], axis=1), dtype=np.float64)
+    # np.nanmedian's values (axis 0, then 1) without its masked arrays: the sorted middle rows
+    base = nanmedian0(z[:split])
+    with np.errstate(invalid="ignore"):
+        return np.asarray(nanmedian0((z[split:] - base[None, :]).T), dtype=np.float64)
 
 
 class LiftOff(NamedTuple):
