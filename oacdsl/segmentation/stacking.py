@@ -186,8 +186,10 @@ def resting_on_top(
                 resting = still(top, s, e) & still(base, s, e)
                 for s2, e2 in true_runs(resting):
                     r0, r1 = s + s2, s + e2
+                    if r1 - r0 < dwell:
+                        continue
                     rest = np.unique(np.linspace(r0, r1 - 1, min(r1 - r0, REST_SAMPLES)).astype(np.intp))
-                    if r1 - r0 < dwell or not _on_top(points(top, rest), points(base, rest)):
+                    if not _on_top(points(top, rest), points(base, rest)):
                         continue
                     with np.errstate(invalid="ignore"):
                         rest_m = float(np.nanmedian(dmin[r0:r1]))
