@@ -120,12 +120,18 @@ def resting_on_top(
     cache: dict[tuple[str, int], np.ndarray] = {}
     shapes: dict[int, tuple[np.ndarray, ...]] = {}
     columns = {i: np.asarray(recording.groups[names[i]], dtype=np.intp) for i in range(len(names))}
+    # an instance's markers as a slice where they are consecutive (the usual layout): a strided
+    # view, read without numpy's fancy indexing (the same values)
+    take = {i: _as_slice(c) for i, c in columns.items()}
 
     def points(i: int, frames: np.ndarray | slice) -> np.ndarray:
         """(R, k, 3) instance ``i``'s markers at ``frames``."""
         if isinstance(frames, slice):
-            return recording.positions_m[frames, columns[i]]
-        return recording.positions_m[frames[:, None], columns[i]]
+            return recording.positions_m[frames, take[i]]
+        cols = take[i]
+        if isinstance(cols, slice):
+            return recording.positions_m[frames, cols]
+        return recording.positions_m[frames[:, None], cols]
 
     # the frames the cheap tests look at, the grid: one per lag_s (frames 0, lag, 2 lag, …)
 
@@ -137,7 +143,7 @@ def resting_on_top(
             # the grid's frames as a strided slice (a fifth of the time of indexing by
             # ``arange(0, F, lag)``); (3, k, G): each reduction over the k markers runs along whole
             # rows of frames (the same values, in the same order, as over the (G, k) axis)
-            x, y, z = np.ascontiguousarray(recording.positions_m[::lag][:, columns[i]].transpose(2, 1, 0))
+            x, y, z = np.ascontiguousarray(recording.positions_m[::lag, take[i]].transpose(2, 1, 0))
             seen = np.isfinite(x)
             with np.errstate(invalid="ignore", divide="ignore"):
                 count = seen.sum(axis=0)
@@ -200,6 +206,13 @@ def resting_on_top(
                     spans.append(extend_episode(dmin, r0, r1, threshold, bridge))
                     thresholds.append(threshold)
     return {q: (union_spans(spans), float(np.median(thresholds))) for q, (spans, thresholds) in found.items()}
+
+
+def _as_slice(columns: np.ndarray) -> slice | np.ndarray:
+    """``columns`` (increasing by one) as a slice, else as they are."""
+    if columns.size and bool(np.all(np.diff(columns) == 1)):
+        return slice(int(columns[0]), int(columns[-1]) + 1)
+    return columns
 
 
 #: Frames of a rest, evenly spread, whose median positions decide :func:`_on_top` (the objects are
