@@ -38,7 +38,7 @@ from oacdsl.segmentation.comotion import frames_within
 from oacdsl.segmentation.episodes import extend_episode, true_runs, union_spans
 from oacdsl.segmentation.holding import median_speeds
 from oacdsl.segmentation.pairs import PairTable
-from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.recording import Recording, column_index
 
 __all__ = ["inside_hull", "resting_on_top", "with_rests"]
 
@@ -122,7 +122,7 @@ def resting_on_top(
     columns = {i: np.asarray(recording.groups[names[i]], dtype=np.intp) for i in range(len(names))}
     # an instance's markers as a slice where they are consecutive (the usual layout): a strided
     # view, read without numpy's fancy indexing (the same values)
-    take = {i: _as_slice(c) for i, c in columns.items()}
+    take = {i: column_index(c) for i, c in columns.items()}
 
     def points(i: int, frames: np.ndarray | slice) -> np.ndarray:
         """(R, k, 3) instance ``i``'s markers at ``frames``."""
@@ -206,13 +206,6 @@ def resting_on_top(
                     spans.append(extend_episode(dmin, r0, r1, threshold, bridge))
                     thresholds.append(threshold)
     return {q: (union_spans(spans), float(np.median(thresholds))) for q, (spans, thresholds) in found.items()}
-
-
-def _as_slice(columns: np.ndarray) -> slice | np.ndarray:
-    """``columns`` (increasing by one) as a slice, else as they are."""
-    if columns.size and bool(np.all(np.diff(columns) == 1)):
-        return slice(int(columns[0]), int(columns[-1]) + 1)
-    return columns
 
 
 #: Frames of a rest, evenly spread, whose median positions decide :func:`_on_top` (the objects are
