@@ -11,7 +11,7 @@ on/off events the chunks read (:class:`~oacdsl.segmentation.combine.StateCombine
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -44,12 +44,16 @@ class RuleIntervals:
         added: touching by a tool or a hand held still.
         removed: vetoed (cross-hand, tool roles, geometry).
         geometry_report: instance → how its contacts were measured (contacts from geometry only).
+        arrivals: the first frames of tool contacts that began by the held tool coming into its
+            target's reach (:class:`~oacdsl.segmentation.tooluse.ToolContacts`): events of their own,
+            which keyframe merging keeps apart from a hand's change.
     """
 
     learned: dict[int, tuple[Spans, float]]
     added: dict[int, Spans]
     removed: dict[int, Spans]
     geometry_report: dict[str, str] | None = None
+    arrivals: dict[int, list[int]] = field(default_factory=dict)
 
 
 def rule_intervals(
@@ -101,7 +105,9 @@ def rule_intervals(
         with_hand = np.isin(table.instance_pairs, agents).sum(axis=1) == 1
         carried = {q: spans for q, spans in held.items() if with_hand[q]}
         added, removed = decided_by_geometry(geo, added, removed, n_frames, carried)
-    return RuleIntervals(learned, added, removed, report)
+    starts = {q: {a for a, _ in spans} for q, spans in added.items()}
+    arrivals = {q: kept for q, frames in tools.arrivals.items() if (kept := [f for f in frames if f in starts.get(q, ())])}
+    return RuleIntervals(learned, added, removed, report, arrivals)
 
 
 def causal_events(rules: RuleIntervals, delay_frames: int, n_frames: int) -> dict[int, np.ndarray]:
