@@ -139,6 +139,7 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
     # per instance pair: intervals that add touching (co-motion, tools) and that veto it (cross-hand)
     spans: dict[int, list[tuple[int, int]]] = {}
     vetoes: dict[int, list[tuple[int, int]]] = {}
+    arrivals: dict[tuple[str, str], frozenset[int]] = {}  # tool contacts that began by arriving
     if params.mode == "adaptive":
         settings = settings or AdaptiveSettings()
         agents = agents_of(table.instances, settings.agent_pattern)
@@ -184,6 +185,10 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
             holds = resting_holds(recording, table, found.closest, agents, params.distance_m,
                                   settings.move_speed_m_s, settings.lag_s, settings.tool_dwell_s,
                                   held=held)
+        starts = {q: {a for a, _ in union_spans([*tools.added.get(q, []), *holds.get(q, [])])}
+                  for q in tools.added}
+        arrivals = {table.relation(q): frozenset(f for f in frames if f in starts.get(q, ()))
+                    for q, frames in tools.arrivals.items()}  # tools that came into reach (the detector's)
         removed = dict(tools.removed)  # and, after a lift-off, two objects side by side (the detector's)
         kept = {q: union_spans([*held.get(q, []), *tools.added.get(q, [])]) for q in lifts}
         for q, beside in set_down_beside(lifts, found.closest, kept, recording.positions_m, table).items():
@@ -241,7 +246,7 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
             keyframes.append(Keyframe(i, times[i], state_i))
     if params.mode == "adaptive" and settings is not None and settings.merge == "connected":
         agents = frozenset(table.instances[i] for i in agents_of(table.instances, settings.agent_pattern))
-        merged = merge_keyframes(keyframes, params.merge_s, connected=True, agents=agents)
+        merged = merge_keyframes(keyframes, params.merge_s, connected=True, agents=agents, arrivals=arrivals)
     else:
         merged = merge_keyframes(keyframes, params.merge_s)
     return Segmentation(

@@ -106,7 +106,8 @@ def rule_intervals(
         carried = {q: spans for q, spans in held.items() if with_hand[q]}
         added, removed = decided_by_geometry(geo, added, removed, n_frames, carried)
     starts = {q: {a for a, _ in spans} for q, spans in added.items()}
-    arrivals = {q: kept for q, frames in tools.arrivals.items() if (kept := [f for f in frames if f in starts.get(q, ())])}
+    arrivals = {q: came for q, frames in tools.arrivals.items()
+                if (came := [f for f in frames if f in starts.get(q, ())])}
     return RuleIntervals(learned, added, removed, report, arrivals)
 
 

@@ -208,7 +208,8 @@ def tool_contacts(
     added, removed = refine(added, removed, n_frames, holds, objects, agent_set, pair, dist, reach_m, dwell,
                             rest_m)
     came = {q: found for q, spans in added.items()
-            if (found := [a for a, _ in spans if _arrived(a, index_of[q], holds, agent_set, dist_at, reach_m)])}
+            if (found := [a for a, _ in spans
+                          if _arrived(a, index_of[q], holds, agent_set, dist_at, reach_m)])}
     return ToolContacts(added, removed, came)
 
 
