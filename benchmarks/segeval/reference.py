@@ -123,6 +123,7 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
                       tool_reach_m: float | None = None) -> Segmentation:
     """Modes ``robust`` and ``adaptive``, frame by frame (see the module docstring); ``tool_reach_m``:
     the tool rule's reach between two objects (the detector's; None: ``d``)."""
+    from oacdsl.segmentation.beside import side_by_side
     from oacdsl.segmentation.comotion import AdaptiveSettings
     from oacdsl.segmentation.episodes import union_spans
     from oacdsl.segmentation.holding import resting_holds
@@ -193,6 +194,13 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
         kept = {q: union_spans([*held.get(q, []), *tools.added.get(q, [])]) for q in lifts}
         for q, beside in set_down_beside(lifts, found.closest, kept, recording.positions_m, table).items():
             removed[q] = union_spans([*removed.get(q, []), *beside])
+        if settings.side_by_side:  # objects at the static distance, neither over the other (the detector's)
+            static = [q for q, (a, b) in enumerate(table.instance_pairs.tolist())
+                      if q not in learned and a not in agents and b not in agents]
+            added = {q: union_spans([*tools.added.get(q, []), *holds.get(q, [])]) for q in tools.added}
+            for q, beside in side_by_side(table, recording.positions_m, found.closest, static,
+                                          settings.static_distance_m, added).items():
+                removed[q] = union_spans([*removed.get(q, []), *beside])
         sources = ((spans, held), (spans, tools.added), (spans, holds), (vetoes, removed))
         for target, per_pair in sources:
             for q, intervals in per_pair.items():

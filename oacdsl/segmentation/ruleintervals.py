@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from oacdsl.segmentation.beside import side_by_side
 from oacdsl.segmentation.comotion import AdaptiveSettings, CoMotion
 from oacdsl.segmentation.episodes import union_spans
 from oacdsl.segmentation.geomcontact import decided_by_geometry, geometric_contacts
@@ -97,6 +98,12 @@ def rule_intervals(
     if lifts:  # after a lift-off, the rest's distance does not make two objects side by side touch
         kept = {q: union_spans([*held.get(q, []), *added.get(q, [])]) for q in lifts}
         for q, spans in set_down_beside(lifts, found.closest, kept, recording.positions_m, table).items():
+            removed[q] = union_spans([*removed.get(q, []), *spans])
+    if run.side_by_side:  # two objects at the static distance touch only where one is over the other
+        static = [q for q, (a, b) in enumerate(table.instance_pairs.tolist())
+                  if q not in learned and a not in agents and b not in agents]
+        for q, spans in side_by_side(table, recording.positions_m, found.closest, static,
+                                     run.static_distance_m, added).items():
             removed[q] = union_spans([*removed.get(q, []), *spans])
     report = None
     if shapes is not None:  # pairs measured by geometry: decided by it alone
