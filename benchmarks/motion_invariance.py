@@ -28,6 +28,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
 from _mocap import mocap_file  # noqa: E402
+from kit_reproduce import DEV  # noqa: E402
 
 from oacdsl.matching.transient import agents_of, stable_segmentation  # noqa: E402
 from oacdsl.pipeline import load_inputs  # noqa: E402
@@ -38,14 +39,6 @@ from oacdsl.segmentation.recording import Recording  # noqa: E402
 from oacdsl.segmentation.result import SubAction  # noqa: E402
 from oacdsl.verify_motion import tilt_gain  # noqa: E402
 
-DEV = {
-    "Pour": "Pour_files_motions_2967_Pour1_cs_ms_0_20l_04.mmm.xml",
-    "Stir": "Stir_files_motions_2941_Stir1_bc_s_right_03.mmm.xml",
-    "Mix": "Mix_files_motions_3121_Mix1_salad_gb_parallel_08.mmm.xml",
-    "Wipe": "Wipe_files_motions_3091_Wipe1_pl_sp_front_angle_03.mmm.xml",
-    "Scoop": "Scoop_files_motions_2989_Scoop1_mbg_l_CS_225_30o_04.mmm.xml",
-    "Cut": "Cut_files_motions_3021_Cut1_c_0_05cm_03.mmm.xml",
-}
 #: Largest difference of a tilt gain between two takes of the same motion, radians: the
 #: verifier's tolerance is 35°, its threshold 45°.
 TILT_NOISE_RAD = math.radians(6.0)
