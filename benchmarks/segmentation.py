@@ -29,11 +29,11 @@ target (benchmarks/README.md: how to read it). Run on a quiet machine:
     python benchmarks/segmentation.py            # one hour, both detectors, ~10 minutes
     python benchmarks/segmentation.py --minutes 5 --scenario both
 
-Last measured (2026-11-26 15:47 UTC, branch segperf's second pass; docs/segmentation.md,
-Performance): ``python benchmarks/segmentation.py --mode adaptive``, one hour, 3 repeats on a
-busy 2-core machine (load 8-14): the default detector 4.68 s CPU [4.48-4.75], 100x (a)
-[100-113] (reference 470 s extrapolated), 0.19x (b), peak 0.77 GiB RSS while segment() runs (the
-process's whole peak 0.94 GiB: the floor's pass), agreement on the slice.
+Last measured (2026-11-26 19:11 UTC, branch segperf2; docs/segmentation.md, Performance):
+``python benchmarks/segmentation.py --mode adaptive``, one hour, 3 repeats on a busy 2-core
+machine (load 7-10): the default detector 6.33 s CPU [5.46-6.85], 112x (a) [106-135] (reference
+738 s extrapolated, stretched by the load), 0.20x (b), peak 0.77 GiB RSS while segment() runs (the
+process's whole peak 0.93 GiB: the floor's pass), agreement on the slice.
 """
 
 from __future__ import annotations

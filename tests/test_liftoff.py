@@ -208,3 +208,24 @@ def test_over_frames_is_the_hull_test_of_every_frame_at_once():
         want.append(a.shape[0] > 0 and inside_hull(a[:, :2].mean(axis=0), b[:, :2]))
     assert got.tolist() == want
     assert 0 < sum(want) < frames
+
+
+def test_rise_is_the_nanmedian_of_heights_above_their_own_median() -> None:
+    """_rise (read at every rest's end) gives np.nanmedian's values bit for bit, gaps and all."""
+    import warnings
+
+    from oacdsl.segmentation.liftoff import _rise
+
+    rng = np.random.default_rng(3)
+    for k in (1, 3, 4, 5, 8):
+        for gaps in (0.0, 0.2, 1.0):
+            z = 0.7 + rng.random((40, k)) * 0.1
+            z[rng.random(z.shape) < gaps] = np.nan
+            z[:5, 0] = 0.75  # ties
+            for split in (1, 7, 20, 39):
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN rows and columns
+                    base = np.nanmedian(z[:split], axis=0)
+                    expected = np.nanmedian(z[split:] - base[None, :], axis=1)
+                got = _rise(z, split)
+                assert got.dtype == np.float64 and np.array_equal(got, expected, equal_nan=True)

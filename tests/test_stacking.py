@@ -141,3 +141,18 @@ def test_inside_hull():
     assert not inside_hull(np.array([1.01, 0.5]), square)
     assert not inside_hull(np.array([0.5, 0.0]), square[:2])  # two markers: no area
     assert not inside_hull(np.array([0.5, 0.5]), np.array([[0.0, 0.0], [0.5, 0.5], [1.0, 1.0]]))
+
+
+def test_markers_out_of_order_give_the_same_rests():
+    """An instance's markers need not be consecutive columns of the recording: with the columns
+    interleaved (read by index, not as a slice) the rests on top and the keyframes are the same."""
+    from oacdsl.segmentation.recording import Recording
+
+    rec = recording(open_scene())
+    order = np.random.default_rng(2).permutation(len(rec.marker_names))  # new column → old one
+    where = np.argsort(order)  # old column → new one
+    groups = {g: tuple(int(where[i]) for i in idx) for g, idx in rec.groups.items()}
+    assert any(np.any(np.diff(idx) != 1) for idx in groups.values())
+    shuffled = Recording(rec.source, rec.rate_hz, rec.times_s, tuple(rec.marker_names[i] for i in order),
+                         rec.positions_m[:, order], groups)
+    assert run(shuffled) == run(rec)

@@ -6,6 +6,7 @@ docs/segmentation-adaptive.md, "Tool roles"); every rule of toolroles breaks one
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 from _mocap import mocap_file
 
@@ -108,3 +109,25 @@ def test_mix_at_double_speed_keeps_the_servers_in_the_bowl():
     seen = {frozenset(r) for k in result.keyframes for r in k.state.relations}
     assert frozenset((FORK, BOWL)) in seen and frozenset((SPOON, BOWL)) in seen
     assert frozenset((FORK, SPOON)) not in seen
+
+
+def test_first_not_is_the_per_frame_walk() -> None:
+    """_first_not (rules 2 and 5's walk onwards) stops where the frame-by-frame loop stops."""
+    from oacdsl.segmentation.toolroles import _first_not
+
+    rng = np.random.default_rng(4)
+    for _ in range(300):
+        n = int(rng.integers(1, 400))
+        d = rng.random(n) * 0.2
+        d[rng.random(n) < 0.05] = np.nan
+        held_i, held_j = rng.random(n) < 0.01, rng.random(n) < 0.01
+        b = int(rng.integers(0, n + 1))
+        e = b
+        while e < n and d[e] < 0.19 and not (held_i[e] or held_j[e]):
+            e += 1
+        assert _first_not(d, 0.19, b, n, held_i, held_j) == e
+        near = d < 0.15
+        e = b
+        while e < n and near[e]:
+            e += 1
+        assert _first_not(near, None, b, n) == e

@@ -52,6 +52,7 @@ from typing import NamedTuple
 import numpy as np
 
 from oacdsl.segmentation.episodes import true_runs
+from oacdsl.segmentation.medians import nanmedian0
 from oacdsl.segmentation.pairs import PairTable
 from oacdsl.segmentation.recording import Recording
 
@@ -69,10 +70,10 @@ def _heights(recording: Recording, table: PairTable, instance: int, lo: int, hi:
 def _rise(z: np.ndarray, split: int) -> np.ndarray:
     """Per frame after ``split`` (rows ``split:``), the median over markers of each marker's height
     above its own median over rows ``:split``, metres (NaN: nothing seen)."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # a marker unseen in one of the parts: NaN
-        base = np.nanmedian(z[:split], axis=0)
-        return np.asarray(np.nanmedian(z[split:] - base[None, :], axis=1), dtype=np.float64)
+    # np.nanmedian's values (axis 0, then 1) without its masked arrays: the sorted middle rows
+    base = nanmedian0(z[:split])
+    with np.errstate(invalid="ignore"):
+        return np.asarray(nanmedian0((z[split:] - base[None, :]).T), dtype=np.float64)
 
 
 class LiftOff(NamedTuple):
@@ -122,11 +123,13 @@ def _columns(table: PairTable, instance: int) -> np.ndarray:
     return table.marker_order[table.marker_offsets[instance] : table.marker_offsets[instance + 1]]
 
 
-def _visible_xy(positions_m: np.ndarray, table: PairTable, instance: int, frames: np.ndarray) -> np.ndarray:
-    """(len(frames), k, 2) the instance's markers seen from above; NaN where a marker is unseen."""
-    xyz = positions_m[frames][:, _columns(table, instance)]
+def _visible_xy(rows_m: np.ndarray, table: PairTable, instance: int) -> np.ndarray:
+    """(R, k, 2) the instance's markers seen from above in ``rows_m`` ((R, M, 3) frames of the
+    recording's positions); NaN where a marker is unseen."""
+    xyz = rows_m[:, _columns(table, instance)]  # a copy
     xy = xyz[..., :2].astype(float, copy=True)
-    xy[~np.isfinite(xyz).all(axis=-1)] = np.nan
+    seen = np.isfinite(xyz[..., 0]) & np.isfinite(xyz[..., 1]) & np.isfinite(xyz[..., 2])
+    xy[~seen] = np.nan
     return xy
 
 
@@ -140,13 +143,19 @@ def over_frames(
     against every triangle with area of ``base``'s markers at once (the result of
     :func:`~oacdsl.segmentation.stacking.inside_hull`, per frame)."""
     frames = np.asarray(frames, dtype=np.intp)
-    inside = np.zeros(frames.shape[0], dtype=bool)
     if frames.size == 0:
-        return inside
+        return np.zeros(0, dtype=bool)
+    return _over_rows(positions_m[frames], table, top, base)
+
+
+def _over_rows(rows_m: np.ndarray, table: PairTable, top: int, base: int) -> np.ndarray:
+    """:func:`over_frames` of the frames whose positions are ``rows_m`` ((R, M, 3), read once by
+    the caller for both ways round)."""
+    inside = np.zeros(rows_m.shape[0], dtype=bool)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # an unseen instance: a NaN centre
-        centre = np.nanmean(_visible_xy(positions_m, table, top, frames), axis=1)
-    corners = _visible_xy(positions_m, table, base, frames)
+        centre = np.nanmean(_visible_xy(rows_m, table, top), axis=1)
+    corners = _visible_xy(rows_m, table, base)
     k = corners.shape[1]
 
     def cross(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -219,8 +228,8 @@ def set_down_beside(
         with np.errstate(invalid="ignore"):
             near = ~(np.asarray(closest[q]) > lift.threshold)  # within it or unseen: the rule may hold
         frames = np.flatnonzero(veto & near)  # only near frames need the footprint test
-        on = over_frames(positions_m, table, lift.top, lift.base, frames)
-        on |= over_frames(positions_m, table, lift.base, lift.top, frames)
+        rows = positions_m[frames]  # read once for both ways round
+        on = _over_rows(rows, table, lift.top, lift.base) | _over_rows(rows, table, lift.base, lift.top)
         veto[frames[on]] = False
         spans = true_runs(veto)
         if spans:

@@ -267,6 +267,15 @@ class RigidFill:
             placed = np.einsum("fij,kj->fki", T[:, :3, :3], ref) + T[:, None, :3, 3]
             placed[seen[frames]] = np.nan
             self._items.append((idx, frames, placed))
+        # every item's frames in one sorted array, item k's shifted by k × (F + 1): one search finds
+        # each item's range of a frame range (cells() is called for every slab of every chunk)
+        self._stride = recording.n_frames + 1
+        shifts = np.arange(len(self._items), dtype=np.int64) * self._stride
+        self._keys = np.concatenate([frames.astype(np.int64) + shift
+                                     for (_, frames, _), shift in zip(self._items, shifts, strict=True)]
+                                    + [np.zeros(0, dtype=np.int64)])
+        self._shifts = shifts
+        self._offsets = np.cumsum([0] + [frames.size for _, frames, _ in self._items])[:-1]
 
     @property
     def empty(self) -> bool:
@@ -288,8 +297,11 @@ class RigidFill:
         """What :meth:`rows` fills in frames ``lo:hi``, per instance with something to fill:
         ``(frames, markers, values)``: (R,) frames counted from ``lo``, (k,) the instance's marker
         indices, (R, k, 3) their positions there, metres (NaN: seen, kept as it is)."""
-        for idx, frames, placed in self._items:
-            a, b = int(frames.searchsorted(lo)), int(frames.searchsorted(hi))
+        if not self._items:
+            return
+        first = (self._keys.searchsorted(self._shifts + lo) - self._offsets).tolist()
+        last = (self._keys.searchsorted(self._shifts + hi) - self._offsets).tolist()
+        for (idx, frames, placed), a, b in zip(self._items, first, last, strict=True):
             if a < b:
                 yield frames[a:b] - lo, idx, placed[a:b]
 

@@ -9,6 +9,18 @@ import numpy as np
 
 from oacdsl.errors import RecordingError, did_you_mean
 
+__all__ = ["Recording", "column_index"]
+
+
+def column_index(columns: np.ndarray) -> slice | np.ndarray:
+    """Marker columns (indices into ``positions_m``'s axis 1) as a slice when they are consecutive
+    and increasing (the usual layout of an instance's markers: reading them is then a strided
+    view, without numpy's fancy indexing), else as they are; either indexes the same values."""
+    columns = np.asarray(columns, dtype=np.intp)
+    if columns.size and bool(np.all(np.diff(columns) == 1)):
+        return slice(int(columns[0]), int(columns[-1]) + 1)
+    return columns
+
 
 @dataclass(frozen=True)
 class Recording:

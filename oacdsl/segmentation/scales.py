@@ -49,8 +49,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from oacdsl.segmentation.comotion import AdaptiveSettings
+from oacdsl.segmentation.medians import nanmedian0
 from oacdsl.segmentation.params import AasParams
-from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.recording import Recording, column_index
 
 __all__ = [
     "MAX_FACTOR",
@@ -147,7 +148,10 @@ def _rows(n_frames: int, start: int = 0) -> np.ndarray:
 
 def _points(recording: Recording, name: str, rows: np.ndarray) -> np.ndarray:
     """(len(rows), k, 3) positions of instance ``name``'s markers at ``rows``, metres."""
-    return recording.positions_m[np.ix_(rows, np.asarray(recording.groups[name], dtype=np.intp))]
+    columns = column_index(np.asarray(recording.groups[name], dtype=np.intp))
+    if isinstance(columns, slice):  # rows of a strided view: no fancy indexing of both axes
+        return recording.positions_m[rows, columns]
+    return recording.positions_m[np.ix_(rows, columns)]
 
 
 def pace_m_s(recording: Recording, instances: tuple[str, ...]) -> float:
@@ -168,7 +172,8 @@ def pace_m_s(recording: Recording, instances: tuple[str, ...]) -> float:
                                   axis=2)  # (R, k)
             if np.isnan(step).all():
                 continue
-            speed = np.nanmedian(np.where(np.isnan(step).all(axis=1, keepdims=True), 0.0, step), axis=1)
+            # np.nanmedian(…, axis=1)'s values without its masked arrays (medians.nanmedian0)
+            speed = nanmedian0(np.where(np.isnan(step).all(axis=1, keepdims=True), 0.0, step).T)
             speed[np.isnan(step).all(axis=1)] = np.nan
             fastest = np.fmax(fastest, speed / dt)
     if not np.isfinite(fastest).any():

@@ -30,7 +30,6 @@ within reach that ever meets the height condition.
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Mapping, Sequence
 
 import numpy as np
@@ -39,7 +38,7 @@ from oacdsl.segmentation.comotion import frames_within
 from oacdsl.segmentation.episodes import extend_episode, true_runs, union_spans
 from oacdsl.segmentation.holding import median_speeds
 from oacdsl.segmentation.pairs import PairTable
-from oacdsl.segmentation.recording import Recording
+from oacdsl.segmentation.recording import Recording, column_index
 
 __all__ = ["inside_hull", "resting_on_top", "with_rests"]
 
@@ -47,11 +46,12 @@ Spans = list[tuple[int, int]]
 
 
 
-def _hull(points: np.ndarray) -> np.ndarray:
-    """(h, 2) convex hull of (k, 2) points, counterclockwise (Andrew's monotone chain)."""
+def _hull(points: np.ndarray) -> list[tuple[float, ...]]:
+    """The convex hull of (k, 2) points, counterclockwise (Andrew's monotone chain): its corners
+    (all the points when fewer than three)."""
     pts = sorted(set(map(tuple, points.tolist())))
     if len(pts) < 3:
-        return np.asarray(pts, dtype=float).reshape(-1, 2)
+        return pts
 
     def cross(o: tuple[float, ...], a: tuple[float, ...], b: tuple[float, ...]) -> float:
         return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
@@ -66,18 +66,22 @@ def _hull(points: np.ndarray) -> np.ndarray:
         while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
             upper.pop()
         upper.append(p)
-    return np.asarray(lower[:-1] + upper[:-1], dtype=float)
+    return lower[:-1] + upper[:-1]
 
 
 def inside_hull(point_xy: np.ndarray, points_xy: np.ndarray) -> bool:
     """Is ``point_xy`` (2,) inside (or on) the convex hull of ``points_xy`` (k, 2)? False when the
     hull has no area (fewer than three markers, or all on a line)."""
     hull = _hull(points_xy)
-    if hull.shape[0] < 3:
+    if len(hull) < 3:
         return False
-    edges = np.roll(hull, -1, axis=0) - hull
-    to_point = point_xy[None, :] - hull
-    return bool(np.all(edges[:, 0] * to_point[:, 1] - edges[:, 1] * to_point[:, 0] >= 0))
+    # each edge's cross product with the point, in float64 as numpy's would be: a few corners,
+    # cheaper in Python than as arrays
+    px, py = (float(v) for v in point_xy[:2])
+    for (ax, ay), (bx, by) in zip(hull, hull[1:] + hull[:1], strict=True):
+        if not (bx - ax) * (py - ay) - (by - ay) * (px - ax) >= 0:  # NaN: not inside
+            return False
+    return True
 
 
 def resting_on_top(
@@ -116,12 +120,18 @@ def resting_on_top(
     cache: dict[tuple[str, int], np.ndarray] = {}
     shapes: dict[int, tuple[np.ndarray, ...]] = {}
     columns = {i: np.asarray(recording.groups[names[i]], dtype=np.intp) for i in range(len(names))}
+    # an instance's markers as a slice where they are consecutive (the usual layout): a strided
+    # view, read without numpy's fancy indexing (the same values)
+    take = {i: column_index(c) for i, c in columns.items()}
 
     def points(i: int, frames: np.ndarray | slice) -> np.ndarray:
         """(R, k, 3) instance ``i``'s markers at ``frames``."""
         if isinstance(frames, slice):
-            return recording.positions_m[frames, columns[i]]
-        return recording.positions_m[frames[:, None], columns[i]]
+            return recording.positions_m[frames, take[i]]
+        cols = take[i]
+        if isinstance(cols, slice):
+            return recording.positions_m[frames, cols]
+        return recording.positions_m[frames[:, None], cols]
 
     # the frames the cheap tests look at, the grid: one per lag_s (frames 0, lag, 2 lag, …)
 
@@ -133,7 +143,7 @@ def resting_on_top(
             # the grid's frames as a strided slice (a fifth of the time of indexing by
             # ``arange(0, F, lag)``); (3, k, G): each reduction over the k markers runs along whole
             # rows of frames (the same values, in the same order, as over the (G, k) axis)
-            x, y, z = np.ascontiguousarray(recording.positions_m[::lag][:, columns[i]].transpose(2, 1, 0))
+            x, y, z = np.ascontiguousarray(recording.positions_m[::lag, take[i]].transpose(2, 1, 0))
             seen = np.isfinite(x)
             with np.errstate(invalid="ignore", divide="ignore"):
                 count = seen.sum(axis=0)
@@ -182,8 +192,10 @@ def resting_on_top(
                 resting = still(top, s, e) & still(base, s, e)
                 for s2, e2 in true_runs(resting):
                     r0, r1 = s + s2, s + e2
+                    if r1 - r0 < dwell:
+                        continue
                     rest = np.unique(np.linspace(r0, r1 - 1, min(r1 - r0, REST_SAMPLES)).astype(np.intp))
-                    if r1 - r0 < dwell or not _on_top(points(top, rest), points(base, rest)):
+                    if not _on_top(points(top, rest), points(base, rest)):
                         continue
                     with np.errstate(invalid="ignore"):
                         rest_m = float(np.nanmedian(dmin[r0:r1]))
@@ -216,9 +228,9 @@ def _on_top(top_m: np.ndarray, base_m: np.ndarray) -> bool:
     its frames, evenly spread) lie on top of one at ``base_m``:
     its lowest marker at least as high as the other's highest, its centre over the other's
     markers' hull seen from above (median positions over the rest)?"""
-    with np.errstate(invalid="ignore"), warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # a marker never seen in the rest: NaN
-        top, base = _median_pose(top_m), _median_pose(base_m)
+    with np.errstate(invalid="ignore"):  # a marker never seen in the rest: NaN
+        both = _median_pose(np.concatenate([top_m, base_m], axis=1))  # each marker's own median
+    top, base = both[: top_m.shape[1]], both[top_m.shape[1] :]
     top, base = top[np.isfinite(top).all(axis=1)], base[np.isfinite(base).all(axis=1)]
     if top.shape[0] == 0 or base.shape[0] < 3:
         return False

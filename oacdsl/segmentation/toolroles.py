@@ -81,8 +81,7 @@ def refine(added: dict[int, Spans], removed: dict[int, Spans], n_frames: int,
             let_go = b < n_frames and not (held_by_any[i][b] or held_by_any[j][b])
             worked.setdefault(q, []).append((a, min(b, n_frames)))
             if let_go and (held_by_any[i][a:b].any() != held_by_any[j][a:b].any()):  # rule 2
-                while b < n_frames and _near(d[b], reach_m) and not (held_by_any[i][b] or held_by_any[j][b]):
-                    b += 1
+                b = _first_not(d, reach_m, b, n_frames, held_by_any[i], held_by_any[j])
             kept.append((a, b))
         if kept:
             out[q] = kept
@@ -125,9 +124,7 @@ def refine(added: dict[int, Spans], removed: dict[int, Spans], n_frames: int,
                 through = holds[(h, x)] & masks[qa]
                 near = _near(dist(h, a), reach_m)
                 for s, e in true_runs(through):
-                    while e < n_frames and near[e]:
-                        e += 1
-                    vetoes.setdefault(qh, []).append((s, e))
+                    vetoes.setdefault(qh, []).append((s, _first_not(near, None, e, n_frames)))
     return out, {q: true_runs(_mask(s, n_frames)) for q, s in vetoes.items()}
 
 
@@ -152,6 +149,23 @@ def _rests(d: np.ndarray, rest_m: float) -> bool:
 def _near(d: np.ndarray | np.floating, reach_m: float) -> np.ndarray:
     with np.errstate(invalid="ignore"):
         return np.asarray(d < reach_m)
+
+
+def _first_not(d: np.ndarray, reach_m: float | None, b: int, n: int, *held: np.ndarray) -> int:
+    """The first frame from ``b`` on (``n`` if none) where ``d`` is not within ``reach_m`` (``d``
+    itself, a bool array, when ``reach_m`` is None) or one of ``held`` is True: a per-frame walk's
+    end, looked for in windows that double."""
+    width = 32
+    while b < n:
+        e = min(n, b + width)
+        go = _near(d[b:e], reach_m) if reach_m is not None else d[b:e].copy()
+        for mask in held:
+            go &= ~mask[b:e]
+        stop = np.flatnonzero(~go)
+        if stop.size:
+            return b + int(stop[0])
+        b, width = e, width * 2
+    return b
 
 
 def _mask(spans: Spans, n: int) -> np.ndarray:
