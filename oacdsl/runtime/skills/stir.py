@@ -26,6 +26,7 @@ from oacdsl.runtime.shapes import hand_reach_below
 from oacdsl.runtime.skills.base import SkillContext, cm
 from oacdsl.runtime.skills.tooltip import HeldTool, held_tool, pointing
 from oacdsl.skills import SIGNATURES
+from oacdsl.units import format_mm
 
 __all__ = ["stir", "dip_poses", "SIGNATURE"]
 
@@ -167,5 +168,5 @@ def _lost_where(ctx: SkillContext, side: str, tool: str, container: str, start: 
     tip = pose[:3, :3].T @ (held.tip_world() - pose[:3, 3])  # in the container's frame
     off_wall = body.inner_radius - held.half_width - float(np.linalg.norm(tip[:2]))
     moved = float(np.linalg.norm(pose[:3, 3] - start[:3, 3]))
-    return (f" (its tip ended {off_wall * 1000:.0f} mm off the wall, {(tip[2] - body.floor) * 1000:.0f} mm"
-            f" above the floor; {container} moved {moved * 1000:.0f} mm while the tool was in it)")
+    return (f" (its tip ended {format_mm(off_wall)} off the wall, {format_mm(tip[2] - body.floor)}"
+            f" above the floor; {container} moved {format_mm(moved)} while the tool was in it)")

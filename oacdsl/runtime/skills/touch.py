@@ -30,13 +30,12 @@ from oacdsl.runtime.skills.base import SkillContext, cm
 from oacdsl.runtime.skills.stand import needs_turn, set_turned
 from oacdsl.runtime.transforms import make_T
 from oacdsl.skills import SIGNATURES
+from oacdsl.units import format_mm
 
 __all__ = ["touch", "approach_pose", "bring_onto", "SIGNATURE"]
 
 SIGNATURE = SIGNATURES["touch"]
 D = SIGNATURE.defaults()
-#: How close (m) above a container's rim the hand's lowest point counts as down at the rim.
-RIM_NEAR_M = 0.02
 
 
 def approach_pose(
@@ -134,10 +133,10 @@ def touch(
 
 def short_of(ctx: SkillContext, side: str, obj: str, target: str) -> str:
     """Where the held ``obj``'s lowest point stopped above ``target`` (its floor when it is a
-    container, else its top) and, when the hand is then down at a container's rim, what reaches
-    deeper: a grasp farther up the tool (the hand reaches :data:`HAND_BELOW_CENTRE_M` below its
-    grasp centre and is kept clear of the rim; KIT Scoop's ladle held 20 cm up stopped 1 mm
-    above a 14 cm bowl's floor)."""
+    container, else its top) and, when the hand is then down at a container's rim (within the
+    tuning's ``rim_clearance_m`` above it), what reaches deeper: a grasp farther up the tool (the
+    hand reaches :data:`HAND_BELOW_CENTRE_M` below its grasp centre and is kept clear of the rim;
+    KIT Scoop's ladle held 20 cm up stopped 1 mm above a 14 cm bowl's floor)."""
     world = ctx.world
     body_t = ctx.body(target)
     corners = world_corners(body_t, world.body_pose(target))
@@ -145,9 +144,9 @@ def short_of(ctx: SkillContext, side: str, obj: str, target: str) -> str:
     low = lowest_z(ctx.body(obj), ctx.held_pose(side, obj)[0])
     floor = bottom + body_t.floor if body_t.container else top
     what = f"the floor of {target}" if body_t.container else f"{target}'s top"
-    text = f"; its lowest point stopped {(low - floor) * 1000:.0f} mm above {what}"
+    text = f"; its lowest point stopped {format_mm(low - floor)} above {what}"
     grasp_z = float(world.frame_pose(f"grasp_{side}")[2, 3])
-    if body_t.container and low < top and grasp_z - HAND_BELOW_CENTRE_M < top + RIM_NEAR_M:
+    if body_t.container and low < top and grasp_z - HAND_BELOW_CENTRE_M < top + TUNING.rim_clearance_m:
         text += (f", the hand at {target}'s rim: held {cm(grasp_z - low)}"
                  f" above its lowest point, {obj} reaches no deeper; a grasp farther up it"
                  f" (a larger grasp offset) does")
