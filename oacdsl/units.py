@@ -15,7 +15,9 @@ import re
 
 from oacdsl.errors import UsageError
 
-__all__ = ["LANGUAGE_UNITS", "UNITS", "format_quantity", "language_si", "parse_quantity", "unit_kind"]
+__all__ = [
+    "LANGUAGE_UNITS", "UNITS", "format_mm", "format_quantity", "language_si", "parse_quantity", "unit_kind",
+]
 
 #: For each SI unit the accepted spellings and their factor to SI.
 UNITS: dict[str, dict[str, float]] = {
@@ -88,6 +90,11 @@ def format_quantity(value: float, unit: str) -> str:
     if unit == "Hz":
         return f"{value:g}Hz"
     raise ValueError(f"unknown unit kind {unit!r}")
+
+
+def format_mm(length_m: float) -> str:
+    """A length for a message, to the whole millimetre: 0.0013 m → ``1 mm``."""
+    return f"{length_m * 1000:.0f} mm"
 
 
 #: Units a ``.oac`` file may write after a number (``56cm``, ``110deg``): spelling → (SI unit, factor).

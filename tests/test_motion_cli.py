@@ -71,4 +71,6 @@ def test_kit_stir_motion_table(capsys, tmp_path):
     assert code == 0, err
     rows = [line for line in out.splitlines() if "tablespoon" in line and "cup_large (" in line]
     assert any(" 0.50s x3.5 " in row for row in rows), out  # measured: 0.50 s, 3.5 circles
+    # numbered as oacc match and the verifier number sub-actions: the stir ends at keyframe 4
+    assert [row.split()[:2] for row in rows if "(broken)" in row] == [["4", "27-48"]], rows
     assert (tmp_path / "stir.png").stat().st_size > 20_000

@@ -154,13 +154,13 @@ def test_segment_motion_shows_the_demonstrated_turn(tmp_path: Path, capsys) -> N
 
     demo = demos.write("Open", tmp_path, demos.KIT_10HZ)
     assert main(["segment", str(demo), "--motion"]) == 0
-    rows = [line.split() for line in capsys.readouterr().out.splitlines() if line.strip().startswith("2 ")]
+    rows = [line.split() for line in capsys.readouterr().out.splitlines() if line.strip().startswith("3 ")]
     assert rows[-1][2:4] == ["lid", "left_hand"] and rows[-1][-1] in ("+239deg", "+240deg", "+241deg")
     take = tmp_path / "mirrored.c3d"
     assert main(["take", str(demo), "-o", str(take), "--standard", "mirrored"]) == 0
     capsys.readouterr()
     assert main(["segment", str(take), "--motion"]) == 0
-    rows = [line.split() for line in capsys.readouterr().out.splitlines() if line.strip().startswith("2 ")]
+    rows = [line.split() for line in capsys.readouterr().out.splitlines() if line.strip().startswith("3 ")]
     assert rows[-1][-1] in ("-239deg", "-240deg", "-241deg")
 
 

@@ -100,6 +100,29 @@ def check_oac_name(name: str, flag: str = "--name") -> str:
     return name
 
 
+def check_name_free(library: Any, name: str, output: str | None = None) -> None:
+    """Refuse ``--name NAME`` when the library's own OAC ``NAME`` is not an earlier composition.
+
+    Composing ``NAME`` leaves the OAC of that name out of matching (an earlier composition,
+    ``learned/NAME.oac``, is replaced); an OAC the user wrote (one that executes a skill, or one
+    outside a ``learned/`` folder and other than ``output``) would be left out silently, and the
+    sub-actions it explains would match nothing (:class:`~oacdsl.errors.UsageError`, exit 2)."""
+    from pathlib import Path
+
+    from oacdsl.errors import UsageError
+
+    oac = library.oacs.get(name)
+    if oac is None or oac.span is None:
+        return
+    where = Path(oac.span.file)
+    earlier = oac.skill is None and (
+        where.parent.name == "learned" or (output is not None and where.resolve() == Path(output).resolve()))
+    if not earlier:
+        raise UsageError(f"--name {name}: the library's own OAC {name!r} ({oac.span}) has that name;"
+                         " the composed OAC would replace it and leave it out of matching, so the sub-actions"
+                         " it explains would match nothing: choose another --name")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The full argument parser with every subcommand registered."""
     parser = argparse.ArgumentParser(

@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from oacdsl.atomic import check_target
-from oacdsl.cli import check_oac_name
+from oacdsl.cli import check_name_free, check_oac_name
 from oacdsl.cli.demo_input import add_input_options
 
 
@@ -63,6 +63,7 @@ def run(args: argparse.Namespace) -> int:
         check_target(args.output)
     window = transient_s(args)  # a bad value fails before any reading
     inputs = load_inputs(args)
+    check_name_free(inputs.library, args.name, args.output)
     mode: Mode = "paper" if args.paper else "strict"
     # an earlier composition of this name is replaced, never a step of its own recomposition
     matcher = Matcher.from_library(inputs.library, inputs.scene, mode=mode,

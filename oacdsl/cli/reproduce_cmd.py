@@ -8,7 +8,7 @@ import shlex
 import sys
 from pathlib import Path
 
-from oacdsl.cli import check_oac_name, seed_arg
+from oacdsl.cli import check_name_free, check_oac_name, seed_arg
 from oacdsl.cli.aas_options import PRESET_HELP, add_aas_options
 from oacdsl.cli.reading import add_reading_options, allow_truncated, check_windows, printed_warnings
 from oacdsl.cli.scene_options import add_scene_options, scene_overrides
@@ -186,13 +186,14 @@ def run(args: argparse.Namespace) -> int:
         stated_fills, held = state_as_setup(inputs.library, inputs.scene, args.state)
         overrides = dataclasses.replace(overrides, fill={**stated_fills, **overrides.fill}, held=held)
     check_overrides(inputs.library, inputs.scene, overrides)  # before anything is composed or written
+    name = args.name or default_name(inputs.source)
+    check_name_free(inputs.library, name)
 
     def warn(text: str) -> None:
         print(f"oacc: warning: {text}", file=sys.stderr)
 
     if note:
         warn(note)
-    name = args.name or default_name(inputs.source)
     command = (
         "oacc " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if sys.argv[1:2] == ["reproduce"] else None
     )

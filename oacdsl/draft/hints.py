@@ -8,11 +8,12 @@ from collections.abc import Collection, Mapping
 
 import numpy as np
 
+from oacdsl.draft.estimate import ShapeEstimate
 from oacdsl.draft.names import library_classes_alike
 from oacdsl.draft.support import Support
 from oacdsl.segmentation.recording import Recording
 
-__all__ = ["alike_notes", "carried_notes", "stacked_notes"]
+__all__ = ["alike_notes", "carried_notes", "lying_notes", "stacked_notes"]
 
 
 def carried_notes(recording: Recording, group: str, support: Mapping[str, Support],
@@ -55,3 +56,24 @@ def stacked_notes(recording: Recording, group: str, under: str, frame: int, base
     return [f"# {under}'s top may be higher, up to this object's lowest marker ({low_m * 1000:.0f} mm,"
             f" {(low_m - base_z_m) * 1000:.0f} mm above that base): then this object is only"
             f" {(high_m - low_m) * 1000:.0f} mm high, from there to its highest marker, or a little more."]
+
+
+#: A box at least this long (m) and at most a quarter as wide and as high lies like a tool.
+LYING_TOOL_M = 0.12
+
+
+def lying_notes(est: ShapeEstimate) -> list[str]:
+    """For a long, narrow, low box (KIT's knife 312 x 33 x 12 mm, salad servers): the robot
+    builds every shape upright and never turns an object, and a tool a hand works with stands
+    on its working end on the robot, taken from the side high up its handle (docs/kit.md,
+    "Long tools stand up"); a knife drafted lying and taken from above stopped the hand at
+    65 N on its way down."""
+    if est.shape != "box":
+        return []
+    long_m, short_m = max(est.length_m, est.width_m), min(est.length_m, est.width_m)
+    if long_m < LYING_TOOL_M or 4 * short_m > long_m or 4 * est.height_m > long_m:
+        return []
+    return [f"# long, narrow and low ({long_m * 1000:.0f} mm): if it is a tool lying on the table (a knife, a"
+            " spoon), model it standing on its working end, handle up, with a side grasp high up the"
+            " handle (docs/kit.md, 'Long tools stand up'): every shape stands upright and objects are"
+            " never turned; taken from above as it lies, the hand meets the table first."]

@@ -18,7 +18,7 @@ import numpy as np
 
 from oacdsl.draft.estimate import ShapeEstimate, estimate_shape, table_height
 from oacdsl.draft.facing import demonstrator_forward
-from oacdsl.draft.hints import alike_notes, carried_notes, stacked_notes
+from oacdsl.draft.hints import alike_notes, carried_notes, lying_notes, stacked_notes
 from oacdsl.draft.names import camel_case, instance_name, library_class_for, unique
 from oacdsl.draft.support import supports
 from oacdsl.geometry import ROLE_SHAPES
@@ -48,7 +48,8 @@ _NEEDED = ("Hand", "Graspable", "Surface", "Table")  # what a draft itself uses
 _FACING = (", x the one nearer the demonstrator's forward: the robot stands an object with its x axis"
            " away from it, so it lies as the demonstrator had it.")
 _PARENTS_NOTE = ("parents: Graspable (the robot may pick it up); also possible: Container (a liquid"
-                 " can be in it), Tool (a Graspable used on another object), Surface (things stand on it)")
+                 " or a tool can be in it: give it a 'shell' shape, a box holds nothing), Tool (a Graspable"
+                 " used on another object), Surface (things stand on it)")
 
 
 @dataclass(frozen=True)
@@ -220,7 +221,7 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
                            f" marker ({stand.base_z_m * 1000:.0f} mm), not the table top.")
             decl[2:2] = stacked_notes(recording, g, under, stand.frame, stand.base_z_m)
             decl = [x.replace("- table top", f"- {under}'s top") for x in decl]
-        decl[1:1] = carried_notes(recording, g, support, instances, stand.base_z_m)
+        decl[1:1] = carried_notes(recording, g, support, instances, stand.base_z_m) + lying_notes(est)
         if reused is None and not tied:
             decl[1:1] = alike_notes(g, inst, buildable, cls)
         decls.append(decl)

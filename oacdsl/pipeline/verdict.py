@@ -44,13 +44,16 @@ def verdict(result: ResultRecord, failure: tuple[str, OacError] | None, name: st
         }
     if v is not None and not v.verified:
         named = "; ".join(f"{c['name']}: {c['detail']}" for c in failed if c["kind"] != "motion")
+        # a motion check decides faithful, not verified; the verifier's verdict counts it, so name it too
+        motion = "; ".join(f"{c['name']}: {c['detail']}" for c in failed if c["kind"] == "motion")
         return {
             "success": False,
             "failed_stage": "verify",
             **flags,
             "failed_checks": [c["name"] for c in failed] + [f"untracked.{u['instance']}" for u, _ in spilt],
             "summary": f"The robot executed {name}, but the outcome differs from the demonstration:"
-            f" {v.verdict}." + (f" Failed: {named}." if named else "") + _during(run, v) + _repaired(run),
+            f" {v.verdict}." + (f" Failed: {named}." if named else "")
+            + (f" Not faithful either: {motion}." if motion else "") + _during(run, v) + _repaired(run),
         }
     m = run.metrics if run is not None else {}
     balls = f", {m['balls_in_bowl']} of {m['balls_total']} balls in the bowl" if m.get("balls_total") else ""

@@ -26,6 +26,7 @@ from oacdsl.runtime.shapes import hand_reach_below
 from oacdsl.runtime.skills.base import SkillContext, cm
 from oacdsl.runtime.skills.tooltip import HeldTool, held_tool, pointing
 from oacdsl.skills import SIGNATURES
+from oacdsl.units import format_mm
 
 __all__ = ["stir", "dip_poses", "SIGNATURE"]
 
@@ -127,6 +128,7 @@ def stir(
             side, at(start_angle + k * math.pi / 2, beyond), f"the stirring circle in {container}"
         )
     m.carry(above, {tool, container}, t.work_carry_s)
+    start_pose = world.body_pose(container).copy()
     ctl.activity = f"dipping {tool} into {container}"
     m.approach(at(start_angle, 0.0), guard)
     if not world.touching(tool, container):
@@ -152,4 +154,19 @@ def stir(
     if not m.hold_still(t.contact_wait_s, m.touching(tool, container)) and not world.touching(
         tool, container
     ):
-        raise RuntimeFailure(f"stir: {tool} lost contact with {container} while stirring")
+        raise RuntimeFailure(f"stir: {tool} lost contact with {container} while stirring"
+                             + _lost_where(ctx, side, tool, container, start_pose))
+
+
+def _lost_where(ctx: SkillContext, side: str, tool: str, container: str, start: np.ndarray) -> str:
+    """Where the tool's tip ended in ``container`` (off its wall, above its floor) and how far the
+    container moved since the tool went in (``start``: its pose then): what a user can change
+    (the tool's or the container's size, how the other hand holds it)."""
+    body = ctx.body(container)
+    pose = ctx.world.body_pose(container)
+    held = held_tool(ctx, side, tool)
+    tip = pose[:3, :3].T @ (held.tip_world() - pose[:3, 3])  # in the container's frame
+    off_wall = body.inner_radius - held.half_width - float(np.linalg.norm(tip[:2]))
+    moved = float(np.linalg.norm(pose[:3, 3] - start[:3, 3]))
+    return (f" (its tip ended {format_mm(off_wall)} off the wall, {format_mm(tip[2] - body.floor)}"
+            f" above the floor; {container} moved {format_mm(moved)} while the tool was in it)")

@@ -23,12 +23,14 @@ from __future__ import annotations
 import numpy as np
 
 from oacdsl.errors import RuntimeFailure
+from oacdsl.runtime.grasping import HAND_BELOW_CENTRE_M
 from oacdsl.runtime.motion import TUNING, Motion, OtherHand, down, other_side
 from oacdsl.runtime.shapes import lowest_z, world_corners
-from oacdsl.runtime.skills.base import SkillContext
+from oacdsl.runtime.skills.base import SkillContext, cm
 from oacdsl.runtime.skills.stand import needs_turn, set_turned
 from oacdsl.runtime.transforms import make_T
 from oacdsl.skills import SIGNATURES
+from oacdsl.units import format_mm
 
 __all__ = ["touch", "approach_pose", "bring_onto", "SIGNATURE"]
 
@@ -125,5 +127,27 @@ def touch(
     others = sorted(world.relations().partners(obj) - {hand})
     raise RuntimeFailure(
         f"touch: {obj} did not reach {target} (the wrist felt {m.force_n():.0f} N;"
-        f" {obj} touches {', '.join(others) or 'nothing else'})"
+        f" {obj} touches {', '.join(others) or 'nothing else'}{short_of(ctx, side, obj, target)})"
     )
+
+
+def short_of(ctx: SkillContext, side: str, obj: str, target: str) -> str:
+    """Where the held ``obj``'s lowest point stopped above ``target`` (its floor when it is a
+    container, else its top) and, when the hand is then down at a container's rim (within the
+    tuning's ``rim_clearance_m`` above it), what reaches deeper: a grasp farther up the tool (the
+    hand reaches :data:`HAND_BELOW_CENTRE_M` below its grasp centre and is kept clear of the rim;
+    KIT Scoop's ladle held 20 cm up stopped 1 mm above a 14 cm bowl's floor)."""
+    world = ctx.world
+    body_t = ctx.body(target)
+    corners = world_corners(body_t, world.body_pose(target))
+    top, bottom = float(corners[:, 2].max()), float(corners[:, 2].min())
+    low = lowest_z(ctx.body(obj), ctx.held_pose(side, obj)[0])
+    floor = bottom + body_t.floor if body_t.container else top
+    what = f"the floor of {target}" if body_t.container else f"{target}'s top"
+    text = f"; its lowest point stopped {format_mm(low - floor)} above {what}"
+    grasp_z = float(world.frame_pose(f"grasp_{side}")[2, 3])
+    if body_t.container and low < top and grasp_z - HAND_BELOW_CENTRE_M < top + TUNING.rim_clearance_m:
+        text += (f", the hand at {target}'s rim: held {cm(grasp_z - low)}"
+                 f" above its lowest point, {obj} reaches no deeper; a grasp farther up it"
+                 f" (a larger grasp offset) does")
+    return text
