@@ -84,7 +84,7 @@ def first_frame_poses(
             if posed is not None and np.isfinite(posed.T_world_object[f, 2, 3]):
                 out[name][2] = posed.T_world_object[f, 2, 3]  # the base's height
                 x_axis = posed.T_world_object[f, :2, 0]
-                if float(np.linalg.norm(x_axis)) >= MIN_HEADING and _tells_turn(model):
+                if float(np.linalg.norm(x_axis)) >= MIN_HEADING and _tells_turn(posed.model):
                     headings[name] = x_axis / float(np.linalg.norm(x_axis))
     return out, headings
 
