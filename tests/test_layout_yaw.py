@@ -1,5 +1,6 @@
 """An object's yaw on the robot's table: the scene's ``turned``, the demonstration's first frame
-(``layout demonstrated``, for a class that declares ``markers``), and the built model's body."""
+(``layout demonstrated``, for a class that declares ``markers``), and the built model's body.
+The pin has a handle at one end: it is not alike half turned."""
 
 import math
 
@@ -9,6 +10,7 @@ import pytest
 from oacdsl.compiler import load_library
 from oacdsl.runtime.demo_layout import demonstrated_poses
 from oacdsl.runtime.layout import plan_layout
+from oacdsl.runtime.layout_yaw import alike_half_turned, nearer_half_turn
 from oacdsl.segmentation.points import recording_from_points
 from oacdsl.segmentation.synth.kinematics import rot_z
 from oacdsl.segmentation.synth.scene import hand_markers
@@ -19,6 +21,7 @@ class Table { shape table }
 class Graspable
 class Pin : Graspable {
     shape box(length 30cm, width 5cm, height 5cm)
+    shape cylinder(radius 1cm, height 8cm) at (14cm, 0, 0)
     markers (14cm, 0, 5cm), (-14cm, 1cm, 5cm), (5cm, 2cm, 0), (-6cm, -2cm, 5cm)
 }
 class Block : Graspable {
@@ -127,3 +130,19 @@ def test_the_built_body_stands_turned_by_its_yaw(tmp_path):
     assert quat == pytest.approx([math.cos(math.pi / 4), 0.0, 0.0, math.sin(math.pi / 4)])
     block = built.model.body("block").quat
     assert block == pytest.approx([math.cos(-math.pi / 8), 0.0, 0.0, math.sin(-math.pi / 8)])
+
+
+def test_an_object_alike_half_turned_takes_the_demonstrated_yaw_nearer_zero(tmp_path):
+    """Without its handle the pin is one box, the same half turned: of the two yaws that stand
+    it so, the one nearer 0 (its class's grasp point stays on the side written for the robot)."""
+    handle = "    shape cylinder(radius 1cm, height 8cm) at (14cm, 0, 0)\n"
+    lib = _library(tmp_path, LIBRARY.replace(handle, ""))
+    scene = lib.scenes["bench"]
+    first, headings = demonstrated_poses(_recording(math.radians(-120.0) + math.pi / 2), scene, lib)
+    layout = plan_layout(lib, scene, layout="demonstrated", demonstrated=first, headings=headings)
+    assert _angle(layout.placement("pin").yaw, math.radians(60.0)) < math.radians(0.5)
+    assert alike_half_turned(layout.bodies["pin"]) and alike_half_turned(layout.bodies["block"])
+    handled = _library(tmp_path)  # with its handle at one end
+    assert not alike_half_turned(plan_layout(handled, handled.scenes["bench"]).bodies["pin"])
+    turns = [round(math.degrees(nearer_half_turn(math.radians(d)))) for d in (-178, 178, -90, 90, 45, 270)]
+    assert turns == [2, -2, 90, 90, 45, 90]

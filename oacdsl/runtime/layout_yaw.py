@@ -8,7 +8,12 @@ The yaw (rad) turns an object about the vertical through its origin, from the ro
    (:func:`oacdsl.runtime.demo_layout.first_frame_poses`: the rigid fit of the recorded markers
    to the declared ones gives the direction of the class's x axis), mapped onto the table as
    the positions are (:meth:`oacdsl.runtime.demo_layout.TableMap.yaw_rad`: the demonstrator's
-   forward is the robot's x, the demonstrator's left its y);
+   forward is the robot's x, the demonstrator's left its y); an object that is the same solid
+   half turned (:func:`alike_half_turned`: a box, a cucumber, a rolling pin, a round cup) takes
+   the one of the two yaws that stand it alike nearer 0 (:func:`nearer_half_turn`), so that what
+   its class says in its own frame (its grasp point, written for the robot with x away from
+   it) stays on the side its author meant (KIT Cut's cucumber, turned by 178° as its declared
+   markers fit, was held at its far end and the knife, cutting the near one, met the hand);
 2. the scene's ``OBJECT at (x, y) turned ANGLE``, whatever placed the object (an object laid
    out as demonstrated whose class declares no markers keeps the scene's word: its markers do
    not say which way its class's x axis lies);
@@ -21,6 +26,7 @@ read every object's pose from the simulation.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 
 import numpy as np
@@ -29,7 +35,7 @@ from oacdsl.model import Scene
 from oacdsl.runtime.bodies import Body
 from oacdsl.runtime.demo_layout import table_map
 
-__all__ = ["object_yaws"]
+__all__ = ["alike_half_turned", "nearer_half_turn", "object_yaws"]
 
 
 def object_yaws(
@@ -55,5 +61,28 @@ def object_yaws(
     demo_hands = {side: demonstrated[h] for h, side in hands.items() if h in demonstrated}
     mapping = table_map(shown, demo_hands, {n: bodies[n].radius for n in shown})
     for name in turned:
-        out[name] = mapping.yaw_rad(np.asarray(headings[name], float))
+        yaw = mapping.yaw_rad(np.asarray(headings[name], float))
+        out[name] = nearer_half_turn(yaw) if alike_half_turned(bodies[name]) else yaw
     return out
+
+
+def alike_half_turned(body: Body) -> bool:
+    """Whether ``body`` is the same solid turned half a turn about its vertical axis: each of its
+    solids (a box, a rack, a round shape: each alike half turned about its own axis) has one of
+    the same kind, sizes and mass where it is turned to (a rolling pin's two handles). A mesh is
+    not known to be."""
+    solids = body.solids
+    if not solids or any(s.kind == "mesh" for s in solids):
+        return False
+    key = [(s.kind, sorted(s.dims.items()), s.mass) for s in solids]
+    for i, s in enumerate(solids):
+        turned = (-s.at[0], -s.at[1], s.at[2])
+        if not any(key[j] == key[i] and np.allclose(o.at, turned, atol=1e-6) for j, o in enumerate(solids)):
+            return False
+    return True
+
+
+def nearer_half_turn(yaw_rad: float) -> float:
+    """Of ``yaw_rad`` and that plus half a turn, the one nearer 0 (in (-90°, 90°]), rad."""
+    yaw = math.remainder(yaw_rad, math.pi)  # in [-90°, 90°]
+    return -yaw if math.isclose(yaw, -math.pi / 2) else yaw
