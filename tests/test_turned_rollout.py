@@ -81,4 +81,4 @@ def test_rollout_with_the_pin_turned_by_the_scene_is_reproduced_and_verified(tmp
                         quiet=True, force=True)
     verdict = outcome.result["verdict"]
     assert verdict["success"] and verdict.get("verified") and verdict.get("faithful"), verdict["summary"]
-    assert outcome.result["layout"]["places"]["rolling_pin"]["yaw_deg"] == pytest.approx(90.0)
+    assert outcome.result["run"]["layout"]["places"]["rolling_pin"]["yaw_deg"] == pytest.approx(90.0)
