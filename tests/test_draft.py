@@ -89,18 +89,19 @@ def test_draft_sizes_a_box_and_a_cylinder_from_their_markers(capsys, tmp_path):
     assert {"Hand", "Graspable", "Table", "Surface", "Container", "Tool"} <= set(classes)  # no library: bases
     tray = dims(classes["Tray"])
     assert classes["Tray"].geometry.shapes[0].primitive == "box"
-    # the hands stand along x (left at -x): the demonstrator faces +y, the box's short side lies
-    # 30° from it, so that side is x (the robot stands an object with x away from it)
-    assert [tray["length"], tray["width"], tray["height"]] == pytest.approx(
-        (BOX_M[1], BOX_M[0], BOX_M[2]), abs=0.002)
+    # x along the box's length; the hands stand along x (left at -x): the demonstrator faces +y,
+    # the box's length lies 30° from +x, 60° from forward towards the right: turned -60deg
+    assert [tray["length"], tray["width"], tray["height"]] == pytest.approx(BOX_M, abs=0.002)
+    assert "#   tray at (x, y) turned -60deg" in text and "#   my_box at (x, y) turned -60deg" in text
+    assert "can at (x, y) turned" not in text  # a cylinder is alike however turned
     can = dims(classes["Can"])
     assert classes["Can"].geometry.shapes[0].primitive == "cylinder"
     assert [can["radius"], can["height"]] == pytest.approx(CYLINDER_M, abs=0.002)
-    # the markers in the object frame: origin at the base centre, x along the box's width, z up
+    # the markers in the object frame: origin at the base centre, x along the box's length, z up
     from oacdsl.geometry import point_si
 
     marks = np.array([point_si(p) for p in classes["Tray"].geometry.markers])
-    l2, w2, h = BOX_M[1] / 2, BOX_M[0] / 2, BOX_M[2]
+    l2, w2, h = BOX_M[0] / 2, BOX_M[1] / 2, BOX_M[2]
     np.testing.assert_allclose(np.abs(marks), [[l2, w2, h], [l2, w2, h], [l2, w2, h], [l2, w2, 0.0]],
                                atol=0.002)
     # mass from the volume at the stated density (300 kg/m³): 24 x 12 x 8 cm → 691 g
@@ -129,8 +130,9 @@ def test_draft_of_the_dough_demonstration(capsys, tmp_path):
     for cls in ("RedCup", "GreenCup", "OrangeBowl"):
         assert dims(classes[cls])["height"] == pytest.approx(0.12, abs=0.02), cls
     assert dims(classes["OrangeBowl"])["length"] == pytest.approx(2 * BOWL_RIM_RADIUS_M, abs=0.02)
-    # rim to handle: across the demonstrator (the handle to the side), so along y
-    assert dims(classes["RedCup"])["width"] == pytest.approx(0.048 + 0.095, abs=0.02)
+    # rim to handle: its length (x), across the demonstrator (the handle to the side): turned
+    assert dims(classes["RedCup"])["length"] == pytest.approx(0.048 + 0.095, abs=0.02)
+    assert re.search(r"#   red_cup at \(x, y\) turned -8\ddeg", text)
     assert classes["LiquidOne"].geometry is None  # one marker
     subs = re.findall(r"^# sub-action (\d+) \(frames (\d+)-(\d+)\): (.*)$", text, re.M)
     assert [int(s[0]) for s in subs] == list(range(1, len(subs) + 1)) and len(subs) >= 6
@@ -301,11 +303,12 @@ def test_library_class_for_a_group_name():
     assert library_class_for("bowl", options) == (None, [])
 
 
-def test_a_drafted_box_lies_as_the_demonstrator_had_it_and_without_hands_along_its_length(capsys, tmp_path):
-    """x is the principal axis nearer the demonstrator's forward (from the hands), pointing
-    forward, since the robot stands every object with its x axis away from it; without a left
-    and a right hand, the larger spread (before: always the larger spread, so a rolling pin
-    lying across the demonstrator stood on the robot's table pointing away from it)."""
+def test_a_drafted_box_lies_along_its_length_and_is_said_turned_from_the_demonstrators_forward(
+        capsys, tmp_path):
+    """x is the principal axis of the larger spread (its length); the scene says how far it is
+    turned from the demonstrator's forward (from the hands), as 'turned' (before: x was the axis
+    nearer forward, since objects could not be turned; estimate_shape still does that when given
+    a forward direction); without a left and a right hand there is no forward to say it from."""
     from oacdsl.draft.estimate import estimate_shape
     from oacdsl.segmentation.readers import read_recording
 
@@ -314,10 +317,12 @@ def test_a_drafted_box_lies_as_the_demonstrator_had_it_and_without_hands_along_i
     facing = estimate_shape(rec, "tray", TABLE_M, np.array([0.0, 1.0]))
     assert (plain.length_m, plain.width_m) == pytest.approx(BOX_M[:2], abs=0.002) and not plain.facing
     assert (facing.length_m, facing.width_m) == pytest.approx(BOX_M[1::-1], abs=0.002) and facing.facing
-    joined = re.sub(r"\n#   ", " ", run(capsys, "draft", str(tmp_path / "still.c3d"))[1])  # unwrapped
-    assert "x the one nearer the demonstrator's forward" in joined
+    joined = re.sub(r"\n    #   (?!\w+ at)", " ", run(capsys, "draft", str(tmp_path / "still.c3d"))[1])
+    said = "tray lies turned -60deg (its x, its length, from the demonstrator's forward towards the left)"
+    assert said in joined
+    assert "x the one nearer the demonstrator's forward" not in joined
     code, text, err = run(capsys, "draft", str(hand_made(tmp_path / "alone.c3d", hands=False)))
     assert code == 0, err
     tray = dims(check_draft(text)[0]["Tray"])
     assert [tray["length"], tray["width"]] == pytest.approx(BOX_M[:2], abs=0.002)
-    assert "nearer the demonstrator" not in re.sub(r"\n#   ", " ", text)
+    assert "nearer the demonstrator" not in re.sub(r"\n#   ", " ", text) and "turned" not in text

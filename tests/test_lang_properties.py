@@ -73,7 +73,9 @@ instances = st.builds(
     **trivia,
 ).flatmap(lambda i: st.sampled_from([i, i.model_copy(update={"environment": False, "ignored": True}),
                                      i.model_copy(update={"environment": False, "untracked": True})]))
-places = st.builds(ScenePlace, instance=lower, x=quantities, y=quantities, **trivia)
+places = st.builds(
+    ScenePlace, instance=lower, x=quantities, y=quantities, yaw=st.none() | quantities, **trivia
+)
 fills = st.builds(
     SceneFill, liquid=lower, container=lower, balls=st.none() | st.integers(-5, 100), **trivia
 )

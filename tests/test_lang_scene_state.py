@@ -138,3 +138,34 @@ def test_composed_oacs_still_print_and_parse():
     module = parse_text(composed)
     assert print_module(module) == composed and module.decls[0].skill_args is None
     assert compile_sources({**LIBRARY, "pick.oac": composed}).ok
+
+
+TURNED = """\
+scene rolling {
+    pin : Cup
+
+    pin at (58cm, 0) turned 90deg
+}
+"""
+
+
+def test_a_turned_place_prints_canonically_with_its_yaw_and_parses_back_equal():
+    module = parse_text(TURNED, "rolling.oac")
+    assert print_module(module) == TURNED
+    place = module.decls[0].place("pin")
+    assert (place.yaw.value, place.yaw.unit) == (90.0, "deg")
+    assert place.yaw_rad == pytest.approx(math.pi / 2) and place.part("yaw").column == 29
+    assert parse_text(print_module(module), "rolling.oac") == module
+    # radians as written; a zero yaw is no yaw: neither kept nor printed
+    rad = parse_text(TURNED.replace("90deg", "-1.2rad"))
+    assert rad.decls[0].place("pin").yaw_rad == -1.2 and "turned -1.2rad" in print_module(rad)
+    zero = parse_text(TURNED.replace("90deg", "0deg"))
+    assert zero.decls[0].place("pin").yaw is None and "turned" not in print_module(zero)
+    assert zero.decls[0].place("pin").yaw_rad == 0.0
+
+
+def test_turned_compiles_with_the_standard_library_and_is_a_reserved_word():
+    text = TURNED.replace("pin : Cup", "pin : Cup\n    table : Table environment")
+    assert compile_sources({**LIBRARY, "rolling.oac": text}).ok
+    bad = compile_sources({**LIBRARY, "bad.oac": "scene s {\n    turned : Cup\n}\n"})
+    assert "E018" in {d.code for d in bad.diagnostics}

@@ -90,7 +90,7 @@ def _unwrapped(text: str) -> str:
 def test_the_draft_says_what_stands_on_an_object_and_which_class_may_be_it(tmp_path: Path, capsys) -> None:
     """What the new user had to work out: the bottle's top is above its own markers (the lid on
     it tells how far), and the Transfer's ``board`` may be the library's ``CuttingBoard``; a
-    rolling pin held across the body is drafted lying across (x forward, its length along y)."""
+    rolling pin held across the body is drafted along its length (x) and said turned a quarter."""
     from oacdsl.cli import main
 
     kit = str(ROOT / "library" / "kit")
@@ -101,9 +101,12 @@ def test_the_draft_says_what_stands_on_an_object_and_which_class_may_be_it(tmp_p
     text = _unwrapped(capsys.readouterr().out)
     assert "the library's CuttingBoard shares a word with 'board': 'board : CuttingBoard'" in text
     assert main(["draft", str(demos.write("RollOut", tmp_path, demos.KIT_LIKE)), "--library", kit]) == 0
-    pin = next(line for line in capsys.readouterr().out.splitlines() if "shape box" in line)
+    out = capsys.readouterr().out
+    pin = next(line for line in out.splitlines() if "shape box" in line)
     length_mm, width_mm = (int(v) for v in __import__("re").findall(r"(?:length|width) (\d+)mm", pin))
-    assert length_mm < 100 < 300 < width_mm  # the pin across the demonstrator: along y
+    assert width_mm < 100 < 300 < length_mm  # along its own x
+    turn = int(__import__("re").search(r"#   rolling_pin at \(x, y\) turned (-?\d+)deg", out).group(1))
+    assert 80 <= abs(turn) <= 90  # across the demonstrator (its markers on stalks: 85)
 
 
 def test_a_verdict_not_verified_names_the_steps_that_failed_before_a_repair() -> None:

@@ -159,7 +159,9 @@ def run(args: argparse.Namespace) -> int:
     check_outputs(args)
     if args.demonstration is not None:
         writable_folder(Path(args.execution).parent, "--execution")
-    demo_positions, set_downs = demonstrated(args, library, scene, bindings, overrides.layout) or (None, None)
+    demo_positions, set_downs, headings = (
+        demonstrated(args, library, scene, bindings, overrides.layout) or (None, None, None)
+    )
     note = prepare_backend(bool(args.video or args.frames))  # before MuJoCo is imported
     if note:
         then = "running without rendering" if note != NONE_FOUND else "trying MuJoCo's default (GLFW)"
@@ -184,6 +186,7 @@ def run(args: argparse.Namespace) -> int:
         self_collision=not args.no_self_collision,
         demonstrated=demo_positions,
         set_downs=set_downs,
+        headings=headings,
         **overrides.kwargs(),
     )
     from oacdsl.runtime.layout import seed_note

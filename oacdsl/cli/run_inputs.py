@@ -20,9 +20,10 @@ __all__ = ["check_binding", "check_outputs", "demonstrated", "load_inputs", "run
 
 def demonstrated(
     args: argparse.Namespace, library: Any, scene: str | None, bindings: dict[str, str], layout: str | None
-) -> tuple[dict[str, Any], dict[str, Any]] | None:
-    """First-frame positions of --demonstration for a 'layout demonstrated' and where it sets
-    objects down (:func:`~oacdsl.runtime.demo_places.set_down_places`), else None (a warning
+) -> tuple[dict[str, Any], dict[str, Any], dict[str, Any]] | None:
+    """First-frame positions of --demonstration for a 'layout demonstrated', where it sets
+    objects down (:func:`~oacdsl.runtime.demo_places.set_down_places`) and which way it turns
+    them (:func:`~oacdsl.runtime.demo_layout.first_frame_poses`), else None (a warning
     when the scene wants them but no recording is given)."""
     from oacdsl.runtime.binding import choose_scene
 
@@ -39,7 +40,7 @@ def demonstrated(
                 file=sys.stderr,
             )
         return None
-    from oacdsl.runtime.demo_layout import demonstrated_positions
+    from oacdsl.runtime.demo_layout import demonstrated_poses
     from oacdsl.segmentation.grouping import group_recording
     from oacdsl.segmentation.readers import read_recording
 
@@ -50,12 +51,12 @@ def demonstrated(
     from oacdsl.runtime.demo_places import scene_hands, set_down_places
 
     names, hands = [i.name for i in sc.tracked()], scene_hands(library, sc)
-    first = demonstrated_positions(grouped, sc, library)
+    first, headings = demonstrated_poses(grouped, sc, library)
     if any(i.markers for i in sc.instances):  # grouped by the scene, as demonstrated_positions does
         from oacdsl.segmentation.grouping import apply_scene_groups
 
         grouped = apply_scene_groups(grouped, sc)
-    return first, set_down_places(grouped, names, hands)
+    return first, set_down_places(grouped, names, hands), headings
 
 
 def load_inputs(paths: list[str], scene: str | None) -> tuple[Any, str | None]:

@@ -22,7 +22,7 @@ from oacdsl.model import Call, Node, Oac, PathValue, Quantity, SkillParam
 from oacdsl.skills import PATH, SIGNATURES, SkillParamSpec, SkillSignature, format_value
 from oacdsl.units import language_si, unit_kind
 
-__all__ = ["check_quantity_unit", "check_skill_call", "check_skill_params", "check_step_params"]
+__all__ = ["check_quantity_unit", "check_skill_call", "check_skill_params", "check_step_params", "written"]
 
 #: Bare numbers beyond these are probably written in another unit (W040): radians, metres.
 PLAUSIBLE_BARE = {"rad": 2 * math.pi, "m": 2.0}

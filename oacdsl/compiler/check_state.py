@@ -3,7 +3,7 @@
 * ``layout NAME`` names a known layout (E045), once per scene (E006);
 * ``x at (X, Y)`` names an instance of the scene (E004) that stands on the table:
   not a hand, a liquid, environment or ignored (E046); X and Y are lengths (E043),
-  each instance placed once (E006);
+  each instance placed once (E006); ``turned A`` is an angle (E043) within ±360deg (E044);
 * ``l in c [balls N]``: ``l`` a Liquid and ``c`` a Container of the scene (E004,
   E046), each liquid in one container (E006), 1 ≤ N ≤ :data:`~oacdsl.model.MAX_BALLS` (E044);
 * an ``untracked`` instance names no markers and is not a hand (E048).
@@ -11,17 +11,21 @@
 
 from __future__ import annotations
 
-from oacdsl.compiler.check_skills import check_quantity_unit
+import math
+
+from oacdsl.compiler.check_skills import check_quantity_unit, written
 from oacdsl.compiler.context import Context
 from oacdsl.compiler.diagnostics import Note
 from oacdsl.errors import did_you_mean
-from oacdsl.model import LAYOUTS, MAX_BALLS, Instance, Node, Scene
+from oacdsl.model import LAYOUTS, MAX_BALLS, Instance, Node, Scene, ScenePlace
 
 __all__ = ["check_scene_state"]
 
 #: Classes whose instances do not stand on the table by themselves (the robot's hands,
 #: liquids: they start inside a container).
 NOT_PLACEABLE = ("Hand", "Liquid")
+#: Largest yaw of ``turned`` either way, rad (a full turn).
+MAX_YAW_RAD = 2 * math.pi
 
 
 def _known(ctx: Context, scene: Scene, name: str, node: Node, key: str) -> Instance | None:
@@ -76,6 +80,7 @@ def _check_places(ctx: Context, scene: Scene) -> None:
         seen.setdefault(place.instance, place)
         for q in (place.x, place.y):
             check_quantity_unit(ctx, q, "m", f"the position of '{place.instance}'")
+        _check_yaw(ctx, place)
         if inst is None:
             continue
         why = None
@@ -91,6 +96,19 @@ def _check_places(ctx: Context, scene: Scene) -> None:
             ctx.add(
                 "E046", f"'{place.instance}' is {why}: it has no place on the table", place.part("instance")
             )
+
+
+def _check_yaw(ctx: Context, place: ScenePlace) -> None:
+    """``turned ANGLE``: an angle (E043), finite and within a full turn either way (E044)."""
+    yaw = place.yaw
+    if yaw is None or not check_quantity_unit(ctx, yaw, "rad", f"the yaw of '{place.instance}'"):
+        return
+    if not (math.isfinite(place.yaw_rad) and abs(place.yaw_rad) <= MAX_YAW_RAD + 1e-12):
+        ctx.add(
+            "E044",
+            f"the yaw of '{place.instance}' must lie between -360deg and 360deg, not {written(yaw)}",
+            place.part("yaw"),
+        )
 
 
 def _check_fills(ctx: Context, scene: Scene) -> None:

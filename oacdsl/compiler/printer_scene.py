@@ -121,7 +121,10 @@ def _scene_state(decl: Scene) -> list[str]:
     """``layout …``, then the ``at`` and ``in`` statements, names aligned, after the instances."""
     rows: list[tuple[Node, str, str]] = []
     for place in decl.places:
-        rows.append((place, place.instance, f"at ({format_quantity(place.x)}, {format_quantity(place.y)})"))
+        turned = f" turned {format_quantity(place.yaw)}" if place.yaw is not None else ""
+        rows.append(
+            (place, place.instance, f"at ({format_quantity(place.x)}, {format_quantity(place.y)}){turned}")
+        )
     for fill in decl.fills:
         text = f"in {name_word(fill.container)}" + (f" balls {fill.balls}" if fill.balls is not None else "")
         rows.append((fill, fill.liquid, text))

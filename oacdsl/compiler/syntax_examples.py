@@ -79,6 +79,19 @@ _DECLARATIONS: list[tuple[str, list[str]]] = [
     ),
     ("',' between x and y", ["scene s { a at (1", "scene s { a at (1 2"]),
     ("')' after x and y", ["scene s { a at (1, 2", "scene s { a at (1, 2, 3"]),
+    (
+        "'turned' and the object's yaw, the next instance, 'layout', a statement such as 'x at (…)'"
+        " or 'x in c', or '}'",
+        ["scene s { a at (1, 2)", "scene s { a at (1, 2) :"],
+    ),
+    (
+        "an angle such as 90deg (bare numbers are radians)",
+        ["scene s { a at (1, 2) turned", "scene s { a at (1, 2) turned }"],
+    ),
+    (
+        "the next instance, 'layout', a statement such as 'x at (…)' or 'x in c', or '}'",
+        ["scene s { a at (1, 2) turned 5", "scene s { a at (1, 2) turned 5deg :"],
+    ),
     ("the container the liquid starts in", ["scene s { a in", "scene s { a in }"]),
     ("the number of balls", ["scene s { a in b balls", "scene s { a in b balls }"]),
     (
@@ -116,7 +129,6 @@ _DECLARATIONS: list[tuple[str, list[str]]] = [
             "scene s { a : B untracked",
             "scene s { a : B untracked :",
             "scene s { a in b balls 3",
-            "scene s { a at (1, 2)",
             "scene s { layout x",
             "scene s { a in b balls 3 :",
             "scene s { layout x :",

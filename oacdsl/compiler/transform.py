@@ -40,6 +40,7 @@ from oacdsl.model import (
     fill_key,
     place_key,
 )
+from oacdsl.units import language_si, unit_kind
 
 __all__ = ["ModelBuilder"]
 
@@ -207,18 +208,30 @@ class ModelBuilder(GeometryBuilder, OacBuilder, Transformer[Token, list[Decl]]):
         return self.quantity([children[0]])
 
     def place_stmt(self, children: list[Any]) -> ScenePlace:
-        name, _at, x, y, rpar = children
+        name, _at, x, y, rpar, _turned, yaw = children
+        parts: _Parts = [
+            _part("instance", name),
+            ("at", x.span.line, x.span.column, rpar.end_line, rpar.end_column),
+        ]
+        last = rpar if yaw is None else yaw.span
+        if yaw is not None and yaw.value == 0:  # not turned: the model holds no zero yaw
+            if language_si(0.0, yaw.unit)[1] not in ("", "rad"):  # the checks see no zero: say it here
+                self.diagnostics.append(
+                    Diagnostic("E043", f"the yaw of '{name}' is {unit_kind('rad')}, but '{yaw.unit}'"
+                               " is no unit of angle", yaw.span)
+                )
+            yaw = None
+        if yaw is not None:  # 'turned ANGLE'
+            parts.append(("yaw", yaw.span.line, yaw.span.column, yaw.span.end_line, yaw.span.end_column))
         return make(
             ScenePlace,
             {
                 "instance": str(name),
                 "x": x,
                 "y": y,
-                "span": self._between(name, rpar),
-                "parts": (
-                    _part("instance", name),
-                    ("at", x.span.line, x.span.column, rpar.end_line, rpar.end_column),
-                ),
+                "yaw": yaw,
+                "span": self._between(name, last),
+                "parts": tuple(parts),
             },
         )
 

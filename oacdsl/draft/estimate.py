@@ -67,6 +67,8 @@ class ShapeEstimate:
         raised: the sizes raised to :data:`MIN_SIZE_M` (``"width"``, ``"height"`` …).
         round_rms_m: rms distance of the markers from the fitted circle (NaN: no fit), metres.
         facing: x is the principal axis nearer the demonstrator's forward (not the larger spread).
+        x_axis_xy: the direction of the object's x axis in the world at the reference frame
+            (horizontal unit vector (x, y)).
     """
 
     instance: str
@@ -81,6 +83,7 @@ class ShapeEstimate:
     raised: tuple[str, ...]
     round_rms_m: float
     facing: bool = False
+    x_axis_xy: tuple[float, float] = (1.0, 0.0)
 
     @property
     def volume_m3(self) -> float:
@@ -202,4 +205,5 @@ def estimate_shape(recording: Recording, instance: str, table_z_m: float,
     origin = np.array([origin_xy[0], origin_xy[1], table_z_m])
     markers = (pts - origin) @ rot.T
     return ShapeEstimate(instance, shape, length, width, height, radius, markers, ref,
-                         int((~seen).sum()), tuple(raised), rms, forward_xy is not None)
+                         int((~seen).sum()), tuple(raised), rms, forward_xy is not None,
+                         (float(axes[0, 0]), float(axes[0, 1])))

@@ -1,14 +1,12 @@
-"""Which way the demonstrator faced: the horizontal direction a drafted object's x axis takes.
+"""Which way the demonstrator faced, and how a drafted object lies turned from it.
 
-The robot stands every object with its x axis pointing away from it, whatever the recording
-(a scene's ``at`` and ``layout demonstrated`` place objects, they do not turn them;
-docs/language.md). So that an object drafted from a recording lies on the robot's table as
-it lay in front of the demonstrator, a drafted box's x axis is the principal horizontal axis
-of its markers that lies nearer the demonstrator's forward direction, pointing forward (a
-rolling pin held across the body: its x across its length, its length the shorter size).
 Forward is as ``layout demonstrated`` takes it (``oacdsl/runtime/demo_layout.py``): left is
 from the right hand to the left hand at the first frame both are seen, forward is left
-turned a quarter clockwise seen from above (left × up).
+turned a quarter clockwise seen from above (left × up). A drafted box's x axis is the
+principal horizontal axis of its markers with the larger spread (its length); how far that
+axis is turned from forward towards the left (:func:`drafted_turn`: a rolling pin held across
+the body, 90deg) is the ``turned`` of the object's scene: ``layout demonstrated`` turns it so
+by the drafted markers, and a scene that places it with ``at`` says ``turned`` (docs/language.md).
 """
 
 from __future__ import annotations
@@ -19,7 +17,10 @@ import numpy as np
 
 from oacdsl.segmentation.recording import Recording
 
-__all__ = ["demonstrator_forward"]
+__all__ = ["MIN_TURN_DEG", "demonstrator_forward", "drafted_turn"]
+
+#: A drafted object turned less than this from the demonstrator's forward is not said to be, degrees.
+MIN_TURN_DEG = 10.0
 
 
 def _side(name: str) -> str | None:
@@ -48,3 +49,14 @@ def demonstrator_forward(recording: Recording, hands: Iterable[str]) -> np.ndarr
         return None
     left /= norm
     return np.array([left[1], -left[0]])  # left × up
+
+
+def drafted_turn(x_axis_xy: tuple[float, float], forward_xy: np.ndarray) -> float:
+    """How far (degrees, whole) the object's x axis ``x_axis_xy`` is turned from ``forward_xy``
+    towards the left, counter-clockwise seen from above, as the one of the two turns that stand
+    a box alike (half a turn apart) nearer 0: in (-90, 90]."""
+    x, f = np.asarray(x_axis_xy, float), np.asarray(forward_xy, float)
+    left = np.array([-f[1], f[0]])  # up × forward
+    deg = float(np.degrees(np.arctan2(float(x @ left), float(x @ f))))
+    deg = (deg + 90.0) % 180.0 - 90.0  # in [-90, 90)
+    return 90.0 if round(deg) == -90 else float(round(deg))

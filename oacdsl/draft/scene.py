@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from oacdsl.draft.estimate import ShapeEstimate, estimate_shape, table_height
-from oacdsl.draft.facing import demonstrator_forward
+from oacdsl.draft.facing import MIN_TURN_DEG, demonstrator_forward, drafted_turn
 from oacdsl.draft.hints import alike_notes, carried_notes, lying_notes, stacked_notes
 from oacdsl.draft.names import camel_case, instance_name, library_class_for, unique
 from oacdsl.draft.support import supports
@@ -212,7 +212,7 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
                           f"# {_PARENTS_NOTE}.", f"class {cls} : Graspable"])
             continue
         stand = support[g]
-        est = estimate_shape(recording, g, stand.base_z_m, forward)
+        est = estimate_shape(recording, g, stand.base_z_m)  # x along its length: turned, not remodelled
         estimates[inst] = est
         decl = _class_lines(cls, est, stand.base_z_m, n, recording.n_frames)
         if stand.on is not None:
@@ -241,6 +241,7 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
             scene.append(f"    # class {classes[inst]} comes from the library (named like the group)")
         scene += [t for t in tie_notes if t.startswith(f"    # {inst}:")]
         scene.append(f"    {inst:<{width}} : {classes[inst]}{markers}")
+    scene += _turn_notes(estimates, forward)
     scene += [f"    # the table top stands at {table_z * 1000:.0f} mm (z up): the lowest object marker at the"
               f" first frame ({lowest}); it may sit a marker's radius (5-10 mm) above the table",
               f"    {'table':<{width}} : Table environment", "    layout demonstrated", "}"]
@@ -258,6 +259,22 @@ def draft_scene(recording: Recording, segmentation: Segmentation, name: str,
     text = "\n".join(_wrapped([*header, *body, *hint, *sub, *scene])) + "\n"
     module = parse_text(text, f"<draft {name}>")
     return Draft(print_module(module), name, instances, classes, tuple(written), estimates, table_z)
+
+
+def _turn_notes(estimates: dict[str, ShapeEstimate], forward: np.ndarray | None) -> list[str]:
+    """A ``turned`` statement (commented) per drafted box that lies turned from the demonstrator's
+    forward (:func:`~oacdsl.draft.facing.drafted_turn`): laid out as demonstrated it is turned so
+    by its markers; placed by ``at`` it needs the statement."""
+    if forward is None:
+        return []
+    out = []
+    for inst, est in sorted(estimates.items()):
+        deg = drafted_turn(est.x_axis_xy, forward)
+        if est.shape == "box" and abs(deg) >= MIN_TURN_DEG:
+            out += [f"    # {inst} lies turned {deg:g}deg (its x, its length, from the demonstrator's forward"
+                    " towards the left): 'layout demonstrated' turns it so by its markers; placed by 'at',"
+                    " it needs:", f"    #   {inst} at (x, y) turned {deg:g}deg"]
+    return out
 
 
 def _wrapped(lines: list[str], width: int = 100) -> list[str]:

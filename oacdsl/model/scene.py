@@ -9,6 +9,7 @@ from pydantic import field_validator
 
 from oacdsl.model.node import Node, Quantity
 from oacdsl.model.objects import Geometry
+from oacdsl.units import language_si
 
 __all__ = ["LAYOUTS", "MAX_BALLS", "Instance", "Scene", "SceneFill", "ScenePlace", "fill_key", "place_key"]
 
@@ -48,14 +49,30 @@ class Instance(Node):
 
 
 class ScenePlace(Node):
-    """``red_cup at (56cm, 28cm)`` — where an object starts on the robot's table.
+    """``red_cup at (56cm, 28cm)`` — where an object starts on the robot's table, and
+    ``rolling_pin at (58cm, 0) turned 90deg`` — how it is turned there.
 
-    ``x`` is forward from the robot's platform centre, ``y`` to its left (metres).
+    ``x`` is forward from the robot's platform centre, ``y`` to its left (metres); ``yaw``
+    (an angle as written; None: not turned, a zero yaw is None) turns the object about the
+    vertical through its origin, from the robot's x axis towards its y axis (:attr:`yaw_rad`).
     """
 
     instance: str
     x: Quantity
     y: Quantity
+    yaw: Quantity | None = None
+
+    @field_validator("yaw")
+    @classmethod
+    def _no_zero_yaw(cls, v: Quantity | None) -> Quantity | None:
+        return None if v is None or v.value == 0 else v
+
+    @property
+    def yaw_rad(self) -> float:
+        """The yaw in radians (0 when not turned; a bare number is radians)."""
+        if self.yaw is None:
+            return 0.0
+        return language_si(self.yaw.value, self.yaw.unit)[0]
 
 
 class SceneFill(Node):
@@ -124,9 +141,10 @@ class Scene(Node):
         return next((p for p in self.places if p.instance == name), None)
 
 
-def place_key(p: ScenePlace) -> tuple[str, float, str, float, str]:
-    """Sort key of scene placements (by instance, then position as written)."""
-    return (p.instance, p.x.value, p.x.unit, p.y.value, p.y.unit)
+def place_key(p: ScenePlace) -> tuple[str, float, str, float, str, float, str]:
+    """Sort key of scene placements (by instance, then position and yaw as written)."""
+    yaw = (0.0, "") if p.yaw is None else (p.yaw.value, p.yaw.unit)
+    return (p.instance, p.x.value, p.x.unit, p.y.value, p.y.unit, *yaw)
 
 
 def fill_key(f: SceneFill) -> tuple[str, str, int]:

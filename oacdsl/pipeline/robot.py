@@ -11,6 +11,7 @@ demonstration's (:func:`oacdsl.verify.verify`).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
@@ -61,7 +62,7 @@ def execute_stage(
     them down where it does (:mod:`oacdsl.runtime.demo_places`).
     Raises RuntimeFailure for a call that cannot run (bad binding)."""
     from oacdsl.report import bound_conditions
-    from oacdsl.runtime.demo_layout import first_frame_positions
+    from oacdsl.runtime.demo_layout import first_frame_poses
     from oacdsl.runtime.demo_places import scene_hands, set_down_places
     from oacdsl.runtime.executor import prepare, run_prepared
     from oacdsl.runtime.layout import seed_note
@@ -69,12 +70,14 @@ def execute_stage(
 
     names = [i.name for i in scene.tracked()]
     shapes = scene_shapes(library, scene)
-    demonstrated = first_frame_positions(recording, names, shapes) if recording is not None else None
+    demonstrated, headings = (first_frame_poses(recording, names, shapes) if recording is not None
+                              else (None, None))
     hands = scene_hands(library, scene)
     set_downs = set_down_places(recording, names, hands) if recording is not None else None
     given = (overrides or SceneOverrides()).kwargs()
     run = prepare(
-        library, oac, scene=scene, seed=seed, demonstrated=demonstrated, set_downs=set_downs, **given
+        library, oac, scene=scene, seed=seed, demonstrated=demonstrated, set_downs=set_downs,
+        headings=headings, **given
     )
     if warn is not None and (moved := seed_note(run.world.layout)) is not None:
         warn(moved)
@@ -131,7 +134,8 @@ def execute_stage(
     layout = run.world.layout
     doc["layout"] = {
         "places": {
-            p.name: {"x_m": round(p.x, 4), "y_m": round(p.y, 4), "from": layout.sources.get(p.name, "auto")}
+            p.name: {"x_m": round(p.x, 4), "y_m": round(p.y, 4), "yaw_deg": round(math.degrees(p.yaw), 1),
+                     "from": layout.sources.get(p.name, "auto")}
             for p in layout.placements
         },
         "contents": {

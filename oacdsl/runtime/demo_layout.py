@@ -34,12 +34,17 @@ from oacdsl.segmentation.shapefit import pose_shape
 from oacdsl.segmentation.shapes import ShapeModel, scene_shapes
 
 __all__ = [
-    "X_CENTRE_M", "TableMap", "demonstrated_positions", "first_frame_positions", "map_into_reach",
-    "table_map",
+    "X_CENTRE_M", "TableMap", "demonstrated_poses", "demonstrated_positions", "first_frame_poses",
+    "first_frame_positions", "map_into_reach", "table_map",
 ]
 
 #: Where the middle of the demonstrated arrangement goes (robot frame, metres, x forward).
 X_CENTRE_M = 0.64
+#: Least horizontal length of an object's unit x axis that gives it a heading (cos 60°: more
+#: upright than that, an object lies on its side and its turn about the vertical is not its x's).
+MIN_HEADING = 0.5
+#: Least horizontal distance of a declared marker from the markers' mean that tells a turn, m.
+MIN_SPREAD_M = 0.01
 #: The region object centres are mapped into: x range and |y| limit (metres), inside the
 #: table and within reach of the arms.
 X_RANGE_M = (0.50, 0.80)
@@ -51,7 +56,20 @@ def first_frame_positions(recording: Recording, names: list[str],
     """Each named marker group's markers' mean position (m) at the first frame where it is seen;
     its height (z) is its base's where ``shapes`` gives it a shape that its markers pose there
     (:func:`~oacdsl.segmentation.shapefit.pose_shape`)."""
+    return first_frame_poses(recording, names, shapes)[0]
+
+
+def first_frame_poses(
+    recording: Recording, names: list[str], shapes: Mapping[str, ShapeModel] | None = None
+) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """(positions, headings): :func:`first_frame_positions`, and, for each group whose shape
+    its markers pose at that frame (its class declares ``markers``), the horizontal unit
+    direction (x, y) of its object frame's x axis there (motion capture frame): how it was
+    turned about the vertical. An object on its side (x axis within 60° of the vertical) has
+    none, nor one whose declared markers all lie on its vertical axis. Groups without a posed
+    shape have none either: their markers do not say which way their class's x axis lies."""
     out: dict[str, np.ndarray] = {}
+    headings: dict[str, np.ndarray] = {}
     for name in names:
         if name not in recording.groups:
             continue
@@ -65,7 +83,17 @@ def first_frame_positions(recording: Recording, names: list[str],
             posed = pose_shape(recording, name, model)[0] if model is not None else None
             if posed is not None and np.isfinite(posed.T_world_object[f, 2, 3]):
                 out[name][2] = posed.T_world_object[f, 2, 3]  # the base's height
-    return out
+                x_axis = posed.T_world_object[f, :2, 0]
+                if float(np.linalg.norm(x_axis)) >= MIN_HEADING and _tells_turn(posed.model):
+                    headings[name] = x_axis / float(np.linalg.norm(x_axis))
+    return out, headings
+
+
+def _tells_turn(model: ShapeModel) -> bool:
+    """Whether the declared markers say how the object is turned about its vertical axis: not all
+    on that axis (a mixer's markers on its shaft: any turn about it fits them alike)."""
+    xy = model.markers_m[:, :2]
+    return bool(len(xy)) and float(np.linalg.norm(xy - xy.mean(axis=0), axis=1).max()) >= MIN_SPREAD_M
 
 
 def demonstrated_positions(recording: Recording, scene: Scene,
@@ -73,12 +101,18 @@ def demonstrated_positions(recording: Recording, scene: Scene,
     """First-frame positions (m) of the scene's tracked instances in ``recording``, whose
     marker groups are named after the instances or listed by their ``markers``; with the
     ``library``, posed by their classes' shapes where it gives them (:func:`first_frame_positions`)."""
+    return demonstrated_poses(recording, scene, library)[0]
+
+
+def demonstrated_poses(recording: Recording, scene: Scene, library: Library | None = None
+                       ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """:func:`demonstrated_positions` and the headings of :func:`first_frame_poses`."""
     if any(i.markers for i in scene.instances):
         from oacdsl.segmentation.grouping import apply_scene_groups
 
         recording = apply_scene_groups(recording, scene)
     shapes = scene_shapes(library, scene) if library is not None else None
-    return first_frame_positions(recording, [i.name for i in scene.tracked()], shapes)
+    return first_frame_poses(recording, [i.name for i in scene.tracked()], shapes)
 
 
 def _frame(hands: Mapping[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -112,6 +146,13 @@ class TableMap:
         rel = np.asarray(p, float) - self.origin
         return np.array([X_CENTRE_M + self.scale * (float(rel @ self.forward) - self.u_mean),
                          self.scale * float(rel @ self.left)])
+
+    def yaw_rad(self, heading: np.ndarray) -> float:
+        """The robot-table yaw (rad, from the robot's x towards its y) of an object whose x axis
+        points along ``heading`` (horizontal, motion capture frame): its angle from the
+        demonstrator's forward towards the left (the map turns and scales, never mirrors)."""
+        h = np.array([heading[0], heading[1], 0.0])
+        return math.atan2(float(h @ self.left), float(h @ self.forward))
 
 
 def table_map(

@@ -113,6 +113,7 @@ def prepare(
     demonstrated: Mapping[str, Any] | None = None,
     held: Mapping[str, str] | None = None,
     set_downs: Mapping[str, Any] | None = None,
+    headings: Mapping[str, Any] | None = None,
 ) -> Run:
     """Bind, lay out and build everything :func:`execute` needs (raises RuntimeFailure).
 
@@ -120,7 +121,9 @@ def prepare(
     ``fill``, ``balls`` and ``layout`` override it (the command line's ``--place``, …);
     ``demonstrated`` holds the recording's first-frame positions for ``layout demonstrated``
     (:func:`oacdsl.runtime.layout.plan_layout`), ``set_downs`` where it sets objects down
-    (:func:`oacdsl.runtime.demo_places.set_down_places`). A liquid the OAC's own preconditions put
+    (:func:`oacdsl.runtime.demo_places.set_down_places`), ``headings`` which way it turns the
+    objects whose class declares ``markers`` (:func:`oacdsl.runtime.demo_layout.first_frame_poses`).
+    A liquid the OAC's own preconditions put
     in a container (``l <-> c``) starts there unless ``fill`` says otherwise. ``held`` (hand →
     object) has each hand grasp its object first, before the observers see anything."""
     if isinstance(oac, str):
@@ -146,7 +149,7 @@ def prepare(
     contents.update(fill or {})
     plan = plan_layout(
         library, sc, contents, seed, places, balls=balls, layout=layout, demonstrated=demonstrated,
-        set_downs=set_downs,
+        set_downs=set_downs, headings=headings,
     )
     world = SimWorld(build_model(plan, seed))
     ik = WholeBodyIK(self_collision=self_collision)

@@ -14,6 +14,11 @@ most specific class's), hands are mapped to the robot's right/left hand by their
    see :func:`stacked_on`) starts on top of it on the robot's table too,
 4. the first free slot of a fixed list (``layout auto``), in the order of the objects' names.
 
+Each object is turned about the vertical (its yaw, :mod:`~oacdsl.runtime.layout_yaw`) as the
+demonstration's first frame shows it when it is laid out as demonstrated and its class declares
+``markers`` that pose its shape there; else as the scene's ``OBJECT at (x, y) turned ANGLE``
+says; else not at all.
+
 A liquid starts in the container given by the caller's ``contents`` (``--fill``, or the
 OAC's own preconditions), else by the scene's ``LIQUID in CONTAINER``; a liquid that has
 neither is an error. With a seed, every object is moved by up to :data:`MAX_SHIFT_M` in a
@@ -46,6 +51,7 @@ from oacdsl.runtime.layout_slots import (
     nominal_places,
     shuffled,
 )
+from oacdsl.runtime.layout_yaw import object_yaws
 from oacdsl.runtime.objects import TABLE_DEPTH, TABLE_FRONT
 from oacdsl.units import language_si
 
@@ -138,6 +144,7 @@ def plan_layout(
     layout: str | None = None,
     demonstrated: Mapping[str, np.ndarray] | None = None,
     set_downs: Mapping[str, Sequence[np.ndarray]] | None = None,
+    headings: Mapping[str, np.ndarray] | None = None,
 ) -> Layout:
     """The layout of ``scene`` (see the module docstring).
 
@@ -147,7 +154,10 @@ def plan_layout(
     ``demonstrated``) replaces the scene's layout and its ``at``s; ``demonstrated`` holds
     the first-frame position (m, motion capture frame) of each marker group, hands
     included, for ``demonstrated``; ``set_downs`` where the demonstration sets objects down
-    (:func:`oacdsl.runtime.demo_places.set_down_places`), mapped as the layout is.
+    (:func:`oacdsl.runtime.demo_places.set_down_places`), mapped as the layout is;
+    ``headings`` the first-frame direction of each posed object's x axis
+    (:func:`oacdsl.runtime.demo_layout.first_frame_poses`), which turns an object laid out as
+    demonstrated (:func:`~oacdsl.runtime.layout_yaw.object_yaws`).
     """
     built = scene.model_copy(update={"instances": tuple(i for i in scene.instances if not i.ignored)})
     bodies = bodies_for_scene(library, built)
@@ -188,7 +198,11 @@ def plan_layout(
         demo_hands = {side: demonstrated[h] for h, side in hands.items() if h in demonstrated}
         radii = {n: bodies[n].radius for n in laid}
         mapped = set_downs_on_table(set_downs, demonstrated, demo_hands, radii, placed, stacks)
-    placements = tuple(Placement(n, bodies[n], placed[n][0], placed[n][1], on=stacks.get(n)) for n in names)
+    shown = [n for n in free if sources.get(n) == "demonstrated"]  # the objects map_into_reach laid out
+    yaws = object_yaws(scene, names, sources, shown, demonstrated, headings, hands, bodies)
+    placements = tuple(
+        Placement(n, bodies[n], placed[n][0], placed[n][1], yaws[n], on=stacks.get(n)) for n in names
+    )
     return Layout(
         scene.name,
         placements,
