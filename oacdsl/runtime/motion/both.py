@@ -18,7 +18,7 @@ import numpy as np
 from oacdsl.runtime.control import CONTROL_DT_S, Controller
 from oacdsl.runtime.transforms import interpolate, make_T, min_jerk, rot_axis
 
-__all__ = ["Move", "lockstep", "lockstep_miss", "move_both", "mover", "paced", "turn_both"]
+__all__ = ["Move", "aligned", "lockstep", "lockstep_miss", "move_both", "mover", "paced", "turn_both"]
 
 #: A hand's way: (T_world_grasp, seconds) phases, driven in :func:`lockstep` with the other's.
 Way = list[tuple[np.ndarray, float]]
@@ -88,9 +88,18 @@ def mover(
     return go
 
 
+def aligned(paths: Mapping[str, Way]) -> dict[str, Way]:
+    """``paths`` with the shorter ways lengthened to the longest by waiting at their ends (the
+    last pose again, 0 s): a carry's way has three or four phases, one more with a detour."""
+    most = max((len(w) for w in paths.values()), default=0)
+    return {s: [*w, *[(w[-1][0], 0.0)] * (most - len(w))] for s, w in paths.items()}
+
+
 def lockstep(ctl: Controller, paths: Mapping[str, Way]) -> None:
-    """Follow each side's list of (T_world_grasp, seconds) together, phase by phase (equal
-    lengths); a phase lasts as long as its slower hand needs."""
+    """Follow each side's list of (T_world_grasp, seconds) together, phase by phase (a shorter
+    way's hand waits at its end: :func:`aligned`); a phase lasts as long as its slower hand
+    needs, each hand the same fraction along its own phase at every instant."""
+    paths = aligned({s: w for s, w in paths.items() if w})
     for phase in zip(*paths.values(), strict=True):
         seconds = max(t for _, t in phase)
         if seconds > 0:
@@ -107,6 +116,7 @@ def lockstep_miss(ctl: Controller, paths: Mapping[str, Way], settle_s: float = 0
     17 cm below its way onto a rack or stayed 12 cm above its grasp."""
     ik = ctl.ik
     worst = 0.0
+    paths = aligned({s: w for s, w in paths.items() if w})
     with ik.trial():
         for phase in zip(*paths.values(), strict=True):
             seconds = max(t for _, t in phase)

@@ -26,7 +26,8 @@ from oacdsl.runtime.shapes import hand_corners, world_corners
 if TYPE_CHECKING:
     from oacdsl.runtime.simworld import SimWorld
 
-__all__ = ["Box", "Way", "boxes", "gap", "way_gap", "detour", "out_from_under"]
+__all__ = ["Box", "Way", "boxes", "gap", "way_gap", "lockstep_gap", "first_to_carry", "detour",
+           "out_from_under"]
 
 #: (lowest corner, highest corner) of an axis-aligned box in the world, m
 Box = tuple[np.ndarray, np.ndarray]
@@ -71,6 +72,45 @@ def way_gap(moving: Sequence[Box], still: Sequence[Box], start: np.ndarray,
 
 
 Way = list[tuple[np.ndarray, float]]
+
+
+def lockstep_gap(moving: Sequence[Sequence[Box]], starts: Sequence[np.ndarray],
+                 ways: Sequence[Way]) -> float:
+    """The smallest gap (m; negative: overlap) between two hands' boxes ``moving`` (each where it
+    is with its hand at its ``starts`` pose, T_world_grasp) while both follow their ``ways``
+    together as :func:`~oacdsl.runtime.motion.both.lockstep` drives them: phase by phase, each
+    hand the same fraction along its own phase at every instant, a shorter way's hand waiting
+    at its end. Each way alone may keep clear of the other hand where it stands now (two
+    objects set down at once, each carried round the other's place, met half way)."""
+    (a_boxes, b_boxes), (a0, b0) = moving, (starts[0][:3, 3], starts[1][:3, 3])
+    most = max(len(w) for w in ways)
+    pts = [[start] + [p[:3, 3] for p, _ in w] + [w[-1][0][:3, 3] if w else start] * (most - len(w))
+           for w, start in zip(ways, (a0, b0), strict=True)]
+    s = np.linspace(0.0, 1.0, _SAMPLES)
+    best = gap(a_boxes, b_boxes, np.zeros(3))
+    for k in range(most):
+        (pa, qa), (pb, qb) = (pts[0][k], pts[0][k + 1]), (pts[1][k], pts[1][k + 1])
+        for u in s:  # both translated: b's boxes kept still, a's shifted by the difference
+            shift = (pa + u * (qa - pa) - a0) - (pb + u * (qb - pb) - b0)
+            best = min(best, gap(a_boxes, b_boxes, shift))
+    return best
+
+
+def first_to_carry(moving: Sequence[Sequence[Box]], starts: Sequence[np.ndarray], ways: Sequence[Way],
+                   tuning: Tuning = TUNING) -> int | None:
+    """Whether two hands carry at once along ``ways`` (from their ``starts``, their boxes
+    ``moving`` as in :func:`lockstep_gap`): None, together, when they keep ``tuning.over_m``
+    from each other, or at least as much as at the start, all the way; else which hand (0, 1)
+    carries first, the other then: the first whose way keeps that from the other's boxes where
+    they are now (0 when neither does)."""
+    need = min(tuning.over_m, gap(moving[0], moving[1], np.zeros(3)))
+    if lockstep_gap(moving, starts, ways) >= need:
+        return None
+    for k in (0, 1):
+        points = [starts[k][:3, 3]] + [p[:3, 3] for p, _ in ways[k]]
+        if way_gap(moving[k], moving[1 - k], points[0], points) >= need:
+            return k
+    return 0
 
 
 def detour(world: SimWorld, side: str, now: np.ndarray, way: Way, rest: Callable[[np.ndarray], Way],

@@ -59,6 +59,9 @@ class Tuning:
     contact_wait_s: float = 0.3
     #: how far below a support's top a set-down may go looking for it, m
     support_search_m: float = 0.03
+    #: how far above the surface under it a set-down object that touches its support may be
+    #: and still rest on it (the wrist felt nothing: the arm stalled), m
+    rest_gap_m: float = 0.005
     #: how far inside an object's end a tool aims when it works at that end, m (a knife on a
     #: cucumber's free end; strokes along a board stop short of its edge)
     end_margin_m: float = 0.01

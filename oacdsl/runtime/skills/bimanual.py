@@ -23,6 +23,7 @@ from oacdsl.runtime.handgap import hands_gap
 from oacdsl.runtime.hands import OPEN, TOP_PRESHAPE
 from oacdsl.runtime.motion import TUNING, down, withdrawal
 from oacdsl.runtime.motion.both import lockstep, move_both, paced
+from oacdsl.runtime.motion.detour import boxes, first_to_carry
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext, cm
 from oacdsl.runtime.skills.grasp import (
     HANDS_APART_M,
@@ -221,6 +222,24 @@ def _take(ctx: SkillContext, motions: list[GraspMotion], slower: float, lift: fl
         move_both(ctl, up, TUNING.lift_s)
 
 
+def _carry_both(ctx: SkillContext, objs: dict[str, str], hover: dict[str, np.ndarray],
+                paths: dict[str, list[tuple[np.ndarray, float]]], supports: dict[str, set[str]]) -> None:
+    """Both hands to their ``hover`` poses: along ``paths`` together, each planned as if the
+    other's object were gone (it leaves), when the two hands and what they carry keep clear of
+    each other on the way (:func:`~oacdsl.runtime.motion.detour.first_to_carry`); else one after
+    the other, each way planned round the other hand's object where it is then (held up: the
+    carry's detour and slant keep clear of it)."""
+    sides = list(objs)
+    starts = [ctx.ctl.ik.goal(s) for s in sides]
+    first = first_to_carry([boxes(ctx.world, s) for s in sides], starts, [paths[s] for s in sides])
+    if first is None:
+        lockstep(ctx.ctl, paths)
+        return
+    for side in (sides[first], sides[1 - first]):
+        ctx.ctl.activity = f"carrying {objs[side]}"
+        lockstep(ctx.ctl, {side: ctx.carry_path(side, hover[side], {objs[side]} | supports[side])})
+
+
 def place_both(
     ctx: SkillContext, h1: str, o1: str, h2: str, o2: str, *, force: float = PLACE_BOTH["force"]
 ) -> None:
@@ -238,14 +257,13 @@ def place_both(
     if o1 == o2:  # one object in both hands: straight down from where it is
         hover = {s: ctl.ik.goal(s) for s in sides}
     else:
-        paths = {}
+        paths, supports = {}, {}
         for side, obj in zip(sides, (o1, o2), strict=True):
             pose, where, support = set_down_pose(ctx, side, obj, picks[side], {o1, o2} - {obj})
             ctx.check_reachable(side, pose, f"the place of {obj} on {where}")
-            hover[side] = pose
-            exclude = {o1, o2} | ({support} if support else set())
-            paths[side] = ctx.carry_path(side, pose, exclude)
-        lockstep(ctl, paths)
+            hover[side], supports[side] = pose, {support} if support else set()
+            paths[side] = ctx.carry_path(side, pose, {o1, o2} | supports[side])
+        _carry_both(ctx, dict(zip(sides, (o1, o2), strict=True)), hover, paths, supports)
         ctl.wait(TUNING.carry_pause_s)
     ctl.activity = f"setting {o1} and {o2} down"
     depth = TUNING.hover_m + TUNING.support_search_m
