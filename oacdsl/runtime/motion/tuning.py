@@ -97,6 +97,10 @@ class Tuning:
     #: with a step, and keeps the cup's vertical acceleration well under g (the balls stay on
     #: its wall)
     pour_lift_speed_m_s: float = 0.1
+    #: where a tool goes down into a container beside the balls lying there: points on rings
+    #: ``free_spot_step_m`` apart round its middle, ``free_spot_turn_rad`` apart round each (1 cm, 30°)
+    free_spot_step_m: float = 0.01
+    free_spot_turn_rad: float = 0.5236
     #: height of a tool's tip above a rim before it goes in, m
     above_rim_m: float = 0.05
     #: how far beyond a wall (or into a floor) a tool is aimed to stay in contact with it, m
