@@ -2,7 +2,8 @@
 
 The mixer is carried upright above the container, lowered until it touches the
 container (beside the balls lying on its floor where it fits, :func:`free_spot`, else pushing
-them aside; the wrist force stops the descent at 15 N), slid to the middle, and moved in circles pressed onto the bottom with a force regulated on the wrist's
+them aside; the wrist force stops the descent at 15 N), slid to the middle, and moved in
+circles pressed onto the bottom with a force regulated on the wrist's
 (:class:`~oacdsl.runtime.motion.press.ForcePress`); it stays in the container at the end,
 as the OAC's effect ``m <-> b`` says.
 """
