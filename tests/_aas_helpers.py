@@ -64,3 +64,22 @@ def grid_scene(rng: np.random.Generator, frames: int, n_inst: int, markers: int,
     pos = (cent[:, :, None, :] + off[None]) * 0.01
     pos[rng.random((frames, n_inst, markers)) < gap_rate] = np.nan
     return recording({f"o{i}": pos[:, i] for i in range(n_inst)})
+
+
+def on_spans(keyframes: list, pair: tuple[str, str]) -> list[tuple[int, int | None]]:
+    """Frame intervals ``[a, b)`` in which ``pair`` touches (``b`` None: to the end), from
+    ``summary`` keyframes."""
+    out: list[tuple[int, int | None]] = []
+    start = None
+    for frame, rels in keyframes:
+        if pair in rels and start is None:
+            start = frame
+        elif pair not in rels and start is not None:
+            out.append((start, frame))
+            start = None
+    return out + ([(start, None)] if start is not None else [])
+
+
+def closest_m(tracks: dict[str, np.ndarray], a: str, b: str) -> np.ndarray:
+    """(F,) distance of the nearest markers of instances ``a`` and ``b`` in each frame, metres."""
+    return np.linalg.norm(tracks[a][:, :, None] - tracks[b][:, None], axis=3).min(axis=(1, 2))

@@ -19,8 +19,8 @@ from test_kit_general import LIBRARIES  # noqa: E402
 from oacdsl.compiler import load_library  # noqa: E402
 from oacdsl.runtime.executor import prepare, run_step  # noqa: E402
 from oacdsl.runtime.motion import Motion  # noqa: E402
-from oacdsl.runtime.motion.hand import down, raised  # noqa: E402
 from oacdsl.runtime.skills.place import place  # noqa: E402
+from oacdsl.runtime.transforms import down, raised  # noqa: E402
 
 COVER = {"h": "left_hand", "l": "pot_lid", "p": "pot"}
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from _aas_helpers import path, recording, still, summary
+from _aas_helpers import closest_m, on_spans, path, recording, still, summary
 from _task_demos import CLEAN, KIT_10HZ, KIT_LIKE, MARKERS, _spin_s, turned
 from segeval.reference import segment_reference
 
@@ -34,6 +34,7 @@ LIFT_M = 0.04  # how far: the lid's markers end 115 mm from the bottle's, within
 AWAY = (850, 930)  # frames: then put back onto the bottle, or down beside it
 BESIDE = np.array([0.12, 0.0, -0.18])  # on the table beside the bottle, 2.5 cm from it
 CLOSE_BESIDE = np.array([0.095, 0.0, -0.18])  # 1.5 cm from it: markers within the rest's distance
+PAIR = ("bottle", "lid")
 
 
 def _turned(layout: np.ndarray, angle_rad: np.ndarray) -> np.ndarray:
@@ -71,41 +72,25 @@ def run(rec, settings: AdaptiveSettings | None = None) -> list:
     return summary(segment(rec, params, detector=AdaptiveDetector(params.resolved(rec.rate_hz), settings)))
 
 
-def on_spans(keyframes: list, pair: tuple[str, str] = ("bottle", "lid")) -> list[tuple[int, int | None]]:
-    """Frame intervals ``[a, b)`` in which ``pair`` touches (``b`` None: to the end)."""
-    out: list[tuple[int, int | None]] = []
-    start = None
-    for frame, rels in keyframes:
-        if pair in rels and start is None:
-            start = frame
-        elif pair not in rels and start is not None:
-            out.append((start, frame))
-            start = None
-    return out + ([(start, None)] if start is not None else [])
-
-
-def closest_m(tracks: dict[str, np.ndarray]) -> np.ndarray:
-    return np.linalg.norm(tracks["lid"][:, :, None] - tracks["bottle"][:, None], axis=3).min(axis=(1, 2))
-
-
 def test_the_lid_held_up_stays_within_the_tool_reach():
-    near = closest_m(scene())
+    near = closest_m(scene(), "lid", "bottle")
     assert near[AWAY[0]] < AasParams().distance_m * 0.8  # lifted, but within any tool reach
 
 
 def test_a_lid_lifted_and_held_near_its_bottle_leaves_it():
-    (span,) = on_spans(run(recording(scene())))
+    (span,) = on_spans(run(recording(scene())), PAIR)
     assert span[0] == 0 and span[1] is not None and LIFT[0] <= span[1] <= LIFT[1], span
 
 
 def test_a_lid_put_back_touches_again_and_one_put_beside_does_not():
-    back = on_spans(run(recording(scene("back"))))
+    back = on_spans(run(recording(scene("back"))), PAIR)
     assert len(back) == 2 and LIFT[0] <= back[0][1] <= LIFT[1], back
     assert AWAY[0] <= back[1][0] <= AWAY[1] + 10 and back[1][1] is None, back
     beside = scene("beside")
-    assert closest_m(beside)[-1] < AasParams().distance_m * 0.8  # within any tool reach
-    assert closest_m(beside)[AWAY[0]:].min() < 0.08  # passing by as near as it rested on it (77 mm)
-    (span,) = on_spans(run(recording(beside)))
+    near = closest_m(beside, "lid", "bottle")
+    assert near[-1] < AasParams().distance_m * 0.8  # within any tool reach
+    assert near[AWAY[0]:].min() < 0.08  # passing by as near as it rested on it (77 mm)
+    (span,) = on_spans(run(recording(beside)), PAIR)
     assert LIFT[0] <= span[1] <= LIFT[1], span
 
 
@@ -119,10 +104,11 @@ def test_a_lid_set_down_within_the_rest_distance_beside_its_bottle_does_not_touc
     table = PairTable.of(rec)
     q = next(q for q, (i, j) in enumerate(table.instance_pairs)
              if {table.instances[i], table.instances[j]} == {"bottle", "lid"})
-    assert (closest_m(beside)[AWAY[1] + 20 :] < detector._inner._pair_d[table.block == q].max()).all()
-    (span,) = on_spans(summary(seg))
+    near = closest_m(beside, "lid", "bottle")
+    assert (near[AWAY[1] + 20 :] < detector._inner._pair_d[table.block == q].max()).all()
+    (span,) = on_spans(summary(seg), PAIR)
     assert span[0] == 0 and LIFT[0] <= span[1] <= LIFT[1], span
-    (again,) = on_spans(run(recording(scene("back", CLOSE_BESIDE))))[1:]  # put back on top: touches
+    (again,) = on_spans(run(recording(scene("back", CLOSE_BESIDE))), PAIR)[1:]  # put back on top: touches
     assert AWAY[0] <= again[0] <= AWAY[1] + 10 and again[1] is None, again
 
 
@@ -130,7 +116,7 @@ def test_a_lid_set_down_within_the_rest_distance_beside_its_bottle_does_not_touc
 def test_every_standard_take_sees_the_lift_off(take):
     rec = recording(scene())
     other, _ = STANDARD_TAKES[take](rec)
-    (span,) = on_spans(run(other))
+    (span,) = on_spans(run(other), PAIR)
     factor = other.times_s[-1] / rec.times_s[-1]  # a slower or faster take: times scale
     lift_s = (LIFT[0] / RATE * factor, LIFT[1] / RATE * factor)
     assert span[0] == 0 and span[1] is not None, (take, span)
@@ -164,7 +150,7 @@ def _pair_rec(lid_z_m: np.ndarray) -> tuple:
     lid = BASE + LID + np.stack([np.zeros(n), np.zeros(n), lid_z_m], axis=1)[:, None, :]
     tracks = {"bottle": BASE + still(n, (0, 0, 0))[:, None, :] + BOTTLE, "lid": lid}
     rec = recording(tracks)
-    return rec, PairTable.of(rec), closest_m(tracks)
+    return rec, PairTable.of(rec), closest_m(tracks, "lid", "bottle")
 
 
 def test_a_rest_that_ends_without_a_rise_is_not_lifted_off():

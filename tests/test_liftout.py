@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from _aas_helpers import path, recording, still, summary
+from _aas_helpers import closest_m, on_spans, path, recording, still, summary
 
 from oacdsl.segmentation import AasParams, segment
 from oacdsl.segmentation.takes import STANDARD_TAKES
@@ -24,6 +24,7 @@ HAND = np.array([[0.0, 0.0, 0.17], [0.03, 0.0, 0.18], [0.0, 0.03, 0.19], [0.06, 
 BASE = np.array([0.2, 0.5, 0.75])  # the cup's place on the table
 LIFT = (500, 550)  # frames: the spoon rises out of the cup
 LIFT_M = 0.11
+PAIR = ("cup", "spoon")
 
 
 def scene(then: str = "hold") -> dict[str, np.ndarray]:
@@ -45,37 +46,21 @@ def scene(then: str = "hold") -> dict[str, np.ndarray]:
             "left_hand": left}
 
 
-def on_spans(keyframes: list, pair: tuple[str, str] = ("cup", "spoon")) -> list[tuple[int, int | None]]:
-    out: list[tuple[int, int | None]] = []
-    start = None
-    for frame, rels in keyframes:
-        if pair in rels and start is None:
-            start = frame
-        elif pair not in rels and start is not None:
-            out.append((start, frame))
-            start = None
-    return out + ([(start, None)] if start is not None else [])
-
-
-def closest_m(tracks: dict[str, np.ndarray]) -> np.ndarray:
-    return np.linalg.norm(tracks["spoon"][:, :, None] - tracks["cup"][:, None], axis=3).min(axis=(1, 2))
-
-
 def run(rec) -> list:
     return summary(segment(rec, AasParams(mode="adaptive")))
 
 
 def test_the_spoon_held_up_stays_within_the_tool_reach():
-    assert closest_m(scene())[LIFT[1]:].max() < AasParams().distance_m * 0.8
+    assert closest_m(scene(), "spoon", "cup")[LIFT[1]:].max() < AasParams().distance_m * 0.8
 
 
 def test_a_spoon_lifted_out_and_held_above_the_cup_leaves_it():
-    (span,) = on_spans(run(recording(scene())))
+    (span,) = on_spans(run(recording(scene())), PAIR)
     assert span[0] < 300 and span[1] is not None and LIFT[0] <= span[1] <= LIFT[1] + 10, span
 
 
 def test_a_spoon_dipped_back_in_touches_again():
-    spans = on_spans(run(recording(scene("dip"))))
+    spans = on_spans(run(recording(scene("dip"))), PAIR)
     assert len(spans) == 2 and LIFT[0] <= spans[0][1] <= LIFT[1] + 10, spans
     assert 750 <= spans[1][0] <= 810 and spans[1][1] is None, spans
 
@@ -84,7 +69,7 @@ def test_a_spoon_dipped_back_in_touches_again():
 def test_every_standard_take_sees_the_lift_out(take):
     rec = recording(scene())
     other, _ = STANDARD_TAKES[take](rec)
-    (span,) = on_spans(run(other))
+    (span,) = on_spans(run(other), PAIR)
     factor = other.times_s[-1] / rec.times_s[-1]
     assert span[1] is not None, (take, span)
     assert LIFT[0] / RATE * factor <= other.times_s[span[1]] <= (LIFT[1] + 10) / RATE * factor, (take, span)

@@ -9,7 +9,6 @@ MMM files), on top of ``library/kit``. Each compiles; each demonstration and its
 
 from __future__ import annotations
 
-import shutil
 import sys
 from pathlib import Path
 
@@ -18,9 +17,9 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 
 import _task_demos as demos  # noqa: E402
+from _fixture_libraries import composed_steps, library_copies  # noqa: E402
 
 from oacdsl.compiler import compile_paths  # noqa: E402
-from oacdsl.segmentation import AasParams  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 FIXTURES = ROOT / "tests" / "fixtures" / "newuser2"
@@ -43,14 +42,6 @@ def _exchanged(step: str) -> str:
     return step.replace("left_hand", "LEFT").replace("right_hand", "left_hand").replace("LEFT", "right_hand")
 
 
-def _libraries(tmp: Path) -> list[Path]:
-    """Copies of the fixtures and of ``library/kit`` (compose writes into the first)."""
-    ignore = shutil.ignore_patterns("learned", "drafts")
-    shutil.copytree(FIXTURES, tmp / "newuser2", ignore=ignore)
-    shutil.copytree(ROOT / "library" / "kit", tmp / "kit", ignore=ignore)
-    return [tmp / "newuser2", tmp / "kit"]
-
-
 def test_the_fixtures_hold_one_file_per_task() -> None:
     assert sorted(p.stem for p in FIXTURES.glob("*.oac")) == sorted(t.lower() for t in TASKS)
 
@@ -65,18 +56,8 @@ def test_the_fixtures_compile_together_with_no_warning() -> None:
 
 
 def _composed(demo: Path, libraries: list[Path], scene: str) -> list[str]:
-    from oacdsl.matching.demonstration import compose_demonstration, match_segmentation
-    from oacdsl.matching.matcher import Matcher
-    from oacdsl.pipeline import load_inputs
-
-    inputs = load_inputs(demo, libraries, None, AasParams())
-    assert inputs.scene.name == scene
-    matcher = Matcher.from_library(inputs.library, inputs.scene, mode="strict")
-    matches = match_segmentation(inputs.segmented(), matcher, unmerged=inputs.unmerged(),
-                                 travel=inputs.travel())
-    assert all(m.matched for m in matches), [m.explanation for m in matches if not m.matched]
-    composed = compose_demonstration("task", matches, inputs.library, inputs.scene)
-    return [f"{s.oac.name}({', '.join(dict(s.binding).values())})" for s in composed.composition.steps]
+    """The steps ``demo`` composes to, in the scene the loader chooses (which must be ``scene``)."""
+    return composed_steps(demo, libraries, scene, given=False)
 
 
 @pytest.mark.parametrize("task", sorted(TASKS))
@@ -84,7 +65,7 @@ def test_the_10hz_demonstration_and_its_left_handed_take_compose_with_them(task:
     from oacdsl.cli import main
 
     scene, steps = TASKS[task]
-    libraries = _libraries(tmp_path)
+    libraries = library_copies(FIXTURES, tmp_path)
     demo = demos.write(task, tmp_path, demos.KIT_10HZ)
     assert _composed(demo, libraries, scene) == steps
     take = tmp_path / f"mirrored_{task}.c3d"
@@ -159,7 +140,7 @@ def test_a_choice_over_a_symmetric_twin_also_says_why_over_the_next_other_oac(tm
     from oacdsl.cli import main
 
     demo = demos.write("RollOut", tmp_path, demos.KIT_10HZ)
-    libraries = _libraries(tmp_path)
+    libraries = library_copies(FIXTURES, tmp_path)
     assert main(["match", str(demo), *[a for lib in libraries for a in ("--library", str(lib))]]) == 0
     out = capsys.readouterr().out
     assert ("(the OAC is symmetric in these parameters); over put_down_with_both(h1=left_hand, p=rolling_pin,"
@@ -190,7 +171,7 @@ def test_a_demonstrated_value_against_the_oacs_written_sign_is_said_in_the_compo
     (the unmirrored one does not)."""
     from oacdsl.cli import main
 
-    libraries = _libraries(tmp_path)
+    libraries = library_copies(FIXTURES, tmp_path)
     demo = demos.write("Open", tmp_path, demos.KIT_10HZ)
     take = tmp_path / "mirrored_Open.c3d"
     assert main(["take", str(demo), "-o", str(take), "--standard", "mirrored"]) == 0

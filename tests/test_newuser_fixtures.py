@@ -10,7 +10,6 @@ ARMAR-III (the slow test below runs one)."""
 
 from __future__ import annotations
 
-import shutil
 import sys
 from pathlib import Path
 
@@ -19,6 +18,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 
 import _task_demos as demos  # noqa: E402
+from _fixture_libraries import composed_steps, library_copies  # noqa: E402
 
 from oacdsl.compiler import compile_paths  # noqa: E402
 from oacdsl.segmentation import AasParams  # noqa: E402
@@ -43,14 +43,6 @@ TASKS = {
 }
 
 
-def libraries(tmp: Path) -> list[Path]:
-    """Copies of the fixtures and of ``library/kit`` (compose writes into the first)."""
-    ignore = shutil.ignore_patterns("learned", "drafts")
-    shutil.copytree(FIXTURES, tmp / "newuser", ignore=ignore)
-    shutil.copytree(ROOT / "library" / "kit", tmp / "kit", ignore=ignore)
-    return [tmp / "newuser", tmp / "kit"]
-
-
 def test_the_fixtures_hold_one_file_per_task() -> None:
     assert sorted(p.stem for p in FIXTURES.glob("*.oac")) == sorted(t.lower() for t in TASKS)
 
@@ -68,20 +60,10 @@ def test_the_fixtures_compile_together_with_no_warning() -> None:
 
 @pytest.mark.parametrize("task", sorted(TASKS))
 def test_the_synthetic_demonstration_matches_and_composes_with_them(task: str, tmp_path: Path) -> None:
-    from oacdsl.matching.demonstration import compose_demonstration, match_segmentation
-    from oacdsl.matching.matcher import Matcher
-    from oacdsl.pipeline import load_inputs
-
     scene, steps = TASKS[task]
     demo = demos.write(task, tmp_path, demos.KIT_LIKE)
-    inputs = load_inputs(demo, libraries(tmp_path), scene, AasParams())
-    matcher = Matcher.from_library(inputs.library, inputs.scene, mode="strict")
-    matches = match_segmentation(inputs.segmented(), matcher, unmerged=inputs.unmerged(),
-                                 travel=inputs.travel())
-    assert all(m.matched for m in matches)
-    composed = compose_demonstration(f"{task.lower()}_task", matches, inputs.library, inputs.scene)
-    got = [f"{s.oac.name}({', '.join(dict(s.binding).values())})" for s in composed.composition.steps]
-    assert got == steps
+    libraries = library_copies(FIXTURES, tmp_path)
+    assert composed_steps(demo, libraries, scene, name=f"{task.lower()}_task") == steps
 
 
 @pytest.mark.slow
@@ -92,7 +74,7 @@ def test_rollout_written_from_the_docs_is_reproduced_and_verified(tmp_path: Path
     from oacdsl.pipeline import load_inputs, reproduce
 
     demo = demos.write("RollOut", tmp_path, demos.KIT_LIKE)
-    inputs = load_inputs(demo, libraries(tmp_path), None, AasParams())
+    inputs = load_inputs(demo, library_copies(FIXTURES, tmp_path), None, AasParams())
     outcome = reproduce(inputs, name="rollout_task", out=tmp_path / "out", db=None, render=False,
                         quiet=True, force=True)
     verdict = outcome.result["verdict"]
@@ -157,7 +139,7 @@ def test_a_pin_both_hands_take_one_behind_the_other_is_told_to_lie_across(tmp_pa
     pytest.importorskip("mujoco", reason="the robot runtime needs the 'robot' extra (mujoco)")
     from oacdsl.cli import main
 
-    lib, kit = libraries(tmp_path)
+    lib, kit = library_copies(FIXTURES, tmp_path)
     text = (lib / "rollout.oac").read_text(encoding="utf-8")
     for across, along in (("length 5cm, width 26cm", "length 26cm, width 5cm"),
                           ("at (0, -15.5cm, 0)", "at (-15.5cm, 0, 0)"),

@@ -59,12 +59,17 @@ def beside(gap_m: float) -> dict[str, np.ndarray]:
 
 
 def test_between_two_objects_the_static_distance_is_in_the_scenes_length():
-    fixed = AdaptiveSettings(rescale=False)  # the static distance in metres, whatever the scene
+    # the distance alone: side by side, neither over the other, the two do not touch at any distance
+    # (``side_by_side``, tests/test_beside.py)
+    scaled_d = AdaptiveSettings(side_by_side=False)
+    fixed = AdaptiveSettings(rescale=False, side_by_side=False)  # in metres, whatever the scene
     apart, close = recording(beside(0.084)), recording(beside(0.075))
-    assert not touched(run(apart), ("bowl", "fork")) and touched(run(close), ("bowl", "fork"))
+    pair = ("bowl", "fork")
+    assert not touched(run(apart, scaled_d), pair) and touched(run(close, scaled_d), pair)
     smaller, larger = scaled(apart, 0.85), scaled(close, 1.15)  # 71 mm apart; 86 mm apart
-    assert not touched(run(smaller), ("bowl", "fork")) and touched(run(smaller, fixed), ("bowl", "fork"))
-    assert touched(run(larger), ("bowl", "fork")) and not touched(run(larger, fixed), ("bowl", "fork"))
+    assert not touched(run(smaller, scaled_d), pair) and touched(run(smaller, fixed), pair)
+    assert touched(run(larger, scaled_d), pair) and not touched(run(larger, fixed), pair)
+    assert not touched(run(close), pair)  # the default: side by side, not touching
 
 
 def test_a_hand_that_comes_to_a_still_bottle_and_holds_it_is_seen_at_every_rate():

@@ -89,9 +89,12 @@ def test_a_take_composes_to_the_original_steps(clip, take, tmp_path):
 #: let-go with a brief return is the first leave (Stir ×0.6), co-motion within twice the pair's closest
 #: rather than within a cap in the hands' size (Scoop ×1.1: the cup held up to the ladle), a change
 #: without a threshold crossing timed halfway between its frames (Wipe ×0.8: the left hand's let-go
-#: where co-motion stops, at its frame's time, came within the coincidence window of the right hand's).
+#: where co-motion stops, at its frame's time, came within the coincidence window of the right hand's),
+#: a tool's arrival at its target merged with no hand's change (Stir ×0.7 × 0.9 at 60 Hz: the spoon
+#: reached the cup's reach within the window of its grasp, and the contact was dated to the grasp).
 SWEPT = (("Stir", "rate_30hz"), ("Stir", "rate_240hz"), ("Pour", "rate_240hz"), ("Stir", "speed_x1.6"),
-         ("Stir", "speed_x0.6"), ("Scoop", "scale_1.1"), ("Wipe", "speed_x0.8"))
+         ("Stir", "speed_x0.6"), ("Scoop", "scale_1.1"), ("Wipe", "speed_x0.8"),
+         ("Stir", "x0.7_scale0.9_60hz_rot-60"))
 
 
 @pytest.mark.slow

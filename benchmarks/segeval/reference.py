@@ -123,6 +123,7 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
                       tool_reach_m: float | None = None) -> Segmentation:
     """Modes ``robust`` and ``adaptive``, frame by frame (see the module docstring); ``tool_reach_m``:
     the tool rule's reach between two objects (the detector's; None: ``d``)."""
+    from oacdsl.segmentation.beside import side_by_side
     from oacdsl.segmentation.comotion import AdaptiveSettings
     from oacdsl.segmentation.episodes import union_spans
     from oacdsl.segmentation.holding import resting_holds
@@ -139,6 +140,7 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
     # per instance pair: intervals that add touching (co-motion, tools) and that veto it (cross-hand)
     spans: dict[int, list[tuple[int, int]]] = {}
     vetoes: dict[int, list[tuple[int, int]]] = {}
+    arrivals: dict[tuple[str, str], frozenset[int]] = {}  # tool contacts that began by arriving
     if params.mode == "adaptive":
         settings = settings or AdaptiveSettings()
         agents = agents_of(table.instances, settings.agent_pattern)
@@ -184,10 +186,21 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
             holds = resting_holds(recording, table, found.closest, agents, params.distance_m,
                                   settings.move_speed_m_s, settings.lag_s, settings.tool_dwell_s,
                                   held=held)
+        starts = {q: {a for a, _ in union_spans([*tools.added.get(q, []), *holds.get(q, [])])}
+                  for q in tools.added}
+        arrivals = {table.relation(q): frozenset(f for f in frames if f in starts.get(q, ()))
+                    for q, frames in tools.arrivals.items()}  # tools that came into reach (the detector's)
         removed = dict(tools.removed)  # and, after a lift-off, two objects side by side (the detector's)
         kept = {q: union_spans([*held.get(q, []), *tools.added.get(q, [])]) for q in lifts}
         for q, beside in set_down_beside(lifts, found.closest, kept, recording.positions_m, table).items():
             removed[q] = union_spans([*removed.get(q, []), *beside])
+        if settings.side_by_side:  # objects at the static distance, neither over the other (the detector's)
+            static = [q for q, (a, b) in enumerate(table.instance_pairs.tolist())
+                      if q not in learned and a not in agents and b not in agents]
+            added = {q: union_spans([*tools.added.get(q, []), *holds.get(q, [])]) for q in tools.added}
+            for q, beside in side_by_side(table, recording.positions_m, found.closest, static,
+                                          settings.static_distance_m, added).items():
+                removed[q] = union_spans([*removed.get(q, []), *beside])
         sources = ((spans, held), (spans, tools.added), (spans, holds), (vetoes, removed))
         for target, per_pair in sources:
             for q, intervals in per_pair.items():
@@ -241,7 +254,7 @@ def _robust_reference(recording: Recording, params: AasParams, settings: Any = N
             keyframes.append(Keyframe(i, times[i], state_i))
     if params.mode == "adaptive" and settings is not None and settings.merge == "connected":
         agents = frozenset(table.instances[i] for i in agents_of(table.instances, settings.agent_pattern))
-        merged = merge_keyframes(keyframes, params.merge_s, connected=True, agents=agents)
+        merged = merge_keyframes(keyframes, params.merge_s, connected=True, agents=agents, arrivals=arrivals)
     else:
         merged = merge_keyframes(keyframes, params.merge_s)
     return Segmentation(

@@ -36,8 +36,12 @@ from oacdsl.matching.conditions import bind_atoms, holds
 from oacdsl.model import atom_text
 from oacdsl.runtime.adaptive_plan import AdaptivePlan, effect_atoms, step_key
 from oacdsl.runtime.binding import Step, bound_atoms
-from oacdsl.runtime.executor import Run, _check, _judge_call, _pair, _pairs, run_metrics, run_step, step_label
+from oacdsl.runtime.executor import Run, run_metrics, run_step, step_label
 from oacdsl.runtime.intent import predicted_states
+from oacdsl.runtime.judging import check as _check
+from oacdsl.runtime.judging import judge_call as _judge_call
+from oacdsl.runtime.judging import observed_pairs as _pairs
+from oacdsl.runtime.judging import pair as _pair
 from oacdsl.runtime.reach import exchanged_hands, out_of_reach
 from oacdsl.runtime.results import RunResult, StepResult
 from oacdsl.world import WorldState

@@ -15,17 +15,10 @@ import mujoco
 import numpy as np
 
 from oacdsl.runtime.armar3 import BASE_JOINTS, HEAD_JOINTS, TORSO_JOINTS
+from oacdsl.runtime.geoms import BALL_CONTYPE, OBJECT_CONAFFINITY, OBJECT_CONTYPE
 from oacdsl.runtime.hands import OPEN, finger_joint_names
 from oacdsl.runtime.layout import Layout
-from oacdsl.runtime.objects import (
-    BALL_CONTYPE,
-    OBJECT_CONAFFINITY,
-    OBJECT_CONTYPE,
-    TABLE_TOP,
-    add_balls,
-    add_object,
-    add_table,
-)
+from oacdsl.runtime.objects import TABLE_TOP, add_balls, add_object, add_table
 from oacdsl.runtime.transforms import quat_from_matrix
 from oacdsl.runtime.urdf import URDF_PATH
 

@@ -29,7 +29,6 @@ from oacdsl.runtime.binding import (
     bound_atoms,
     choose_scene,
     expand,
-    explain,
     holds,
     liquid_contents,
 )
@@ -37,13 +36,17 @@ from oacdsl.runtime.build import build_model
 from oacdsl.runtime.control import Controller, Observer
 from oacdsl.runtime.ik import WholeBodyIK
 from oacdsl.runtime.intent import coming_takes, predicted_states
+from oacdsl.runtime.judging import check as _check
+from oacdsl.runtime.judging import judge_call as _judge_call
+from oacdsl.runtime.judging import observed_pairs as _pairs
+from oacdsl.runtime.judging import pair as _pair
 from oacdsl.runtime.layout import plan_layout
 from oacdsl.runtime.layout_cause import layout_cause
 from oacdsl.runtime.results import CallResult, RunResult, StepResult
 from oacdsl.runtime.simworld import SimWorld
 from oacdsl.runtime.skills import IMPLEMENTATIONS, SkillContext
 from oacdsl.skills import SIGNATURES
-from oacdsl.world import NOTHING, WorldState
+from oacdsl.world import WorldState
 
 __all__ = [
     "execute",
@@ -158,27 +161,10 @@ def prepare(
     return run
 
 
-def _pair(a: str, b: str) -> list[str]:
-    if NOTHING in (a, b):
-        return [b if a == NOTHING else a, NOTHING]
-    return sorted([a, b])
-
-
-def _pairs(state: WorldState, mentioned: set[str]) -> list[list[str]]:
-    pairs = [list(r) for r in state.sorted_relations()]
-    pairs += [[x, NOTHING] for x in sorted(mentioned) if state.touches_nothing(x)]
-    return pairs
-
-
 def _with_cause(error: str, run: Run, state: WorldState, atoms: list[tuple[str, str, bool]]) -> str:
     """``error`` with the layout named as its cause when the failing atoms are about its objects."""
     cause = layout_cause(run.world.layout, [(a, b, n) for a, b, n in atoms if not holds(state, a, b, n)])
     return f"{error}; {cause}" if cause else error
-
-
-def _check(state: WorldState, atoms: list[tuple[str, str, bool]], what: str) -> str | None:
-    failed = [explain(state, a, b, n) for a, b, n in atoms if not holds(state, a, b, n)]
-    return f"{what}: {'; '.join(failed)}" if failed else None
 
 
 def execute(
@@ -314,22 +300,6 @@ def run_metrics(run: Run, wall0: float) -> dict[str, float | int]:
         "regrasps": len(run.controller.regrasps),
         "reseats": len(run.controller.reseats),
     }
-
-
-def _judge_call(call: Call, state: WorldState) -> CallResult:
-    """A composed step judged by its own predicted effects in ``state``."""
-    effects = bound_atoms(call.oac.effect, call.binding)
-    error = _check(state, effects, f"{call.oac.name}: predicted effect not observed")
-    return CallResult(
-        call.oac.name,
-        dict(call.binding),
-        call.first + 1,
-        call.last + 1,
-        error is None,
-        sorted(_pair(a, b) for a, b, n in effects if not n),
-        _pairs(state, set(call.binding.values())),
-        error,
-    )
 
 
 def _run_skill(ctx: SkillContext, step: Step) -> str | None:

@@ -18,6 +18,8 @@ __all__ = [
     "interpolate",
     "quat_from_matrix",
     "matrix_from_quat",
+    "raised",
+    "down",
 ]
 
 
@@ -90,3 +92,13 @@ def interpolate(t0: np.ndarray, t1: np.ndarray, s: float) -> np.ndarray:
         theta = math.acos(dot)
         q = (math.sin((1 - s) * theta) * q0 + math.sin(s * theta) * q1) / math.sin(theta)
     return make_T(matrix_from_quat(q), (1 - s) * t0[:3, 3] + s * t1[:3, 3])
+
+
+def raised(pose: np.ndarray, dz_m: float) -> np.ndarray:
+    """``pose`` (T_world_frame) moved ``dz_m`` up (down when negative)."""
+    return make_T(pose[:3, :3], pose[:3, 3] + np.array([0.0, 0.0, dz_m]))
+
+
+def down(pose: np.ndarray, depth_m: float) -> np.ndarray:
+    """``pose`` moved ``depth_m`` down."""
+    return raised(pose, -depth_m)

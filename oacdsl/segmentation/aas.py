@@ -125,7 +125,8 @@ def segment(
     if getattr(det, "merges_connected", False):  # connected changes only, anchored by the hands
         find = getattr(det, "agents", None)  # optional: the detector's agents
         agents = frozenset(table.instances[i] for i in find(table.instances)) if find else None
-        keyframes = merge_keyframes(raw, run.merge_s, connected=True, agents=agents)
+        arrivals = getattr(det, "arrivals", None)  # optional: tool contacts that began by arriving
+        keyframes = merge_keyframes(raw, run.merge_s, connected=True, agents=agents, arrivals=arrivals)
     else:
         keyframes = merge_keyframes(raw, run.merge_s)
     reported = params.to_dict()

@@ -67,6 +67,7 @@ from oacdsl.segmentation.scales import DemoScale, measure, scale_params, scale_s
 from oacdsl.segmentation.shapes import ShapeModel
 from oacdsl.segmentation.subframe import change_times_s
 from oacdsl.segmentation.tooluse import agents_of
+from oacdsl.world import Relation
 
 __all__ = ["AdaptiveDetector", "AdaptiveSettings", "comotion"]
 
@@ -100,6 +101,9 @@ class AdaptiveDetector:
         self._shapes: dict[str, ShapeModel] | None = None  # contacts from geometry (use_shapes)
         #: instance → how contacts were measured (``shape``, ``hand``, ``markers: why``), after begin()
         self.geometry_report: dict[str, str] | None = None
+        #: relation → the frames where a held tool's contact with it began by coming into reach (after
+        #: begin()): merged with no hand's change (:func:`~oacdsl.segmentation.keyframes.merge_keyframes`)
+        self.arrivals: dict[Relation, frozenset[int]] = {}
 
     def use_shapes(self, shapes: dict[str, ShapeModel]) -> None:
         """Measure contacts from these instances' shapes (:mod:`oacdsl.segmentation.geomcontact`)."""
@@ -154,6 +158,7 @@ class AdaptiveDetector:
                                self._shapes)
         if self._shapes is not None:
             self.geometry_report = rules.geometry_report
+        self.arrivals = {table.relation(q): frozenset(frames) for q, frames in rules.arrivals.items()}
         # the paper's rule per pair: at the pair's learned distance, else at the static distance
         by_distance: dict[float, np.ndarray] = {}
         default = np.ones(n_q, dtype=bool)

@@ -79,6 +79,9 @@ class AdaptiveSettings:
         stacked: an object at rest on top of another touches it, from where it was set down until
             it is lifted off (:mod:`oacdsl.segmentation.stacking`; on: a lid on its bottle, whose
             markers are farther apart than the static distance).
+        side_by_side: two objects within the static distance touch only where one's centre is over
+            the other's markers (:mod:`oacdsl.segmentation.beside`; on: set down side by side on
+            the table they do not touch, liquid poured into a bowl does).
         static_agents: the static distance applies to pairs with an agent too (off: a hand touches
             an object by moving it, holding it still or through a tool, not by being near it; a hand
             resting 81-93 mm beside KIT Wipe's rack from the first frame is 72-84 mm from it in a
@@ -104,6 +107,7 @@ class AdaptiveSettings:
     hold_still: bool = True
     stacked: bool = True
     static_agents: bool = False
+    side_by_side: bool = True
 
     def __post_init__(self) -> None:
         for name in ("static_distance_m", "move_speed_m_s", "rigid_ratio", "lag_s", "tool_dwell_s"):

@@ -11,10 +11,11 @@ on/off events the chunks read (:class:`~oacdsl.segmentation.combine.StateCombine
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
+from oacdsl.segmentation.beside import side_by_side
 from oacdsl.segmentation.comotion import AdaptiveSettings, CoMotion
 from oacdsl.segmentation.episodes import union_spans
 from oacdsl.segmentation.geomcontact import decided_by_geometry, geometric_contacts
@@ -44,12 +45,16 @@ class RuleIntervals:
         added: touching by a tool or a hand held still.
         removed: vetoed (cross-hand, tool roles, geometry).
         geometry_report: instance → how its contacts were measured (contacts from geometry only).
+        arrivals: the first frames of tool contacts that began by the held tool coming into its
+            target's reach (:class:`~oacdsl.segmentation.tooluse.ToolContacts`): events of their own,
+            which keyframe merging keeps apart from a hand's change.
     """
 
     learned: dict[int, tuple[Spans, float]]
     added: dict[int, Spans]
     removed: dict[int, Spans]
     geometry_report: dict[str, str] | None = None
+    arrivals: dict[int, list[int]] = field(default_factory=dict)
 
 
 def rule_intervals(
@@ -94,6 +99,12 @@ def rule_intervals(
         kept = {q: union_spans([*held.get(q, []), *added.get(q, [])]) for q in lifts}
         for q, spans in set_down_beside(lifts, found.closest, kept, recording.positions_m, table).items():
             removed[q] = union_spans([*removed.get(q, []), *spans])
+    if run.side_by_side:  # two objects at the static distance touch only where one is over the other
+        static = [q for q, (a, b) in enumerate(table.instance_pairs.tolist())
+                  if q not in learned and a not in agents and b not in agents]
+        for q, spans in side_by_side(table, recording.positions_m, found.closest, static,
+                                     run.static_distance_m, added).items():
+            removed[q] = union_spans([*removed.get(q, []), *spans])
     report = None
     if shapes is not None:  # pairs measured by geometry: decided by it alone
         geo = geometric_contacts(recording, table, dict(shapes), agents, params.n, run.tool_bridge_s)
@@ -101,7 +112,10 @@ def rule_intervals(
         with_hand = np.isin(table.instance_pairs, agents).sum(axis=1) == 1
         carried = {q: spans for q, spans in held.items() if with_hand[q]}
         added, removed = decided_by_geometry(geo, added, removed, n_frames, carried)
-    return RuleIntervals(learned, added, removed, report)
+    starts = {q: {a for a, _ in spans} for q, spans in added.items()}
+    arrivals = {q: came for q, frames in tools.arrivals.items()
+                if (came := [f for f in frames if f in starts.get(q, ())])}
+    return RuleIntervals(learned, added, removed, report, arrivals)
 
 
 def causal_events(rules: RuleIntervals, delay_frames: int, n_frames: int) -> dict[int, np.ndarray]:

@@ -37,8 +37,8 @@ from __future__ import annotations
 
 import fnmatch
 import warnings
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -65,10 +65,12 @@ class LiftOut:
 
 @dataclass(frozen=True)
 class ToolContacts:
-    """Per instance pair, frame intervals ``[a, b)``: contacts added (tool) and removed (cross-hand)."""
+    """Per instance pair, frame intervals ``[a, b)``: contacts added (tool) and removed (cross-hand),
+    and the first frames of the added contacts that are *arrivals* (:func:`arrivals`)."""
 
     added: dict[int, Spans]
     removed: dict[int, Spans]
+    arrivals: dict[int, list[int]] = field(default_factory=dict)
 
 
 def agents_of(instances: Sequence[str], pattern: str) -> tuple[int, ...]:
@@ -113,6 +115,7 @@ def tool_contacts(
     if not agent_set:
         return ToolContacts({}, {})
     index = {(int(a), int(b)): q for q, (a, b) in enumerate(table.instance_pairs)}
+    index_of = {q: ab for ab, q in index.items()}
     objects = [i for i in range(len(table.instances)) if i not in agent_set]
 
     def pair(i: int, j: int) -> int | None:
@@ -204,7 +207,32 @@ def tool_contacts(
                 removed[q] = true_runs(veto)
     added, removed = refine(added, removed, n_frames, holds, objects, agent_set, pair, dist, reach_m, dwell,
                             rest_m)
-    return ToolContacts(added, removed)
+    came = {q: found for q, spans in added.items()
+            if (found := [a for a, _ in spans
+                          if _arrived(a, index_of[q], holds, agent_set, dist_at, reach_m)])}
+    return ToolContacts(added, removed, came)
+
+
+def _arrived(start: int, ends: tuple[int, int], holds: Mapping[tuple[int, int], np.ndarray], agents: set[int],
+             dist_at: Callable[[int, int, np.ndarray], np.ndarray], reach_m: float) -> bool:
+    """Did the tool contact of the objects ``ends`` that begins at frame ``start`` begin by a held tool
+    coming into its target's reach (at ``start - 1`` a hand wielded one of them beyond ``reach_m``
+    of the other, and of the other hand holding it)? Not when it began as the hand took hold of a tool
+    already within reach (a ladle lying in its bowl, a fork beside it)."""
+    if start <= 0:
+        return False
+    at = np.array([start - 1])
+    for tool, target in (ends, ends[::-1]):
+        for h in agents:
+            if not holds[(h, tool)][start - 1] or holds[(h, target)][start - 1]:
+                continue
+            gap = float(dist_at(tool, target, at)[0])
+            for other in agents - {h}:
+                if holds[(other, target)][start - 1]:
+                    gap = float(np.fmin(gap, dist_at(tool, other, at)[0]))
+            if gap > reach_m:  # NaN (a gap): not known to be beyond
+                return True
+    return False
 
 
 #: A tool whose path relative to the target within reach is at least this straight (net

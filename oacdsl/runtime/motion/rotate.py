@@ -28,8 +28,8 @@ import numpy as np
 
 from oacdsl.errors import RuntimeFailure
 from oacdsl.runtime.hands import OPEN, finger_joint_names
-from oacdsl.runtime.motion.hand import Motion, down, raised
-from oacdsl.runtime.transforms import make_T, rot_axis
+from oacdsl.runtime.motion.hand import Motion
+from oacdsl.runtime.transforms import down, make_T, raised, rot_axis
 
 if TYPE_CHECKING:
     from oacdsl.runtime.motion.context import MotionContext
