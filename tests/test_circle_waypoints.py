@@ -51,7 +51,7 @@ class _Recorder:
 
 def _ctx(container: SimpleNamespace) -> SimpleNamespace:
     world = SimpleNamespace(body_pose=lambda name: np.eye(4), touching=lambda a, b: True,
-                            frame_pose=lambda name: np.eye(4))
+                            frame_pose=lambda name: np.eye(4), built=SimpleNamespace(balls={}))
     return SimpleNamespace(world=world, ctl=SimpleNamespace(activity=""), require_held=lambda h, o: "r",
                            held_pose=lambda side, obj: (np.eye(4), np.eye(4)), body=lambda name: container,
                            check_reachable=lambda *a: None)
@@ -74,7 +74,7 @@ def test_mix_cuts_a_fast_circle_into_waypoints_of_two_ticks_at_least(monkeypatch
     mix = importlib.import_module("oacdsl.runtime.skills.mix")
 
     monkeypatch.setattr(mix, "Motion", _Recorder)
-    bowl = SimpleNamespace(height=0.1, floor=0.01)
+    bowl = SimpleNamespace(height=0.1, floor=0.01, radius=0.04, inner_radius=0.11)
     ctx = _ctx(bowl)
     mix.mix(ctx, "right_hand", "mixer", "bowl", radius=0.03, turns=2, period=period, force=10.0)
     circling = _circling(ctx.moves[:-1], period, 2)  # the last move goes back to the middle

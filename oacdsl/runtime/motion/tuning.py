@@ -91,6 +91,19 @@ class Tuning:
     pour_turn_most_rad: float = 1.5708
     pour_turn_step_rad: float = 0.2618
     pour_turn_gain_m: float = 0.01
+    #: fastest change of the extra lift a pour's lip is given for the arm's measured lag, m/s
+    #: (up or down, over the planned path). The lag is measured against the raised goal, so an
+    #: unbounded lift fed itself: a step up made the arm lag by as much, which asked for more;
+    #: on the dough (seed 3) the lip's goal rose 9 cm and fell again within 0.12 s, the cup's
+    #: jerk threw the balls up in it, and one left the lip at 1.1 m/s, over the bowl's far rim.
+    #: 0.1 m/s is 2 mm per control tick, at most 1.5 cm over the 0.15 s the arm takes to catch up
+    #: with a step, and keeps the cup's vertical acceleration well under g (the balls stay on
+    #: its wall)
+    pour_lift_speed_m_s: float = 0.1
+    #: where a tool goes down into a container beside the balls lying there: points on rings
+    #: ``free_spot_step_m`` apart round its middle, ``free_spot_turn_rad`` apart round each (1 cm, 30°)
+    free_spot_step_m: float = 0.01
+    free_spot_turn_rad: float = 0.5236
     #: height of a tool's tip above a rim before it goes in, m
     above_rim_m: float = 0.05
     #: how far beyond a wall (or into a floor) a tool is aimed to stay in contact with it, m

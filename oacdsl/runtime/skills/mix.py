@@ -1,8 +1,9 @@
 """``mix``: put the held mixer into a container and stir, ending with it in the container.
 
 The mixer is carried upright above the container, lowered until it touches the
-container (pushing the balls aside; the wrist force stops the descent at 15 N), and
-moved in circles pressed onto the bottom with a force regulated on the wrist's
+container (beside the balls lying on its floor where it fits, :func:`free_spot`, else pushing
+them aside; the wrist force stops the descent at 15 N), slid to the middle, and moved in
+circles pressed onto the bottom with a force regulated on the wrist's
 (:class:`~oacdsl.runtime.motion.press.ForcePress`); it stays in the container at the end,
 as the OAC's effect ``m <-> b`` says.
 """
@@ -19,7 +20,7 @@ from oacdsl.runtime.skills.base import SkillContext
 from oacdsl.runtime.transforms import make_T
 from oacdsl.skills import SIGNATURES
 
-__all__ = ["mix", "SIGNATURE"]
+__all__ = ["mix", "free_spot", "SIGNATURE"]
 
 SIGNATURE = SIGNATURES["mix"]
 D = SIGNATURE.defaults()
@@ -66,10 +67,11 @@ def mix(
     m.carry(hand_for(above), {tool, container}, t.work_carry_s)
     press = m.pressing()  # the tool's free weight, read before it goes in
     ctl.activity = f"lowering {tool} into {container}"
-    # the container's inner floor; the tool is aimed a little below it, pushing the
-    # (frictionless) balls aside, until it touches the container itself
+    # the container's inner floor; the tool is aimed a little below it, beside the balls lying
+    # there if it fits (else pushing them aside), until it touches the container itself
     floor = centre[2] + bowl.floor
-    bottom = raised(hand_for(np.array([centre[0], centre[1], floor])), -t.press_m)
+    spot = free_spot(ctx, container, ctx.body(tool).radius)
+    bottom = raised(hand_for(np.array([spot[0], spot[1], floor])), -t.press_m)
     depth = float(m.here()[2, 3] - bottom[2, 3])
     touched = m.go(bottom, depth / t.set_down_speed_m_s, m.contact_or_force(tool, container, force))
     if not touched and not m.hold_still(FIND_S, m.touching(tool, container)):
@@ -78,6 +80,9 @@ def mix(
     level = min(float(world.body_pose(tool)[2, 3]), floor)
     press.depth_m = t.press_m
     ctl.activity = f"stirring {container} with {tool}"
+    off = float(np.hypot(*(spot - centre[:2])))
+    if off:  # gone down beside the balls: slid to the middle first, where the circles begin
+        m.go(hand_for(np.array([centre[0], centre[1], level])), off / t.slide_speed_m_s, press=press)
     n = waypoints_per_cycle(period, CIRCLE_POINTS)  # fewer for fast circles: none a jump
     for k in range(1, int(round(turns)) * n + 1):
         a = 2 * math.pi * k / n
@@ -86,6 +91,30 @@ def mix(
         m.go(hand_for(p), period / n, press=press)
     m.go(hand_for(np.array([centre[0], centre[1], level])), CENTRE_S, press=press)
     m.hold_still(2 * t.settle_s, m.touching(tool, container))
+
+
+def free_spot(ctx: SkillContext, container: str, tool_radius_m: float) -> np.ndarray:
+    """Where (world xy, m) a tool of footprint radius ``tool_radius_m`` goes down to the floor of
+    ``container``: its middle, else the nearest point to it (rings 1 cm apart, 30° apart round
+    each: ``Tuning.free_spot_*``) whose footprint keeps :data:`TUNING.wall_margin_m` from the
+    container's inner wall and from every ball lying there, else the middle (the tool pushes the
+    balls aside). A mixer
+    lowered onto a ball lying in the middle of the bowl touched it 0.3 s before the floor (the
+    dough, seeds 2 and 9): a change the task does not make."""
+    world = ctx.world
+    t_box = world.body_pose(container)
+    centre, inner = t_box[:2, 3], ctx.body(container).inner_radius
+    margin = TUNING.wall_margin_m
+    balls = [(world.ball_positions(liq)[:, :2], world.layout.bodies[liq].ball_radius)
+             for liq in world.built.balls]
+    step, turn = TUNING.free_spot_step_m, TUNING.free_spot_turn_rad
+    rings = np.arange(1, int((inner - tool_radius_m - margin) / step) + 1) * step
+    spots = [centre] + [centre + r * np.array([math.cos(a), math.sin(a)])
+                        for r in rings for a in np.arange(round(math.tau / turn)) * turn]
+    for xy in spots:
+        if all((np.hypot(*(pts - xy).T) >= tool_radius_m + r + margin).all() for pts, r in balls):
+            return xy
+    return centre
 
 
 def _upright(r: np.ndarray) -> np.ndarray:

@@ -33,7 +33,9 @@ as it is held. Over a wide target
 each step is raised by what the arm's measured lag needs: the hand taken to be as far off its
 next goal as it is off its last one now, the cup held there must still clear the rim (at the
 demonstrated pace the hand lags 1.5-2 cm below its goal as the tilt begins, and the cup came
-down on the bowl's rim).
+down on the bowl's rim). Both lifts change no faster than ``Tuning.pour_lift_speed_m_s``
+(:mod:`oacdsl.runtime.pourlift`): made within one step, they jerked the cup up 9 cm and down
+again, and a ball thrown up in it left the lip at 1.1 m/s, over the bowl's far rim.
 
 When the other hand holds something else, the emptied source is carried back to where it
 was brought from, out of the target's way: the other hand may work over the target next
@@ -51,6 +53,7 @@ from oacdsl.runtime.armroom import arm_room
 from oacdsl.runtime.boxlift import lift_to_clear
 from oacdsl.runtime.control import CONTROL_DT_S
 from oacdsl.runtime.motion import TUNING, Motion, OtherHand, raised
+from oacdsl.runtime.pourlift import follow_lift, ramped_lift
 from oacdsl.runtime.shapes import hand_corners, world_corners
 from oacdsl.runtime.skills.base import REACH_TOLERANCE_M, SkillContext
 from oacdsl.runtime.spout import spout_direction
@@ -183,18 +186,30 @@ def pour(
                 out = max(out, float((top + TUNING.rim_clearance_m - both[:, 2])[near].max()))
         return over_holder(both, max(out, 0))
 
+    def extra_at(u: np.ndarray, s: float, base: float, turn: float = 0.0) -> float:
+        """How much more than ``base`` (m) the lip must rise at ``s`` of the tilt: as much as
+        :func:`need` asks there and half a tilt step either side."""
+        around = (min(1.0, max(0.0, s + ds)) for ds in (-1.0 / STEPS, 0.0, 1.0 / STEPS))
+        return max(0.0, *(need(u, s_k, base, turn) for s_k in around))
+
     def lifted(u: np.ndarray, s: float, base: float, turn: float = 0.0) -> np.ndarray:
         """The hand's pose at ``s`` of the tilt, the lip ``base`` higher than its place and as
-        much more as :func:`need` asks there and half a tilt step either side (the lip is as
-        low as the hand allows at every tilt: where the balls leave it is over the rim)."""
-        around = (min(1.0, max(0.0, s + ds)) for ds in (-1.0 / STEPS, 0.0, 1.0 / STEPS))
-        extra = max(need(u, s_k, base, turn) for s_k in around)
-        return hand_at(u, tilt * s, base + max(0.0, extra), turn)
+        much more as :func:`extra_at` asks (the lip is as low as the hand allows at every
+        tilt: where the balls leave it is over the rim)."""
+        return hand_at(u, tilt * s, base + extra_at(u, s, base, turn), turn)
 
-    def tilted(u: np.ndarray, s: float, turn: float = 0.0) -> np.ndarray:
-        """The hand's pose at ``s`` of the tilt: the lip comes down from its start height over the
-        first half of the tilt."""
-        return lifted(u, s, LIP_START_EXTRA_M * max(0.0, 1.0 - 2.0 * s), turn)
+    def tilt_path(u: np.ndarray, turn: float = 0.0) -> list[np.ndarray]:
+        """The hand's poses at the ``STEPS + 1`` steps of the tilt: the lip comes down from its
+        start height over the first half of the tilt, raised as :func:`extra_at` asks, that
+        raise changing no faster than :data:`TUNING.pour_lift_speed_m_s` (begun before the step
+        that needs it and ended after: the hand's boxes passing over the bowl's rim asked for
+        2.3 cm within one step, and the cup jerked up with the liquid in it)."""
+        s = np.arange(STEPS + 1) / STEPS
+        base = LIP_START_EXTRA_M * np.maximum(0.0, 1.0 - 2.0 * s)
+        extra = np.array([extra_at(u, s_k, b_k, turn) for s_k, b_k in zip(s, base, strict=True)])
+        at_s = np.concatenate([[0.0], np.cumsum([step_s(s_k) for s_k in s[1:]])])
+        extra = ramped_lift(extra, at_s, TUNING.pour_lift_speed_m_s)
+        return [hand_at(u, tilt * s_k, b_k + e_k, turn) for s_k, b_k, e_k in zip(s, base, extra, strict=True)]
 
     def roll_out_lift(u: np.ndarray, turn: float) -> float:
         """The highest the lip must rise (m) above its place while the balls roll out (the tilt
@@ -235,24 +250,23 @@ def pour(
     # the cup the other hand held, KIT Pour mirrored, where balls bounced out), then as it is held
     units = (np.array([math.cos(a), math.sin(a), 0.0]) for a in candidates)
     ways = ((u, turn) for u in units for turn in turns(u))
-    best: tuple[float, np.ndarray, float] | None = None
+    best: tuple[float, np.ndarray, float, list[np.ndarray]] | None = None
     for u, turn in ways:
-        path = [lifted(u, 0.0, LIP_START_EXTRA_M, turn)]
-        path += [tilted(u, k / STEPS, turn) for k in range(1, STEPS + 1)]
+        path = tilt_path(u, turn)
         postures = ctl.ik.reach_postures(side, path, ticks)
         err = max(r.miss_m for r, _ in postures)
         if best is None or err < best[0]:
-            best = (err, u, turn)
+            best = (err, u, turn, path)
         rooms = (arm_room(world, side, postures[k][1], {source}) for k in (0, STEPS // 2, STEPS))
         if err < REACH_TOLERANCE_M and all(room >= TUNING.arm_room_m for room in rooms):
-            best = (err, u, turn)
+            best = (err, u, turn, path)
             break
     if best is None or best[0] > 3 * REACH_TOLERANCE_M:
         raise RuntimeFailure(
             f"cannot pour from {source} into {target}: no tilted pose over {target} is in reach"
             f" of {hand} (best leaves the hand {best[0] * 100 if best else float('nan'):.0f} cm off)"
         )
-    u, turn = best[1], best[2]
+    u, turn, path = best[1], best[2], best[3]
 
     # a hand holding the target keeps it where it was (its goal fixed, as strong a task as the
     # pouring hand's: the whole-body IK would otherwise let it drift with the torso as the source tilts)
@@ -267,8 +281,14 @@ def pour(
         sent, now = m.here(), world.frame_pose(f"grasp_{side}")
         expect = make_T(now[:3, :3] @ sent[:3, :3].T @ goal[:3, :3], goal[:3, 3] + now[:3, 3] - sent[:3, 3])
         # not over a narrow target: its lip hugs the near wall, and raised there by the lag, the
-        # carton of KIT Pour (seed 4) sent a ball past the cup
-        m.go(goal if narrow else raised(goal, max(0.0, need_at(expect))), seconds)
+        # carton of KIT Pour (seed 4) sent a ball past the cup. The lift changes no faster than
+        # TUNING.pour_lift_speed_m_s: the lag is measured against the lifted goal, and a lift
+        # made in one tick fed itself (the cup jerked up 9 cm and down, throwing a ball out)
+        want = 0.0 if narrow else max(0.0, need_at(expect))
+        lift[0] = follow_lift(lift[0], want, seconds, TUNING.pour_lift_speed_m_s)
+        m.go(raised(goal, lift[0]), seconds)
+
+    lift = [0.0]  # the lift (m) go() gives the lip now
 
     if world.touching(source, target):
         # slid outwards (towards the pouring side), its base's middle over the near rim, out of
@@ -283,10 +303,10 @@ def pour(
         m.hold_still()
     ctl.activity = f"bringing {source} over {target}"
     came_from = m.here()
-    m.carry(lifted(u, 0.0, LIP_START_EXTRA_M, turn), {source, target}, TUNING.work_carry_s)
+    m.carry(path[0], {source, target}, TUNING.work_carry_s)
     ctl.activity = f"pouring {liquid} into {target}"
     for k in range(1, STEPS + 1):
-        go(tilted(u, k / STEPS, turn), step_s(k / STEPS))
+        go(path[k], step_s(k / STEPS))
     m.hold_still(EMPTY_S, until=lambda: world.balls_inside(source, liquid) == 0)
     m.hold_still(TUNING.shift_s)
     back = STEPS // 2
