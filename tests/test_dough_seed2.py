@@ -6,7 +6,6 @@ that floor for 0.1 s (the verifier would read it as a contact lost and made agai
 from __future__ import annotations
 
 import json
-import shutil
 from pathlib import Path
 
 import pytest
@@ -14,7 +13,7 @@ import pytest
 pytest.importorskip("mujoco", reason="the robot runtime needs the 'robot' extra (mujoco)")
 pytest.importorskip("placo", reason="the robot runtime needs the 'robot' extra (placo)")
 
-ROOT = Path(__file__).resolve().parents[1]
+from _dough_runs import reproduce_dough  # noqa: E402
 
 
 def longest_loss_frames(contacts: dict, a: str, b: str) -> int:
@@ -41,15 +40,7 @@ def test_dough_on_seed_2_is_faithful_and_the_mixer_keeps_the_floor(tmp_path: Pat
     # its goal 1.5-2 cm at the demonstrated pace), and that touch cut the span its tilt is
     # measured over: 74 deg against the demonstrated 109 (motion.2.tilt); pressed a fixed 2 mm,
     # the mixer floated off the floor for 10-14 frames once or twice per run
-    from oacdsl.pipeline import load_inputs, reproduce
-    from oacdsl.segmentation import AasParams
-
-    library = tmp_path / "library"
-    shutil.copytree(ROOT / "library", library, ignore=shutil.ignore_patterns("learned", "drafts"))
-    inputs = load_inputs(None, library, None, AasParams())
-    out = tmp_path / "out"
-    outcome = reproduce(inputs, name="dough", out=out, db=None, seed=2, render=False, quiet=True, force=True)
-    verdict = outcome.result["verdict"]
+    verdict, out = reproduce_dough(tmp_path, seed=2)
     assert verdict["success"] and verdict["faithful"], verdict.get("summary")
     contacts = json.loads((out / "execution.contacts.json").read_text())
     assert contacts["rate_hz"] == 100.0

@@ -6,7 +6,6 @@ and flew over the bowl's far rim onto the floor (`end_state.liquid_two.support`:
 
 from __future__ import annotations
 
-import shutil
 from pathlib import Path
 
 import pytest
@@ -14,19 +13,11 @@ import pytest
 pytest.importorskip("mujoco", reason="the robot runtime needs the 'robot' extra (mujoco)")
 pytest.importorskip("placo", reason="the robot runtime needs the 'robot' extra (placo)")
 
-ROOT = Path(__file__).resolve().parents[1]
+from _dough_runs import reproduce_dough  # noqa: E402
 
 
 @pytest.mark.slow
 def test_dough_on_seed_3_pours_every_ball_into_the_bowl(tmp_path: Path) -> None:
-    from oacdsl.pipeline import load_inputs, reproduce
-    from oacdsl.segmentation import AasParams
-
-    library = tmp_path / "library"
-    shutil.copytree(ROOT / "library", library, ignore=shutil.ignore_patterns("learned", "drafts"))
-    inputs = load_inputs(None, library, None, AasParams())
-    out = tmp_path / "out"
-    outcome = reproduce(inputs, name="dough", out=out, db=None, seed=3, render=False, quiet=True, force=True)
-    verdict = outcome.result["verdict"]
+    verdict, _ = reproduce_dough(tmp_path, seed=3)
     assert verdict["success"] and verdict["faithful"], verdict.get("summary")
     assert "20 of 20 balls in the bowl" in verdict["summary"]
