@@ -1,7 +1,7 @@
 """``mix``: put the held mixer into a container and stir, ending with it in the container.
 
 The mixer is carried upright above the container, lowered until it touches the
-container (beside the balls lying on its floor where it fits, :func:`free_spot`, else pushing
+container (beside the balls lying on its floor where it fits, :func:`floor_spot`, else pushing
 them aside; the wrist force stops the descent at 15 N), slid to the middle, and moved in
 circles pressed onto the bottom with a force regulated on the wrist's
 (:class:`~oacdsl.runtime.motion.press.ForcePress`); it stays in the container at the end,
@@ -20,7 +20,7 @@ from oacdsl.runtime.skills.base import SkillContext
 from oacdsl.runtime.transforms import make_T
 from oacdsl.skills import SIGNATURES
 
-__all__ = ["mix", "free_spot", "SIGNATURE"]
+__all__ = ["mix", "floor_spot", "SIGNATURE"]
 
 SIGNATURE = SIGNATURES["mix"]
 D = SIGNATURE.defaults()
@@ -70,7 +70,7 @@ def mix(
     # the container's inner floor; the tool is aimed a little below it, beside the balls lying
     # there if it fits (else pushing them aside), until it touches the container itself
     floor = centre[2] + bowl.floor
-    spot = free_spot(ctx, container, ctx.body(tool).radius)
+    spot = floor_spot(ctx, container, ctx.body(tool).radius)
     bottom = raised(hand_for(np.array([spot[0], spot[1], floor])), -t.press_m)
     depth = float(m.here()[2, 3] - bottom[2, 3])
     touched = m.go(bottom, depth / t.set_down_speed_m_s, m.contact_or_force(tool, container, force))
@@ -93,7 +93,7 @@ def mix(
     m.hold_still(2 * t.settle_s, m.touching(tool, container))
 
 
-def free_spot(ctx: SkillContext, container: str, tool_radius_m: float) -> np.ndarray:
+def floor_spot(ctx: SkillContext, container: str, tool_radius_m: float) -> np.ndarray:
     """Where (world xy, m) a tool of footprint radius ``tool_radius_m`` goes down to the floor of
     ``container``: its middle, else the nearest point to it (rings 1 cm apart, 30° apart round
     each: ``Tuning.free_spot_*``) whose footprint keeps :data:`TUNING.wall_margin_m` from the
